@@ -1,0 +1,87 @@
+#include "core/tool.h"
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <exception>
+#include <memory>
+#include <new>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/provenance.h"
+
+namespace df {
+
+Tool::Tool(std::string name, std::string description) : name_(std::move(name)), app_(description, name_) {
+  app_.set_version_flag("--version", name_ + " (deformflow) " DEFORMFLOW_VERSION);
+  app_.add_flag("-q,--quiet", common_.quiet, "Print only warnings and errors (no progress)");
+  app_.add_flag("-v,--verbose", common_.verbose, "Print details of the work (debug level)");
+  app_.get_formatter()->column_width(34);
+}
+
+Tool& Tool::with_threads() {
+  app_.add_option("--threads", common_.threads,
+                  "Worker threads (0 = all cores); results do not depend on it")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  return *this;
+}
+
+Tool& Tool::with_seed(std::uint64_t default_seed) {
+  common_.seed = default_seed;
+  app_.add_option("--seed", common_.seed, "Seed of every random choice (same seed, same output)")
+      ->default_val(default_seed);
+  return *this;
+}
+
+Tool& Tool::with_force() {
+  app_.add_flag("-f,--force", common_.force, "Overwrite the output if it exists");
+  return *this;
+}
+
+Tool& Tool::footer(const std::string& text) {
+  app_.footer(text);
+  return *this;
+}
+
+int Tool::run(int argc, char** argv, const std::function<void()>& body) {
+  log::set_program(name_);
+  provenance::set_command_line(argc, argv);
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app_.exit(e);  // --help, --version
+    log::error("{}", e.what());
+    log::write_line(log::Level::info, "run with --help for the options");
+    return 2;
+  }
+  if (common_.quiet && common_.verbose) {
+    log::error("--quiet and --verbose exclude each other");
+    return 2;
+  }
+  log::set_level(common_.quiet     ? log::Level::warning
+                 : common_.verbose ? log::Level::debug
+                                   : log::Level::info);
+  int threads = common_.threads > 0 ? common_.threads : tbb::info::default_concurrency();
+  tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(threads));
+  install_cleanup_handlers();
+  try {
+    body();
+    return 0;
+  } catch (const UsageError& e) {
+    log::error("{}", e.message());
+    return 2;
+  } catch (const Error& e) {
+    log::error("{}", e.message());
+  } catch (const std::bad_alloc&) {
+    log::error("out of memory");
+  } catch (const std::exception& e) {
+    log::error("{}", e.what());
+  }
+  return 1;
+}
+
+}  // namespace df

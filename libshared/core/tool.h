@@ -1,0 +1,53 @@
+// The shared main() of every deformflow tool (MRtrix's `core/command.h` idea): a tool file
+// declares its options on a Tool and passes one function to run(); run() parses the command
+// line, applies the common options, installs the temporary-file cleanup on signals, and turns
+// every exception into one line `TOOL: error: WHAT (WHERE)`:
+//   exit 0 success, 2 usage error (bad/missing option), 1 any other failure.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace df {
+
+/// Options every tool shares (samtools' global options): declared once, same everywhere.
+struct CommonOptions {
+  int threads = 0;          ///< 0 = all cores
+  std::uint64_t seed = 0;   ///< only for tools that draw random numbers
+  bool quiet = false;
+  bool verbose = false;
+  bool force = false;       ///< overwrite an existing output
+};
+
+class Tool {
+ public:
+  /// @param name         the executable's name, used as the prefix of every message
+  /// @param description  first paragraph of --help (what it reads, what it writes)
+  Tool(std::string name, std::string description);
+
+  CLI::App& app() { return app_; }
+  const CommonOptions& common() const { return common_; }
+  const std::string& name() const { return name_; }
+
+  /// Adds --threads (all tools that compute in parallel).
+  Tool& with_threads();
+  /// Adds --seed with the given default (tools that draw random numbers).
+  Tool& with_seed(std::uint64_t default_seed = 0);
+  /// Adds -f/--force (tools that write an output).
+  Tool& with_force();
+  /// Text after the options in --help: references, examples.
+  Tool& footer(const std::string& text);
+
+  /// Parses argv and runs body; returns the process exit code.
+  int run(int argc, char** argv, const std::function<void()>& body);
+
+ private:
+  std::string name_;
+  CLI::App app_;
+  CommonOptions common_;
+};
+
+}  // namespace df

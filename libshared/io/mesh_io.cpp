@@ -1,0 +1,312 @@
+#include "io/mesh_io.h"
+
+#include <Eigen/Geometry>
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace fs = std::filesystem;
+
+namespace df::io {
+namespace {
+
+// OpenMesh prints its complaints on its own streams; route them into a buffer so that they
+// become our messages (and never reach the terminal raw).
+std::mutex g_openmesh_mutex;
+struct OpenMeshMessages {
+  std::ostringstream text;
+  OpenMeshMessages() {
+    omerr().connect(text);
+    omerr().disconnect(std::cerr);
+    omlog().connect(text);
+    omlog().disconnect(std::cerr);
+    omout().connect(text);
+    omout().disconnect(std::cout);
+  }
+  ~OpenMeshMessages() {
+    omerr().disconnect(text);
+    omlog().disconnect(text);
+    omout().disconnect(text);
+  }
+  std::string take() {
+    std::string s = text.str();
+    text.str("");
+    return s;
+  }
+};
+
+// Records what a reader delivers, verbatim: no kernel, no manifold repairs.
+class VerbatimImporter : public OpenMesh::IO::BaseImporter {
+ public:
+  using VH = OpenMesh::VertexHandle;
+  using FH = OpenMesh::FaceHandle;
+  using HH = OpenMesh::HalfedgeHandle;
+  using EH = OpenMesh::EdgeHandle;
+
+  std::vector<OpenMesh::Vec3d> points;
+  std::vector<std::vector<int>> polygons;
+
+  VH add_vertex(const OpenMesh::Vec3f& p) override { return add_vertex(OpenMesh::Vec3d(p)); }
+  VH add_vertex(const OpenMesh::Vec3d& p) override {
+    points.push_back(p);
+    return VH(static_cast<int>(points.size()) - 1);
+  }
+  VH add_vertex() override { return add_vertex(OpenMesh::Vec3d(0, 0, 0)); }
+  HH add_edge(VH, VH) override { return HH(); }
+  FH add_face(const VHandles& idx) override {
+    std::vector<int> poly;
+    poly.reserve(idx.size());
+    for (const auto& v : idx) poly.push_back(v.idx());
+    polygons.push_back(std::move(poly));
+    return FH(static_cast<int>(polygons.size()) - 1);
+  }
+  FH add_face(HH) override { return FH(); }
+  void add_face_texcoords(FH, VH, const std::vector<OpenMesh::Vec2f>&) override {}
+  void add_face_texcoords(FH, VH, const std::vector<OpenMesh::Vec3f>&) override {}
+  void set_face_texindex(FH, int) override {}
+  void set_point(VH v, const OpenMesh::Vec3f& p) override {
+    if (v.idx() >= 0 && static_cast<std::size_t>(v.idx()) < points.size()) points[v.idx()] = OpenMesh::Vec3d(p);
+  }
+  void set_halfedge(VH, HH) override {}
+  void set_normal(VH, const OpenMesh::Vec3f&) override {}
+  void set_normal(VH, const OpenMesh::Vec3d&) override {}
+  void set_color(VH, const OpenMesh::Vec3uc&) override {}
+  void set_color(VH, const OpenMesh::Vec4uc&) override {}
+  void set_color(VH, const OpenMesh::Vec3f&) override {}
+  void set_color(VH, const OpenMesh::Vec4f&) override {}
+  void set_texcoord(VH, const OpenMesh::Vec2f&) override {}
+  void set_status(VH, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_next(HH, HH) override {}
+  void set_face(HH, FH) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HH, const OpenMesh::Vec2f&) override {}
+  void set_texcoord(VH, const OpenMesh::Vec3f&) override {}
+  void set_texcoord(HH, const OpenMesh::Vec3f&) override {}
+  void set_status(HH, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_color(EH, const OpenMesh::Vec3uc&) override {}
+  void set_color(EH, const OpenMesh::Vec4uc&) override {}
+  void set_color(EH, const OpenMesh::Vec3f&) override {}
+  void set_color(EH, const OpenMesh::Vec4f&) override {}
+  void set_status(EH, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_normal(FH, const OpenMesh::Vec3f&) override {}
+  void set_normal(FH, const OpenMesh::Vec3d&) override {}
+  void set_color(FH, const OpenMesh::Vec3uc&) override {}
+  void set_color(FH, const OpenMesh::Vec4uc&) override {}
+  void set_color(FH, const OpenMesh::Vec3f&) override {}
+  void set_color(FH, const OpenMesh::Vec4f&) override {}
+  void set_status(FH, const OpenMesh::Attributes::StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+  std::size_t n_vertices() const override { return points.size(); }
+  std::size_t n_faces() const override { return polygons.size(); }
+  std::size_t n_edges() const override { return 0; }
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
+// Count of vertex lines in an OBJ file, to tell a dropped (unparsable, e.g. "nan") vertex.
+std::size_t count_obj_vertex_lines(const std::string& path) {
+  std::ifstream in(path);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);) {
+    std::size_t i = line.find_first_not_of(" \t");
+    if (i != std::string::npos && line.compare(i, 2, "v ") == 0) ++n;
+    if (i != std::string::npos && line.compare(i, 2, "v\t") == 0) ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+bool is_mesh_file(const std::string& path) {
+  std::string e = lower_extension(path);
+  return e == ".obj" || e == ".off" || e == ".ply";
+}
+
+Mesh read_mesh(const std::string& path, MeshReadReport* report) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IOError("no such file", path);
+  if (fs::is_directory(path, ec)) throw InvalidInput("is a directory, not a mesh file", path);
+  if (!is_mesh_file(path))
+    throw InvalidInput("unknown mesh format (expected .obj, .off or .ply)", path);
+  if (fs::file_size(path, ec) == 0) throw InvalidInput("empty file", path);
+
+  VerbatimImporter importer;
+  std::string messages;
+  bool ok = false;
+  {
+    std::lock_guard lock(g_openmesh_mutex);  // OpenMesh's streams and IOManager are global
+    OpenMeshMessages capture;
+    OpenMesh::IO::Options opt;
+    ok = OpenMesh::IO::IOManager().read(path, importer, opt);
+    messages = capture.take();
+  }
+  auto first_line = [](const std::string& s) { return s.substr(0, s.find('\n')); };
+  if (!ok)
+    throw InvalidInput(messages.empty() ? "cannot read as a mesh" : "cannot read as a mesh: " + first_line(messages), path);
+  if (importer.points.empty()) throw InvalidInput("no vertices found; not a mesh file?", path);
+  if (importer.polygons.empty()) throw InvalidInput("no faces found (a point cloud is not a mesh)", path);
+
+  const auto nv = importer.points.size();
+  if (lower_extension(path) == ".obj") {
+    std::size_t lines = count_obj_vertex_lines(path);
+    if (lines != nv)
+      throw InvalidInput(fmt::format("{} of {} vertex lines could not be read (non-numeric or NaN "
+                                     "coordinates?)",
+                                     lines - std::min(lines, nv), lines),
+                         path);
+  }
+
+  Mesh mesh;
+  mesh.vertices.resize(static_cast<Eigen::Index>(nv), 3);
+  for (std::size_t i = 0; i < nv; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      double x = importer.points[i][k];
+      if (!std::isfinite(x))
+        throw InvalidInput(fmt::format("vertex {} has a non-finite coordinate ({})", i + 1, x), path);
+      mesh.vertices(static_cast<Eigen::Index>(i), k) = x;
+    }
+  }
+
+  MeshReadReport rep;
+  std::vector<std::array<int, 3>> tris;
+  tris.reserve(importer.polygons.size());
+  for (std::size_t f = 0; f < importer.polygons.size(); ++f) {
+    const auto& poly = importer.polygons[f];
+    if (poly.size() < 3)
+      throw InvalidInput(fmt::format("face {} has {} corners", f + 1, poly.size()), path);
+    for (int v : poly)
+      if (v < 0 || static_cast<std::size_t>(v) >= nv)
+        throw InvalidInput(fmt::format("face {} refers to vertex {} of {}", f + 1, v + 1, nv), path);
+    if (poly.size() > 3) ++rep.polygons_triangulated;
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k) tris.push_back({poly[0], poly[k], poly[k + 1]});
+  }
+  mesh.faces.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  std::vector<char> used(nv, 0);
+  std::map<std::pair<int, int>, int> edge_faces;
+  for (std::size_t f = 0; f < tris.size(); ++f) {
+    const auto& t = tris[f];
+    for (int k = 0; k < 3; ++k) {
+      mesh.faces(static_cast<Eigen::Index>(f), k) = t[k];
+      used[t[k]] = 1;
+      int a = t[k], b = t[(k + 1) % 3];
+      ++edge_faces[{std::min(a, b), std::max(a, b)}];
+    }
+    Eigen::Vector3d e1 = mesh.vertices.row(t[1]) - mesh.vertices.row(t[0]);
+    Eigen::Vector3d e2 = mesh.vertices.row(t[2]) - mesh.vertices.row(t[0]);
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || e1.cross(e2).norm() == 0.0) ++rep.degenerate_faces;
+  }
+  for (const auto& [edge, count] : edge_faces)
+    if (count > 2) ++rep.nonmanifold_edges;
+  rep.isolated_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+  if (report) *report = rep;
+  return mesh;
+}
+
+void warn_about(const MeshReadReport& r, const std::string& path) {
+  if (r.degenerate_faces)
+    log::warn("{}: {} degenerate (zero-area) faces; they get no weight", path, r.degenerate_faces);
+  if (r.nonmanifold_edges)
+    log::warn("{}: {} non-manifold edges (shared by more than two faces)", path, r.nonmanifold_edges);
+  if (r.isolated_vertices)
+    log::warn("{}: {} vertices belong to no face", path, r.isolated_vertices);
+  if (r.polygons_triangulated)
+    log::debug("{}: {} polygons fan-triangulated", path, r.polygons_triangulated);
+}
+
+void check_same_connectivity(const Mesh& reference, const std::string& reference_name,
+                             const Mesh& frame, const std::string& frame_name) {
+  if (frame.vertices.rows() != reference.vertices.rows())
+    throw InvalidInput(fmt::format("has {} vertices but the reference {} has {}",
+                                   frame.vertices.rows(), reference_name, reference.vertices.rows()),
+                       frame_name);
+  if (frame.faces.rows() != reference.faces.rows())
+    throw InvalidInput(fmt::format("has {} triangles but the reference {} has {}",
+                                   frame.faces.rows(), reference_name, reference.faces.rows()),
+                       frame_name);
+  for (Eigen::Index f = 0; f < frame.faces.rows(); ++f) {
+    if (frame.faces.row(f) != reference.faces.row(f))
+      throw InvalidInput(
+          fmt::format("connectivity differs from the reference {} first at triangle {}: ({} {} {}) "
+                      "instead of ({} {} {})",
+                      reference_name, f + 1, frame.faces(f, 0) + 1, frame.faces(f, 1) + 1,
+                      frame.faces(f, 2) + 1, reference.faces(f, 0) + 1, reference.faces(f, 1) + 1,
+                      reference.faces(f, 2) + 1),
+          frame_name);
+  }
+}
+
+namespace {
+using WriteMesh = OpenMesh::TriMesh_ArrayKernelT<OpenMesh::DefaultTraitsDouble>;
+}
+
+MeshWriter::MeshWriter(const Faces& faces, std::size_t n_vertices)
+    : faces_(faces), n_vertices_(n_vertices) {}
+MeshWriter::~MeshWriter() = default;
+
+void MeshWriter::write(const std::string& path, const Vertices& V) const {
+  if (static_cast<std::size_t>(V.rows()) != n_vertices_)
+    throw Error(fmt::format("internal: {} positions for a mesh of {} vertices", V.rows(), n_vertices_), path);
+  std::string ext = lower_extension(path);
+  if (ext != ".obj" && ext != ".off" && ext != ".ply")
+    throw InvalidInput("unknown mesh format (expected .obj, .off or .ply)", path);
+  // Written directly (OpenMesh's writers would need a manifold kernel, which drops faces that
+  // are legal in our input); formats as OpenMesh writes them, full double precision.
+  std::ofstream out(path, std::ios::binary);
+  if (!out) throw IOError("cannot create file", path);
+  fmt::memory_buffer b;
+  auto fmt_vertex = [&](Eigen::Index i) { fmt::format_to(std::back_inserter(b), "{:.9g} {:.9g} {:.9g}", V(i, 0), V(i, 1), V(i, 2)); };
+  if (ext == ".obj") {
+    fmt::format_to(std::back_inserter(b), "# deformflow\n");
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      fmt::format_to(std::back_inserter(b), "v ");
+      fmt_vertex(i);
+      b.push_back('\n');
+    }
+    for (Eigen::Index f = 0; f < faces_.rows(); ++f)
+      fmt::format_to(std::back_inserter(b), "f {} {} {}\n", faces_(f, 0) + 1, faces_(f, 1) + 1, faces_(f, 2) + 1);
+  } else if (ext == ".off") {
+    fmt::format_to(std::back_inserter(b), "OFF\n{} {} 0\n", V.rows(), faces_.rows());
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      fmt_vertex(i);
+      b.push_back('\n');
+    }
+    for (Eigen::Index f = 0; f < faces_.rows(); ++f)
+      fmt::format_to(std::back_inserter(b), "3 {} {} {}\n", faces_(f, 0), faces_(f, 1), faces_(f, 2));
+  } else {
+    fmt::format_to(std::back_inserter(b),
+                   "ply\nformat ascii 1.0\ncomment deformflow\nelement vertex {}\nproperty double x\n"
+                   "property double y\nproperty double z\nelement face {}\n"
+                   "property list uchar int vertex_indices\nend_header\n",
+                   V.rows(), faces_.rows());
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      fmt_vertex(i);
+      b.push_back('\n');
+    }
+    for (Eigen::Index f = 0; f < faces_.rows(); ++f)
+      fmt::format_to(std::back_inserter(b), "3 {} {} {}\n", faces_(f, 0), faces_(f, 1), faces_(f, 2));
+  }
+  out.write(b.data(), static_cast<std::streamsize>(b.size()));
+  if (!out) throw IOError("cannot write file (disk full?)", path);
+}
+
+void write_mesh(const std::string& path, const Mesh& mesh) {
+  MeshWriter(mesh.faces, static_cast<std::size_t>(mesh.vertices.rows())).write(path, mesh.vertices);
+}
+
+}  // namespace df::io
