@@ -119,16 +119,47 @@ std::string lower_extension(const std::string& path) {
   return e;
 }
 
-// Count of vertex lines in an OBJ file, to tell a dropped (unparsable, e.g. "nan") vertex.
-std::size_t count_obj_vertex_lines(const std::string& path) {
-  std::ifstream in(path);
-  std::size_t n = 0;
+// What a text pass over an ASCII mesh file sees that OpenMesh's readers hide: a NaN/Inf
+// coordinate (the OBJ reader drops such a vertex, the OFF reader then reads garbage indices)
+// and, for OBJ, how many vertex and face lines there are (faces with repeated corners are
+// dropped by the reader).
+struct TextScan {
+  std::size_t obj_vertex_lines = 0, obj_face_lines = 0;
+  std::size_t nonfinite_line = 0;  // first line with a nan/inf token, 0 = none
+};
+
+bool is_nonfinite_token(std::string t) {
+  std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!t.empty() && (t[0] == '-' || t[0] == '+')) t.erase(0, 1);
+  return t == "nan" || t == "inf" || t == "infinity" || t.rfind("nan(", 0) == 0;
+}
+
+TextScan scan_text(const std::string& path, const std::string& ext) {
+  TextScan scan;
+  std::ifstream in(path, std::ios::binary);
+  bool in_data = ext != ".ply";  // PLY: only after end_header; OFF: header tokens are not numbers
+  std::size_t lineno = 0;
   for (std::string line; std::getline(in, line);) {
-    std::size_t i = line.find_first_not_of(" \t");
-    if (i != std::string::npos && line.compare(i, 2, "v ") == 0) ++n;
-    if (i != std::string::npos && line.compare(i, 2, "v\t") == 0) ++n;
+    ++lineno;
+    if (ext == ".ply" && !in_data) {
+      if (line.rfind("format binary", 0) == 0) return scan;  // binary PLY: checked after reading
+      if (line.rfind("end_header", 0) == 0) in_data = true;
+      continue;
+    }
+    std::istringstream tokens(line);
+    std::string first;
+    if (!(tokens >> first) || first[0] == '#') continue;
+    if (ext == ".obj") {
+      if (first == "f") ++scan.obj_face_lines;
+      if (first != "v") continue;
+      ++scan.obj_vertex_lines;
+    } else if (is_nonfinite_token(first) && !scan.nonfinite_line) {
+      scan.nonfinite_line = lineno;
+    }
+    for (std::string t; tokens >> t;)
+      if (is_nonfinite_token(t) && !scan.nonfinite_line) scan.nonfinite_line = lineno;
   }
-  return n;
+  return scan;
 }
 
 }  // namespace
@@ -163,14 +194,15 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   if (importer.polygons.empty()) throw InvalidInput("no faces found (a point cloud is not a mesh)", path);
 
   const auto nv = importer.points.size();
-  if (lower_extension(path) == ".obj") {
-    std::size_t lines = count_obj_vertex_lines(path);
-    if (lines != nv)
-      throw InvalidInput(fmt::format("{} of {} vertex lines could not be read (non-numeric or NaN "
-                                     "coordinates?)",
-                                     lines - std::min(lines, nv), lines),
-                         path);
-  }
+  const std::string ext = lower_extension(path);
+  const TextScan scan = scan_text(path, ext);
+  if (scan.nonfinite_line)
+    throw InvalidInput("non-finite coordinate (NaN or Inf)", path + ":" + std::to_string(scan.nonfinite_line));
+  if (ext == ".obj" && scan.obj_vertex_lines != nv)
+    throw InvalidInput(fmt::format("{} of {} vertex lines could not be read (non-numeric coordinates?)",
+                                   scan.obj_vertex_lines - std::min(scan.obj_vertex_lines, nv),
+                                   scan.obj_vertex_lines),
+                       path);
 
   Mesh mesh;
   mesh.vertices.resize(static_cast<Eigen::Index>(nv), 3);
@@ -184,6 +216,9 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   }
 
   MeshReadReport rep;
+  if (ext == ".obj" && scan.obj_face_lines > importer.polygons.size())
+    rep.dropped_faces = scan.obj_face_lines - importer.polygons.size();
+  if (!messages.empty()) log::debug("{}: OpenMesh: {}", path, first_line(messages));
   std::vector<std::array<int, 3>> tris;
   tris.reserve(importer.polygons.size());
   for (std::size_t f = 0; f < importer.polygons.size(); ++f) {
@@ -219,6 +254,8 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
 }
 
 void warn_about(const MeshReadReport& r, const std::string& path) {
+  if (r.dropped_faces)
+    log::warn("{}: {} faces with repeated corners were skipped by the reader", path, r.dropped_faces);
   if (r.degenerate_faces)
     log::warn("{}: {} degenerate (zero-area) faces; they get no weight", path, r.degenerate_faces);
   if (r.nonmanifold_edges)

@@ -29,6 +29,7 @@ struct MeshReadReport {
   std::size_t degenerate_faces = 0;       ///< repeated corner or zero area
   std::size_t nonmanifold_edges = 0;      ///< edges shared by more than two faces
   std::size_t isolated_vertices = 0;      ///< vertices in no face
+  std::size_t dropped_faces = 0;          ///< OBJ faces with repeated corners (skipped)
 };
 
 /// The extensions read_mesh/write_mesh understand (lower case, with dot).

@@ -1,0 +1,37 @@
+# deformflow — the two set-up commands and a few helpers.
+#   make demo    install what is missing, build, run the demo pipeline, show where results are
+#   make test    install what is missing, build, run the test suite (ctest)
+#   make bench   benchmarks (bench/), results under $(BUILD)/bench
+BUILD ?= build
+JOBS ?= 2
+OUT ?= out
+CMAKE_FLAGS ?=
+CTEST_ARGS ?=
+
+ifeq ($(CI),true)
+  CMAKE_FLAGS += -DDEFORMFLOW_WERROR=ON
+endif
+
+.PHONY: all deps configure build test demo bench clean
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@test -f $(BUILD)/CMakeCache.txt || cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+
+build: configure
+	cmake --build $(BUILD) -j$(JOBS)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) $(CTEST_ARGS)
+
+demo: build
+	$(MAKE) --no-print-directory -f Makefile.data demo BIN=$(abspath $(BUILD))/bin OUT=$(OUT)
+
+bench: build
+	bash bench/run.sh $(BUILD)
+
+clean:
+	rm -rf $(BUILD)
