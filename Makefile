@@ -31,6 +31,7 @@ demo: build
 	$(MAKE) --no-print-directory -f Makefile.data demo BIN=$(abspath $(BUILD))/bin OUT=$(OUT)
 
 bench: build
+	@bash scripts/install-deps.sh --with-bench
 	bash bench/run.sh $(BUILD)
 
 clean:

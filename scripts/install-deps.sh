@@ -11,7 +11,7 @@ packages=(
   assimp-testmodels zstd gnuplot-nox
 )
 if [[ "${1:-}" == "--with-bench" ]]; then
-  packages+=(python3-torch time)
+  packages+=(time)  # GNU time for peak memory; python3-torch joins with the model benchmarks
 fi
 
 missing=()

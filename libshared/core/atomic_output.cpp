@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <atomic>
 #include <csignal>
 #include <cstring>
@@ -48,9 +49,9 @@ void release_slot(int i) {
   if (i >= 0) g_slots[i].used.store(false);
 }
 
-// Async-signal-safe removal of a directory's plain entries and then the directory itself:
-// raw getdents64 + unlinkat, no malloc.
-void remove_dir_signal_safe(const char* path) {
+// Async-signal-safe removal of a directory's plain entries: raw getdents64 + unlinkat, no
+// malloc.
+void empty_dir_signal_safe(const char* path) {
   int fd = open(path, O_RDONLY | O_DIRECTORY);
   if (fd >= 0) {
     alignas(8) char buf[8192];
@@ -74,7 +75,15 @@ void remove_dir_signal_safe(const char* path) {
     }
     close(fd);
   }
-  rmdir(path);
+}
+
+// Other threads may still be creating files while the handler runs: empty and retry until the
+// directory is gone.
+void remove_dir_signal_safe(const char* path) {
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    empty_dir_signal_safe(path);
+    if (rmdir(path) == 0 || errno == ENOENT) return;
+  }
 }
 
 extern "C" void cleanup_and_die(int sig) {

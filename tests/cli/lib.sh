@@ -1,0 +1,26 @@
+# Helpers for CLI tests: each test script sources this, works in a fresh $DF_TMP, and fails
+# with a message naming what differed.
+set -euo pipefail
+: "${DF_BIN:?DF_BIN must point at the built tools}" "${DF_TMP:?}"
+rm -rf "$DF_TMP"
+mkdir -p "$DF_TMP"
+cd "$DF_TMP"
+export PATH="$DF_BIN:$PATH"
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+# run CMD...: runs a command, keeping its exit status in $rc and its output in out.txt/err.txt
+run() { set +e; "$@" >out.txt 2>err.txt; rc=$?; set -e; }
+expect_rc() { [ "$rc" = "$1" ] || fail "expected exit $1, got $rc from: $(cat err.txt)"; }
+expect_err() { grep -qE -- "$1" err.txt || fail "stderr does not match /$1/: $(cat err.txt)"; }
+expect_out() { grep -qE -- "$1" out.txt || fail "stdout does not match /$1/: $(head -c 2000 out.txt)"; }
+# The error is exactly one line "TOOL: error: ..." (nothing else on stderr).
+expect_one_error_line() {
+  [ "$(grep -c . err.txt)" = 1 ] || fail "expected one stderr line, got: $(cat err.txt)"
+  grep -qE "^$1: error: " err.txt || fail "expected '$1: error: ...', got: $(cat err.txt)"
+}
+# No temporaries (.NAME.tmp-*) left in a directory.
+expect_no_temporaries() {
+  local left
+  left=$(find "${1:-.}" -maxdepth 1 -name '.*.tmp-*' | head -5)
+  [ -z "$left" ] || fail "temporaries left behind: $left"
+}
