@@ -27,6 +27,11 @@ expect_rc 2
 run synth-meshseq -q --frames 3 -o f.h5
 expect_rc 0
 [ -f f.h5 ] || fail "no output"
+[ -s err.txt ] && fail "--quiet printed: $(cat err.txt)"
+run synth-meshseq --frames 3 -o loud.h5    # progress as plain lines when stderr is a file
+expect_rc 0
+expect_err "^synth-meshseq: generating frames: 3/3 \(100%\).*done$"
+grep -q $'\r' err.txt && fail "carriage returns in redirected progress"
 run synth-meshseq -q --frames 3 -o f.h5   # exists, no --force
 expect_rc 1
 expect_one_error_line synth-meshseq
