@@ -5,6 +5,9 @@
 #include <mutex>
 #include <numeric>
 
+#include <tbb/parallel_for.h>
+#include <zstd.h>
+
 #include "core/error.h"
 #include "io/zstd_filter.h"
 
@@ -524,24 +527,205 @@ Slab select_rows(hid_t ds, std::size_t first, std::size_t count, const std::stri
   s.mem_space = Handle(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr), H5Sclose);
   return s;
 }
+
+// --- parallel chunk I/O
+// Datasets this library writes (chunks of whole rows, filters exactly shuffle + zstd) are
+// read and written chunk by chunk with H5Dread_chunk/H5Dwrite_chunk, with the byte shuffle
+// and zstd (de)compression of the chunks done in parallel. All HDF5 calls stay on the calling
+// thread (the serial HDF5 library is not thread-safe); the bytes are exactly what the filter
+// pipeline would produce, so h5dump and the plugin read them as usual.
+struct ChunkLayout {
+  bool direct = false;
+  std::vector<std::size_t> dims;
+  std::size_t chunk_rows = 0, row_elems = 0;
+  int zstd_level = 3;
+};
+
+ChunkLayout chunk_layout(hid_t ds) {
+  ChunkLayout L;
+  Handle dcpl(H5Dget_create_plist(ds), H5Pclose);
+  Handle space(H5Dget_space(ds), H5Sclose);
+  L.dims = space_dims(space.get());
+  if (L.dims.empty() || H5Pget_layout(dcpl.get()) != H5D_CHUNKED || H5Pget_nfilters(dcpl.get()) != 2) return L;
+  unsigned flags = 0, cd[4] = {0, 0, 0, 0}, config = 0;
+  std::size_t ncd = 4;
+  if (H5Pget_filter2(dcpl.get(), 0, &flags, &ncd, cd, 0, nullptr, &config) != H5Z_FILTER_SHUFFLE) return L;
+  ncd = 4;
+  if (H5Pget_filter2(dcpl.get(), 1, &flags, &ncd, cd, 0, nullptr, &config) != kZstdFilterId) return L;
+  L.zstd_level = ncd > 0 ? static_cast<int>(cd[0]) : 3;
+  std::vector<hsize_t> chunk(L.dims.size());
+  if (H5Pget_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()) < 0) return L;
+  L.row_elems = product(L.dims, 1);
+  for (std::size_t k = 1; k < L.dims.size(); ++k)
+    if (chunk[k] != L.dims[k]) return L;  // chunks split a row: use the filter pipeline
+  L.chunk_rows = chunk[0];
+  L.direct = L.chunk_rows > 0 && L.row_elems > 0;
+  return L;
+}
+
+// HDF5's byte shuffle: byte j of element i goes to out[j·n + i]. Element-major loops with a
+// compile-time element size (sequential reads, `size` sequential write streams).
+template <std::size_t S>
+void shuffle_fixed(const unsigned char* in, unsigned char* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < S; ++j) out[j * n + i] = in[i * S + j];
+}
+template <std::size_t S>
+void unshuffle_fixed(const unsigned char* in, unsigned char* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < S; ++j) out[i * S + j] = in[j * n + i];
+}
+void shuffle_bytes(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t size) {
+  switch (size) {
+    case 8: return shuffle_fixed<8>(in, out, n);
+    case 4: return shuffle_fixed<4>(in, out, n);
+    case 2: return shuffle_fixed<2>(in, out, n);
+    default:
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < size; ++j) out[j * n + i] = in[i * size + j];
+  }
+}
+void unshuffle_bytes(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t size) {
+  switch (size) {
+    case 8: return unshuffle_fixed<8>(in, out, n);
+    case 4: return unshuffle_fixed<4>(in, out, n);
+    case 2: return unshuffle_fixed<2>(in, out, n);
+    default:
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < size; ++j) out[i * size + j] = in[j * n + i];
+  }
+}
+
+// Per-thread zstd contexts and scratch buffers: creating a context per chunk (what
+// ZSTD_compress does) costs allocations and page faults comparable to the compression itself.
+struct Scratch {
+  ZSTD_CCtx* cctx = ZSTD_createCCtx();
+  ZSTD_DCtx* dctx = ZSTD_createDCtx();
+  std::vector<unsigned char> bytes;
+  ~Scratch() {
+    ZSTD_freeCCtx(cctx);
+    ZSTD_freeDCtx(dctx);
+  }
+  Scratch() = default;
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+};
+Scratch& scratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+// Rows [first, first+count) as whole chunks? (The last chunk may run past the dataset's end.)
+bool whole_chunks(const ChunkLayout& L, std::size_t first, std::size_t count) {
+  return L.direct && first % L.chunk_rows == 0 &&
+         (count % L.chunk_rows == 0 || first + count == L.dims[0]) && count >= 2 * L.chunk_rows;
+}
 }  // namespace
 
 template <class T>
 void File::write_rows(const std::string& path, std::size_t first, std::size_t count, const T* data) {
   Handle ds = open_dataset(path);
-  Slab s = select_rows(ds.get(), first, count, where(path));
-  check(H5Dwrite(ds.get(), native_type<T>(), s.mem_space.get(), s.file_space.get(), H5P_DEFAULT,
-                 data),
-        "cannot write rows", where(path));
+  ChunkLayout L = chunk_layout(ds.get());
+  if (!whole_chunks(L, first, count)) {
+    Slab s = select_rows(ds.get(), first, count, where(path));
+    check(H5Dwrite(ds.get(), native_type<T>(), s.mem_space.get(), s.file_space.get(), H5P_DEFAULT,
+                   data),
+          "cannot write rows", where(path));
+    return;
+  }
+  const std::size_t n_chunks = (count + L.chunk_rows - 1) / L.chunk_rows;
+  const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
+  std::vector<std::vector<unsigned char>> packed(n_chunks);
+  std::vector<char> failed(n_chunks, 0);
+  tbb::parallel_for(std::size_t{0}, n_chunks, [&](std::size_t c) {
+    std::size_t rows = std::min(L.chunk_rows, count - c * L.chunk_rows);
+    const T* src = data + c * chunk_elems;
+    std::vector<T> padded;  // an edge chunk is padded to full size
+    if (rows < L.chunk_rows) {
+      padded.assign(chunk_elems, T{});
+      std::copy(src, src + rows * L.row_elems, padded.begin());
+      src = padded.data();
+    }
+    Scratch& sc = scratch();
+    sc.bytes.resize(chunk_bytes);
+    shuffle_bytes(reinterpret_cast<const unsigned char*>(src), sc.bytes.data(), chunk_elems, sizeof(T));
+    packed[c].resize(ZSTD_compressBound(chunk_bytes));
+    std::size_t n = ZSTD_compressCCtx(sc.cctx, packed[c].data(), packed[c].size(), sc.bytes.data(), chunk_bytes,
+                                      L.zstd_level);
+    if (ZSTD_isError(n)) failed[c] = 1;
+    else packed[c].resize(n);
+  });
+  for (std::size_t c = 0; c < n_chunks; ++c) {
+    if (failed[c]) throw IOError("zstd compression failed", where(path));
+    std::vector<hsize_t> offset(L.dims.size(), 0);
+    offset[0] = first + c * L.chunk_rows;
+    check(H5Dwrite_chunk(ds.get(), H5P_DEFAULT, 0, offset.data(), packed[c].size(), packed[c].data()),
+          "cannot write chunk", where(path));
+  }
 }
 
 template <class T>
 void File::read_rows(const std::string& path, std::size_t first, std::size_t count, T* data) const {
   Handle ds = open_dataset(path);
-  Slab s = select_rows(ds.get(), first, count, where(path));
-  check(H5Dread(ds.get(), native_type<T>(), s.mem_space.get(), s.file_space.get(), H5P_DEFAULT,
-                data),
-        "cannot read rows", where(path));
+  ChunkLayout L = chunk_layout(ds.get());
+  Handle type(H5Dget_type(ds.get()), H5Tclose);
+  if (!whole_chunks(L, first, count) || H5Tequal(type.get(), native_type<T>()) <= 0) {
+    Slab s = select_rows(ds.get(), first, count, where(path));
+    check(H5Dread(ds.get(), native_type<T>(), s.mem_space.get(), s.file_space.get(), H5P_DEFAULT,
+                  data),
+          "cannot read rows", where(path));
+    return;
+  }
+  const std::size_t n_chunks = (count + L.chunk_rows - 1) / L.chunk_rows;
+  const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
+  std::vector<std::vector<unsigned char>> packed(n_chunks);
+  std::vector<std::uint32_t> mask(n_chunks, 0);
+  for (std::size_t c = 0; c < n_chunks; ++c) {
+    std::vector<hsize_t> offset(L.dims.size(), 0);
+    offset[0] = first + c * L.chunk_rows;
+    hsize_t nbytes = 0;
+    check(H5Dget_chunk_storage_size(ds.get(), offset.data(), &nbytes), "cannot locate chunk", where(path));
+    packed[c].resize(nbytes);
+    if (nbytes)
+      check(H5Dread_chunk(ds.get(), H5P_DEFAULT, offset.data(), &mask[c], packed[c].data()),
+            "cannot read chunk", where(path));
+  }
+  std::vector<char> failed(n_chunks, 0);
+  tbb::parallel_for(std::size_t{0}, n_chunks, [&](std::size_t c) {
+    std::size_t rows = std::min(L.chunk_rows, count - c * L.chunk_rows);
+    T* dst = data + c * chunk_elems;
+    if (packed[c].empty()) {  // never written: the fill value
+      std::fill(dst, dst + rows * L.row_elems, T{});
+      return;
+    }
+    Scratch& sc = scratch();
+    const unsigned char* shuffled = packed[c].data();
+    if (!(mask[c] & 2u)) {  // zstd applied
+      sc.bytes.resize(chunk_bytes);
+      std::size_t n = ZSTD_decompressDCtx(sc.dctx, sc.bytes.data(), chunk_bytes, packed[c].data(), packed[c].size());
+      if (ZSTD_isError(n) || n != chunk_bytes) {
+        failed[c] = 1;
+        return;
+      }
+      shuffled = sc.bytes.data();
+    } else if (packed[c].size() != chunk_bytes) {
+      failed[c] = 1;
+      return;
+    }
+    std::vector<T> padded;  // an edge chunk decodes to full size; keep its rows
+    T* out = dst;
+    if (rows < L.chunk_rows) {
+      padded.resize(chunk_elems);
+      out = padded.data();
+    }
+    if (!(mask[c] & 1u))
+      unshuffle_bytes(shuffled, reinterpret_cast<unsigned char*>(out), chunk_elems, sizeof(T));
+    else
+      std::memcpy(out, shuffled, chunk_bytes);
+    if (out != dst) std::copy(padded.begin(), padded.begin() + static_cast<std::ptrdiff_t>(rows * L.row_elems), dst);
+  });
+  for (char f : failed)
+    if (f) throw IOError("corrupt compressed chunk", where(path));
 }
 
 #define DF_H5_INSTANTIATE(T)                                                                  \

@@ -134,7 +134,9 @@ class Validator {
            path);
     for (std::size_t i = 0; i < shape.size(); ++i) bind(shape[i], info.dims[i], path, i);
     if (!opt_.check_values) return;
-    if (o.value("finite", false)) check_finite(path, info);
+    std::size_t bytes = (info.dtype == h5::Dtype::f32 ? 4 : 8);
+    for (auto d : info.dims) bytes *= d;
+    if (o.value("finite", false) && bytes <= opt_.max_finite_scan_bytes) check_finite(path, info);
     if (o.contains("index_of")) check_indices(path, info, o["index_of"], o.value("allow_minus_one", false));
     if (o.contains("offsets_of")) check_offsets(path, o["offsets_of"]);
   }
@@ -245,6 +247,24 @@ class Validator {
 };
 
 }  // namespace
+
+ValidationOptions tool_validation() {
+  ValidationOptions o;
+  o.max_finite_scan_bytes = 64u << 20;
+  return o;
+}
+
+template <class T>
+void check_finite_rows(const T* data, std::size_t first, std::size_t count, std::size_t row_size,
+                       const std::string& where) {
+  for (std::size_t k = 0; k < count * row_size; ++k)
+    if (!std::isfinite(data[k]))
+      throw InvalidInput(fmt::format("{} in row {}, element {}", std::isnan(data[k]) ? "NaN" : "Inf",
+                                     first + k / row_size, k % row_size),
+                         where);
+}
+template void check_finite_rows<float>(const float*, std::size_t, std::size_t, std::size_t, const std::string&);
+template void check_finite_rows<double>(const double*, std::size_t, std::size_t, std::size_t, const std::string&);
 
 const Schema& schema(const std::string& kind) {
   auto it = all().find(kind);

@@ -38,7 +38,20 @@ using Dimensions = std::map<std::string, std::size_t>;
 struct ValidationOptions {
   /// Also read the data: NaN/Inf, index ranges, offsets (structure only when false).
   bool check_values = true;
+  /// Datasets larger than this are not scanned for NaN/Inf here; a tool that reads them
+  /// checks as it reads (check_finite_rows), so a huge input is not decompressed twice.
+  std::size_t max_finite_scan_bytes = SIZE_MAX;
 };
+
+/// What tools use when opening inputs: full structure and index checks, NaN scans of
+/// datasets up to 64 MiB.
+ValidationOptions tool_validation();
+
+/// Throws InvalidInput naming the first NaN/Inf among `count` rows of `row_size` values that
+/// start at row `first` of `dataset` in `file`.
+template <class T>
+void check_finite_rows(const T* data, std::size_t first, std::size_t count, std::size_t row_size,
+                       const std::string& where);
 
 /// Validates `f` against the schema of `expected_kind`, or of the kind the file declares when
 /// expected_kind is empty. Returns the dimension sizes; throws InvalidInput on the first
@@ -51,7 +64,7 @@ std::string declared_kind(const h5::File& f);
 
 /// Opens an input file read-only and validates it as `kind` (what every tool does on open).
 h5::File open_input(const std::string& path, const std::string& kind, Dimensions* dims = nullptr,
-                    const ValidationOptions& opt = {});
+                    const ValidationOptions& opt = tool_validation());
 
 /// Throws InvalidInput if dimension `name` differs between two validated inputs.
 void require_same_dimension(const std::string& name, const Dimensions& a, const std::string& file_a,

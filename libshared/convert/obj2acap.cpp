@@ -1,0 +1,217 @@
+#include "convert/obj2acap.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+#include "convert/frame_reader.h"
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/progress.h"
+#include "io/file_header.h"
+#include "io/h5.h"
+
+namespace fs = std::filesystem;
+
+namespace df::convert {
+namespace {
+using geometry::kFeatureDims;
+
+std::vector<fs::path> as_paths(const std::vector<std::string>& v) { return {v.begin(), v.end()}; }
+
+// Class names in order of first appearance and each sequence's class index; no labels at all
+// gives empty results, some but not all labels is an error.
+void labels_of(const std::vector<SequenceInfo>& seqs, std::vector<std::string>& classes,
+               std::vector<std::int32_t>& index) {
+  std::size_t labelled = std::count_if(seqs.begin(), seqs.end(), [](const auto& s) { return !s.label.empty(); });
+  if (labelled == 0) return;
+  for (const auto& s : seqs) {
+    if (s.label.empty())
+      throw UsageError("sequence '" + s.name + "' has no label while others have; give --labels for every sequence");
+    auto it = std::find(classes.begin(), classes.end(), s.label);
+    if (it == classes.end()) {
+      classes.push_back(s.label);
+      it = classes.end() - 1;
+    }
+    index.push_back(static_cast<std::int32_t>(it - classes.begin()));
+  }
+}
+
+}  // namespace
+
+void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
+  auto t_start = std::chrono::steady_clock::now();
+  FrameReader reader(opt.inputs);
+  auto sequences = reader.sequences();
+  if (!opt.labels.empty()) {
+    if (opt.labels.size() != sequences.size())
+      throw UsageError(fmt::format("--labels gives {} labels for {} sequences", opt.labels.size(), sequences.size()));
+    for (std::size_t s = 0; s < sequences.size(); ++s) sequences[s].label = opt.labels[s];
+  }
+  std::vector<std::string> classes;
+  std::vector<std::int32_t> label_index;
+  labels_of(sequences, classes, label_index);
+  const std::size_t n = reader.size();
+  if (n == 0) throw InvalidInput("the inputs hold no frames");
+
+  // Reference (template): --reference, or the first frame.
+  const std::string reference_name = opt.reference.empty() ? reader.frame_origin(0) : opt.reference;
+  io::Mesh reference;
+  if (opt.reference.empty()) {
+    reference = reader.read(0);
+  } else {
+    io::MeshReadReport rep;
+    reference = io::read_mesh(opt.reference, &rep);
+    io::warn_about(rep, opt.reference);
+  }
+  const auto nv = static_cast<std::size_t>(reference.vertices.rows());
+
+  auto inputs = as_paths(reader.input_paths());
+  if (!opt.reference.empty()) inputs.emplace_back(opt.reference);
+  AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, inputs);
+  log::info("{} frames in {} sequences, {} vertices, {} triangles; reference {}", n, sequences.size(), nv,
+            reference.faces.rows(), reference_name);
+
+  geometry::AcapFeatureExtractor extractor(reference.vertices, reference.faces, opt.consistency_options);
+  log::debug("template: {} edges", extractor.topology().edges.size());
+
+  h5::File f(out.temp_path(), h5::File::Mode::create, opt.output);
+  io::write_header(f, "acap", reader.histories());
+  f.write_matrix("/template/vertices", reference.vertices);
+  f.write_matrix("/template/faces", reference.faces);
+  std::vector<std::string> frame_names, seq_names;
+  std::vector<std::int64_t> offsets{0};
+  for (std::size_t i = 0; i < n; ++i) frame_names.push_back(reader.frame_name(i));
+  for (const auto& s : sequences) {
+    seq_names.push_back(s.name);
+    offsets.push_back(static_cast<std::int64_t>(s.first + s.count));
+  }
+  f.write_strings("/frames/names", frame_names);
+  f.write<std::int64_t>("/sequences/offsets", offsets, {offsets.size()});
+  f.write_strings("/sequences/names", seq_names);
+  if (!classes.empty()) {
+    f.write<std::int32_t>("/sequences/labels", label_index, {label_index.size()});
+    f.write_strings("/classes/names", classes);
+  }
+  f.create<float>("/frames/positions", {n, nv, 3});
+  f.create<double>("/features/raw", {n, nv, static_cast<std::size_t>(kFeatureDims)});
+  f.create<float>("/features/normalized", {n, nv, static_cast<std::size_t>(kFeatureDims)});
+
+  // First frame of each sequence starts without a temporal prior.
+  std::vector<char> starts(n, 0);
+  for (const auto& s : sequences)
+    if (s.count) starts[s.first] = 1;
+
+  // A pipeline over blocks of frames: read (in order; OpenMesh is not reentrant) ->
+  // decompose T = RS, log R (parallel) -> consistency in time order, pack, write (in order).
+  // The in-order stages of one block overlap with the parallel stage of the next.
+  struct Block {
+    std::size_t first = 0, count = 0;
+    std::vector<io::Mesh> meshes;
+    std::vector<geometry::FrameDecomposition> dec;
+  };
+  geometry::NormalizationBuilder norm(opt.normalize);
+  Progress progress("computing features", n);
+  const std::size_t block = std::max<std::size_t>(1, opt.block_frames);
+  std::vector<Eigen::Vector3d> previous;
+  std::vector<std::vector<Eigen::Vector3d>> r;
+  std::vector<double> raw;
+  std::vector<float> pos;
+  double axis_gain = 0, angle_gain = 0, axis_before = 0, angle_before = 0;
+  std::size_t next_first = 0;
+  tbb::parallel_pipeline(
+      4,
+      tbb::make_filter<void, std::shared_ptr<Block>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& fc) -> std::shared_ptr<Block> {
+            if (next_first >= n) {
+              fc.stop();
+              return nullptr;
+            }
+            auto b = std::make_shared<Block>();
+            b->first = next_first;
+            b->count = std::min(block, n - next_first);
+            next_first += b->count;
+            b->meshes.resize(b->count);
+            for (std::size_t k = 0; k < b->count; ++k) {
+              const std::size_t i = b->first + k;
+              b->meshes[k] = (i == 0 && opt.reference.empty()) ? reference : reader.read(i);
+              io::check_same_connectivity(reference, reference_name, b->meshes[k], reader.frame_origin(i));
+            }
+            return b;
+          }) &
+          tbb::make_filter<std::shared_ptr<Block>, std::shared_ptr<Block>>(
+              tbb::filter_mode::parallel,
+              [&](std::shared_ptr<Block> b) {
+                b->dec.resize(b->count);
+                tbb::parallel_for(std::size_t{0}, b->count,
+                                  [&](std::size_t k) { extractor.decompose(b->meshes[k].vertices, b->dec[k]); });
+                return b;
+              }) &
+          tbb::make_filter<std::shared_ptr<Block>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Block> b) {
+                const std::size_t first = b->first, count = b->count;
+                r.resize(count);
+                for (std::size_t k = 0; k < count; ++k) {  // consistency: in time order
+                  const std::size_t i = first + k;
+                  if (!opt.consistency) {
+                    r[k] = geometry::principal_rotation_vectors(b->dec[k]);
+                    continue;
+                  }
+                  auto rep = extractor.make_consistent(b->dec[k], starts[i] ? nullptr : &previous, r[k]);
+                  previous = r[k];
+                  axis_before += rep.axis_before;
+                  angle_before += rep.angle_before;
+                  axis_gain += rep.axis_after - rep.axis_before;
+                  angle_gain += rep.angle_before - rep.angle_after;
+                  log::debug("frame {} ({}): axis agreement {} -> {}, angle spread {:.6g} -> {:.6g}, {} sweeps", i,
+                             frame_names[i], rep.axis_before, rep.axis_after, rep.angle_before, rep.angle_after,
+                             rep.sweeps);
+                }
+                raw.assign(count * nv * kFeatureDims, 0.0);
+                pos.assign(count * nv * 3, 0.0f);
+                for (std::size_t k = 0; k < count; ++k) {
+                  geometry::pack_features(r[k], b->dec[k].stretch, raw.data() + k * nv * kFeatureDims);
+                  const double* p = b->meshes[k].vertices.data();
+                  for (std::size_t c = 0; c < nv * 3; ++c) pos[k * nv * 3 + c] = static_cast<float>(p[c]);
+                }
+                norm.add(raw.data(), count * nv);
+                f.write_rows<float>("/frames/positions", first, count, pos.data());
+                f.write_rows<double>("/features/raw", first, count, raw.data());
+                progress.advance(count);
+              }));
+  progress.finish();
+  if (opt.consistency)
+    log::debug("consistency totals: axis agreement {} (+{}), angle spread {:.6g} (-{:.6g})", axis_before,
+               axis_gain, angle_before, angle_gain);
+
+  // Normalization over all frames, then the normalized copy.
+  const geometry::Normalization nz = norm.finish();
+  f.create_groups("/normalization");
+  f.set_attr("/normalization", "mode", nz.mode == geometry::NormalizationMode::group ? "group" : "per-dim");
+  f.set_attr("/normalization", "range", std::string("[-0.95, 0.95]"));
+  f.write<double>("/normalization/min", std::span<const double>(nz.min), {static_cast<std::size_t>(kFeatureDims)});
+  f.write<double>("/normalization/max", std::span<const double>(nz.max), {static_cast<std::size_t>(kFeatureDims)});
+  std::vector<float> normalized;
+  for (std::size_t first = 0; first < n; first += block) {
+    const std::size_t count = std::min(block, n - first);
+    raw.resize(count * nv * kFeatureDims);
+    f.read_rows<double>("/features/raw", first, count, raw.data());
+    normalized.resize(raw.size());
+    for (std::size_t k = 0; k < raw.size(); ++k)
+      normalized[k] = static_cast<float>(nz.normalize(static_cast<int>(k % kFeatureDims), raw[k]));
+    f.write_rows<float>("/features/normalized", first, count, normalized.data());
+  }
+  f.close();
+  out.commit();
+  double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  log::info("wrote {}: {} frames x {} vertices in {:.2f} s ({:.3g} vertex-frames/s)", opt.output, n, nv, secs,
+            static_cast<double>(n * nv) / secs);
+}
+
+}  // namespace df::convert

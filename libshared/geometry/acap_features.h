@@ -1,0 +1,92 @@
+// ACAP features of mesh frames (SPEC §4): per vertex 9 numbers, r = (L01, L02, L12) of the
+// skew matrix L = log R (L01 = −θω_z, L02 = θω_y, L12 = −θω_x) then
+// s = (S00, S01, S02, S11, S12, S22) of the stretch S, where T = R S is the polar
+// decomposition of the deformation gradient from the reference to the frame. The reference
+// itself has r = 0, s = (1,0,0,1,0,1).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "geometry/acap_consistency.h"
+#include "geometry/deformation_gradient.h"
+#include "geometry/mesh_topology.h"
+#include "geometry/rotation.h"
+
+namespace df::geometry {
+
+inline constexpr int kFeatureDims = 9;
+
+/// The rotations (principal axis-angle) and stretches of one frame, before consistency.
+struct FrameDecomposition {
+  std::vector<AxisAngle> rotation;
+  std::vector<Eigen::Matrix3d> stretch;
+};
+
+/// Template-side data shared by all frames: topology, weights, the deformation-gradient
+/// solver and the consistency solver. decompose() is const and thread-safe.
+class AcapFeatureExtractor {
+ public:
+  /// @param reference  #V by 3 reference positions; @param faces  #F by 3
+  AcapFeatureExtractor(const io::Vertices& reference, const io::Faces& faces,
+                       ConsistencyOptions opt = {});
+
+  const MeshTopology& topology() const { return topo_; }
+  const std::vector<double>& weights() const { return gradients_->weights(); }
+  int n_vertices() const { return topo_.n_vertices; }
+
+  /// T → (R, S) → principal log of R, for every vertex of a frame (#V by 3).
+  void decompose(const io::Vertices& frame, FrameDecomposition& out) const;
+
+  /// Consistent rotation vectors of a decomposed frame (`previous`: the previous frame of the
+  /// same sequence, or nullptr).
+  ConsistencyReport make_consistent(const FrameDecomposition& d, const std::vector<Eigen::Vector3d>* previous,
+                                    std::vector<Eigen::Vector3d>& r) const;
+
+ private:
+  MeshTopology topo_;
+  std::unique_ptr<DeformationGradientSolver> gradients_;
+  AcapConsistency consistency_;
+};
+
+/// Writes the 9 features of each vertex (row-major #V by 9) from rotation vectors and stretches.
+void pack_features(const std::vector<Eigen::Vector3d>& r, const std::vector<Eigen::Matrix3d>& S, double* out);
+
+/// Reads vertex i's features back: the rotation vector r = θω and the stretch S.
+void unpack_features(const double* f9, Eigen::Vector3d& r, Eigen::Matrix3d& S);
+
+/// Per-vertex principal-log rotation vectors (no consistency): what a naive per-vertex log
+/// gives, for comparisons.
+std::vector<Eigen::Vector3d> principal_rotation_vectors(const FrameDecomposition& d);
+
+// --- normalization to [−0.95, 0.95] for tanh networks (SPEC §4.7)
+
+enum class NormalizationMode { group, per_dim };
+
+struct Normalization {
+  NormalizationMode mode = NormalizationMode::group;
+  std::array<double, kFeatureDims> min{}, max{};
+
+  /// x_norm = −0.95 + 1.9 (x − min_d) / (max_d − min_d)
+  double normalize(int d, double x) const { return -0.95 + 1.9 * (x - min[d]) / (max[d] - min[d]); }
+  double denormalize(int d, double y) const { return min[d] + (y + 0.95) * (max[d] - min[d]) / 1.9; }
+};
+
+/// Running minima/maxima of features, merged into a Normalization at the end.
+class NormalizationBuilder {
+ public:
+  explicit NormalizationBuilder(NormalizationMode mode) : mode_(mode) { lo_.fill(1e300), hi_.fill(-1e300); }
+  /// @param features  n rows of 9 (row-major)
+  void add(const double* features, std::size_t rows);
+  void merge(const NormalizationBuilder& other);
+  /// group: one range over all r entries, one over all s entries; per-dim: each dimension;
+  /// every range widened by 1e-6 on both sides.
+  Normalization finish() const;
+
+ private:
+  NormalizationMode mode_;
+  std::array<double, kFeatureDims> lo_, hi_;
+};
+
+}  // namespace df::geometry

@@ -1,0 +1,19 @@
+// Polar decomposition T = R S of a 3x3 deformation gradient (SPEC §4.3): R a rotation
+// (det +1), S symmetric. Equivalent to R = UVᵀ, S = VΣVᵀ from the SVD T = UΣVᵀ; when
+// det T < 0 the singular vector of the smallest singular value is flipped (and its sign in S),
+// so R stays a rotation. Computed by Higham's scaled Newton iteration (machine precision in a
+// few steps, much cheaper than a 3x3 SVD), with an SVD fallback for det T <= 0.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace df::geometry {
+
+struct PolarDecomposition {
+  Eigen::Matrix3d R;  ///< rotation
+  Eigen::Matrix3d S;  ///< symmetric stretch
+};
+
+PolarDecomposition polar_decompose(const Eigen::Matrix3d& T);
+
+}  // namespace df::geometry
