@@ -28,6 +28,7 @@ std::vector<double> cotangent_sums(const io::Vertices& V, const io::Faces& F, co
 }
 
 double positive_weight(double c) {
+  if (!std::isfinite(c)) return 1.0;  // a degenerate triangle's ±inf/NaN cotangent
   double s = c <= 0 ? std::exp(c) : 1.0 + c;
   double w = std::sqrt(s);
   if (!std::isfinite(w) || w > 1e5) return 1.0;

@@ -1,7 +1,7 @@
 // Cotangent edge weights mapped to positive least-squares weights (SPEC §4.1):
 //   c_ij = ½(cot α_ij + cot β_ij)   (one term on a boundary edge),
 //   w_ij = sqrt(sexp(c_ij)),  sexp(x) = eˣ for x ≤ 0, 1 + x for x > 0,
-//   a NaN or > 1e5 weight (degenerate triangles) becomes 1.
+//   a NaN or > 1e5 weight, or a non-finite cotangent (degenerate triangles), becomes 1.
 // The mapping is what the ACAP authors' public C++ code does: obtuse triangles never give
 // negative weights.
 #pragma once
