@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <exception>
 #include <optional>
 
 #include "core/log.h"
@@ -28,7 +29,16 @@ Progress::Progress(std::string label, std::size_t total)
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() {
+  if (std::uncaught_exceptions() == 0) {
+    finish();
+    return;
+  }
+  // Unwinding from an error: no "done" line; just end a redrawn terminal line.
+  std::lock_guard lock(mutex_);
+  if (!finished_ && mode_ == Mode::terminal && done_.load() > 0) std::fputs("\n", stderr);
+  finished_ = true;
+}
 
 void Progress::advance(std::size_t n) {
   std::size_t done = done_.fetch_add(n) + n;

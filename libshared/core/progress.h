@@ -22,7 +22,8 @@ class Progress {
 
   /// Marks n more items done.
   void advance(std::size_t n = 1);
-  /// Prints the final line (also done by the destructor if not called).
+  /// Prints the final line (also done by the destructor if not called, unless it runs
+  /// because of an exception).
   void finish();
   std::size_t done() const { return done_.load(); }
 

@@ -62,3 +62,18 @@ TEST_CASE("log: levels filter and prefix with the program", "[core]") {
   CHECK(s == "tool: warning: shown 2\ntool: error: bad 3\n");
   df::log::set_level(df::log::Level::info);
 }
+
+TEST_CASE("Progress: no 'done' line when unwinding from an error", "[core]") {
+  df::log::set_program("t");
+  df::Progress::force_mode(df::Progress::Mode::lines);
+  std::string s = capture_stderr([] {
+    try {
+      df::Progress p("x", 10);
+      p.advance(2);
+      throw std::runtime_error("fail");
+    } catch (const std::runtime_error&) {
+    }
+  });
+  CHECK(s.find("done") == std::string::npos);
+  df::Progress::force_mode(df::Progress::Mode::silent);
+}

@@ -1,0 +1,76 @@
+# obj2acap -> acap2obj end to end: round-trip error, thread independence, verbose objectives,
+# MD2 input, errors with exit codes and no partial output.
+source "$(dirname "$0")/lib.sh"
+: "${DF_PLUGIN_DIR:?}"
+export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
+
+synth-meshseq -q --kind finger --frames 24 --resolution 12 --twist 240 -o frames
+run obj2acap -v frames -o f.h5
+expect_rc 0
+expect_err "axis agreement [0-9-]+ -> [0-9-]+, angle spread"
+h5check -q --kind acap f.h5
+
+# Round trip: acap2obj reports the error against the stored positions.
+run acap2obj f.h5 -o back
+expect_rc 0
+[ "$(ls back | wc -l)" = 24 ] || fail "expected 24 meshes"
+err=$(sed -n 's/.*round-trip error.*: max \([0-9.e+-]*\) x bbox.*/\1/p' err.txt)
+[ -n "$err" ] || fail "no round-trip error reported: $(cat err.txt)"
+awk -v e="$err" 'BEGIN { exit !(e < 1e-3) }' || fail "round-trip error $err >= 1e-3 of the diagonal"
+
+# Same bytes at 1 and 2 threads.
+obj2acap -q --threads 1 frames -o t1.h5
+obj2acap -q --threads 2 frames -o t2.h5
+for ds in /features/raw /features/normalized /frames/positions /normalization/min; do
+  run h5diff t1.h5 t2.h5 $ds
+  expect_rc 0
+done
+acap2obj -q --threads 1 t1.h5 -o m1
+acap2obj -q --threads 2 t1.h5 -o m2
+diff -r m1 m2 >/dev/null || fail "acap2obj meshes differ between 1 and 2 threads"
+
+# Selection, patterns, formats, HDF5 output.
+run acap2obj f.h5 --frames 0-2,20- --name '{index:03d}.ply' -o sel
+expect_rc 0
+[ "$(ls sel | tr '\n' ' ')" = "000.ply 001.ply 002.ply 020.ply 021.ply 022.ply 023.ply " ] || fail "selection: $(ls sel)"
+run acap2obj f.h5 --frames 5 -o one.h5
+expect_rc 0
+h5check -q one.h5
+
+# MD2 keyframes (Debian assimp-testmodels): one labelled sequence per animation.
+md2=/usr/share/assimp/models/MD2/faerie.md2
+[ -f $md2 ] || fail "$md2 missing (scripts/install-deps.sh installs assimp-testmodels)"
+run obj2acap $md2 -o faerie.h5
+expect_rc 0
+run h5check faerie.h5
+expect_out "S = 16"
+expect_out "C = 16"
+run acap2obj faerie.h5 --sequence run -o run
+expect_rc 0
+[ "$(ls run | wc -l)" = 6 ] || fail "faerie 'run' should have 6 frames"
+
+# Errors: one line, exit 1 (2 for usage), nothing left behind.
+cp -r frames broken
+sed -i '0,/^f \([0-9]*\) \([0-9]*\) \([0-9]*\)$/s//f \2 \1 \3/' broken/0010.obj
+run obj2acap -q broken -o broken.h5
+expect_rc 1
+expect_one_error_line obj2acap
+expect_err "connectivity differs.*first at triangle 1.*0010.obj"
+[ -e broken.h5 ] && fail "partial output left"
+expect_no_temporaries .
+run obj2acap frames --normalize sideways -o x.h5
+expect_rc 2
+run obj2acap frames --labels a,b -o x.h5
+expect_rc 2
+expect_err "2 labels for 1 sequences"
+run acap2obj frames/0000.obj -o x
+expect_rc 1
+expect_err "not an HDF5 file"
+synth-meshseq -q --frames 3 -o positions-only.h5
+run acap2obj positions-only.h5 -o x
+expect_rc 1
+expect_err "has no features"
+run acap2obj f.h5 --frames 30-40 -o x
+expect_rc 2
+[ -e x ] && fail "output created on error"
+echo "ok"
