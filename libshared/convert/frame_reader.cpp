@@ -1,5 +1,7 @@
 #include "convert/frame_reader.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 #include "core/error.h"
@@ -7,6 +9,7 @@
 #include "io/frame_list.h"
 #include "io/h5.h"
 #include "io/md2.h"
+#include "io/mesh_io.h"
 #include "io/schema.h"
 
 namespace fs = std::filesystem;
@@ -140,7 +143,11 @@ io::Mesh FrameReader::read(std::size_t i) const {
       return m;
     case Source::Kind::hdf5: {
       std::vector<float> buf(s.n_vertices * 3);
-      s.file->read_rows<float>("/frames/positions", f.index, 1, buf.data());
+      {
+        std::lock_guard lock(hdf5_mutex_);
+        s.file->read_rows<float>("/frames/positions", f.index, 1, buf.data());
+      }
+      io::check_finite_rows(buf.data(), f.index, 1, buf.size(), s.file->where("/frames/positions"));
       m.vertices = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
                        buf.data(), static_cast<Eigen::Index>(s.n_vertices), 3)
                        .cast<double>();
@@ -149,6 +156,21 @@ io::Mesh FrameReader::read(std::size_t i) const {
     }
   }
   return m;
+}
+
+io::Vertices FrameReader::read_positions(std::size_t i, const io::Mesh& reference,
+                                         const std::string& reference_name) const {
+  const Frame& f = frames_[i];
+  const Source& s = *sources_[static_cast<std::size_t>(f.source)];
+  if (s.kind == Source::Kind::mesh_files) {
+    const std::string& path = s.files[f.index].path;
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".obj") return io::read_obj_frame(path, reference, reference_name);
+  }
+  io::Mesh m = read(i);
+  io::check_same_connectivity(reference, reference_name, m, frame_origin(i));
+  return std::move(m.vertices);
 }
 
 std::vector<std::string> FrameReader::input_paths() const {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -30,9 +31,12 @@ class FrameReader {
   const std::string& frame_name(std::size_t i) const;
   /// Where frame i comes from, for messages ("walk/17.obj", "faerie.md2 frame run3").
   std::string frame_origin(std::size_t i) const;
-  /// Reads frame i (mesh files are read on demand; MD2 and HDF5 frames come from memory or the
-  /// open file). Not thread-safe: called from one thread.
+  /// Reads frame i with its connectivity (mesh files are read on demand; MD2 and HDF5 frames
+  /// come from memory or the open file). Thread-safe.
   io::Mesh read(std::size_t i) const;
+  /// Reads frame i's positions, checking that it has `reference`'s connectivity (OBJ files go
+  /// through the fast parser). Thread-safe; frames may be read in parallel.
+  io::Vertices read_positions(std::size_t i, const io::Mesh& reference, const std::string& reference_name) const;
   /// Inputs that are files (for the "do not overwrite an input" check).
   std::vector<std::string> input_paths() const;
   /// Histories of HDF5 inputs (provenance).
@@ -48,6 +52,7 @@ class FrameReader {
   };
   std::vector<Frame> frames_;
   std::vector<SequenceInfo> sequences_;
+  mutable std::mutex hdf5_mutex_;  // the serial HDF5 library is not thread-safe
 };
 
 }  // namespace df::convert

@@ -107,12 +107,12 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
   for (const auto& s : sequences)
     if (s.count) starts[s.first] = 1;
 
-  // A pipeline over blocks of frames: read (in order; OpenMesh is not reentrant) ->
-  // decompose T = RS, log R (parallel) -> consistency in time order, pack, write (in order).
-  // The in-order stages of one block overlap with the parallel stage of the next.
+  // A pipeline over blocks of frames: read + decompose T = RS, log R (parallel) -> consistency
+  // in time order, pack, write (in order). The in-order stage of one block overlaps with the
+  // parallel stage of the next. A bad frame is reported deterministically: the first one.
   struct Block {
     std::size_t first = 0, count = 0;
-    std::vector<io::Mesh> meshes;
+    std::vector<io::Vertices> positions;
     std::vector<geometry::FrameDecomposition> dec;
   };
   geometry::NormalizationBuilder norm(opt.normalize);
@@ -137,20 +137,27 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
             b->first = next_first;
             b->count = std::min(block, n - next_first);
             next_first += b->count;
-            b->meshes.resize(b->count);
-            for (std::size_t k = 0; k < b->count; ++k) {
-              const std::size_t i = b->first + k;
-              b->meshes[k] = (i == 0 && opt.reference.empty()) ? reference : reader.read(i);
-              io::check_same_connectivity(reference, reference_name, b->meshes[k], reader.frame_origin(i));
-            }
             return b;
           }) &
           tbb::make_filter<std::shared_ptr<Block>, std::shared_ptr<Block>>(
               tbb::filter_mode::parallel,
               [&](std::shared_ptr<Block> b) {
+                b->positions.resize(b->count);
                 b->dec.resize(b->count);
-                tbb::parallel_for(std::size_t{0}, b->count,
-                                  [&](std::size_t k) { extractor.decompose(b->meshes[k].vertices, b->dec[k]); });
+                std::vector<std::exception_ptr> errors(b->count);
+                tbb::parallel_for(std::size_t{0}, b->count, [&](std::size_t k) {
+                  const std::size_t i = b->first + k;
+                  try {
+                    b->positions[k] = (i == 0 && opt.reference.empty())
+                                          ? reference.vertices
+                                          : reader.read_positions(i, reference, reference_name);
+                    extractor.decompose(b->positions[k], b->dec[k]);
+                  } catch (...) {
+                    errors[k] = std::current_exception();
+                  }
+                });
+                for (auto& e : errors)
+                  if (e) std::rethrow_exception(e);
                 return b;
               }) &
           tbb::make_filter<std::shared_ptr<Block>, void>(
@@ -177,7 +184,7 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
                 pos.assign(count * nv * 3, 0.0f);
                 for (std::size_t k = 0; k < count; ++k) {
                   geometry::pack_features(r[k], b->dec[k].stretch, raw.data() + k * nv * kFeatureDims);
-                  const double* p = b->meshes[k].vertices.data();
+                  const double* p = b->positions[k].data();
                   for (std::size_t c = 0; c < nv * 3; ++c) pos[k * nv * 3 + c] = static_cast<float>(p[c]);
                 }
                 norm.add(raw.data(), count * nv);

@@ -7,7 +7,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstring>
+#include <iterator>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -248,9 +251,90 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   }
   for (const auto& [edge, count] : edge_faces)
     if (count > 2) ++rep.nonmanifold_edges;
+  // OpenMesh's OBJ reader parses coordinates as float; take them again in double precision.
+  if (ext == ".obj") mesh.vertices = read_obj_frame(path, mesh, path);
   rep.isolated_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
   if (report) *report = rep;
   return mesh;
+}
+
+Vertices read_obj_frame(const std::string& path, const Mesh& reference, const std::string& reference_name) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IOError(fs::exists(path) ? "cannot read file" : "no such file", path);
+  std::string text{std::istreambuf_iterator<char>(in), {}};
+  if (text.empty()) throw InvalidInput("empty file", path);
+  const auto nv = reference.vertices.rows();
+  Vertices V(nv, 3);
+  Eigen::Index v = 0, tri = 0;
+  std::size_t lineno = 0;
+  std::vector<int> poly;
+  const char* p = text.data();
+  const char* end = p + text.size();
+  auto where = [&] { return path + ":" + std::to_string(lineno); };
+  auto skip_blank = [&](const char*& q, const char* e) {
+    while (q < e && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
+  };
+  for (const char* eol = p; p < end; p = eol + 1) {
+    ++lineno;
+    eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+    if (!eol) eol = end;
+    const char* q = p;
+    skip_blank(q, eol);
+    if (q + 1 < eol && q[0] == 'v' && (q[1] == ' ' || q[1] == '\t')) {
+      if (v >= nv) throw InvalidInput(fmt::format("more than the reference's {} vertices", nv), where());
+      q += 2;
+      for (int k = 0; k < 3; ++k) {
+        skip_blank(q, eol);
+        double x = 0;
+        auto [ptr, ec] = std::from_chars(q, eol, x);
+        if (ec != std::errc() || !std::isfinite(x))
+          throw InvalidInput(ec != std::errc() ? "unreadable vertex coordinate" : "non-finite coordinate (NaN or Inf)",
+                             where());
+        q = ptr;
+      V(v, k) = x;
+      }
+      ++v;
+    } else if (q + 1 < eol && q[0] == 'f' && (q[1] == ' ' || q[1] == '\t')) {
+      q += 2;
+      poly.clear();
+      while (true) {
+        skip_blank(q, eol);
+        if (q >= eol) break;
+        long idx = 0;
+        auto [ptr, ec] = std::from_chars(q, eol, idx);
+        if (ec != std::errc()) throw InvalidInput("unreadable face", where());
+        // 1-based; negative = relative to the vertices read so far
+        poly.push_back(static_cast<int>(idx > 0 ? idx - 1 : v + idx));
+        q = ptr;
+        while (q < eol && *q != ' ' && *q != '\t' && *q != '\r') ++q;  // skip /vt/vn
+      }
+      if (poly.size() < 3) throw InvalidInput(fmt::format("face with {} corners", poly.size()), where());
+      if (poly.size() == 3 && (poly[0] == poly[1] || poly[1] == poly[2] || poly[0] == poly[2]))
+        continue;  // skipped by the general reader as well
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k, ++tri) {
+        if (tri >= reference.faces.rows() || reference.faces(tri, 0) != poly[0] ||
+            reference.faces(tri, 1) != poly[k] || reference.faces(tri, 2) != poly[k + 1]) {
+          if (tri >= reference.faces.rows())
+            throw InvalidInput(fmt::format("has more triangles than the reference {} ({})", reference_name,
+                                           reference.faces.rows()),
+                               path);
+          throw InvalidInput(
+              fmt::format("connectivity differs from the reference {} first at triangle {}: ({} {} {}) "
+                          "instead of ({} {} {})",
+                          reference_name, tri + 1, poly[0] + 1, poly[k] + 1, poly[k + 1] + 1,
+                          reference.faces(tri, 0) + 1, reference.faces(tri, 1) + 1, reference.faces(tri, 2) + 1),
+              path);
+        }
+      }
+    }
+  }
+  if (v != nv)
+    throw InvalidInput(fmt::format("has {} vertices but the reference {} has {}", v, reference_name, nv), path);
+  if (tri != reference.faces.rows())
+    throw InvalidInput(fmt::format("has {} triangles but the reference {} has {}", tri, reference_name,
+                                   reference.faces.rows()),
+                       path);
+  return V;
 }
 
 void warn_about(const MeshReadReport& r, const std::string& path) {

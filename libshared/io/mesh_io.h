@@ -1,5 +1,6 @@
 // Triangle meshes in and out. Reading: OBJ, OFF and PLY (ASCII and binary) through OpenMesh's
-// readers with a verbatim importer, so vertices keep their file order, faces their file
+// readers with a verbatim importer (OBJ coordinates then re-parsed in double precision, as
+// OpenMesh reads them as float), so vertices keep their file order, faces their file
 // connectivity (polygons fan-triangulated), and a malformed file is an error instead of
 // silently dropped or duplicated vertices (what OpenMesh's mesh kernel does on NaN or
 // non-manifold input). Writing: OBJ/OFF/ASCII PLY formatted with fmt, because OpenMesh's
@@ -39,6 +40,13 @@ bool is_mesh_file(const std::string& path);
 /// face index out of range, non-finite coordinates), naming the file. Non-manifold and
 /// zero-area faces are counted in `report` (and warned about by the caller) but kept.
 Mesh read_mesh(const std::string& path, MeshReadReport* report = nullptr);
+
+/// Reads an OBJ frame known to share `reference`'s connectivity: positions only, parsed with
+/// std::from_chars (several times faster than the general reader and thread-safe, so frames
+/// can be read in parallel). Every face line is checked against the reference as it is parsed;
+/// any difference, a NaN/Inf or unreadable coordinate, or a wrong vertex count is an
+/// InvalidInput naming the file (and line), as read_mesh + check_same_connectivity would.
+Vertices read_obj_frame(const std::string& path, const Mesh& reference, const std::string& reference_name);
 
 /// Logs one warning line per kind of problem in `report`, naming the file.
 void warn_about(const MeshReadReport& report, const std::string& path);

@@ -159,7 +159,7 @@ TEST_CASE("obj2acap: bad input is one clear error and leaves no output", "[conve
   df::test::write_text(tmp / "f/2.obj", "");
   CHECK_THAT(run({tmp / "f"}), Catch::Contains("empty file"));
   df::test::write_text(tmp / "f/2.obj", "this is not a mesh\n");
-  CHECK_THAT(run({tmp / "f"}), Catch::Contains("no vertices found"));
+  CHECK_THAT(run({tmp / "f"}), Catch::Contains("has 0 vertices but the reference"));
   CHECK_THAT(run({tmp / "missing"}), Catch::Contains("no such file"));
   CHECK(std::distance(fs::directory_iterator(tmp.path()), fs::directory_iterator()) == 1);  // only f/
   df::convert::Obj2AcapOptions o;

@@ -125,3 +125,24 @@ TEST_CASE("check_same_connectivity: names the frame and the first differing face
   CHECK_THROWS_WITH(df::io::check_same_connectivity(ref, "0.obj", fewer, "2.obj"),
                     Catch::Contains("has 3 vertices but the reference 0.obj has 4"));
 }
+
+TEST_CASE("read_obj_frame: the fast parser agrees with read_mesh and checks every face", "[io]") {
+  df::test::TempDir tmp;
+  const std::string head = "mtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.123456789012345678\nv 2 0.5 0\n"
+                           "vt 0 0\nvn 0 0 1\ns off\n";
+  write_text(tmp / "a.obj", head + "f 1/1/1 2/1/1 3/1/1 4/1/1\nf 2//1 -1//1 -3//1\n");
+  Mesh ref = read_mesh(tmp / "a.obj");
+  Vertices fast = df::io::read_obj_frame(tmp / "a.obj", ref, "a.obj");
+  CHECK(fast == ref.vertices);
+  CHECK(fast(3, 2) == 0.123456789012345678);  // double precision, unlike OpenMesh's float reader
+  CHECK(ref.faces.row(2) == Eigen::RowVector3i(1, 4, 2));  // relative indices resolved
+  write_text(tmp / "b.obj", head + "f 1 2 3 4\nf 2 5 4\n");
+  CHECK_THAT(df::test::error_message([&] { df::io::read_obj_frame(tmp / "b.obj", ref, "a.obj"); }),
+             Catch::Contains("first at triangle 3: (2 5 4) instead of (2 5 3)") && Catch::Contains("b.obj)"));
+  write_text(tmp / "c.obj", "v 0 0 0\nv 1 0 0\nv 1 inf 0\nv 0 1 0\nv 2 0.5 0\nf 1 2 3 4\nf 2 5 3\n");
+  CHECK_THAT(df::test::error_message([&] { df::io::read_obj_frame(tmp / "c.obj", ref, "a.obj"); }),
+             Catch::Contains("non-finite") && Catch::Contains("c.obj:3)"));
+  write_text(tmp / "d.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  CHECK_THAT(df::test::error_message([&] { df::io::read_obj_frame(tmp / "d.obj", ref, "a.obj"); }),
+             Catch::Contains("has 4 vertices but the reference a.obj has 5"));
+}
