@@ -1,41 +1,74 @@
 #!/usr/bin/env bash
 # Benchmarks (never run by the test suite). Usage: bench/run.sh [BUILD_DIR]
-# Writes a Markdown table to BUILD_DIR/bench/results.md and prints it.
-# So far: I/O foundations — synthetic frame generation + zstd HDF5 writing, and mesh reading
-# of the real data when ../shared/data is present. Model/ACAP benchmarks join with their tools.
+# Writes Markdown tables to BUILD_DIR/bench/results.md and prints them. Rates are vertex-frames
+# per second of the whole tool run (reading, computing, compressing, writing); peak memory is
+# GNU time's maximum resident set size.
 set -euo pipefail
 build=${1:-build}
 bin=$build/bin
 out=$build/bench
+shared=${DEFORMFLOW_SHARED_DATA:-$(dirname "$0")/../../shared/data}
 mkdir -p "$out"
 export HDF5_PLUGIN_PATH=$build/hdf5-plugins
 results=$out/results.md
 
-# seconds and peak RSS (MiB) of a command, via GNU time when installed
+# "seconds peakMiB" of a command; its stderr goes to $out/last.log
 measure() {
   local log=$out/time.log
-  if [ -x /usr/bin/time ]; then
-    /usr/bin/time -f "%e %M" -o "$log" "$@" >/dev/null
-    awk '{printf "%.2f %.0f\n", $1, $2/1024}' "$log"
-  else
-    local t0 t1
-    t0=$(date +%s.%N); "$@" >/dev/null; t1=$(date +%s.%N)
-    awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.2f n/a\n", b-a}'
-  fi
+  /usr/bin/time -f "%e %M" -o "$log" "$@" >/dev/null 2>"$out/last.log"
+  awk '{printf "%.2f %.0f\n", $1, $2/1024}' "$log"
 }
+rate() { awk -v n="$1" -v s="$2" 'BEGIN{printf "%.2f M", n/s/1e6}'; }
+
+# Inputs: a 12,602-vertex finger (bend + 400 deg twist), 1,000 frames, as acap positions.
+[ -f "$out/finger12k.h5" ] || "$bin/synth-meshseq" -q --kind finger --resolution 56 --frames 1000 \
+  --twist 400 -o "$out/finger12k.h5"
+declare -A dirs
+if [ -d "$shared/meshseq" ]; then
+  for set in pcow chickenCrossing; do
+    if [ ! -d "$out/data/$set" ]; then
+      mkdir -p "$out/data" && tar --zstd -xf "$shared/meshseq/$set.tar.zst" -C "$out/data"
+    fi
+    dirs[$set]=$out/data/$set
+  done
+fi
 
 {
+  echo "### ACAP conversion (obj2acap, acap2obj)"
+  echo
+  echo "| input | tool | threads | seconds | vertex-frames/s | peak MiB |"
+  echo "|---|---|---|---|---|---|"
+  bench_set() {  # key label input vertex-frames
+    local name=$1 label=$2 input=$3 vf=$4
+    for threads in 1 2; do
+      read -r s m < <(measure "$bin/obj2acap" -q --no-consistency --threads $threads "$input" -f -o "$out/$name-nc.h5")
+      echo "| $label | obj2acap --no-consistency (features only) | $threads | $s | $(rate $vf $s) | $m |"
+      read -r s m < <(measure "$bin/obj2acap" -q --threads $threads "$input" -f -o "$out/$name.h5")
+      echo "| $label | obj2acap (features + consistency) | $threads | $s | $(rate $vf $s) | $m |"
+    done
+    for threads in 1 2; do
+      read -r s m < <(measure "$bin/acap2obj" --threads $threads "$out/$name.h5" -f -o "$out/$name-back.h5")
+      local factor
+      factor=$(sed -n 's/.*factored in \([0-9.]*\) s.*/\1/p' "$out/last.log")
+      echo "| $label | acap2obj → .h5 (factorisation ${factor} s) | $threads | $s | $(rate $vf $s) | $m |"
+    done
+    read -r s m < <(measure "$bin/acap2obj" --threads 2 "$out/$name.h5" -f -o "$out/$name-meshes")
+    echo "| $label | acap2obj → OBJ files | 2 | $s | $(rate $vf $s) | $m |"
+  }
+  bench_set finger "finger 12,602 v × 1,000 (HDF5 in)" "$out/finger12k.h5" 12602000
+  if [ -n "${dirs[pcow]:-}" ]; then
+    bench_set pcow "pcow 2,904 v × 204 (OBJ in)" "${dirs[pcow]}" 592416
+    bench_set chicken "chickenCrossing 3,030 v × 400 (OBJ in)" "${dirs[chickenCrossing]}" 1212000
+  fi
+  echo
+  echo "### Synthetic data"
+  echo
   echo "| benchmark | threads | seconds | vertex-frames/s | peak MiB |"
   echo "|---|---|---|---|---|"
-  # a 12,544-vertex grid (the size of the SPEC's performance targets)
   for threads in 1 2; do
     read -r s m < <(measure "$bin/synth-meshseq" -q --kind bumps --resolution 111 --frames 1000 \
                       --threads "$threads" -f -o "$out/bumps.h5")
-    vf=$(awk -v s="$s" 'BEGIN{printf "%.0f", 112*112*1000/s}')
-    echo "| synth-meshseq bumps 12,544 v x 1,000 frames -> zstd HDF5 | $threads | $s | $vf | $m |"
+    echo "| synth-meshseq bumps 12,544 v × 1,000 → zstd HDF5 | $threads | $s | $(rate 12544000 $s) | $m |"
   done
-  read -r s m < <(measure "$bin/h5check" -q "$out/bumps.h5")
-  vf=$(awk -v s="$s" 'BEGIN{printf "%.0f", 112*112*1000/s}')
-  echo "| h5check (reads + NaN-scans all positions) | 1 | $s | $vf | $m |"
 } | tee "$results"
 echo "results: $results"

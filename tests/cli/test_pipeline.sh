@@ -4,9 +4,13 @@ source "$(dirname "$0")/lib.sh"
 : "${DF_SOURCE:?}"
 run make -C "$DF_SOURCE" -f Makefile.data demo BIN="$DF_BIN" OUT="$DF_TMP/out"
 expect_rc 0
-expect_out "finger.h5: OK, acap"
-expect_out "bumps.h5: OK, acap"
+expect_out "faerie.h5: OK, acap"
+expect_out "finger \(400 deg twist\): max [0-9.e-]+ x bbox diagonal"
+expect_out "faerie \(MD2, 16 animations\): max"
 [ -f out/demo/flag/0000.obj ] || fail "flag frames missing"
-run make -C "$DF_SOURCE" -q -f Makefile.data "$DF_TMP/out/demo/finger.h5" "$DF_TMP/out/demo/bumps.h5" BIN="$DF_BIN" OUT="$DF_TMP/out"
+[ "$(ls out/demo/faerie-meshes | wc -l)" = 198 ] || fail "faerie meshes missing"
+h5check -q out/demo/finger.h5 out/demo/bumps.h5 out/demo/finger-acap.h5
+run make -C "$DF_SOURCE" -q -f Makefile.data "$DF_TMP/out/demo/faerie-meshes/stand01.obj" \
+  "$DF_TMP/out/demo/finger-meshes/finger-0000.obj" "$DF_TMP/out/demo/bumps.h5" BIN="$DF_BIN" OUT="$DF_TMP/out"
 expect_rc 0
 echo "ok"
