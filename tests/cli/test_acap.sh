@@ -29,6 +29,24 @@ acap2obj -q --threads 1 t1.h5 -o m1
 acap2obj -q --threads 2 t1.h5 -o m2
 diff -r m1 m2 >/dev/null || fail "acap2obj meshes differ between 1 and 2 threads"
 
+# --reference, --normalize per-dim, --anchor.
+run obj2acap --reference frames/0005.obj --normalize per-dim frames -o ref.h5
+expect_rc 0
+expect_err "reference frames/0005.obj"
+run h5dump -a /normalization/mode ref.h5
+expect_out '"per-dim"'
+run h5dump -d /features/raw -s 5,0,0 -c 1,1,9 ref.h5   # frame 5 is the reference: r = 0, s = I
+sed -n 's/.*(5,0,0): //p' out.txt | tr -d ' ' | awk -F, '{
+  split("0,0,0,1,0,0,1,0,1", e, ","); for (k = 1; k <= 9; k++) if ($k - e[k] > 1e-12 || e[k] - $k > 1e-12) exit 1
+}' || fail "reference frame features are not r = 0, s = I: $(grep '(5,0,0)' out.txt)"
+run acap2obj --anchor 100 --anchor-positions reference --frames 0 f.h5 -o anchored
+expect_rc 0
+diff <(grep -m101 '^v ' anchored/0000.obj | tail -1) <(grep -m101 '^v ' frames/0000.obj | tail -1) >/dev/null ||
+  fail "anchor vertex 100 not at its reference position"
+run acap2obj --anchor 100000 f.h5 -o x
+expect_rc 1
+expect_err "anchor vertex 100000 does not exist"
+
 # Selection, patterns, formats, HDF5 output.
 run acap2obj f.h5 --frames 0-2,20- --name '{index:03d}.ply' -o sel
 expect_rc 0
