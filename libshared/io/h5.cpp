@@ -615,53 +615,77 @@ Scratch& scratch() {
   return s;
 }
 
-// Rows [first, first+count) as whole chunks? (The last chunk may run past the dataset's end.)
-bool whole_chunks(const ChunkLayout& L, std::size_t first, std::size_t count) {
-  return L.direct && first % L.chunk_rows == 0 &&
-         (count % L.chunk_rows == 0 || first + count == L.dims[0]) && count >= 2 * L.chunk_rows;
-}
 }  // namespace
+
+// Splits rows [first, first+count) into a partial head, whole chunks (the last may run past the
+// dataset's end) and a partial tail: the head and tail go through HDF5's own pipeline, the
+// whole chunks through the parallel path.
+struct RowSplit {
+  std::size_t head = 0, middle = 0;  // rows; tail = count - head - middle
+};
+RowSplit split_rows(const ChunkLayout& L, std::size_t first, std::size_t count) {
+  RowSplit r;
+  if (!L.direct) {
+    r.head = count;
+    return r;
+  }
+  const std::size_t cr = L.chunk_rows, n = L.dims[0];
+  std::size_t start = (first + cr - 1) / cr * cr;  // first chunk boundary at or after first
+  r.head = std::min(count, start - first);
+  std::size_t end = first + count;
+  std::size_t stop = end == n ? end : end / cr * cr;  // up to the dataset's end, or a boundary
+  if (stop > start) r.middle = stop - start;
+  if (r.middle < 2 * cr) r.middle = 0, r.head = count;  // too little to be worth it
+  return r;
+}
 
 template <class T>
 void File::write_rows(const std::string& path, std::size_t first, std::size_t count, const T* data) {
   Handle ds = open_dataset(path);
   ChunkLayout L = chunk_layout(ds.get());
-  if (!whole_chunks(L, first, count)) {
-    Slab s = select_rows(ds.get(), first, count, where(path));
+  RowSplit sp = split_rows(L, first, count);
+  auto pipeline_write = [&](std::size_t f0, std::size_t n) {
+    if (!n) return;
+    Slab s = select_rows(ds.get(), f0, n, where(path));
     check(H5Dwrite(ds.get(), native_type<T>(), s.mem_space.get(), s.file_space.get(), H5P_DEFAULT,
-                   data),
+                   data + (f0 - first) * product(L.dims, 1)),
           "cannot write rows", where(path));
-    return;
-  }
-  const std::size_t n_chunks = (count + L.chunk_rows - 1) / L.chunk_rows;
-  const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
-  std::vector<std::vector<unsigned char>> packed(n_chunks);
-  std::vector<char> failed(n_chunks, 0);
-  tbb::parallel_for(std::size_t{0}, n_chunks, [&](std::size_t c) {
-    std::size_t rows = std::min(L.chunk_rows, count - c * L.chunk_rows);
-    const T* src = data + c * chunk_elems;
-    std::vector<T> padded;  // an edge chunk is padded to full size
-    if (rows < L.chunk_rows) {
-      padded.assign(chunk_elems, T{});
-      std::copy(src, src + rows * L.row_elems, padded.begin());
-      src = padded.data();
+  };
+  pipeline_write(first, sp.head);
+  if (sp.middle) {
+    const std::size_t m0 = first + sp.head;
+    const T* mdata = data + sp.head * L.row_elems;
+    const std::size_t n_chunks = (sp.middle + L.chunk_rows - 1) / L.chunk_rows;
+    const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
+    std::vector<std::vector<unsigned char>> packed(n_chunks);
+    std::vector<char> failed(n_chunks, 0);
+    tbb::parallel_for(std::size_t{0}, n_chunks, [&](std::size_t c) {
+      std::size_t rows = std::min(L.chunk_rows, sp.middle - c * L.chunk_rows);
+      const T* src = mdata + c * chunk_elems;
+      std::vector<T> padded;  // an edge chunk is padded to full size
+      if (rows < L.chunk_rows) {
+        padded.assign(chunk_elems, T{});
+        std::copy(src, src + rows * L.row_elems, padded.begin());
+        src = padded.data();
+      }
+      Scratch& sc = scratch();
+      sc.bytes.resize(chunk_bytes);
+      shuffle_bytes(reinterpret_cast<const unsigned char*>(src), sc.bytes.data(), chunk_elems, sizeof(T));
+      packed[c].resize(ZSTD_compressBound(chunk_bytes));
+      std::size_t n = ZSTD_compressCCtx(sc.cctx, packed[c].data(), packed[c].size(), sc.bytes.data(), chunk_bytes,
+                                        L.zstd_level);
+      if (ZSTD_isError(n)) failed[c] = 1;
+      else packed[c].resize(n);
+    });
+    for (std::size_t c = 0; c < n_chunks; ++c) {
+      if (failed[c]) throw IOError("zstd compression failed", where(path));
+      std::vector<hsize_t> offset(L.dims.size(), 0);
+      offset[0] = m0 + c * L.chunk_rows;
+      check(H5Dwrite_chunk(ds.get(), H5P_DEFAULT, 0, offset.data(), packed[c].size(), packed[c].data()),
+            "cannot write chunk", where(path));
     }
-    Scratch& sc = scratch();
-    sc.bytes.resize(chunk_bytes);
-    shuffle_bytes(reinterpret_cast<const unsigned char*>(src), sc.bytes.data(), chunk_elems, sizeof(T));
-    packed[c].resize(ZSTD_compressBound(chunk_bytes));
-    std::size_t n = ZSTD_compressCCtx(sc.cctx, packed[c].data(), packed[c].size(), sc.bytes.data(), chunk_bytes,
-                                      L.zstd_level);
-    if (ZSTD_isError(n)) failed[c] = 1;
-    else packed[c].resize(n);
-  });
-  for (std::size_t c = 0; c < n_chunks; ++c) {
-    if (failed[c]) throw IOError("zstd compression failed", where(path));
-    std::vector<hsize_t> offset(L.dims.size(), 0);
-    offset[0] = first + c * L.chunk_rows;
-    check(H5Dwrite_chunk(ds.get(), H5P_DEFAULT, 0, offset.data(), packed[c].size(), packed[c].data()),
-          "cannot write chunk", where(path));
   }
+  pipeline_write(first + sp.head + sp.middle, count - sp.head - sp.middle);
 }
 
 template <class T>
@@ -669,63 +693,71 @@ void File::read_rows(const std::string& path, std::size_t first, std::size_t cou
   Handle ds = open_dataset(path);
   ChunkLayout L = chunk_layout(ds.get());
   Handle type(H5Dget_type(ds.get()), H5Tclose);
-  if (!whole_chunks(L, first, count) || H5Tequal(type.get(), native_type<T>()) <= 0) {
-    Slab s = select_rows(ds.get(), first, count, where(path));
+  RowSplit sp = split_rows(L, first, count);
+  if (H5Tequal(type.get(), native_type<T>()) <= 0) sp = RowSplit{count, 0};  // needs conversion
+  auto pipeline_read = [&](std::size_t f0, std::size_t n) {
+    if (!n) return;
+    Slab s = select_rows(ds.get(), f0, n, where(path));
     check(H5Dread(ds.get(), native_type<T>(), s.mem_space.get(), s.file_space.get(), H5P_DEFAULT,
-                  data),
+                  data + (f0 - first) * product(L.dims, 1)),
           "cannot read rows", where(path));
-    return;
-  }
-  const std::size_t n_chunks = (count + L.chunk_rows - 1) / L.chunk_rows;
-  const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
-  std::vector<std::vector<unsigned char>> packed(n_chunks);
-  std::vector<std::uint32_t> mask(n_chunks, 0);
-  for (std::size_t c = 0; c < n_chunks; ++c) {
-    std::vector<hsize_t> offset(L.dims.size(), 0);
-    offset[0] = first + c * L.chunk_rows;
-    hsize_t nbytes = 0;
-    check(H5Dget_chunk_storage_size(ds.get(), offset.data(), &nbytes), "cannot locate chunk", where(path));
-    packed[c].resize(nbytes);
-    if (nbytes)
-      check(H5Dread_chunk(ds.get(), H5P_DEFAULT, offset.data(), &mask[c], packed[c].data()),
-            "cannot read chunk", where(path));
-  }
-  std::vector<char> failed(n_chunks, 0);
-  tbb::parallel_for(std::size_t{0}, n_chunks, [&](std::size_t c) {
-    std::size_t rows = std::min(L.chunk_rows, count - c * L.chunk_rows);
-    T* dst = data + c * chunk_elems;
-    if (packed[c].empty()) {  // never written: the fill value
-      std::fill(dst, dst + rows * L.row_elems, T{});
-      return;
+  };
+  pipeline_read(first, sp.head);
+  if (sp.middle) {
+    const std::size_t m0 = first + sp.head;
+    T* mdata = data + sp.head * L.row_elems;
+    const std::size_t n_chunks = (sp.middle + L.chunk_rows - 1) / L.chunk_rows;
+    const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
+    std::vector<std::vector<unsigned char>> packed(n_chunks);
+    std::vector<std::uint32_t> mask(n_chunks, 0);
+    for (std::size_t c = 0; c < n_chunks; ++c) {
+      std::vector<hsize_t> offset(L.dims.size(), 0);
+      offset[0] = m0 + c * L.chunk_rows;
+      hsize_t nbytes = 0;
+      check(H5Dget_chunk_storage_size(ds.get(), offset.data(), &nbytes), "cannot locate chunk", where(path));
+      packed[c].resize(nbytes);
+      if (nbytes)
+        check(H5Dread_chunk(ds.get(), H5P_DEFAULT, offset.data(), &mask[c], packed[c].data()),
+              "cannot read chunk", where(path));
     }
-    Scratch& sc = scratch();
-    const unsigned char* shuffled = packed[c].data();
-    if (!(mask[c] & 2u)) {  // zstd applied
-      sc.bytes.resize(chunk_bytes);
-      std::size_t n = ZSTD_decompressDCtx(sc.dctx, sc.bytes.data(), chunk_bytes, packed[c].data(), packed[c].size());
-      if (ZSTD_isError(n) || n != chunk_bytes) {
+    std::vector<char> failed(n_chunks, 0);
+    tbb::parallel_for(std::size_t{0}, n_chunks, [&](std::size_t c) {
+      std::size_t rows = std::min(L.chunk_rows, sp.middle - c * L.chunk_rows);
+      T* dst = mdata + c * chunk_elems;
+      if (packed[c].empty()) {  // never written: the fill value
+        std::fill(dst, dst + rows * L.row_elems, T{});
+        return;
+      }
+      Scratch& sc = scratch();
+      const unsigned char* shuffled = packed[c].data();
+      if (!(mask[c] & 2u)) {  // zstd applied
+        sc.bytes.resize(chunk_bytes);
+        std::size_t n = ZSTD_decompressDCtx(sc.dctx, sc.bytes.data(), chunk_bytes, packed[c].data(), packed[c].size());
+        if (ZSTD_isError(n) || n != chunk_bytes) {
+          failed[c] = 1;
+          return;
+        }
+        shuffled = sc.bytes.data();
+      } else if (packed[c].size() != chunk_bytes) {
         failed[c] = 1;
         return;
       }
-      shuffled = sc.bytes.data();
-    } else if (packed[c].size() != chunk_bytes) {
-      failed[c] = 1;
-      return;
-    }
-    std::vector<T> padded;  // an edge chunk decodes to full size; keep its rows
-    T* out = dst;
-    if (rows < L.chunk_rows) {
-      padded.resize(chunk_elems);
-      out = padded.data();
-    }
-    if (!(mask[c] & 1u))
-      unshuffle_bytes(shuffled, reinterpret_cast<unsigned char*>(out), chunk_elems, sizeof(T));
-    else
-      std::memcpy(out, shuffled, chunk_bytes);
-    if (out != dst) std::copy(padded.begin(), padded.begin() + static_cast<std::ptrdiff_t>(rows * L.row_elems), dst);
-  });
-  for (char f : failed)
-    if (f) throw IOError("corrupt compressed chunk", where(path));
+      std::vector<T> padded;  // an edge chunk decodes to full size; keep its rows
+      T* out = dst;
+      if (rows < L.chunk_rows) {
+        padded.resize(chunk_elems);
+        out = padded.data();
+      }
+      if (!(mask[c] & 1u))
+        unshuffle_bytes(shuffled, reinterpret_cast<unsigned char*>(out), chunk_elems, sizeof(T));
+      else
+        std::memcpy(out, shuffled, chunk_bytes);
+      if (out != dst) std::copy(padded.begin(), padded.begin() + static_cast<std::ptrdiff_t>(rows * L.row_elems), dst);
+    });
+    for (char f : failed)
+      if (f) throw IOError("corrupt compressed chunk", where(path));
+  }
+  pipeline_read(first + sp.head + sp.middle, count - sp.head - sp.middle);
 }
 
 #define DF_H5_INSTANTIATE(T)                                                                  \

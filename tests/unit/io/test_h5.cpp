@@ -141,3 +141,24 @@ TEST_CASE("h5: parallel chunk I/O is byte-compatible with HDF5's filter pipeline
   f.read_rows<float>("/blocks", 0, rows, as_float.data());
   CHECK(as_float[12345] == static_cast<float>(data[12345]));
 }
+
+TEST_CASE("h5: unaligned row ranges mix pipeline head/tail with parallel whole chunks", "[io]") {
+  df::test::TempDir tmp;
+  const std::size_t rows = 200, cols = 5000;  // 26 rows per chunk
+  std::vector<double> data(rows * cols);
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<double>(i % 9973) * 0.25;
+  {
+    File f(tmp / "u.h5", File::Mode::create);
+    f.create<double>("/x", {rows, cols});
+    f.write_rows<double>("/x", 0, 10, data.data());                      // head only
+    f.write_rows<double>("/x", 10, 180, data.data() + 10 * cols);        // 16 + 6 chunks + 8
+    f.write_rows<double>("/x", 190, 10, data.data() + 190 * cols);       // tail to the end
+  }
+  File f(tmp / "u.h5", File::Mode::read);
+  CHECK(f.read<double>("/x").data == data);
+  for (auto [first, count] : {std::pair<std::size_t, std::size_t>{0, 200}, {5, 190}, {27, 100}, {150, 50}}) {
+    std::vector<double> back(count * cols);
+    f.read_rows<double>("/x", first, count, back.data());
+    REQUIRE(std::equal(back.begin(), back.end(), data.begin() + static_cast<std::ptrdiff_t>(first * cols)));
+  }
+}
