@@ -6,9 +6,9 @@ int main(int argc, char** argv) {
   df::Tool tool("acap2obj",
                 "Reconstruct meshes from ACAP features (acap file kind, from obj2acap, gen-bdlstm\n"
                 "or recon-msae): de-normalize with the stored numbers, rebuild T = exp(L)·S per\n"
-                "vertex and solve min Σ w_ij ‖(p'_i − p'_j) − ½(T_i + T_j)(p_i − p_j)‖² with one\n"
-                "pinned vertex per connected component. The system matrix is factored once per\n"
-                "template; frames are solved in parallel.\n\n"
+                "vertex and solve for positions (--solver) with one pinned vertex per connected\n"
+                "component. The system matrix is factored once per template; frames are solved\n"
+                "in parallel.\n\n"
                 "OUTPUT: a directory of mesh files (format from --name's extension), or NAME.h5\n"
                 "(acap kind with the reconstructed /frames/positions; the features stay in INPUT).\n"
                 "When the input stores original positions, the round-trip error is reported.");
@@ -31,8 +31,16 @@ int main(int argc, char** argv) {
                  "original position of the frame), auto (frames when stored, else reference)")
       ->default_val(opt.anchor_positions)
       ->check(CLI::IsMember({"auto", "reference", "frames"}));
+  app.add_option("--solver", opt.solver,
+                 "gradients: positions whose deformation gradients reproduce the features\n"
+                 "(exact for features of a real mesh; see the README). edges: the SPEC/paper\n"
+                 "system min Σ w‖(p'_i − p'_j) − ½(T_i + T_j)(p_i − p_j)‖², exact only where\n"
+                 "one-rings deform affinely")
+      ->default_val(opt.solver)
+      ->check(CLI::IsMember({"gradients", "edges"}));
   tool.footer("Examples:\n"
               "  acap2obj horse.h5 -o horse-meshes/\n"
+              "  acap2obj --solver edges horse.h5 -o paper/   # the papers' reconstruction\n"
               "  acap2obj gen.h5 --frames 0-99 --name '{index:04d}.ply' -o frames/\n"
               "  acap2obj faerie.h5 --sequence run -o run.h5");
   return tool.run(argc, argv, [&] { df::convert::acap2obj(opt, tool.common()); });

@@ -132,7 +132,12 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   if (frames.empty()) throw UsageError("the selection holds no frames");
 
   geometry::Reconstructor rec(tmpl.vertices, tmpl.faces, opt.anchor);
-  log::info("template {} vertices, {} components; factored in {:.3f} s", nv, rec.components(), rec.factor_seconds());
+  if (opt.solver != "gradients" && opt.solver != "edges") throw UsageError("--solver must be gradients or edges");
+  auto t_exact = std::chrono::steady_clock::now();
+  if (opt.solver == "gradients") rec.enable_exact();
+  double exact_secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_exact).count();
+  log::info("template {} vertices, {} components; factored in {:.3f} s{}", nv, rec.components(),
+            rec.factor_seconds() + exact_secs, rec.exact() ? " (gradient system)" : " (edge system)");
   const double diag = (tmpl.vertices.colwise().maxCoeff() - tmpl.vertices.colwise().minCoeff()).norm();
 
   // Output: a directory of meshes, or an acap .h5.

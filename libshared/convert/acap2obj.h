@@ -19,6 +19,9 @@ struct Acap2ObjOptions {
   std::string features = "auto";  ///< raw | normalized | auto (raw when present)
   int anchor = 0;
   std::string anchor_positions = "auto";  ///< auto | reference | frames
+  /// gradients: the exact deformation-gradient system (Reconstructor::enable_exact);
+  /// edges: the SPEC/paper edge system
+  std::string solver = "gradients";
 };
 
 /// Parses a frame selection ("0-9,20,30-") over n frames into sorted unique indices.

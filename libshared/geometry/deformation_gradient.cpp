@@ -19,6 +19,17 @@ io::Vertices pseudo_edges(const io::Vertices& V, const io::Faces& F, const MeshT
   return N;
 }
 
+Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo, const MeshTopology& topo,
+                        const std::vector<double>& weights, int i) {
+  Eigen::Vector3d n = pseudo.row(i);
+  Matrix3 A = n * n.transpose();
+  for (int k = topo.ring_offsets[i]; k < topo.ring_offsets[i + 1]; ++k) {
+    Eigen::Vector3d e = reference.row(topo.ring_vertices[k]) - reference.row(i);
+    A += weights[static_cast<std::size_t>(topo.ring_edges[k])] * e * e.transpose();
+  }
+  return A;
+}
+
 DeformationGradientSolver::DeformationGradientSolver(const io::Vertices& reference,
                                                      const io::Faces& faces, const MeshTopology& topo,
                                                      std::vector<double> weights)
@@ -26,12 +37,7 @@ DeformationGradientSolver::DeformationGradientSolver(const io::Vertices& referen
   pseudo_ = pseudo_edges(reference_, faces_, topo_);
   a_inv_.resize(static_cast<std::size_t>(topo_.n_vertices));
   tbb::parallel_for(0, topo_.n_vertices, [&](int i) {
-    Eigen::Vector3d n = pseudo_.row(i);
-    Matrix3 A = n * n.transpose();
-    for (int k = topo_.ring_offsets[i]; k < topo_.ring_offsets[i + 1]; ++k) {
-      Eigen::Vector3d e = reference_.row(topo_.ring_vertices[k]) - reference_.row(i);
-      A += weights_[static_cast<std::size_t>(topo_.ring_edges[k])] * e * e.transpose();
-    }
+    Matrix3 A = one_ring_moment(reference_, pseudo_, topo_, weights_, i);
     // A is symmetric positive semi-definite; invert through its eigen-decomposition so a
     // degenerate one-ring (isolated vertex, collinear neighbours without normal) still gives a
     // least-squares (pseudo-inverse) answer instead of infinities.

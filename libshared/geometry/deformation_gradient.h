@@ -21,6 +21,11 @@ inline constexpr double kPseudoEdgeScale = 0.3;
 /// Pseudo-edges ñ_i of a mesh: #V by 3.
 io::Vertices pseudo_edges(const io::Vertices& V, const io::Faces& F, const MeshTopology& topo);
 
+/// The reference one-ring moment A_i = Σ_j w_ij e_ij e_ijᵀ + ñ_i ñ_iᵀ of vertex i.
+/// @param pseudo  the reference's pseudo-edges (#V by 3)
+Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo, const MeshTopology& topo,
+                        const std::vector<double>& weights, int i);
+
 /// Holds the reference side; compute() is const and thread-safe (one frame per thread).
 class DeformationGradientSolver {
  public:

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "geometry/acap_features.h"
 #include "geometry/cotangent_weights.h"
+#include "geometry/deformation_gradient.h"
 #include "geometry/rotation.h"
 
 namespace df::geometry {
@@ -20,7 +21,8 @@ Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& fac
       topo_(mesh_topology(faces, static_cast<int>(reference.rows()))),
       weights_(cotangent_weights(reference, faces, topo_)),
       anchor_(anchor),
-      anchor_position_(anchor_position) {
+      anchor_position_(anchor_position),
+      faces_(faces) {
   if (anchor < 0 || anchor >= reference.rows())
     throw InvalidInput("anchor vertex " + std::to_string(anchor) + " does not exist (the template has " +
                        std::to_string(reference.rows()) + " vertices)");
@@ -92,6 +94,19 @@ io::Vertices Reconstructor::solve(const double* features, const io::Vertices* pi
     unpack_features(features + kFeatureDims * i, r, S);
     T[i].noalias() = rotation_exp(r) * S;
   }
+  io::Vertices P(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (reduced_[i] < 0) P.row(i) = pinned.row(i);
+  if (exact_) {
+    // Σ_j w_ij (p'_j − p'_i) (P_i e_ij)ᵀ = T_i A_i P_i
+    Eigen::MatrixXd g(3 * n, 3);  // row 3i+k, column = coordinate c: (T_i A_i P_i)(c, k)
+    for (int i = 0; i < n; ++i) g.middleRows(3 * i, 3) = (T[i] * moment_[i]).transpose();
+    for (const auto& t : pinned_terms_) g.row(t.row) -= t.coefficient * pinned.row(t.vertex);
+    Eigen::MatrixXd y = exact_ldlt_.solve(Eigen::MatrixXd(m_free_.transpose() * g));
+    for (int i = 0; i < n; ++i)
+      if (reduced_[i] >= 0) P.row(i) = y.row(reduced_[i]);
+    return P;
+  }
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(reduced_.size() - pinned_.size()), 3);
   for (std::size_t e = 0; e < topo_.edges.size(); ++e) {
     auto [i, j] = topo_.edges[e];
@@ -105,9 +120,44 @@ io::Vertices Reconstructor::solve(const double* features, const io::Vertices* pi
     if (rj < 0 && ri >= 0) b.row(ri) += weights_[e] * pinned.row(j);
   }
   Eigen::MatrixXd x = ldlt_.solve(b);
-  io::Vertices P(n, 3);
-  for (int i = 0; i < n; ++i) P.row(i) = reduced_[i] >= 0 ? Eigen::RowVector3d(x.row(reduced_[i])) : Eigen::RowVector3d(pinned.row(i));
+  for (int i = 0; i < n; ++i)
+    if (reduced_[i] >= 0) P.row(i) = x.row(reduced_[i]);
+
   return P;
+}
+
+void Reconstructor::enable_exact() {
+  if (exact_) return;
+  const int n = topo_.n_vertices;
+  io::Vertices pseudo = pseudo_edges(reference_, faces_, topo_);
+  moment_.resize(static_cast<std::size_t>(n));
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int i = 0; i < n; ++i) {
+    Eigen::Vector3d nhat = pseudo.row(i);
+    if (nhat.norm() > 0) nhat.normalize();
+    const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - nhat * nhat.transpose();
+    moment_[i] = one_ring_moment(reference_, pseudo, topo_, weights_, i) * proj;
+    for (int k = topo_.ring_offsets[i]; k < topo_.ring_offsets[i + 1]; ++k) {
+      int j = topo_.ring_vertices[k];
+      double w = weights_[static_cast<std::size_t>(topo_.ring_edges[k])];
+      Eigen::Vector3d e = proj * (reference_.row(j) - reference_.row(i)).transpose();
+      for (int c = 0; c < 3; ++c) {
+        int row = 3 * i + c;
+        for (auto [v, coef] : {std::pair{j, w * e[c]}, std::pair{i, -w * e[c]}}) {
+          if (reduced_[v] >= 0)
+            trip.emplace_back(row, reduced_[v], coef);
+          else
+            pinned_terms_.push_back({row, v, coef});
+        }
+      }
+    }
+  }
+  m_free_.resize(3 * n, n - static_cast<int>(pinned_.size()));
+  m_free_.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SparseMatrix<double> normal = m_free_.transpose() * m_free_;
+  exact_ldlt_.compute(normal);
+  if (exact_ldlt_.info() != Eigen::Success) throw InvalidInput("the exact reconstruction system cannot be factored");
+  exact_ = true;
 }
 
 io::Vertices reconstruct(const io::Vertices& reference, const io::Faces& faces, const double* features, int anchor) {

@@ -5,6 +5,18 @@
 // the features carry no translation). The normal equations L p' = b have the weighted graph
 // Laplacian L of the template, which Reconstructor factors once (sparse LDLᵀ); every frame is
 // then two triangular solves, and frames may be solved in parallel.
+//
+// Exact mode (enable_exact): the SPEC's system has a residual wherever a one-ring does not
+// deform affinely, so even features computed from a real mesh do not give that mesh back.
+// The features fix every T_i = B_i A_i⁻¹, so the original mesh satisfies
+//   Σ_j w_ij (p'_j − p'_i) e_ijᵀ + ñ'_i ñ_iᵀ = T_i A_i     (A_i: reference one-ring moment)
+// exactly. Multiplying on the right by P_i = I − n̂_i n̂_iᵀ (n̂_i: the reference pseudo-edge's
+// direction) removes the unknown ñ'_i:
+//   Σ_j w_ij (p'_j − p'_i) (P_i e_ij)ᵀ = T_i A_i P_i,
+// linear in p', separate per coordinate: a sparse 3V×V least-squares system whose normal
+// matrix depends only on the template (factored once), one solve per frame. Features of a real
+// mesh give that mesh back (to rounding); other (e.g. generated) features get the positions
+// whose deformation gradients fit them best in this sense.
 #pragma once
 
 #include <Eigen/Core>
@@ -30,6 +42,10 @@ class Reconstructor {
   /// when given, else from the reference (and the anchor position). Thread-safe.
   io::Vertices solve(const double* features, const io::Vertices* pinned_positions = nullptr) const;
 
+  /// Solve the exact (deformation-gradient) system instead of the SPEC's (see above).
+  void enable_exact();
+  bool exact() const { return exact_; }
+
   int n_vertices() const { return topo_.n_vertices; }
   /// Number of connected components (= pinned vertices).
   int components() const { return static_cast<int>(pinned_.size()); }
@@ -51,6 +67,18 @@ class Reconstructor {
   io::Vertices pinned_position_;  // #V by 3, meaningful for pinned vertices
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
   double factor_seconds_ = 0;
+
+  // exact mode
+  io::Faces faces_;
+  bool exact_ = false;
+  std::vector<Eigen::Matrix3d> moment_;  // A_i P_i
+  Eigen::SparseMatrix<double> m_free_;  // rows 3i+k, columns = free vertices
+  struct PinnedTerm {
+    int row, vertex;
+    double coefficient;
+  };
+  std::vector<PinnedTerm> pinned_terms_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> exact_ldlt_;
 };
 
 /// One-off reconstruction of a frame (factors, solves once).
