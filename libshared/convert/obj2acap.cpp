@@ -114,6 +114,7 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
     std::size_t first = 0, count = 0;
     std::vector<io::Vertices> positions;
     std::vector<geometry::FrameDecomposition> dec;
+    std::exception_ptr error;  // the block's first bad frame, thrown by the in-order stage
   };
   geometry::NormalizationBuilder norm(opt.normalize);
   Progress progress("computing features", n);
@@ -157,11 +158,12 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
                   }
                 });
                 for (auto& e : errors)
-                  if (e) std::rethrow_exception(e);
+                  if (e && !b->error) b->error = e;
                 return b;
               }) &
           tbb::make_filter<std::shared_ptr<Block>, void>(
               tbb::filter_mode::serial_in_order, [&](std::shared_ptr<Block> b) {
+                if (b->error) std::rethrow_exception(b->error);
                 const std::size_t first = b->first, count = b->count;
                 r.resize(count);
                 for (std::size_t k = 0; k < count; ++k) {  // consistency: in time order
