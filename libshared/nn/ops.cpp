@@ -1,0 +1,567 @@
+#include "nn/ops.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/error.h"
+
+namespace df::nn {
+namespace {
+using Eigen::Index;
+
+template <class T>
+Tape<T>& same_tape(Var<T> a, Var<T> b) {
+  if (a.tape != b.tape || !a.tape) throw Error("internal: operands on different tapes");
+  return *a.tape;
+}
+
+template <class T>
+[[noreturn]] void shape_error(const char* op, Var<T> a, Var<T> b) {
+  throw Error(fmt::format("internal: {} of [{},{}] and [{},{}]: incompatible shapes", op, a.rows(), a.cols(),
+                          b.rows(), b.cols()));
+}
+
+// Broadcast result shape: each axis equal, or one side 1.
+template <class T>
+std::pair<Index, Index> broadcast_shape(const char* op, Var<T> a, Var<T> b) {
+  auto axis = [&](Index x, Index y) -> Index {
+    if (x == y || y == 1) return x;
+    if (x == 1) return y;
+    shape_error(op, a, b);
+  };
+  return {axis(a.rows(), b.rows()), axis(a.cols(), b.cols())};
+}
+
+template <class T>
+Matrix<T> expand(const Matrix<T>& m, Index rows, Index cols) {
+  if (m.rows() == rows && m.cols() == cols) return m;
+  if (m.rows() == 1 && m.cols() == 1) return Matrix<T>::Constant(rows, cols, m(0, 0));
+  if (m.rows() == 1) return m.replicate(rows, 1);
+  return m.replicate(1, cols);
+}
+
+// Sums g over the axes along which a [rows, cols] operand was broadcast.
+template <class T>
+Matrix<T> reduce_to(const Matrix<T>& g, Index rows, Index cols) {
+  if (g.rows() == rows && g.cols() == cols) return g;
+  if (rows == 1 && cols == 1) return Matrix<T>::Constant(1, 1, g.sum());
+  if (rows == 1) return g.colwise().sum();
+  return g.rowwise().sum();
+}
+
+// Adds g (reduced to the node's shape) into node id's gradient, if it wants one.
+template <class T>
+void accumulate(Tape<T>& t, int id, const Matrix<T>& g) {
+  if (t.requires_grad(id)) t.grad(id) += reduce_to(g, t.value(id).rows(), t.value(id).cols());
+}
+
+// The id the next recorded node will get (closures capture it before recording).
+template <class T>
+int next_id(const Tape<T>& t) {
+  return static_cast<int>(t.size());
+}
+
+// Element-wise unary op: out = f(a); da += g ∘ d(a, out).
+template <class T, class F, class D>
+Var<T> unary(Var<T> a, F f, D d) {
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  return t.record(a.value().unaryExpr(f), a.requires_grad(), [&t, ia, io, d] {
+    t.grad(ia).array() += t.grad(io).array() * t.value(ia).binaryExpr(t.value(io), d).array();
+  });
+}
+
+}  // namespace
+
+// --- linear algebra
+
+template <class T>
+Var<T> matmul(Var<T> a, Var<T> b) {
+  Tape<T>& t = same_tape(a, b);
+  if (a.cols() != b.rows()) shape_error("matmul", a, b);
+  const int ia = a.id, ib = b.id, io = next_id(t);
+  Matrix<T> out = a.value() * b.value();
+  return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
+    const Matrix<T>& g = t.grad(io);
+    if (t.requires_grad(ia)) t.grad(ia).noalias() += g * t.value(ib).transpose();
+    if (t.requires_grad(ib)) t.grad(ib).noalias() += t.value(ia).transpose() * g;
+  });
+}
+
+template <class T>
+Var<T> matmul_transposed(Var<T> a, Var<T> b) {
+  Tape<T>& t = same_tape(a, b);
+  if (a.cols() != b.cols()) shape_error("matmul_transposed", a, b);
+  const int ia = a.id, ib = b.id, io = next_id(t);
+  Matrix<T> out = a.value() * b.value().transpose();
+  return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
+    const Matrix<T>& g = t.grad(io);
+    if (t.requires_grad(ia)) t.grad(ia).noalias() += g * t.value(ib);
+    if (t.requires_grad(ib)) t.grad(ib).noalias() += g.transpose() * t.value(ia);
+  });
+}
+
+template <class T>
+Var<T> sparse_matmul(std::shared_ptr<const SparseMatrix<T>> s, Var<T> x) {
+  Tape<T>& t = *x.tape;
+  if (s->cols() != x.rows())
+    throw Error(fmt::format("internal: sparse_matmul of [{},{}] and [{},{}]", s->rows(), s->cols(), x.rows(), x.cols()));
+  const int ix = x.id, io = next_id(t);
+  Matrix<T> out = (*s) * x.value();
+  return t.record(std::move(out), x.requires_grad(), [&t, s, ix, io] {
+    t.grad(ix).noalias() += s->transpose() * t.grad(io);
+  });
+}
+
+template <class T>
+Var<T> transpose(Var<T> a) {
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  return t.record(a.value().transpose(), a.requires_grad(), [&t, ia, io] { t.grad(ia) += t.grad(io).transpose(); });
+}
+
+// --- element-wise with broadcasting
+
+template <class T>
+Var<T> add(Var<T> a, Var<T> b) {
+  Tape<T>& t = same_tape(a, b);
+  auto [r, c] = broadcast_shape("add", a, b);
+  const int ia = a.id, ib = b.id, io = next_id(t);
+  Matrix<T> out = expand(a.value(), r, c) + expand(b.value(), r, c);
+  return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
+    accumulate(t, ia, t.grad(io));
+    accumulate(t, ib, t.grad(io));
+  });
+}
+
+template <class T>
+Var<T> sub(Var<T> a, Var<T> b) {
+  Tape<T>& t = same_tape(a, b);
+  auto [r, c] = broadcast_shape("sub", a, b);
+  const int ia = a.id, ib = b.id, io = next_id(t);
+  Matrix<T> out = expand(a.value(), r, c) - expand(b.value(), r, c);
+  return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
+    accumulate(t, ia, t.grad(io));
+    accumulate<T>(t, ib, -t.grad(io));
+  });
+}
+
+template <class T>
+Var<T> mul(Var<T> a, Var<T> b) {
+  Tape<T>& t = same_tape(a, b);
+  auto [r, c] = broadcast_shape("mul", a, b);
+  const int ia = a.id, ib = b.id, io = next_id(t);
+  Matrix<T> out = expand(a.value(), r, c).cwiseProduct(expand(b.value(), r, c));
+  return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
+    const Matrix<T>& g = t.grad(io);
+    if (t.requires_grad(ia)) accumulate<T>(t, ia, g.cwiseProduct(expand(t.value(ib), g.rows(), g.cols())));
+    if (t.requires_grad(ib)) accumulate<T>(t, ib, g.cwiseProduct(expand(t.value(ia), g.rows(), g.cols())));
+  });
+}
+
+template <class T>
+Var<T> div(Var<T> a, Var<T> b) {
+  Tape<T>& t = same_tape(a, b);
+  auto [r, c] = broadcast_shape("div", a, b);
+  const int ia = a.id, ib = b.id, io = next_id(t);
+  Matrix<T> out = expand(a.value(), r, c).cwiseQuotient(expand(b.value(), r, c));
+  return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
+    const Matrix<T>& g = t.grad(io);
+    Matrix<T> B = expand(t.value(ib), g.rows(), g.cols());
+    if (t.requires_grad(ia)) accumulate<T>(t, ia, g.cwiseQuotient(B));
+    if (t.requires_grad(ib))  // d(a/b)/db = −(a/b)/b = −out/b
+      accumulate<T>(t, ib, -g.cwiseProduct(t.value(io)).cwiseQuotient(B));
+  });
+}
+
+template <class T>
+Var<T> scale(Var<T> a, T s) {
+  return unary(a, [s](T x) { return s * x; }, [s](T, T) { return s; });
+}
+
+template <class T>
+Var<T> add_scalar(Var<T> a, T s) {
+  return unary(a, [s](T x) { return x + s; }, [](T, T) { return T(1); });
+}
+
+// --- element-wise functions
+
+template <class T>
+Var<T> tanh(Var<T> a) {
+  return unary(a, [](T x) { return std::tanh(x); }, [](T, T y) { return T(1) - y * y; });
+}
+
+template <class T>
+Var<T> sigmoid(Var<T> a) {
+  return unary(
+      a,
+      [](T x) { return x >= 0 ? T(1) / (T(1) + std::exp(-x)) : std::exp(x) / (T(1) + std::exp(x)); },
+      [](T, T y) { return y * (T(1) - y); });
+}
+
+template <class T>
+Var<T> relu(Var<T> a) {
+  return unary(a, [](T x) { return x > 0 ? x : T(0); }, [](T x, T) { return x > 0 ? T(1) : T(0); });
+}
+
+template <class T>
+Var<T> leaky_relu(Var<T> a, T slope) {
+  return unary(a, [slope](T x) { return x > 0 ? x : slope * x; }, [slope](T x, T) { return x > 0 ? T(1) : slope; });
+}
+
+template <class T>
+Var<T> exp(Var<T> a) {
+  return unary(a, [](T x) { return std::exp(x); }, [](T, T y) { return y; });
+}
+
+template <class T>
+Var<T> log(Var<T> a) {
+  return unary(a, [](T x) { return std::log(x); }, [](T x, T) { return T(1) / x; });
+}
+
+template <class T>
+Var<T> abs(Var<T> a) {
+  return unary(a, [](T x) { return std::abs(x); }, [](T x, T) { return T((x > 0) - (x < 0)); });
+}
+
+template <class T>
+Var<T> square(Var<T> a) {
+  return unary(a, [](T x) { return x * x; }, [](T x, T) { return 2 * x; });
+}
+
+template <class T>
+Var<T> sqrt(Var<T> a) {
+  return unary(a, [](T x) { return std::sqrt(x); }, [](T, T y) { return y > 0 ? T(0.5) / y : T(0); });
+}
+
+template <class T>
+Var<T> clamp(Var<T> a, T lo, T hi) {
+  return unary(a, [lo, hi](T x) { return std::clamp(x, lo, hi); },
+               [lo, hi](T x, T) { return x >= lo && x <= hi ? T(1) : T(0); });
+}
+
+// --- reductions
+
+template <class T>
+Var<T> sum(Var<T> a) {
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  return t.record(Matrix<T>::Constant(1, 1, a.value().sum()), a.requires_grad(),
+                  [&t, ia, io] { t.grad(ia).array() += t.grad(io)(0, 0); });
+}
+
+template <class T>
+Var<T> mean(Var<T> a) {
+  return scale(sum(a), T(1) / static_cast<T>(a.value().size()));
+}
+
+template <class T>
+Var<T> sum_rows(Var<T> a) {
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  return t.record(a.value().colwise().sum(), a.requires_grad(),
+                  [&t, ia, io] { t.grad(ia).rowwise() += t.grad(io).row(0); });
+}
+
+template <class T>
+Var<T> sum_cols(Var<T> a) {
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  return t.record(a.value().rowwise().sum(), a.requires_grad(),
+                  [&t, ia, io] { t.grad(ia).colwise() += t.grad(io).col(0); });
+}
+
+template <class T>
+Var<T> mean_rows(Var<T> a) {
+  return scale(sum_rows(a), T(1) / static_cast<T>(a.rows()));
+}
+
+template <class T>
+Var<T> mean_cols(Var<T> a) {
+  return scale(sum_cols(a), T(1) / static_cast<T>(a.cols()));
+}
+
+template <class T>
+Var<T> max_rows(Var<T> a) {
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  std::vector<Index> arg(static_cast<std::size_t>(a.cols()));
+  Matrix<T> out(1, a.cols());
+  for (Index c = 0; c < a.cols(); ++c) out(0, c) = a.value().col(c).maxCoeff(&arg[static_cast<std::size_t>(c)]);
+  return t.record(std::move(out), a.requires_grad(), [&t, ia, io, arg] {
+    for (std::size_t c = 0; c < arg.size(); ++c) t.grad(ia)(arg[c], static_cast<Index>(c)) += t.grad(io)(0, static_cast<Index>(c));
+  });
+}
+
+template <class T>
+Var<T> max_cols(Var<T> a) {
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  std::vector<Index> arg(static_cast<std::size_t>(a.rows()));
+  Matrix<T> out(a.rows(), 1);
+  for (Index r = 0; r < a.rows(); ++r) out(r, 0) = a.value().row(r).maxCoeff(&arg[static_cast<std::size_t>(r)]);
+  return t.record(std::move(out), a.requires_grad(), [&t, ia, io, arg] {
+    for (std::size_t r = 0; r < arg.size(); ++r) t.grad(ia)(static_cast<Index>(r), arg[r]) += t.grad(io)(static_cast<Index>(r), 0);
+  });
+}
+
+// --- structure
+
+template <class T>
+Var<T> slice_rows(Var<T> a, Index first, Index count) {
+  if (first < 0 || count < 0 || first + count > a.rows()) throw Error("internal: slice_rows out of range");
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  return t.record(a.value().middleRows(first, count), a.requires_grad(),
+                  [&t, ia, io, first, count] { t.grad(ia).middleRows(first, count) += t.grad(io); });
+}
+
+template <class T>
+Var<T> slice_cols(Var<T> a, Index first, Index count) {
+  if (first < 0 || count < 0 || first + count > a.cols()) throw Error("internal: slice_cols out of range");
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  return t.record(a.value().middleCols(first, count), a.requires_grad(),
+                  [&t, ia, io, first, count] { t.grad(ia).middleCols(first, count) += t.grad(io); });
+}
+
+template <class T>
+Var<T> concat_rows(const std::vector<Var<T>>& parts) {
+  if (parts.empty()) throw Error("internal: concat_rows of nothing");
+  Tape<T>& t = *parts[0].tape;
+  Index rows = 0, cols = parts[0].cols();
+  bool rg = false;
+  std::vector<int> ids;
+  for (const auto& p : parts) {
+    if (p.cols() != cols || p.tape != &t) throw Error("internal: concat_rows of mismatched parts");
+    rows += p.rows();
+    rg = rg || p.requires_grad();
+    ids.push_back(p.id);
+  }
+  Matrix<T> out(rows, cols);
+  Index r = 0;
+  for (const auto& p : parts) {
+    out.middleRows(r, p.rows()) = p.value();
+    r += p.rows();
+  }
+  const int io = next_id(t);
+  return t.record(std::move(out), rg, [&t, ids, io] {
+    Index r = 0;
+    for (int id : ids) {
+      Index n = t.value(id).rows();
+      if (t.requires_grad(id)) t.grad(id) += t.grad(io).middleRows(r, n);
+      r += n;
+    }
+  });
+}
+
+template <class T>
+Var<T> concat_cols(const std::vector<Var<T>>& parts) {
+  if (parts.empty()) throw Error("internal: concat_cols of nothing");
+  Tape<T>& t = *parts[0].tape;
+  Index rows = parts[0].rows(), cols = 0;
+  bool rg = false;
+  std::vector<int> ids;
+  for (const auto& p : parts) {
+    if (p.rows() != rows || p.tape != &t) throw Error("internal: concat_cols of mismatched parts");
+    cols += p.cols();
+    rg = rg || p.requires_grad();
+    ids.push_back(p.id);
+  }
+  Matrix<T> out(rows, cols);
+  Index c = 0;
+  for (const auto& p : parts) {
+    out.middleCols(c, p.cols()) = p.value();
+    c += p.cols();
+  }
+  const int io = next_id(t);
+  return t.record(std::move(out), rg, [&t, ids, io] {
+    Index c = 0;
+    for (int id : ids) {
+      Index n = t.value(id).cols();
+      if (t.requires_grad(id)) t.grad(id) += t.grad(io).middleCols(c, n);
+      c += n;
+    }
+  });
+}
+
+template <class T>
+Var<T> reshape(Var<T> a, Index rows, Index cols) {
+  if (rows * cols != a.value().size()) throw Error("internal: reshape changes the number of elements");
+  Tape<T>& t = *a.tape;
+  const int ia = a.id, io = next_id(t);
+  Matrix<T> out = Eigen::Map<const Matrix<T>>(a.value().data(), rows, cols);
+  return t.record(std::move(out), a.requires_grad(), [&t, ia, io] {
+    Matrix<T>& ga = t.grad(ia);
+    ga += Eigen::Map<const Matrix<T>>(t.grad(io).data(), ga.rows(), ga.cols());
+  });
+}
+
+template <class T>
+Var<T> gather_rows(Var<T> a, std::vector<int> index) {
+  Tape<T>& t = *a.tape;
+  Matrix<T> out(static_cast<Index>(index.size()), a.cols());
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    if (index[k] < 0 || index[k] >= a.rows()) throw Error("internal: gather_rows index out of range");
+    out.row(static_cast<Index>(k)) = a.value().row(index[k]);
+  }
+  const int ia = a.id, io = next_id(t);
+  return t.record(std::move(out), a.requires_grad(), [&t, ia, io, index] {
+    for (std::size_t k = 0; k < index.size(); ++k) t.grad(ia).row(index[k]) += t.grad(io).row(static_cast<Index>(k));
+  });
+}
+
+template <class T>
+Var<T> scatter_rows(Var<T> a, std::vector<int> index, Index n) {
+  if (static_cast<Index>(index.size()) != a.rows()) throw Error("internal: scatter_rows needs one index per row");
+  Tape<T>& t = *a.tape;
+  Matrix<T> out = Matrix<T>::Zero(n, a.cols());
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    if (index[k] < 0 || index[k] >= n) throw Error("internal: scatter_rows index out of range");
+    out.row(index[k]) += a.value().row(static_cast<Index>(k));
+  }
+  const int ia = a.id, io = next_id(t);
+  return t.record(std::move(out), a.requires_grad(), [&t, ia, io, index] {
+    for (std::size_t k = 0; k < index.size(); ++k) t.grad(ia).row(static_cast<Index>(k)) += t.grad(io).row(index[k]);
+  });
+}
+
+template <class T>
+Var<T> group_norm(Var<T> a, Index g) {
+  if (g <= 0 || a.cols() % g != 0) throw Error("internal: group_norm group size must divide the columns");
+  Tape<T>& t = *a.tape;
+  const Index groups = a.cols() / g;
+  Matrix<T> out(a.rows(), groups);
+  for (Index r = 0; r < a.rows(); ++r)
+    for (Index j = 0; j < groups; ++j) out(r, j) = a.value().row(r).segment(j * g, g).norm();
+  const int ia = a.id, io = next_id(t);
+  return t.record(std::move(out), a.requires_grad(), [&t, ia, io, g, groups] {
+    const Matrix<T>& x = t.value(ia);
+    const Matrix<T>& y = t.value(io);
+    const Matrix<T>& gy = t.grad(io);
+    Matrix<T>& gx = t.grad(ia);
+    for (Index r = 0; r < x.rows(); ++r)
+      for (Index j = 0; j < groups; ++j)
+        if (y(r, j) > 0) gx.row(r).segment(j * g, g) += (gy(r, j) / y(r, j)) * x.row(r).segment(j * g, g);
+  });
+}
+
+// --- losses
+
+template <class T>
+Matrix<T> softmax(const Matrix<T>& logits) {
+  Matrix<T> p = logits.colwise() - logits.rowwise().maxCoeff();
+  p = p.array().exp();
+  p.array().colwise() /= p.rowwise().sum().array();
+  return p;
+}
+
+template <class T>
+Var<T> softmax_cross_entropy(Var<T> logits, const std::vector<int>& labels) {
+  Tape<T>& t = *logits.tape;
+  const Index n = logits.rows();
+  if (static_cast<Index>(labels.size()) != n) throw Error("internal: one label per row needed");
+  Matrix<T> shifted = logits.value().colwise() - logits.value().rowwise().maxCoeff();
+  Eigen::Matrix<T, Eigen::Dynamic, 1> lse = shifted.array().exp().rowwise().sum().log();
+  T loss = 0;
+  for (Index r = 0; r < n; ++r) {
+    int l = labels[static_cast<std::size_t>(r)];
+    if (l < 0 || l >= logits.cols()) throw Error("internal: label out of range");
+    loss += lse[r] - shifted(r, l);
+  }
+  const int il = logits.id, io = next_id(t);
+  return t.record(Matrix<T>::Constant(1, 1, loss / static_cast<T>(n)), logits.requires_grad(), [&t, il, io, labels] {
+    Matrix<T> p = softmax(t.value(il));
+    for (std::size_t r = 0; r < labels.size(); ++r) p(static_cast<Index>(r), labels[r]) -= 1;
+    t.grad(il) += (t.grad(io)(0, 0) / static_cast<T>(labels.size())) * p;
+  });
+}
+
+template <class T>
+Var<T> bce_with_logits(Var<T> logits, const Matrix<T>& targets) {
+  Tape<T>& t = *logits.tape;
+  if (targets.rows() != logits.rows() || targets.cols() != logits.cols()) throw Error("internal: bce target shape");
+  const Matrix<T>& x = logits.value();
+  T loss = 0;
+  for (Index k = 0; k < x.size(); ++k) {
+    T v = x.data()[k];
+    loss += std::max(v, T(0)) - v * targets.data()[k] + std::log1p(std::exp(-std::abs(v)));
+  }
+  const int il = logits.id, io = next_id(t);
+  const T n = static_cast<T>(x.size());
+  return t.record(Matrix<T>::Constant(1, 1, loss / n), logits.requires_grad(), [&t, il, io, targets, n] {
+    const Matrix<T>& x = t.value(il);
+    Matrix<T> s = x.unaryExpr([](T v) { return v >= 0 ? T(1) / (T(1) + std::exp(-v)) : std::exp(v) / (T(1) + std::exp(v)); });
+    t.grad(il) += (t.grad(io)(0, 0) / n) * (s - targets);
+  });
+}
+
+template <class T>
+Var<T> mse(Var<T> a, Var<T> b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) shape_error("mse", a, b);
+  return mean(square(sub(a, b)));
+}
+
+template <class T>
+Var<T> gaussian_kl(Var<T> mu, Var<T> logvar) {
+  // −½ Σ (1 + lv − μ² − e^lv) / rows
+  Var<T> inner = sub(sub(add_scalar(logvar, T(1)), square(mu)), exp(logvar));
+  return scale(sum(inner), T(-0.5) / static_cast<T>(mu.rows()));
+}
+
+template <class T>
+Var<T> reparameterize(Var<T> mu, Var<T> logvar, const Matrix<T>& eps) {
+  Var<T> e = mu.tape->constant(eps);
+  return add(mu, mul(exp(scale(logvar, T(0.5))), e));
+}
+
+#define DF_NN_OPS(T)                                                                          \
+  template Var<T> matmul(Var<T>, Var<T>);                                                     \
+  template Var<T> matmul_transposed(Var<T>, Var<T>);                                          \
+  template Var<T> sparse_matmul(std::shared_ptr<const SparseMatrix<T>>, Var<T>);              \
+  template Var<T> transpose(Var<T>);                                                          \
+  template Var<T> add(Var<T>, Var<T>);                                                        \
+  template Var<T> sub(Var<T>, Var<T>);                                                        \
+  template Var<T> mul(Var<T>, Var<T>);                                                        \
+  template Var<T> div(Var<T>, Var<T>);                                                        \
+  template Var<T> scale(Var<T>, T);                                                           \
+  template Var<T> add_scalar(Var<T>, T);                                                      \
+  template Var<T> tanh(Var<T>);                                                               \
+  template Var<T> sigmoid(Var<T>);                                                            \
+  template Var<T> relu(Var<T>);                                                               \
+  template Var<T> leaky_relu(Var<T>, T);                                                      \
+  template Var<T> exp(Var<T>);                                                                \
+  template Var<T> log(Var<T>);                                                                \
+  template Var<T> abs(Var<T>);                                                                \
+  template Var<T> square(Var<T>);                                                             \
+  template Var<T> sqrt(Var<T>);                                                               \
+  template Var<T> clamp(Var<T>, T, T);                                                        \
+  template Var<T> sum(Var<T>);                                                                \
+  template Var<T> mean(Var<T>);                                                               \
+  template Var<T> sum_rows(Var<T>);                                                           \
+  template Var<T> sum_cols(Var<T>);                                                           \
+  template Var<T> mean_rows(Var<T>);                                                          \
+  template Var<T> mean_cols(Var<T>);                                                          \
+  template Var<T> max_rows(Var<T>);                                                           \
+  template Var<T> max_cols(Var<T>);                                                           \
+  template Var<T> slice_rows(Var<T>, Eigen::Index, Eigen::Index);                             \
+  template Var<T> slice_cols(Var<T>, Eigen::Index, Eigen::Index);                             \
+  template Var<T> concat_rows(const std::vector<Var<T>>&);                                    \
+  template Var<T> concat_cols(const std::vector<Var<T>>&);                                    \
+  template Var<T> reshape(Var<T>, Eigen::Index, Eigen::Index);                                \
+  template Var<T> gather_rows(Var<T>, std::vector<int>);                                      \
+  template Var<T> scatter_rows(Var<T>, std::vector<int>, Eigen::Index);                       \
+  template Var<T> group_norm(Var<T>, Eigen::Index);                                           \
+  template Var<T> softmax_cross_entropy(Var<T>, const std::vector<int>&);                     \
+  template Var<T> bce_with_logits(Var<T>, const Matrix<T>&);                                  \
+  template Var<T> mse(Var<T>, Var<T>);                                                        \
+  template Var<T> gaussian_kl(Var<T>, Var<T>);                                                \
+  template Var<T> reparameterize(Var<T>, Var<T>, const Matrix<T>&);                           \
+  template Matrix<T> softmax(const Matrix<T>&);
+
+DF_NN_OPS(float)
+DF_NN_OPS(double)
+#undef DF_NN_OPS
+
+}  // namespace df::nn

@@ -1,0 +1,90 @@
+// Reverse-mode automatic differentiation over whole matrices (CONVENTIONS: micrograd's idea at
+// matrix granularity). Every operation records one node on a Tape in creation order: its value
+// and a backward closure that reads the node's gradient and *accumulates* (+=) into its inputs'
+// gradients. Tape::backward walks the nodes in reverse. Training uses Tape<float>; the same
+// code is instantiated for double, where every op is gradient-checked.
+//
+// Matrices are row-major: a batch is a matrix with one sample per row.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace df::nn {
+
+template <class T>
+using Matrix = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+template <class T>
+class Tape;
+
+/// A handle to a node of a tape (cheap to copy). Ops take and return Vars.
+template <class T>
+struct Var {
+  Tape<T>* tape = nullptr;
+  int id = -1;
+
+  const Matrix<T>& value() const;
+  /// The gradient (allocated as zeros on first use).
+  Matrix<T>& grad() const;
+  bool requires_grad() const;
+  Eigen::Index rows() const { return value().rows(); }
+  Eigen::Index cols() const { return value().cols(); }
+};
+
+template <class T>
+class Tape {
+ public:
+  Tape() = default;
+  Tape(const Tape&) = delete;
+  Tape& operator=(const Tape&) = delete;
+
+  /// A leaf that needs no gradient (data, labels, masks).
+  Var<T> constant(Matrix<T> value);
+  /// A leaf whose gradient is wanted (parameters, inputs of gradient checks).
+  Var<T> variable(Matrix<T> value);
+  /// Records an op's result. `backward` runs once during backward(); it must only add into the
+  /// gradients of inputs that require them. requires_grad = any input requires a gradient.
+  Var<T> record(Matrix<T> value, bool requires_grad, std::function<void()> backward);
+
+  /// Backpropagates from a 1×1 node (seed 1) or from any node with the given seed gradient.
+  void backward(Var<T> from);
+  void backward(Var<T> from, const Matrix<T>& seed);
+
+  /// Forgets every node (keeps the capacity for the next iteration).
+  void clear();
+  std::size_t size() const { return nodes_.size(); }
+
+  const Matrix<T>& value(int id) const { return nodes_[static_cast<std::size_t>(id)].value; }
+  Matrix<T>& grad(int id);
+  bool requires_grad(int id) const { return nodes_[static_cast<std::size_t>(id)].requires_grad; }
+  bool has_grad(int id) const { return nodes_[static_cast<std::size_t>(id)].grad.size() > 0; }
+
+ private:
+  struct Node {
+    Matrix<T> value, grad;
+    bool requires_grad = false;
+    std::function<void()> backward;
+  };
+  std::vector<Node> nodes_;
+};
+
+template <class T>
+const Matrix<T>& Var<T>::value() const {
+  return tape->value(id);
+}
+template <class T>
+Matrix<T>& Var<T>::grad() const {
+  return tape->grad(id);
+}
+template <class T>
+bool Var<T>::requires_grad() const {
+  return tape->requires_grad(id);
+}
+
+extern template class Tape<float>;
+extern template class Tape<double>;
+
+}  // namespace df::nn
