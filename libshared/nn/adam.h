@@ -1,0 +1,45 @@
+// Adam (Kingma & Ba) over a ParameterStore's flat vectors, with bias correction, learning-rate
+// schedules (exponential decay, step), an L2 weight penalty (added to the gradient) and
+// gradient-norm clipping (global L2 norm). Its state (moments, step) is plain vectors, so a
+// model file can save it and training resumes bit-exactly.
+#pragma once
+
+#include "nn/parameters.h"
+
+namespace df::nn {
+
+struct AdamOptions {
+  double lr = 1e-3, beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
+  double weight_decay = 0;   ///< L2 penalty λ: g += λ θ
+  double clip_norm = 0;      ///< 0 = no clipping; else scale g so that ‖g‖₂ ≤ clip_norm
+  enum class Schedule { constant, exponential, step } schedule = Schedule::constant;
+  double decay_rate = 1.0;   ///< exponential: lr·rate^(step/decay_steps); step: lr·rate^⌊step/decay_steps⌋
+  double decay_steps = 1.0;
+};
+
+template <class T>
+class Adam {
+ public:
+  Adam(std::size_t n_parameters, AdamOptions opt) : opt_(opt), m_(Vector<T>::Zero(static_cast<Eigen::Index>(n_parameters))), v_(m_) {}
+
+  /// One update of `values` from `grads` (grads may be modified: penalty, clipping).
+  void step(Vector<T>& values, Vector<T>& grads);
+  /// The learning rate used by the next step.
+  double learning_rate() const;
+
+  long steps() const { return t_; }
+  Vector<T>& first_moment() { return m_; }
+  Vector<T>& second_moment() { return v_; }
+  void set_steps(long t) { t_ = t; }
+  const AdamOptions& options() const { return opt_; }
+
+ private:
+  AdamOptions opt_;
+  Vector<T> m_, v_;
+  long t_ = 0;
+};
+
+extern template class Adam<float>;
+extern template class Adam<double>;
+
+}  // namespace df::nn

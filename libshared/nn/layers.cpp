@@ -1,0 +1,262 @@
+#include "nn/layers.h"
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+
+namespace df::nn {
+using Eigen::Index;
+
+template <class T>
+Var<T> activate(Var<T> x, Activation a, T leaky_slope) {
+  switch (a) {
+    case Activation::tanh: return tanh(x);
+    case Activation::relu: return relu(x);
+    case Activation::leaky_relu: return leaky_relu(x, leaky_slope);
+    case Activation::sigmoid: return sigmoid(x);
+    default: return x;
+  }
+}
+
+// --- Linear
+
+template <class T>
+Linear<T>::Linear(ParameterStore<T>& s, const std::string& name, Index in_, Index out_, Rng& rng, bool bias)
+    : in(in_), out(out_) {
+  w = s.add(name + ".weight", in, out);
+  s.glorot_uniform(w, rng);
+  if (bias) b = s.add(name + ".bias", 1, out);
+}
+
+template <class T>
+Var<T> Linear<T>::operator()(const Bound<T>& p, Var<T> x) const {
+  Var<T> y = matmul(x, p[w]);
+  return b >= 0 ? add(y, p[b]) : y;
+}
+
+// --- MLP
+
+template <class T>
+Mlp<T>::Mlp(ParameterStore<T>& s, const std::string& name, const std::vector<Index>& sizes, Activation hidden_,
+            Rng& rng)
+    : hidden(hidden_) {
+  for (std::size_t k = 0; k + 1 < sizes.size(); ++k)
+    layers.emplace_back(s, fmt::format("{}.{}", name, k), sizes[k], sizes[k + 1], rng);
+}
+
+template <class T>
+Var<T> Mlp<T>::operator()(const Bound<T>& p, Var<T> x) const {
+  for (std::size_t k = 0; k < layers.size(); ++k) {
+    x = layers[k](p, x);
+    if (k + 1 < layers.size()) x = activate(x, hidden, leaky_slope);
+  }
+  return x;
+}
+
+template <class T>
+Var<T> Mlp<T>::input_gradient(const Bound<T>& p, Var<T> x) const {
+  if (layers.empty() || layers.back().out != 1) throw Error("internal: input_gradient needs a 1-output MLP");
+  Tape<T>& t = *x.tape;
+  // Forward, keeping each hidden layer's derivative act'(pre).
+  std::vector<Var<T>> slopes;
+  Var<T> h = x;
+  for (std::size_t k = 0; k + 1 < layers.size(); ++k) {
+    Var<T> pre = layers[k](p, h);
+    switch (hidden) {
+      case Activation::relu:
+      case Activation::leaky_relu: {  // piecewise constant: a constant mask
+        const T low = hidden == Activation::relu ? T(0) : leaky_slope;
+        slopes.push_back(t.constant(pre.value().unaryExpr([low](T v) { return v > 0 ? T(1) : low; })));
+        break;
+      }
+      case Activation::tanh: {
+        Var<T> y = tanh(pre);
+        slopes.push_back(sub(t.constant(Matrix<T>::Ones(1, 1)), square(y)));
+        break;
+      }
+      case Activation::sigmoid: {
+        Var<T> y = sigmoid(pre);
+        slopes.push_back(mul(y, sub(t.constant(Matrix<T>::Ones(1, 1)), y)));
+        break;
+      }
+      default: slopes.push_back(t.constant(Matrix<T>::Ones(1, 1)));
+    }
+    h = activate(pre, hidden, leaky_slope);
+  }
+  // Backward by hand, as ops: g = w_Lᵀ, then g = (g ∘ act'_k) W_kᵀ down to the input.
+  Var<T> g = transpose(p[layers.back().w]);  // [1, H_last]
+  for (std::size_t k = layers.size() - 1; k-- > 0;) {
+    g = mul(slopes[k], g);                      // [rows, H_k]
+    g = matmul_transposed(g, p[layers[k].w]);   // [rows, H_{k-1}]
+  }
+  if (g.rows() != x.rows()) g = add(g, t.constant(Matrix<T>::Zero(x.rows(), g.cols())));  // no hidden layer
+  return g;
+}
+
+// --- mesh convolution
+
+template <class T>
+std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(int n, const std::vector<std::array<int, 2>>& edges) {
+  std::vector<int> degree(static_cast<std::size_t>(n), 0);
+  for (const auto& e : edges) ++degree[e[0]], ++degree[e[1]];
+  std::vector<Eigen::Triplet<T>> trip;
+  for (const auto& e : edges) {
+    trip.emplace_back(e[0], e[1], T(1) / static_cast<T>(degree[e[0]]));
+    trip.emplace_back(e[1], e[0], T(1) / static_cast<T>(degree[e[1]]));
+  }
+  auto a = std::make_shared<SparseMatrix<T>>(n, n);
+  a->setFromTriplets(trip.begin(), trip.end());
+  a->makeCompressed();
+  return a;
+}
+
+template <class T>
+Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<const SparseMatrix<T>> a) {
+  Tape<T>& t = *x.tape;
+  const Index V = a->rows(), cin = wp.rows(), cout = wp.cols(), B = x.rows();
+  if (x.cols() != V * cin || wn.rows() != cin || wn.cols() != cout || bias.rows() != 1 || bias.cols() != cout)
+    throw Error(fmt::format("internal: mesh_conv of x [{},{}] with V = {}, W [{},{}]/[{},{}], b [{},{}]", x.rows(),
+                            x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(), bias.cols()));
+  using ConstMap = Eigen::Map<const Matrix<T>>;
+  ConstMap X(x.value().data(), B * V, cin);  // a sample row [V·cin] is V rows of cin
+  auto N = std::make_shared<Matrix<T>>(B * V, cin);  // neighbour means, kept for backward
+  for (Index s = 0; s < B; ++s) N->middleRows(s * V, V).noalias() = (*a) * X.middleRows(s * V, V);
+  Matrix<T> out(B, V * cout);
+  Eigen::Map<Matrix<T>> Y(out.data(), B * V, cout);
+  Y.noalias() = X * wp.value();
+  Y.noalias() += (*N) * wn.value();
+  Y.rowwise() += bias.value().row(0);
+  const int ix = x.id, ip = wp.id, in = wn.id, ib = bias.id, io = static_cast<int>(t.size());
+  const bool rg = x.requires_grad() || wp.requires_grad() || wn.requires_grad() || bias.requires_grad();
+  return t.record(std::move(out), rg, [&t, a, N, ix, ip, in, ib, io, B, V, cin, cout] {
+    ConstMap G(t.grad(io).data(), B * V, cout);
+    ConstMap X(t.value(ix).data(), B * V, cin);
+    if (t.requires_grad(ip)) t.grad(ip).noalias() += X.transpose() * G;
+    if (t.requires_grad(in)) t.grad(in).noalias() += N->transpose() * G;
+    if (t.requires_grad(ib)) t.grad(ib) += G.colwise().sum();
+    if (t.requires_grad(ix)) {
+      Eigen::Map<Matrix<T>> GX(t.grad(ix).data(), B * V, cin);
+      GX.noalias() += G * t.value(ip).transpose();
+      Matrix<T> GN = G * t.value(in).transpose();
+      for (Index s = 0; s < B; ++s) GX.middleRows(s * V, V).noalias() += a->transpose() * GN.middleRows(s * V, V);
+    }
+  });
+}
+
+template <class T>
+MeshConv<T>::MeshConv(ParameterStore<T>& s, const std::string& name, Index in_, Index out_,
+                      std::shared_ptr<const SparseMatrix<T>> adjacency_, Rng& rng)
+    : in(in_), out(out_), adjacency(std::move(adjacency_)) {
+  w_point = s.add(name + ".point", in, out);
+  w_nb = s.add(name + ".neighbour", in, out);
+  b = s.add(name + ".bias", 1, out);
+  s.glorot_uniform(w_point, rng);
+  s.glorot_uniform(w_nb, rng);
+}
+
+template <class T>
+Var<T> MeshConv<T>::operator()(const Bound<T>& p, Var<T> x) const {
+  return mesh_conv(x, p[w_point], p[w_nb], p[b], adjacency);
+}
+
+template <class T>
+Var<T> MeshConv<T>::tied_transpose(const Bound<T>& p, Var<T> x, Var<T> bias) const {
+  return mesh_conv(x, transpose(p[w_point]), transpose(p[w_nb]), bias, adjacency);
+}
+
+// --- LSTM
+
+template <class T>
+LstmCell<T>::LstmCell(ParameterStore<T>& s, const std::string& name, Index in_, Index hidden_, Rng& rng)
+    : in(in_), hidden(hidden_) {
+  wx = s.add(name + ".wx", in, 4 * hidden);
+  wh = s.add(name + ".wh", hidden, 4 * hidden);
+  b = s.add(name + ".bias", 1, 4 * hidden);
+  s.glorot_uniform(wx, rng);
+  s.glorot_uniform(wh, rng);
+  s.value(b).middleCols(hidden, hidden).setOnes();  // forget-gate bias 1
+}
+
+template <class T>
+LstmState<T> LstmCell<T>::operator()(const Bound<T>& p, Var<T> x, LstmState<T> s) const {
+  Var<T> z = add(add(matmul(x, p[wx]), matmul(s.h, p[wh])), p[b]);
+  Var<T> i = sigmoid(slice_cols(z, 0, hidden));
+  Var<T> f = sigmoid(slice_cols(z, hidden, hidden));
+  Var<T> g = tanh(slice_cols(z, 2 * hidden, hidden));
+  Var<T> o = sigmoid(slice_cols(z, 3 * hidden, hidden));
+  Var<T> c = add(mul(f, s.c), mul(i, g));
+  return {mul(o, tanh(c)), c};
+}
+
+template <class T>
+StackedLstm<T>::StackedLstm(ParameterStore<T>& s, const std::string& name, Index in, Index hidden, int layers,
+                            Rng& rng) {
+  for (int l = 0; l < layers; ++l) cells.emplace_back(s, fmt::format("{}.{}", name, l), l ? hidden : in, hidden, rng);
+}
+
+template <class T>
+Var<T> StackedLstm<T>::step(const Bound<T>& p, Var<T> x, std::vector<LstmState<T>>& states) const {
+  if (states.size() != cells.size()) throw Error("internal: one LSTM state per layer needed");
+  for (std::size_t l = 0; l < cells.size(); ++l) {
+    states[l] = cells[l](p, x, states[l]);
+    x = states[l].h;
+  }
+  return x;
+}
+
+template <class T>
+std::vector<Var<T>> StackedLstm<T>::run(const Bound<T>& p, const std::vector<Var<T>>& x,
+                                        std::vector<LstmState<T>>& states) const {
+  std::vector<Var<T>> out;
+  for (const auto& xt : x) out.push_back(step(p, xt, states));
+  return out;
+}
+
+template <class T>
+std::vector<LstmState<T>> StackedLstm<T>::constant_states(Tape<T>& t, Index batch, T value) const {
+  std::vector<LstmState<T>> s;
+  for (const auto& c : cells) {
+    Matrix<T> m = Matrix<T>::Constant(batch, c.hidden, value);
+    s.push_back({t.constant(m), t.constant(m)});
+  }
+  return s;
+}
+
+template <class T>
+BidirectionalLstm<T>::BidirectionalLstm(ParameterStore<T>& s, const std::string& name, Index in, Index hidden,
+                                        int layers, Rng& rng)
+    : forward(s, name + ".fw", in, hidden, layers, rng), backward(s, name + ".bw", in, hidden, layers, rng) {}
+
+template <class T>
+std::vector<Var<T>> BidirectionalLstm<T>::run(const Bound<T>& p, const std::vector<Var<T>>& x, Var<T>* last_forward,
+                                              Var<T>* last_backward) const {
+  if (x.empty()) throw Error("internal: empty sequence");
+  Tape<T>& t = *x[0].tape;
+  auto sf = forward.constant_states(t, x[0].rows(), T(0)), sb = backward.constant_states(t, x[0].rows(), T(0));
+  std::vector<Var<T>> hf = forward.run(p, x, sf);
+  std::vector<Var<T>> reversed(x.rbegin(), x.rend());
+  std::vector<Var<T>> hb = backward.run(p, reversed, sb);
+  std::vector<Var<T>> out;
+  for (std::size_t k = 0; k < x.size(); ++k) out.push_back(concat_cols<T>({hf[k], hb[x.size() - 1 - k]}));
+  if (last_forward) *last_forward = hf.back();
+  if (last_backward) *last_backward = hb.back();
+  return out;
+}
+
+#define DF_NN_LAYERS(T)                                                                                    \
+  template Var<T> activate(Var<T>, Activation, T);                                                         \
+  template struct Linear<T>;                                                                               \
+  template struct Mlp<T>;                                                                                  \
+  template std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator<T>(int,                          \
+                                                                             const std::vector<std::array<int, 2>>&); \
+  template Var<T> mesh_conv(Var<T>, Var<T>, Var<T>, Var<T>, std::shared_ptr<const SparseMatrix<T>>);       \
+  template struct MeshConv<T>;                                                                             \
+  template struct LstmCell<T>;                                                                             \
+  template struct StackedLstm<T>;                                                                          \
+  template struct BidirectionalLstm<T>;
+
+DF_NN_LAYERS(float)
+DF_NN_LAYERS(double)
+#undef DF_NN_LAYERS
+
+}  // namespace df::nn

@@ -1,0 +1,215 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "nn/adam.h"
+#include "nn/gradient_check.h"
+#include "nn/layers.h"
+
+using namespace df::nn;
+using M = Matrix<double>;
+using Vars = std::vector<Var<double>>;
+
+namespace {
+constexpr double kTolerance = 1e-6;
+
+// Gradient-checks a layer w.r.t. its input(s) and every parameter of `store`: the first
+// `n_inputs` Vars are inputs, the rest the parameters in store order.
+void require_layer_gradients(ParameterStore<double>& store, const std::vector<M>& inputs,
+                             const std::function<Var<double>(const Bound<double>&, const Vars&)>& f) {
+  std::vector<M> all = inputs;
+  for (const auto& v : store.views()) all.push_back(store.value(store.find(v.name)));
+  const std::size_t n_in = inputs.size();
+  auto r = gradient_check(
+      [&](Tape<double>&, const Vars& x) {
+        Bound<double> p{Vars(x.begin() + static_cast<std::ptrdiff_t>(n_in), x.end())};
+        return f(p, Vars(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(n_in)));
+      },
+      all);
+  INFO(r.report);
+  REQUIRE(r.max_error <= kTolerance);
+}
+
+M rnd(Eigen::Index r, Eigen::Index c, std::uint64_t seed) {
+  df::Rng rng(seed, 9);
+  return random_matrix(r, c, rng);
+}
+
+// A tetrahedron's edges: every vertex has 3 neighbours.
+std::vector<std::array<int, 2>> tetra_edges() { return {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}; }
+}  // namespace
+
+TEST_CASE("nn layers: Linear and MLP gradients", "[nn]") {
+  df::Rng rng(1);
+  ParameterStore<double> s;
+  Linear<double> lin(s, "lin", 4, 3, rng);
+  s.normal(lin.b, rng, 0.5);
+  require_layer_gradients(s, {rnd(5, 4, 2)}, [&](const Bound<double>& p, const Vars& x) { return lin(p, x[0]); });
+  for (Activation a : {Activation::relu, Activation::tanh, Activation::leaky_relu, Activation::sigmoid}) {
+    ParameterStore<double> m;
+    Mlp<double> mlp(m, "mlp", {3, 6, 5, 2}, a, rng);
+    require_layer_gradients(m, {rnd(4, 3, 3)}, [&](const Bound<double>& p, const Vars& x) { return mlp(p, x[0]); });
+  }
+}
+
+TEST_CASE("nn layers: MeshConv by hand and its gradients (also tied/transposed)", "[nn]") {
+  // Closed form on a triangle: y = 2x + 3·mean(neighbours) + 1.
+  auto tri = neighbour_mean_operator<double>(3, {{0, 1}, {1, 2}, {0, 2}});
+  Tape<double> t;
+  M x(1, 3);
+  x << 1, 2, 4;
+  Var<double> y = mesh_conv(t.constant(x), t.constant(M::Constant(1, 1, 2)), t.constant(M::Constant(1, 1, 3)),
+                            t.constant(M::Constant(1, 1, 1)), tri);
+  CHECK(y.value() == (M(1, 3) << 12, 12.5, 13.5).finished());
+
+  df::Rng rng(2);
+  auto a = neighbour_mean_operator<double>(4, tetra_edges());
+  ParameterStore<double> s;
+  MeshConv<double> conv(s, "conv", 3, 2, a, rng);
+  s.normal(conv.b, rng, 0.5);
+  require_layer_gradients(s, {rnd(2, 4 * 3, 3)}, [&](const Bound<double>& p, const Vars& in) { return conv(p, in[0]); });
+  require_layer_gradients(s, {rnd(2, 4 * 2, 4), rnd(1, 3, 5)},
+                          [&](const Bound<double>& p, const Vars& in) { return conv.tied_transpose(p, in[0], in[1]); });
+}
+
+TEST_CASE("nn layers: LSTM closed form with all weights zero but the forget bias", "[nn]") {
+  df::Rng rng(3);
+  ParameterStore<double> s;
+  LstmCell<double> cell(s, "lstm", 2, 3, rng);
+  s.value(cell.wx).setZero();
+  s.value(cell.wh).setZero();  // the bias keeps its forget-gate 1
+  Tape<double> t;
+  Bound<double> p = s.bind(t);
+  M c0 = rnd(1, 3, 4);
+  LstmState<double> st = cell(p, t.constant(rnd(1, 2, 5)), {t.constant(rnd(1, 3, 6)), t.constant(c0)});
+  // i = o = σ(0) = ½, f = σ(1), g = tanh(0) = 0: c = σ(1) c0, h = ½ tanh(c).
+  const double f = 1 / (1 + std::exp(-1.0));
+  for (int k = 0; k < 3; ++k) {
+    CHECK(st.c.value()(0, k) == Approx(f * c0(0, k)));
+    CHECK(st.h.value()(0, k) == Approx(0.5 * std::tanh(f * c0(0, k))));
+  }
+}
+
+TEST_CASE("nn layers: LSTM cell, stacked and bidirectional gradients", "[nn]") {
+  df::Rng rng(4);
+  {
+    ParameterStore<double> s;
+    LstmCell<double> cell(s, "cell", 3, 4, rng);
+    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 4, 2), rnd(2, 4, 3)}, [&](const Bound<double>& p, const Vars& x) {
+      LstmState<double> st = cell(p, x[0], {x[1], x[2]});
+      return concat_cols<double>({st.h, st.c});
+    });
+  }
+  {
+    ParameterStore<double> s;
+    StackedLstm<double> lstm(s, "stack", 3, 4, 2, rng);
+    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)}, [&](const Bound<double>& p, const Vars& x) {
+      auto states = lstm.constant_states(*x[0].tape, 2, 0.1);
+      return concat_cols<double>(lstm.run(p, x, states));
+    });
+  }
+  {
+    ParameterStore<double> s;
+    BidirectionalLstm<double> bi(s, "bi", 3, 2, 1, rng);
+    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)}, [&](const Bound<double>& p, const Vars& x) {
+      Var<double> lf, lb;
+      auto out = bi.run(p, x, &lf, &lb);
+      CHECK(out[0].cols() == 4);
+      return concat_cols<double>({out[1], lf, lb});
+    });
+  }
+}
+
+TEST_CASE("nn layers: critic input gradient is ∇ₓD, and the GP penalty's weight gradients check", "[nn]") {
+  df::Rng rng(5);
+  for (Activation a : {Activation::relu, Activation::leaky_relu, Activation::tanh}) {
+    ParameterStore<double> s;
+    Mlp<double> critic(s, "D", {4, 7, 5, 1}, a, rng);
+    for (const auto& v : s.views()) s.normal(s.find(v.name), rng, 0.6);
+    // ∇ₓD against central differences of D.
+    M x = rnd(3, 4, 6);
+    Tape<double> t;
+    Bound<double> p = s.bind(t);
+    M g = critic.input_gradient(p, t.constant(x)).value();
+    for (Eigen::Index r = 0; r < x.rows(); ++r)
+      for (Eigen::Index c = 0; c < x.cols(); ++c) {
+        M up = x, down = x;
+        up(r, c) += 1e-6;
+        down(r, c) -= 1e-6;
+        Tape<double> t2;
+        Bound<double> p2 = s.bind(t2);
+        double d = (critic(p2, t2.constant(up)).value()(r, 0) - critic(p2, t2.constant(down)).value()(r, 0)) / 2e-6;
+        REQUIRE(g(r, c) == Approx(d).epsilon(1e-6).margin(1e-9));
+      }
+    // The penalty mean((‖∇ₓD‖ − 1)²), differentiated w.r.t. the critic's weights (and x).
+    require_layer_gradients(s, {x}, [&](const Bound<double>& p, const Vars& in) {
+      Var<double> grad = critic.input_gradient(p, in[0]);
+      Var<double> norm = sqrt(sum_cols(square(grad)));
+      return mean(square(add_scalar(norm, -1.0)));
+    });
+  }
+}
+
+TEST_CASE("Adam: first step, bias correction, schedules, L2 penalty, clipping", "[nn]") {
+  Vector<double> theta(3), g(3);
+  theta << 1, -2, 3;
+  g << 0.5, -0.1, 0;
+  Adam<double> adam(3, {});
+  Vector<double> gg = g;
+  adam.step(theta, gg);
+  // With bias correction, the first step moves each θ by lr·g/(|g| + ε).
+  CHECK(theta(0) == Approx(1 - 1e-3 * 0.5 / (0.5 + 1e-8)));
+  CHECK(theta(1) == Approx(-2 + 1e-3 * 0.1 / (0.1 + 1e-8)));
+  CHECK(theta(2) == 3);
+  CHECK(adam.steps() == 1);
+  AdamOptions e;
+  e.schedule = AdamOptions::Schedule::exponential;
+  e.decay_rate = 0.5;
+  e.decay_steps = 10;
+  Adam<double> ex(1, e);
+  ex.set_steps(20);
+  CHECK(ex.learning_rate() == Approx(0.25e-3));
+  e.schedule = AdamOptions::Schedule::step;
+  Adam<double> st(1, e);
+  st.set_steps(19);
+  CHECK(st.learning_rate() == Approx(0.5e-3));
+  AdamOptions c;
+  c.clip_norm = 1;
+  c.weight_decay = 0.1;
+  Adam<double> clip(2, c);
+  Vector<double> th(2), gr(2);
+  th << 10, 0;
+  gr << 3, 4;
+  clip.step(th, gr);
+  CHECK(gr.norm() == Approx(1.0));  // (3 + 0.1·10, 4) clipped to norm 1
+}
+
+TEST_CASE("nn learning: an MLP learns XOR (deterministic for a seed)", "[nn]") {
+  auto train = [](std::uint64_t seed) {
+    df::Rng rng(seed);
+    ParameterStore<float> s;
+    Mlp<float> mlp(s, "xor", {2, 8, 1}, Activation::tanh, rng);
+    AdamOptions o;
+    o.lr = 0.05;
+    Adam<float> adam(s.size(), o);
+    Matrix<float> x(4, 2), y(4, 1);
+    x << 0, 0, 0, 1, 1, 0, 1, 1;
+    y << 0, 1, 1, 0;
+    float loss = 0;
+    Tape<float> t;
+    for (int it = 0; it < 500; ++it) {
+      t.clear();
+      s.zero_grad();
+      Bound<float> p = s.bind(t);
+      Var<float> l = bce_with_logits(mlp(p, t.constant(x)), y);
+      t.backward(l);
+      s.collect(p);
+      adam.step(s.values(), s.grads());
+      loss = l.value()(0, 0);
+    }
+    return std::pair{loss, s.values()};
+  };
+  auto [loss, w1] = train(7);
+  CHECK(loss < 0.02f);
+  auto [loss2, w2] = train(7);
+  CHECK(w1 == w2);  // same seed, same weights
+}
