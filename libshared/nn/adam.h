@@ -30,6 +30,8 @@ class Adam {
   long steps() const { return t_; }
   Vector<T>& first_moment() { return m_; }
   Vector<T>& second_moment() { return v_; }
+  const Vector<T>& first_moment() const { return m_; }
+  const Vector<T>& second_moment() const { return v_; }
   void set_steps(long t) { t_ = t; }
   const AdamOptions& options() const { return opt_; }
 

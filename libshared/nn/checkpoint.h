@@ -1,0 +1,31 @@
+// Checkpoints: parameters (by name), Adam's state, the RNG state and the iteration, in the
+// `nn-checkpoint` layout (schemas/nn-checkpoint.json) that every model file extends. Writing
+// is atomic, so a training run killed at any moment resumes from its last complete
+// checkpoint and ends with weights bit-identical to an uninterrupted run.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/rng.h"
+#include "io/h5.h"
+#include "nn/adam.h"
+#include "nn/parameters.h"
+
+namespace df::nn {
+
+/// Writes the training state into an open file (groups /params, /optimizer, /rng and the root
+/// attribute `iteration`); the caller writes the header and anything model-specific.
+void write_training_state(h5::File& f, const ParameterStore<float>& params, const Adam<float>& adam, const Rng& rng,
+                          std::int64_t iteration);
+
+/// Restores it. The file's parameters must match the store's names and shapes exactly.
+/// @return the iteration
+std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& params, Adam<float>& adam, Rng& rng);
+
+/// A complete checkpoint file of kind `nn-checkpoint`, written atomically.
+void save_checkpoint(const std::string& path, const ParameterStore<float>& params, const Adam<float>& adam,
+                     const Rng& rng, std::int64_t iteration);
+std::int64_t load_checkpoint(const std::string& path, ParameterStore<float>& params, Adam<float>& adam, Rng& rng);
+
+}  // namespace df::nn
