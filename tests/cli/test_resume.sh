@@ -26,4 +26,11 @@ for obj in /params /optimizer/m /optimizer/v /rng/state; do
 done
 run h5dump -a /optimizer/step resumed.h5
 expect_out "\(0\): 300"
-echo "ok"
+echo "ok (resume)"
+
+# A training step does not depend on the thread count.
+$driver -q --threads 1 --iterations 60 --every 1000 --checkpoint t1-ck.h5 -o t1.h5
+$driver -q --threads 2 --iterations 60 --every 1000 --checkpoint t2-ck.h5 -o t2.h5
+run h5diff t1.h5 t2.h5 /params
+expect_rc 0
+echo "ok (threads)"
