@@ -62,13 +62,15 @@ int next_id(const Tape<T>& t) {
   return static_cast<int>(t.size());
 }
 
-// Element-wise unary op: out = f(a); da += g ∘ d(a, out).
+// Element-wise unary op on Eigen arrays (vectorised): out = f(A); dA += G ∘ d(A, OUT), where
+// f and d return array expressions.
 template <class T, class F, class D>
 Var<T> unary(Var<T> a, F f, D d) {
   Tape<T>& t = *a.tape;
   const int ia = a.id, io = next_id(t);
-  return t.record(a.value().unaryExpr(f), a.requires_grad(), [&t, ia, io, d] {
-    t.grad(ia).array() += t.grad(io).array() * t.value(ia).binaryExpr(t.value(io), d).array();
+  Matrix<T> out = f(a.value().array()).matrix();
+  return t.record(std::move(out), a.requires_grad(), [&t, ia, io, d] {
+    t.grad(ia).array() += t.grad(io).array() * d(t.value(ia).array(), t.value(io).array());
   });
 }
 
@@ -177,68 +179,68 @@ Var<T> div(Var<T> a, Var<T> b) {
 
 template <class T>
 Var<T> scale(Var<T> a, T s) {
-  return unary(a, [s](T x) { return s * x; }, [s](T, T) { return s; });
+  return unary(a, [s](const auto& x) { return s * x; }, [s](const auto& x, const auto&) { return x * T(0) + s; });
 }
 
 template <class T>
 Var<T> add_scalar(Var<T> a, T s) {
-  return unary(a, [s](T x) { return x + s; }, [](T, T) { return T(1); });
+  return unary(a, [s](const auto& x) { return x + s; }, [](const auto& x, const auto&) { return x * T(0) + T(1); });
 }
 
 // --- element-wise functions
 
 template <class T>
 Var<T> tanh(Var<T> a) {
-  return unary(a, [](T x) { return std::tanh(x); }, [](T, T y) { return T(1) - y * y; });
+  return unary(a, [](const auto& x) { return x.tanh(); }, [](const auto&, const auto& y) { return T(1) - y.square(); });
 }
 
 template <class T>
 Var<T> sigmoid(Var<T> a) {
-  return unary(
-      a,
-      [](T x) { return x >= 0 ? T(1) / (T(1) + std::exp(-x)) : std::exp(x) / (T(1) + std::exp(x)); },
-      [](T, T y) { return y * (T(1) - y); });
+  return unary(a, [](const auto& x) { return x.logistic(); }, [](const auto&, const auto& y) { return y * (T(1) - y); });
 }
 
 template <class T>
 Var<T> relu(Var<T> a) {
-  return unary(a, [](T x) { return x > 0 ? x : T(0); }, [](T x, T) { return x > 0 ? T(1) : T(0); });
+  return unary(a, [](const auto& x) { return x.max(T(0)); },
+               [](const auto& x, const auto&) { return (x > T(0)).template cast<T>(); });
 }
 
 template <class T>
 Var<T> leaky_relu(Var<T> a, T slope) {
-  return unary(a, [slope](T x) { return x > 0 ? x : slope * x; }, [slope](T x, T) { return x > 0 ? T(1) : slope; });
+  return unary(a, [slope](const auto& x) { return (x > T(0)).select(x, slope * x); },
+               [slope](const auto& x, const auto&) { return (x > T(0)).select(x * T(0) + T(1), x * T(0) + slope); });
 }
 
 template <class T>
 Var<T> exp(Var<T> a) {
-  return unary(a, [](T x) { return std::exp(x); }, [](T, T y) { return y; });
+  return unary(a, [](const auto& x) { return x.exp(); }, [](const auto&, const auto& y) { return y; });
 }
 
 template <class T>
 Var<T> log(Var<T> a) {
-  return unary(a, [](T x) { return std::log(x); }, [](T x, T) { return T(1) / x; });
+  return unary(a, [](const auto& x) { return x.log(); }, [](const auto& x, const auto&) { return x.inverse(); });
 }
 
 template <class T>
 Var<T> abs(Var<T> a) {
-  return unary(a, [](T x) { return std::abs(x); }, [](T x, T) { return T((x > 0) - (x < 0)); });
+  return unary(a, [](const auto& x) { return x.abs(); }, [](const auto& x, const auto&) { return x.sign(); });
 }
 
 template <class T>
 Var<T> square(Var<T> a) {
-  return unary(a, [](T x) { return x * x; }, [](T x, T) { return 2 * x; });
+  return unary(a, [](const auto& x) { return x.square(); }, [](const auto& x, const auto&) { return T(2) * x; });
 }
 
 template <class T>
 Var<T> sqrt(Var<T> a) {
-  return unary(a, [](T x) { return std::sqrt(x); }, [](T, T y) { return y > 0 ? T(0.5) / y : T(0); });
+  return unary(a, [](const auto& x) { return x.sqrt(); },
+               [](const auto&, const auto& y) { return (y > T(0)).select(T(0.5) * y.inverse(), y * T(0)); });
 }
 
 template <class T>
 Var<T> clamp(Var<T> a, T lo, T hi) {
-  return unary(a, [lo, hi](T x) { return std::clamp(x, lo, hi); },
-               [lo, hi](T x, T) { return x >= lo && x <= hi ? T(1) : T(0); });
+  return unary(a, [lo, hi](const auto& x) { return x.max(lo).min(hi); },
+               [lo, hi](const auto& x, const auto&) { return ((x >= lo) && (x <= hi)).template cast<T>(); });
 }
 
 // --- reductions
