@@ -1,6 +1,7 @@
 #include "nn/layers.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 
@@ -120,7 +121,7 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<co
   using ConstMap = Eigen::Map<const Matrix<T>>;
   ConstMap X(x.value().data(), B * V, cin);  // a sample row [V·cin] is V rows of cin
   auto N = std::make_shared<Matrix<T>>(B * V, cin);  // neighbour means, kept for backward
-  for (Index s = 0; s < B; ++s) N->middleRows(s * V, V).noalias() = (*a) * X.middleRows(s * V, V);
+  tbb::parallel_for(Index{0}, B, [&](Index s) { N->middleRows(s * V, V).noalias() = (*a) * X.middleRows(s * V, V); });
   Matrix<T> out(B, V * cout);
   Eigen::Map<Matrix<T>> Y(out.data(), B * V, cout);
   Y.noalias() = X * wp.value();
@@ -138,7 +139,9 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<co
       Eigen::Map<Matrix<T>> GX(t.grad(ix).data(), B * V, cin);
       GX.noalias() += G * t.value(ip).transpose();
       Matrix<T> GN = G * t.value(in).transpose();
-      for (Index s = 0; s < B; ++s) GX.middleRows(s * V, V).noalias() += a->transpose() * GN.middleRows(s * V, V);
+      tbb::parallel_for(Index{0}, B, [&](Index s) {  // per sample: independent rows
+        GX.middleRows(s * V, V).noalias() += a->transpose() * GN.middleRows(s * V, V);
+      });
     }
   });
 }

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 
 #include "core/error.h"
@@ -62,15 +64,67 @@ int next_id(const Tape<T>& t) {
   return static_cast<int>(t.size());
 }
 
+// C (+)= op(A) · op(B), split into fixed blocks of output rows computed in parallel. The block
+// size never depends on the thread count, so every element is summed in the same order at any
+// --threads (Eigen's blocking depends on the block's shape only).
+constexpr Index kRowBlock = 64;
+
+template <class T, class DstXpr, class LhsXpr, class RhsXpr>
+void parallel_product(DstXpr&& dst, const LhsXpr& lhs, const RhsXpr& rhs, bool accumulate_into) {
+  const Index rows = dst.rows();
+  const double work = static_cast<double>(rows) * static_cast<double>(dst.cols()) * static_cast<double>(lhs.cols());
+  if (rows < 2 * kRowBlock || work < 4e6) {  // small: one product
+    if (accumulate_into)
+      dst.noalias() += lhs * rhs;
+    else
+      dst.noalias() = lhs * rhs;
+    return;
+  }
+  const Index blocks = (rows + kRowBlock - 1) / kRowBlock;
+  tbb::parallel_for(Index{0}, blocks, [&](Index b) {
+    const Index r0 = b * kRowBlock, n = std::min(kRowBlock, rows - r0);
+    if (accumulate_into)
+      dst.middleRows(r0, n).noalias() += lhs.middleRows(r0, n) * rhs;
+    else
+      dst.middleRows(r0, n).noalias() = lhs.middleRows(r0, n) * rhs;
+  });
+}
+
 // Element-wise unary op on Eigen arrays (vectorised): out = f(A); dA += G ∘ d(A, OUT), where
 // f and d return array expressions.
+// Large arrays are processed in fixed chunks in parallel (element-wise: any split gives the
+// same bits).
+constexpr Index kChunk = 1 << 15;
+
+template <class Fn>
+void for_chunks(Index n, Fn fn) {
+  if (n <= 2 * kChunk) {
+    fn(Index{0}, n);
+    return;
+  }
+  tbb::parallel_for(Index{0}, (n + kChunk - 1) / kChunk, [&](Index c) { fn(c * kChunk, std::min(kChunk, n - c * kChunk)); });
+}
+
 template <class T, class F, class D>
 Var<T> unary(Var<T> a, F f, D d) {
   Tape<T>& t = *a.tape;
   const int ia = a.id, io = next_id(t);
-  Matrix<T> out = f(a.value().array()).matrix();
+  Matrix<T> out(a.rows(), a.cols());
+  {
+    using Flat = Eigen::Map<Eigen::Array<T, Eigen::Dynamic, 1>>;
+    using ConstFlat = Eigen::Map<const Eigen::Array<T, Eigen::Dynamic, 1>>;
+    const T* x = a.value().data();
+    T* y = out.data();
+    for_chunks(out.size(), [&](Index k, Index n) { Flat(y + k, n) = f(ConstFlat(x + k, n)); });
+  }
   return t.record(std::move(out), a.requires_grad(), [&t, ia, io, d] {
-    t.grad(ia).array() += t.grad(io).array() * d(t.value(ia).array(), t.value(io).array());
+    using Flat = Eigen::Map<Eigen::Array<T, Eigen::Dynamic, 1>>;
+    using ConstFlat = Eigen::Map<const Eigen::Array<T, Eigen::Dynamic, 1>>;
+    T* ga = t.grad(ia).data();
+    const T *go = t.grad(io).data(), *x = t.value(ia).data(), *y = t.value(io).data();
+    for_chunks(t.value(io).size(), [&](Index k, Index n) {
+      Flat(ga + k, n) += ConstFlat(go + k, n) * d(ConstFlat(x + k, n), ConstFlat(y + k, n));
+    });
   });
 }
 
@@ -83,11 +137,12 @@ Var<T> matmul(Var<T> a, Var<T> b) {
   Tape<T>& t = same_tape(a, b);
   if (a.cols() != b.rows()) shape_error("matmul", a, b);
   const int ia = a.id, ib = b.id, io = next_id(t);
-  Matrix<T> out = a.value() * b.value();
+  Matrix<T> out(a.rows(), b.cols());
+  parallel_product<T>(out, a.value(), b.value(), false);
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     const Matrix<T>& g = t.grad(io);
-    if (t.requires_grad(ia)) t.grad(ia).noalias() += g * t.value(ib).transpose();
-    if (t.requires_grad(ib)) t.grad(ib).noalias() += t.value(ia).transpose() * g;
+    if (t.requires_grad(ia)) parallel_product<T>(t.grad(ia), g, t.value(ib).transpose(), true);
+    if (t.requires_grad(ib)) parallel_product<T>(t.grad(ib), t.value(ia).transpose(), g, true);
   });
 }
 
@@ -96,11 +151,12 @@ Var<T> matmul_transposed(Var<T> a, Var<T> b) {
   Tape<T>& t = same_tape(a, b);
   if (a.cols() != b.cols()) shape_error("matmul_transposed", a, b);
   const int ia = a.id, ib = b.id, io = next_id(t);
-  Matrix<T> out = a.value() * b.value().transpose();
+  Matrix<T> out(a.rows(), b.rows());
+  parallel_product<T>(out, a.value(), b.value().transpose(), false);
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     const Matrix<T>& g = t.grad(io);
-    if (t.requires_grad(ia)) t.grad(ia).noalias() += g * t.value(ib);
-    if (t.requires_grad(ib)) t.grad(ib).noalias() += g.transpose() * t.value(ia);
+    if (t.requires_grad(ia)) parallel_product<T>(t.grad(ia), g, t.value(ib), true);
+    if (t.requires_grad(ib)) parallel_product<T>(t.grad(ib), g.transpose(), t.value(ia), true);
   });
 }
 

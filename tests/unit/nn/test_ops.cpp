@@ -2,6 +2,8 @@
 // plus closed-form forward checks.
 #include <catch2/catch.hpp>
 
+#include <tbb/global_control.h>
+
 #include "nn/gradient_check.h"
 #include "nn/ops.h"
 
@@ -179,4 +181,24 @@ TEST_CASE("gradient_check: catches wrong, overwriting and missing gradients", "[
   CHECK(check(1).max_error > 0.1);
   CHECK(check(2).max_error > 0.01);
   CHECK(check(3).max_error > 0.1);
+}
+
+TEST_CASE("nn ops: results do not depend on the thread count (blocked products, chunked element-wise)", "[nn]") {
+  auto run = [](int threads) {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    df::Rng rng(11);
+    Matrix<float> a(300, 700), b(700, 90);
+    for (Eigen::Index k = 0; k < a.size(); ++k) a.data()[k] = static_cast<float>(rng.normal());
+    for (Eigen::Index k = 0; k < b.size(); ++k) b.data()[k] = static_cast<float>(rng.normal());
+    Tape<float> t;
+    Var<float> x = t.variable(a), w = t.variable(b);
+    Var<float> l = mean(tanh(matmul(tanh(x), w)));
+    t.backward(l);
+    return std::tuple{l.value()(0, 0), Matrix<float>(x.grad()), Matrix<float>(w.grad())};
+  };
+  auto [l1, gx1, gw1] = run(1);
+  auto [l2, gx2, gw2] = run(2);
+  CHECK(l1 == l2);
+  CHECK(gx1 == gx2);
+  CHECK(gw1 == gw2);
 }
