@@ -226,6 +226,19 @@ std::vector<LstmState<T>> StackedLstm<T>::constant_states(Tape<T>& t, Index batc
 }
 
 template <class T>
+SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bound<T>& p, const std::vector<Var<T>>& x,
+                                            T forward_init, T backward_init) {
+  if (x.empty()) throw Error("internal: empty sequence");
+  Tape<T>& t = *x[0].tape;
+  auto sf = lstm.constant_states(t, x[0].rows(), forward_init);
+  auto sb = lstm.constant_states(t, x[0].rows(), backward_init);
+  SharedBidirectional<T> out;
+  out.forward = lstm.run(p, x, sf);
+  out.backward = lstm.run(p, std::vector<Var<T>>(x.rbegin(), x.rend()), sb);
+  return out;
+}
+
+template <class T>
 BidirectionalLstm<T>::BidirectionalLstm(ParameterStore<T>& s, const std::string& name, Index in, Index hidden,
                                         int layers, Rng& rng)
     : forward(s, name + ".fw", in, hidden, layers, rng), backward(s, name + ".bw", in, hidden, layers, rng) {}
@@ -256,7 +269,9 @@ std::vector<Var<T>> BidirectionalLstm<T>::run(const Bound<T>& p, const std::vect
   template struct MeshConv<T>;                                                                             \
   template struct LstmCell<T>;                                                                             \
   template struct StackedLstm<T>;                                                                          \
-  template struct BidirectionalLstm<T>;
+  template struct BidirectionalLstm<T>;                                                                    \
+  template SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>&, const Bound<T>&,            \
+                                                       const std::vector<Var<T>>&, T, T);
 
 DF_NN_LAYERS(float)
 DF_NN_LAYERS(double)

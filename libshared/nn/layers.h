@@ -96,6 +96,18 @@ struct StackedLstm {
   std::vector<LstmState<T>> constant_states(Tape<T>& t, Eigen::Index batch, T value) const;
 };
 
+/// The share-weight bidirectional pattern (BD-LSTM, paper 1): ONE stacked LSTM runs forward
+/// from the first element with `forward_init` states and backward from the last with
+/// `backward_init` states (e.g. +0.1 / −0.1). Returns both output sequences, each in its own
+/// running order (backward[0] belongs to the last input).
+template <class T>
+struct SharedBidirectional {
+  std::vector<Var<T>> forward, backward;
+};
+template <class T>
+SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bound<T>& p, const std::vector<Var<T>>& x,
+                                            T forward_init, T backward_init);
+
 /// Standard bidirectional LSTM (separate weights per direction): outputs [B, 2H] per step
 /// (forward h_t beside backward h_t) and the last states of both directions.
 template <class T>

@@ -119,6 +119,25 @@ TEST_CASE("nn layers: LSTM cell, stacked and bidirectional gradients", "[nn]") {
   }
 }
 
+TEST_CASE("nn layers: the share-weight bidirectional pattern (one LSTM, both directions)", "[nn]") {
+  df::Rng rng(8);
+  ParameterStore<double> s;
+  StackedLstm<double> lstm(s, "shared", 3, 4, 2, rng);
+  require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)}, [&](const Bound<double>& p, const Vars& x) {
+    auto bd = shared_bidirectional(lstm, p, x, 0.1, -0.1);
+    return concat_cols<double>({bd.forward[2], bd.backward[0], bd.backward[2]});
+  });
+  // The backward chain is the same network run on the reversed sequence with −0.1 states.
+  Tape<double> t;
+  Bound<double> p = s.bind(t);
+  std::vector<Var<double>> x{t.constant(rnd(2, 3, 4)), t.constant(rnd(2, 3, 5))};
+  auto bd = shared_bidirectional(lstm, p, x, 0.1, -0.1);
+  auto states = lstm.constant_states(t, 2, -0.1);
+  auto manual = lstm.run(p, {x[1], x[0]}, states);
+  CHECK(bd.backward[1].value() == manual[1].value());
+  CHECK(bd.forward[0].value() != bd.backward[1].value());
+}
+
 TEST_CASE("nn layers: critic input gradient is ∇ₓD, and the GP penalty's weight gradients check", "[nn]") {
   df::Rng rng(5);
   for (Activation a : {Activation::relu, Activation::leaky_relu, Activation::tanh}) {
