@@ -59,13 +59,14 @@ int main(int argc, char** argv) {
   df::Tool tool("bench_nn_blocks", "Time the network building blocks (see bench/run.sh).");
   tool.with_threads();
   std::string mesh_path;
-  int iters = 30;
+  int iters = 30, only = 0;
   tool.app().add_option("--mesh", mesh_path, "Mesh for MeshConv (default: a synthetic 2,904-vertex-like grid)");
   tool.app().add_option("--iters", iters);
+  tool.app().add_option("--only", only, "Run only block 1..4 (peak memory per block)");
   return tool.run(argc, argv, [&] {
     df::Rng rng(0);
-    std::printf("| block | parameters | median ms | min ms |\n|---|---|---|---|\n");
-    {  // stacked LSTM 3 x 128 over 32 steps, batch 8
+    if (!only) std::printf("| block | parameters | median ms | min ms |\n|---|---|---|---|\n");
+    if (!only || only == 1) {  // stacked LSTM 3 x 128 over 32 steps, batch 8
       Case c{"LSTM 3x128 T=32 B=8", {}, {}};
       auto lstm = std::make_shared<StackedLstm<float>>(c.store, "lstm", 128, 128, 3, rng);
       std::vector<Matrix<float>> x;
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
       };
       time_case(c, iters);
     }
-    {  // MeshConv(9->9)+tanh then Linear(9V->128)+tanh, batch 256
+    if (!only || only == 2) {  // MeshConv(9->9)+tanh then Linear(9V->128)+tanh, batch 256
       df::io::Mesh m;
       if (!mesh_path.empty()) {
         m = df::io::read_mesh(mesh_path);
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
       };
       time_case(c, iters);
     }
-    {  // bidirectional LSTM 256 over 50 steps of 60-d input, last states -> FC 1024 -> 1, batch 32
+    if (!only || only == 3) {  // bidirectional LSTM 256 over 50 steps of 60-d input, last states -> FC 1024 -> 1, batch 32
       Case c{"BiLSTM 256 T=50 B=32 +FC1024", {}, {}};
       auto bi = std::make_shared<BidirectionalLstm<float>>(c.store, "bi", 60, 256, 1, rng);
       auto head = std::make_shared<Mlp<float>>(c.store, "head", std::vector<Eigen::Index>{512, 1024, 1}, Activation::relu, rng);
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
       };
       time_case(c, iters);
     }
-    {  // MLP critic 60 -> 1024 -> 1 with WGAN gradient penalty (lambda 10), batch 64
+    if (!only || only == 4) {  // MLP critic 60 -> 1024 -> 1 with WGAN gradient penalty (lambda 10), batch 64
       Case c{"critic MLP + GP B=64", {}, {}};
       auto d = std::make_shared<Mlp<float>>(c.store, "D", std::vector<Eigen::Index>{60, 1024, 1}, Activation::relu, rng);
       Matrix<float> real = randn(64, 60, rng), fake = randn(64, 60, rng);

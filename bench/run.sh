@@ -63,6 +63,29 @@ fi
     bench_set chicken "chickenCrossing 3,030 v × 400 (OBJ in)" "${dirs[chickenCrossing]}" 1212000
   fi
   echo
+  echo "### Network building blocks (forward + backward + Adam, float32; shapes of ../shared/peers/torch/blocks.py)"
+  echo
+  echo "| block | threads | median ms | min ms | peak MiB |"
+  echo "|---|---|---|---|---|"
+  mesh_arg=()
+  [ -n "${dirs[pcow]:-}" ] && mesh_arg=(--mesh "${dirs[pcow]}/1.obj")
+  for threads in 1 2; do
+    for block in 1 2 3 4; do
+      /usr/bin/time -f "%M" -o "$out/time.log" "$bin/bench_nn_blocks" --threads $threads --only $block "${mesh_arg[@]}" > "$out/block.txt"
+      awk -v t=$threads -v m="$(awk '{printf "%.0f", $1/1024}' "$out/time.log")" -F'|' \
+        '{gsub(/^ +| +$/, "", $2); printf "| %s | %s | %s | %s | %s |\n", $2, t, $4 + 0, $5 + 0, m}' "$out/block.txt"
+    done
+  done
+  peer=$(dirname "$0")/../../shared/peers/torch
+  if [ -f "$peer/blocks.py" ] && /usr/bin/python3 -c "import torch" 2>/dev/null; then
+    echo
+    echo "PyTorch peer (same machine; \`install-deps.sh --with-bench\` installs python3-torch):"
+    echo
+    for threads in 1 2; do
+      (cd "$peer" && /usr/bin/python3 blocks.py --threads $threads 2>/dev/null | grep "threads=") | sed 's/^/    /'
+    done
+  fi
+  echo
   echo "### Synthetic data"
   echo
   echo "| benchmark | threads | seconds | vertex-frames/s | peak MiB |"

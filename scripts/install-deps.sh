@@ -11,7 +11,7 @@ packages=(
   assimp-testmodels zstd gnuplot-nox
 )
 if [[ "${1:-}" == "--with-bench" ]]; then
-  packages+=(time)  # GNU time for peak memory; python3-torch joins with the model benchmarks
+  packages+=(time python3-torch libjemalloc2)  # GNU time (peak memory); the PyTorch timing peer
 fi
 
 missing=()
