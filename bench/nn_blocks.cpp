@@ -12,6 +12,7 @@
 #include "io/mesh_io.h"
 #include "nn/adam.h"
 #include "nn/layers.h"
+#include "nn/train_step.h"
 #include "synth/meshseq.h"
 
 using namespace df::nn;
@@ -27,15 +28,7 @@ struct Case {
 void time_case(Case& c, int iters) {
   Adam<float> adam(c.store.size(), {});
   Tape<float> t;
-  auto step = [&] {
-    t.clear();
-    c.store.zero_grad();
-    Bound<float> p = c.store.bind(t);
-    Var<float> l = c.loss(t, p);
-    t.backward(l);
-    c.store.collect(p);
-    adam.step(c.store.values(), c.store.grads());
-  };
+  auto step = [&] { train_step<float>(t, c.store, adam, c.loss); };
   for (int i = 0; i < 5; ++i) step();
   std::vector<double> ms;
   for (int i = 0; i < iters; ++i) {

@@ -9,6 +9,7 @@
 #include "core/tool.h"
 #include "nn/checkpoint.h"
 #include "nn/layers.h"
+#include "nn/train_step.h"
 
 int main(int argc, char** argv) {
   df::Tool tool("nn_resume_driver", "Train a small MLP with checkpoints (test driver).");
@@ -39,13 +40,9 @@ int main(int argc, char** argv) {
         for (int c = 0; c < 4; ++c) s += x(r, c) = static_cast<float>(rng.normal());
         y(r, 0) = std::sin(s);
       }
-      tape.clear();
-      store.zero_grad();
-      Bound<float> p = store.bind(tape);
-      Var<float> loss = mse(mlp(p, tape.constant(x)), tape.constant(y));
-      tape.backward(loss);
-      store.collect(p);
-      adam.step(store.values(), store.grads());
+      train_step<float>(tape, store, adam, [&](Tape<float>& t, const Bound<float>& p) {
+        return mse(mlp(p, t.constant(x)), t.constant(y));
+      });
       if ((it + 1) % every == 0) save_checkpoint(checkpoint, store, adam, rng, it + 1);
       if (delay_ms) std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
     }

@@ -4,6 +4,7 @@
 #include "nn/adam.h"
 #include "nn/gradient_check.h"
 #include "nn/layers.h"
+#include "nn/train_step.h"
 
 using namespace df::nn;
 using M = Matrix<double>;
@@ -215,16 +216,10 @@ TEST_CASE("nn learning: an MLP learns XOR (deterministic for a seed)", "[nn]") {
     y << 0, 1, 1, 0;
     float loss = 0;
     Tape<float> t;
-    for (int it = 0; it < 500; ++it) {
-      t.clear();
-      s.zero_grad();
-      Bound<float> p = s.bind(t);
-      Var<float> l = bce_with_logits(mlp(p, t.constant(x)), y);
-      t.backward(l);
-      s.collect(p);
-      adam.step(s.values(), s.grads());
-      loss = l.value()(0, 0);
-    }
+    for (int it = 0; it < 500; ++it)
+      loss = train_step<float>(t, s, adam, [&](Tape<float>& t, const Bound<float>& p) {
+        return bce_with_logits(mlp(p, t.constant(x)), y);
+      });
     return std::pair{loss, s.values()};
   };
   auto [loss, w1] = train(7);

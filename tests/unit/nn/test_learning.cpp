@@ -4,6 +4,7 @@
 #include "geometry/mesh_topology.h"
 #include "nn/adam.h"
 #include "nn/layers.h"
+#include "nn/train_step.h"
 #include "synth/meshseq.h"
 
 using namespace df::nn;
@@ -23,21 +24,17 @@ TEST_CASE("nn learning: an LSTM learns to output its input delayed by 3 steps", 
     std::vector<Matrix<float>> x(steps, Matrix<float>(batch, 1));
     for (auto& m : x)
       for (int b = 0; b < batch; ++b) m(b, 0) = static_cast<float>(data.uniform(-1, 1));
-    t.clear();
-    s.zero_grad();
-    Bound<float> p = s.bind(t);
-    std::vector<Var<float>> xs;
-    for (auto& m : x) xs.push_back(t.constant(m));
-    auto states = lstm.constant_states(t, batch, 0.0f);
-    auto h = lstm.run(p, xs, states);
-    std::vector<Var<float>> losses;
-    for (int k = delay; k < steps; ++k) losses.push_back(mse(head(p, h[static_cast<std::size_t>(k)]), xs[static_cast<std::size_t>(k - delay)]));
-    Var<float> loss = scale(sum(concat_cols(losses)), 1.0f / static_cast<float>(losses.size()));
-    t.backward(loss);
-    s.collect(p);
-    adam.step(s.values(), s.grads());
-    if (it == 0) first = loss.value()(0, 0);
-    last = loss.value()(0, 0);
+    last = train_step<float>(t, s, adam, [&](Tape<float>& t, const Bound<float>& p) {
+      std::vector<Var<float>> xs;
+      for (auto& m : x) xs.push_back(t.constant(m));
+      auto states = lstm.constant_states(t, batch, 0.0f);
+      auto h = lstm.run(p, xs, states);
+      std::vector<Var<float>> losses;
+      for (int k = delay; k < steps; ++k)
+        losses.push_back(mse(head(p, h[static_cast<std::size_t>(k)]), xs[static_cast<std::size_t>(k - delay)]));
+      return scale(sum(concat_cols(losses)), 1.0f / static_cast<float>(losses.size()));
+    });
+    if (it == 0) first = last;
   }
   INFO("loss " << first << " -> " << last);
   CHECK(first > 0.25f);  // variance of U(-1, 1) is 1/3
@@ -70,18 +67,12 @@ TEST_CASE("nn learning: a MeshConv autoencoder cuts reconstruction loss 10x on a
   Tape<float> t;
   float first = 0, last = 0;
   for (int it = 0; it < 400; ++it) {
-    t.clear();
-    s.zero_grad();
-    Bound<float> p = s.bind(t);
-    Var<float> x = t.constant(X);
-    Var<float> z = tanh(down(p, tanh(enc(p, x))));
-    Var<float> y = enc.tied_transpose(p, up(p, z), p[dec_bias]);
-    Var<float> loss = mse(y, x);
-    t.backward(loss);
-    s.collect(p);
-    adam.step(s.values(), s.grads());
-    if (it == 0) first = loss.value()(0, 0);
-    last = loss.value()(0, 0);
+    last = train_step<float>(t, s, adam, [&](Tape<float>& t, const Bound<float>& p) {
+      Var<float> x = t.constant(X);
+      Var<float> z = tanh(down(p, tanh(enc(p, x))));
+      return mse(enc.tied_transpose(p, up(p, z), p[dec_bias]), x);
+    });
+    if (it == 0) first = last;
   }
   INFO("loss " << first << " -> " << last);
   CHECK(last < first / 10);
