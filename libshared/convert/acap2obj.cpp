@@ -17,6 +17,7 @@
 #include "geometry/reconstruction.h"
 #include "io/file_header.h"
 #include "io/h5.h"
+#include "io/mesh_io.h"
 #include "io/schema.h"
 
 namespace fs = std::filesystem;
@@ -24,11 +25,6 @@ namespace fs = std::filesystem;
 namespace df::convert {
 namespace {
 using geometry::kFeatureDims;
-
-bool is_hdf5(const std::string& p) {
-  auto e = fs::path(p).extension().string();
-  return e == ".h5" || e == ".hdf5";
-}
 
 // Max and mean vertex distance after aligning each connected component's centroid.
 struct FrameError {
@@ -131,17 +127,16 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   }
   if (frames.empty()) throw UsageError("the selection holds no frames");
 
-  geometry::Reconstructor rec(tmpl.vertices, tmpl.faces, opt.anchor);
   if (opt.solver != "gradients" && opt.solver != "edges") throw UsageError("--solver must be gradients or edges");
-  auto t_exact = std::chrono::steady_clock::now();
-  if (opt.solver == "gradients") rec.enable_exact();
-  double exact_secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_exact).count();
-  log::info("template {} vertices, {} components; factored in {:.3f} s{}", nv, rec.components(),
-            rec.factor_seconds() + exact_secs, rec.exact() ? " (gradient system)" : " (edge system)");
+  const auto solver = opt.solver == "gradients" ? geometry::ReconstructionSolver::gradients
+                                                : geometry::ReconstructionSolver::edges;
+  geometry::Reconstructor rec(tmpl.vertices, tmpl.faces, opt.anchor, solver);
+  log::info("template {} vertices, {} components; {} system factored in {:.3f} s", nv, rec.components(),
+            opt.solver == "gradients" ? "gradient" : "edge", rec.factor_seconds());
   const double diag = (tmpl.vertices.colwise().maxCoeff() - tmpl.vertices.colwise().minCoeff()).norm();
 
   // Output: a directory of meshes, or an acap .h5.
-  const bool h5out = is_hdf5(opt.output);
+  const bool h5out = io::is_hdf5_path(opt.output);
   AtomicOutput out(opt.output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory, common.force,
                    {opt.input});
   std::vector<std::string> file_names;

@@ -19,7 +19,7 @@ struct Acap2ObjOptions {
   std::string features = "auto";  ///< raw | normalized | auto (raw when present)
   int anchor = 0;
   std::string anchor_positions = "auto";  ///< auto | reference | frames
-  /// gradients: the exact deformation-gradient system (Reconstructor::enable_exact);
+  /// gradients: the exact deformation-gradient system (ReconstructionSolver::gradients);
   /// edges: the SPEC/paper edge system
   std::string solver = "gradients";
 };

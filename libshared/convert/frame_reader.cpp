@@ -28,10 +28,6 @@ struct FrameReader::Source {
 };
 
 namespace {
-bool is_hdf5(const std::string& p) {
-  auto e = fs::path(p).extension().string();
-  return e == ".h5" || e == ".hdf5";
-}
 std::string dir_name(const fs::path& p) {
   fs::path d = p.has_filename() ? p : p.parent_path();
   return d.filename().string();
@@ -67,7 +63,7 @@ FrameReader::FrameReader(const std::vector<std::string>& inputs) {
         for (int f = a.first; f < a.first + a.count; ++f)
           add_frame(id, static_cast<std::size_t>(f), src->md2.frame_names[static_cast<std::size_t>(f)]);
       }
-    } else if (input[0] != '@' && is_hdf5(input)) {
+    } else if (input[0] != '@' && io::is_hdf5_path(input)) {
       pending = -1;
       src->kind = Source::Kind::hdf5;
       io::Dimensions dims;
@@ -164,9 +160,7 @@ io::Vertices FrameReader::read_positions(std::size_t i, const io::Mesh& referenc
   const Source& s = *sources_[static_cast<std::size_t>(f.source)];
   if (s.kind == Source::Kind::mesh_files) {
     const std::string& path = s.files[f.index].path;
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (ext == ".obj") return io::read_obj_frame(path, reference, reference_name);
+    if (io::lower_extension(path) == ".obj") return io::read_obj_frame(path, reference, reference_name);
   }
   io::Mesh m = read(i);
   io::check_same_connectivity(reference, reference_name, m, frame_origin(i));

@@ -182,8 +182,8 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
                              frame_names[i], rep.axis_before, rep.axis_after, rep.angle_before, rep.angle_after,
                              rep.sweeps);
                 }
-                raw.assign(count * nv * kFeatureDims, 0.0);
-                pos.assign(count * nv * 3, 0.0f);
+                raw.resize(count * nv * kFeatureDims);  // fully overwritten below
+                pos.resize(count * nv * 3);
                 for (std::size_t k = 0; k < count; ++k) {
                   geometry::pack_features(r[k], b->dec[k].stretch, raw.data() + k * nv * kFeatureDims);
                   const double* p = b->positions[k].data();

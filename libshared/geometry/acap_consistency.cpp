@@ -24,22 +24,29 @@ struct UnionFind {
 
 int sgn(double x) { return (x > 0) - (x < 0); }
 
-// Groups vertices into clusters joined by edges for which `joined(edge)` holds. Returns the
-// clusters in order of their smallest vertex, each as a vertex list.
+// Vertices grouped into clusters joined by edges for which `joined(edge)` holds: the clusters in
+// order of their smallest vertex (vertex lists) and each vertex's cluster.
+struct Clusters {
+  std::vector<std::vector<int>> groups;
+  std::vector<int> member;
+};
+
 template <class Joined>
-std::vector<std::vector<int>> clusters(const MeshTopology& t, Joined joined) {
+Clusters clusters(const MeshTopology& t, Joined joined) {
   UnionFind uf(t.n_vertices);
   for (std::size_t e = 0; e < t.edges.size(); ++e)
     if (joined(e)) uf.unite(t.edges[e][0], t.edges[e][1]);
   std::vector<int> id(static_cast<std::size_t>(t.n_vertices), -1);
-  std::vector<std::vector<int>> out;
+  Clusters out;
+  out.member.resize(static_cast<std::size_t>(t.n_vertices));
   for (int v = 0; v < t.n_vertices; ++v) {
     int r = uf.find(v);
     if (id[r] < 0) {
-      id[r] = static_cast<int>(out.size());
-      out.emplace_back();
+      id[r] = static_cast<int>(out.groups.size());
+      out.groups.emplace_back();
     }
-    out[static_cast<std::size_t>(id[r])].push_back(v);
+    out.member[v] = id[r];
+    out.groups[static_cast<std::size_t>(id[r])].push_back(v);
   }
   return out;
 }
@@ -93,25 +100,20 @@ ConsistencyReport AcapConsistency::solve(const std::vector<AxisAngle>& rot,
         for (int k = off[i]; k < off[i + 1]; ++k) {
           int j = nbr[k];
           if (o[j]) continue;
-          o[j] = s[ring_edge[k]] < 0 ? -o[i] : 1 * o[i];
+          o[j] = s[ring_edge[k]] < 0 ? -o[i] : o[i];
           q.push(j);
         }
       }
     };
-    bfs();
-    for (int root : {opt_.root}) {
-      if (root >= 0 && root < n && !o[root]) {
-        o[root] = 1;
-        q.push(root);
-        bfs();
-      }
-    }
-    for (int i = 0; i < n; ++i)  // other components: their smallest vertex is the root
-      if (!o[i]) {
-        o[i] = 1;
-        q.push(i);
-        bfs();
-      }
+    bfs();  // from the vertices the prior decided
+    auto seed = [&](int root) {
+      if (root < 0 || root >= n || o[root]) return;
+      o[root] = 1;
+      q.push(root);
+      bfs();
+    };
+    seed(opt_.root);
+    for (int i = 0; i < n; ++i) seed(i);  // other components: their smallest vertex is the root
   }
   rep.axis_before = axis_agreement(rot, o);
 
@@ -126,13 +128,10 @@ ConsistencyReport AcapConsistency::solve(const std::vector<AxisAngle>& rot,
         changed = true;
       }
     }
-    auto groups = clusters(topo_, [&](std::size_t e) {
+    auto [groups, member] = clusters(topo_, [&](std::size_t e) {
       return s[e] * o[topo_.edges[e][0]] * o[topo_.edges[e][1]] > 0;
     });
     if (groups.size() > 1) {
-      std::vector<int> member(static_cast<std::size_t>(n));
-      for (std::size_t c = 0; c < groups.size(); ++c)
-        for (int v : groups[c]) member[v] = static_cast<int>(c);
       for (std::size_t c = 0; c < groups.size(); ++c) {
         int boundary = 0;  // Σ s o_i o_j over edges leaving the cluster, with the current o
         for (int i : groups[c])
@@ -217,13 +216,10 @@ ConsistencyReport AcapConsistency::solve(const std::vector<AxisAngle>& rot,
         changed = true;
       }
     }
-    auto groups = clusters(topo_, [&](std::size_t e) {
+    auto [groups, member] = clusters(topo_, [&](std::size_t e) {
       return std::abs(phi[topo_.edges[e][0]] - phi[topo_.edges[e][1]]) < std::numbers::pi;
     });
     if (groups.size() > 1) {
-      std::vector<int> member(static_cast<std::size_t>(n));
-      for (std::size_t c = 0; c < groups.size(); ++c)
-        for (int v : groups[c]) member[v] = static_cast<int>(c);
       for (std::size_t c = 0; c < groups.size(); ++c) {
         double sum_d = 0;
         int count = 0;

@@ -6,7 +6,7 @@
 // Laplacian L of the template, which Reconstructor factors once (sparse LDLᵀ); every frame is
 // then two triangular solves, and frames may be solved in parallel.
 //
-// Exact mode (enable_exact): the SPEC's system has a residual wherever a one-ring does not
+// ReconstructionSolver::gradients: the SPEC's system has a residual wherever a one-ring does not
 // deform affinely, so even features computed from a real mesh do not give that mesh back.
 // The features fix every T_i = B_i A_i⁻¹, so the original mesh satisfies
 //   Σ_j w_ij (p'_j − p'_i) e_ijᵀ + ñ'_i ñ_iᵀ = T_i A_i     (A_i: reference one-ring moment)
@@ -28,24 +28,27 @@
 
 namespace df::geometry {
 
+/// Which system Reconstructor solves (see above).
+enum class ReconstructionSolver {
+  edges,     ///< the SPEC/papers' edge system
+  gradients  ///< the exact deformation-gradient system
+};
+
 class Reconstructor {
  public:
+  /// Factors the chosen system once.
   /// @param reference  #V by 3 reference positions; @param faces  #F by 3
-  /// @param anchor     pinned vertex; its position is `anchor_position` (default: reference)
-  Reconstructor(const io::Vertices& reference, const io::Faces& faces, int anchor = 0);
-  Reconstructor(const io::Vertices& reference, const io::Faces& faces, int anchor,
-                const Eigen::Vector3d& anchor_position);
+  /// @param anchor     pinned vertex of its component (at its reference position)
+  Reconstructor(const io::Vertices& reference, const io::Faces& faces, int anchor = 0,
+                ReconstructionSolver solver = ReconstructionSolver::edges);
   ~Reconstructor();
 
   /// Positions (#V by 3) from one frame's raw features (#V rows of 9, row-major). Pinned
   /// vertices take their positions from `pinned_positions` (#V by 3, e.g. the original frame)
-  /// when given, else from the reference (and the anchor position). Thread-safe.
+  /// when given, else from the reference. Thread-safe.
   io::Vertices solve(const double* features, const io::Vertices* pinned_positions = nullptr) const;
 
-  /// Solve the exact (deformation-gradient) system instead of the SPEC's (see above).
-  void enable_exact();
-  bool exact() const { return exact_; }
-
+  ReconstructionSolver solver() const { return solver_; }
   int n_vertices() const { return topo_.n_vertices; }
   /// Number of connected components (= pinned vertices).
   int components() const { return static_cast<int>(pinned_.size()); }
@@ -54,35 +57,29 @@ class Reconstructor {
   double factor_seconds() const { return factor_seconds_; }
 
  private:
-  void factor();
+  void pin_components(int anchor);
+  Eigen::SparseMatrix<double> edge_system() const;
+  Eigen::SparseMatrix<double> gradient_system();
 
   io::Vertices reference_;
+  io::Faces faces_;
   MeshTopology topo_;
   std::vector<double> weights_;
-  int anchor_;
-  Eigen::Vector3d anchor_position_;
-  std::vector<int> pinned_;   // one vertex per connected component
-  std::vector<int> component_;
-  std::vector<int> reduced_;  // vertex -> row of the reduced system (−1 for a pinned vertex)
-  io::Vertices pinned_position_;  // #V by 3, meaningful for pinned vertices
+  ReconstructionSolver solver_;
+  std::vector<int> pinned_;     // one vertex per connected component
+  std::vector<int> component_;  // component of each vertex
+  std::vector<int> reduced_;    // vertex -> unknown of the reduced system (−1 for a pinned vertex)
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
   double factor_seconds_ = 0;
 
-  // exact mode
-  io::Faces faces_;
-  bool exact_ = false;
-  std::vector<Eigen::Matrix3d> moment_;  // A_i P_i
-  Eigen::SparseMatrix<double> m_free_;  // rows 3i+k, columns = free vertices
+  // gradient system: rows 3i+k of M (columns = free vertices), A_i P_i, pinned columns of M
+  std::vector<Eigen::Matrix3d> moment_;
+  Eigen::SparseMatrix<double> m_free_;
   struct PinnedTerm {
     int row, vertex;
     double coefficient;
   };
   std::vector<PinnedTerm> pinned_terms_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> exact_ldlt_;
 };
-
-/// One-off reconstruction of a frame (factors, solves once).
-io::Vertices reconstruct(const io::Vertices& reference, const io::Faces& faces, const double* features,
-                         int anchor = 0);
 
 }  // namespace df::geometry

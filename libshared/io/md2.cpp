@@ -30,11 +30,7 @@ std::string stem_of(const std::string& frame_name) {
 
 }  // namespace
 
-bool is_md2_file(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e == ".md2";
-}
+bool is_md2_file(const std::string& path) { return lower_extension(path) == ".md2"; }
 
 Md2Model read_md2(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

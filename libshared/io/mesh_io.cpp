@@ -116,12 +116,6 @@ class VerbatimImporter : public OpenMesh::IO::BaseImporter {
   std::size_t n_edges() const override { return 0; }
 };
 
-std::string lower_extension(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return e;
-}
-
 // What a text pass over an ASCII mesh file sees that OpenMesh's readers hide: a NaN/Inf
 // coordinate (the OBJ reader drops such a vertex, the OFF reader then reads garbage indices)
 // and, for OBJ, how many vertex and face lines there are (faces with repeated corners are
@@ -166,6 +160,17 @@ TextScan scan_text(const std::string& path, const std::string& ext) {
 }
 
 }  // namespace
+
+std::string lower_extension(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return e;
+}
+
+bool is_hdf5_path(const std::string& path) {
+  const std::string e = lower_extension(path);
+  return e == ".h5" || e == ".hdf5";
+}
 
 bool is_mesh_file(const std::string& path) {
   std::string e = lower_extension(path);

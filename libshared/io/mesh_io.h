@@ -33,6 +33,11 @@ struct MeshReadReport {
   std::size_t dropped_faces = 0;          ///< OBJ faces with repeated corners (skipped)
 };
 
+/// A path's extension in lower case, with the dot (".obj"; "" if none).
+std::string lower_extension(const std::string& path);
+/// An HDF5 file name (.h5 or .hdf5): what tools write the file kinds to.
+bool is_hdf5_path(const std::string& path);
+
 /// The extensions read_mesh/write_mesh understand (lower case, with dot).
 bool is_mesh_file(const std::string& path);
 

@@ -220,11 +220,6 @@ io::Vertices MeshSequenceGenerator::frame(int t) const {
 
 namespace {
 
-bool is_hdf5_path(const std::string& p) {
-  auto e = fs::path(p).extension().string();
-  return e == ".h5" || e == ".hdf5";
-}
-
 void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
   const MeshSeqParams& p = gen.params();
   const int n = gen.total_frames();
@@ -315,7 +310,7 @@ void write_meshes(const MeshSequenceGenerator& gen, const AtomicOutput& out, con
 void synth_meshseq(const MeshSeqParams& p, const std::string& output, const std::string& mesh_format,
                    const CommonOptions& common) {
   MeshSequenceGenerator gen(p);
-  const bool h5out = is_hdf5_path(output);
+  const bool h5out = io::is_hdf5_path(output);
   AtomicOutput out(output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory, common.force);
   log::info("{} sequence: {} x {} frames, {} vertices, {} triangles", mesh_seq_kind_name(p.kind),
             p.sequences, p.frames, gen.rest().vertices.rows(), gen.rest().faces.rows());

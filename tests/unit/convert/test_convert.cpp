@@ -7,6 +7,7 @@
 #include "convert/obj2acap.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/provenance.h"
 #include "helpers.h"
 #include "io/file_header.h"
 #include "io/h5.h"
@@ -108,6 +109,8 @@ TEST_CASE("obj2acap + acap2obj: round trip on a small bending, twisting finger",
   o.inputs = {tmp / "f"};
   o.output = tmp / "f.h5";
   o.labels = {"twist"};
+  const char* argv1[] = {"obj2acap", "f", "-o", "f.h5"};
+  df::provenance::set_command_line(4, argv1);
   df::convert::obj2acap(o, quiet());
   File f(tmp / "f.h5", File::Mode::read);
   auto dims = df::io::validate(f, "acap");
@@ -120,6 +123,8 @@ TEST_CASE("obj2acap + acap2obj: round trip on a small bending, twisting finger",
   df::convert::Acap2ObjOptions a;
   a.input = tmp / "f.h5";
   a.output = tmp / "back.h5";
+  const char* argv2[] = {"acap2obj", "f.h5", "-o", "back.h5"};
+  df::provenance::set_command_line(4, argv2);
   df::convert::acap2obj(a, quiet());
   File b(tmp / "back.h5", File::Mode::read);
   df::io::validate(b, "acap");
@@ -129,7 +134,11 @@ TEST_CASE("obj2acap + acap2obj: round trip on a small bending, twisting finger",
   double worst = 0;
   for (std::size_t k = 0; k < P.size(); ++k) worst = std::max(worst, static_cast<double>(std::abs(P[k] - Q[k])));
   CHECK(worst < 1e-5);  // exact solver; positions stored as float32
-  CHECK_THAT(df::io::read_history(b), Catch::Contains("\n"));  // inherited lines
+  // Provenance: this run first, then the input's history.
+  auto history = df::provenance::history_lines(df::io::read_history(b));
+  REQUIRE(history.size() == 2);
+  CHECK_THAT(history[0], Catch::EndsWith("acap2obj f.h5 -o back.h5"));
+  CHECK_THAT(history[1], Catch::EndsWith("obj2acap f -o f.h5"));
 
   // Normalized features reconstruct like raw ones (float precision).
   a.output = tmp / "meshes";

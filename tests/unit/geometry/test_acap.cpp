@@ -228,9 +228,8 @@ TEST_CASE("Reconstructor: the gradient system reproduces a non-affine deformatio
   df::synth::MeshSequenceGenerator g(p);
   const auto& m = g.rest();
   AcapFeatureExtractor ex(m.vertices, m.faces);
-  Reconstructor edges(m.vertices, m.faces), grads(m.vertices, m.faces);
-  grads.enable_exact();
-  CHECK(grads.exact());
+  Reconstructor edges(m.vertices, m.faces), grads(m.vertices, m.faces, 0, ReconstructionSolver::gradients);
+  CHECK(grads.solver() == ReconstructionSolver::gradients);
   const double diag = (m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff()).norm();
   for (int t = 1; t < 4; ++t) {
     Vertices frame = g.frame(t);
