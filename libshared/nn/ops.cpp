@@ -384,64 +384,61 @@ Var<T> slice_cols(Var<T> a, Index first, Index count) {
                   [&t, ia, io, first, count] { t.grad(ia).middleCols(first, count) += t.grad(io); });
 }
 
+namespace {
+// Concatenation along rows (stacked) or columns (side by side); the gradient of each part is
+// its slice of the output's.
 template <class T>
-Var<T> concat_rows(const std::vector<Var<T>>& parts) {
-  if (parts.empty()) throw Error("internal: concat_rows of nothing");
+Var<T> concat(const std::vector<Var<T>>& parts, bool along_rows) {
+  const char* name = along_rows ? "concat_rows" : "concat_cols";
+  if (parts.empty()) throw Error(fmt::format("internal: {} of nothing", name));
   Tape<T>& t = *parts[0].tape;
-  Index rows = 0, cols = parts[0].cols();
+  auto extent = [along_rows](const Matrix<T>& m) { return along_rows ? m.rows() : m.cols(); };
+  auto other = [along_rows](const Matrix<T>& m) { return along_rows ? m.cols() : m.rows(); };
+  const Index keep = other(parts[0].value());
+  Index total = 0;
   bool rg = false;
   std::vector<int> ids;
   for (const auto& p : parts) {
-    if (p.cols() != cols || p.tape != &t) throw Error("internal: concat_rows of mismatched parts");
-    rows += p.rows();
+    if (other(p.value()) != keep || p.tape != &t) throw Error(fmt::format("internal: {} of mismatched parts", name));
+    total += extent(p.value());
     rg = rg || p.requires_grad();
     ids.push_back(p.id);
   }
-  Matrix<T> out(rows, cols);
-  Index r = 0;
+  Matrix<T> out = along_rows ? Matrix<T>(total, keep) : Matrix<T>(keep, total);
+  Index at = 0;
   for (const auto& p : parts) {
-    out.middleRows(r, p.rows()) = p.value();
-    r += p.rows();
+    const Index n = extent(p.value());
+    if (along_rows)
+      out.middleRows(at, n) = p.value();
+    else
+      out.middleCols(at, n) = p.value();
+    at += n;
   }
   const int io = next_id(t);
-  return t.record(std::move(out), rg, [&t, ids, io] {
-    Index r = 0;
+  return t.record(std::move(out), rg, [&t, ids, io, along_rows, extent] {
+    Index at = 0;
     for (int id : ids) {
-      Index n = t.value(id).rows();
-      if (t.requires_grad(id)) t.grad(id) += t.grad(io).middleRows(r, n);
-      r += n;
+      const Index n = extent(t.value(id));
+      if (t.requires_grad(id)) {
+        if (along_rows)
+          t.grad(id) += t.grad(io).middleRows(at, n);
+        else
+          t.grad(id) += t.grad(io).middleCols(at, n);
+      }
+      at += n;
     }
   });
+}
+}  // namespace
+
+template <class T>
+Var<T> concat_rows(const std::vector<Var<T>>& parts) {
+  return concat(parts, true);
 }
 
 template <class T>
 Var<T> concat_cols(const std::vector<Var<T>>& parts) {
-  if (parts.empty()) throw Error("internal: concat_cols of nothing");
-  Tape<T>& t = *parts[0].tape;
-  Index rows = parts[0].rows(), cols = 0;
-  bool rg = false;
-  std::vector<int> ids;
-  for (const auto& p : parts) {
-    if (p.rows() != rows || p.tape != &t) throw Error("internal: concat_cols of mismatched parts");
-    cols += p.cols();
-    rg = rg || p.requires_grad();
-    ids.push_back(p.id);
-  }
-  Matrix<T> out(rows, cols);
-  Index c = 0;
-  for (const auto& p : parts) {
-    out.middleCols(c, p.cols()) = p.value();
-    c += p.cols();
-  }
-  const int io = next_id(t);
-  return t.record(std::move(out), rg, [&t, ids, io] {
-    Index c = 0;
-    for (int id : ids) {
-      Index n = t.value(id).cols();
-      if (t.requires_grad(id)) t.grad(id) += t.grad(io).middleCols(c, n);
-      c += n;
-    }
-  });
+  return concat(parts, false);
 }
 
 template <class T>
