@@ -94,11 +94,7 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
     throw UsageError("--features must be raw, normalized or auto");
   const std::string dataset = use_raw ? "/features/raw" : "/features/normalized";
   geometry::Normalization nz;
-  if (!use_raw) {
-    auto lo = in.read<double>("/normalization/min").data, hi = in.read<double>("/normalization/max").data;
-    std::copy(lo.begin(), lo.end(), nz.min.begin());
-    std::copy(hi.begin(), hi.end(), nz.max.begin());
-  }
+  if (!use_raw) nz = geometry::read_normalization(in);
 
   io::Mesh tmpl{in.read_matrix<double>("/template/vertices"), in.read_matrix<int>("/template/faces")};
   const std::size_t nv = dims.at("V"), n_all = dims.at("N");

@@ -201,11 +201,7 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
 
   // Normalization over all frames, then the normalized copy.
   const geometry::Normalization nz = norm.finish();
-  f.create_groups("/normalization");
-  f.set_attr("/normalization", "mode", nz.mode == geometry::NormalizationMode::group ? "group" : "per-dim");
-  f.set_attr("/normalization", "range", std::string("[-0.95, 0.95]"));
-  f.write<double>("/normalization/min", std::span<const double>(nz.min), {static_cast<std::size_t>(kFeatureDims)});
-  f.write<double>("/normalization/max", std::span<const double>(nz.max), {static_cast<std::size_t>(kFeatureDims)});
+  geometry::write_normalization(f, nz);
   std::vector<float> normalized;
   for (std::size_t first = 0; first < n; first += block) {
     const std::size_t count = std::min(block, n - first);

@@ -13,6 +13,7 @@
 #include "geometry/deformation_gradient.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/rotation.h"
+#include "io/h5.h"
 
 namespace df::geometry {
 
@@ -88,5 +89,10 @@ class NormalizationBuilder {
   NormalizationMode mode_;
   std::array<double, kFeatureDims> lo_, hi_;
 };
+
+/// Writes /normalization (mode, range, min, max) into a file of any kind that carries it.
+void write_normalization(h5::File& f, const Normalization& nz);
+/// Reads /normalization; InvalidInput naming the file when it is absent.
+Normalization read_normalization(const h5::File& f);
 
 }  // namespace df::geometry

@@ -55,6 +55,11 @@ class Tape {
 
   /// Forgets every node (keeps the capacity for the next iteration).
   void clear();
+  /// Forgets the nodes recorded after the first n (e.g. keep bound parameters, drop one
+  /// generation step's activations).
+  void truncate(std::size_t n) {
+    if (n < nodes_.size()) nodes_.resize(n);
+  }
   std::size_t size() const { return nodes_.size(); }
 
   const Matrix<T>& value(int id) const { return nodes_[static_cast<std::size_t>(id)].value; }

@@ -1,0 +1,186 @@
+#include "models/bdlstm.h"
+
+#include "core/error.h"
+
+namespace df::models {
+
+using Eigen::Index;
+
+const char* directions_name(Directions d) {
+  switch (d) {
+    case Directions::shared: return "shared";
+    case Directions::standard: return "standard";
+    case Directions::unidirectional: return "unidirectional";
+  }
+  return "?";
+}
+
+Directions directions_from_name(const std::string& name) {
+  if (name == "shared") return Directions::shared;
+  if (name == "standard") return Directions::standard;
+  if (name == "unidirectional") return Directions::unidirectional;
+  throw UsageError("directions must be shared, standard or unidirectional, not '" + name + "'");
+}
+
+template <class T>
+BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices, const std::vector<std::array<int, 2>>& edges,
+                        std::uint64_t seed)
+    : config_(config), n_vertices_(n_vertices) {
+  if (config.conv_layers < 1 || config.latent < 1 || config.hidden < 1 || config.lstm_layers < 1)
+    throw UsageError("BD-LSTM sizes must be positive");
+  adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
+  Rng rng(seed, 0);
+  const int n = config.directions == Directions::standard ? 2 : 1;
+  const Index v9 = frame_size();
+  for (int c = 0; c < n; ++c) {
+    const std::string prefix = n == 1 ? "" : (c == 0 ? "forward/" : "backward/");
+    Chain ch;
+    for (int l = 0; l < config.conv_layers; ++l)
+      ch.enc.emplace_back(store_, prefix + "conv" + std::to_string(l), 9, 9, adjacency_, rng);
+    ch.fc_enc = nn::Linear<T>(store_, prefix + "fc_enc", v9, 2 * config.latent, rng);
+    ch.lstm = nn::StackedLstm<T>(store_, prefix + "lstm", config.latent, config.hidden, config.lstm_layers, rng);
+    ch.fc_dec = nn::Linear<T>(store_, prefix + "fc_dec", config.hidden, v9, rng);
+    for (int l = 0; l < config.conv_layers; ++l)
+      ch.dec.emplace_back(store_, prefix + "tconv" + std::to_string(l), 9, 9, adjacency_, rng);
+    chains_.push_back(std::move(ch));
+  }
+}
+
+template <class T>
+typename BdlstmNet<T>::States BdlstmNet<T>::constant_states(nn::Tape<T>& tape, Index rows, T value) const {
+  return chains_[0].lstm.constant_states(tape, rows, value);
+}
+
+template <class T>
+typename BdlstmNet<T>::States BdlstmNet<T>::states_from(nn::Tape<T>& tape, const std::vector<Matrix>& h,
+                                                        const std::vector<Matrix>& c) const {
+  if (h.size() != static_cast<std::size_t>(config_.lstm_layers) || c.size() != h.size())
+    throw Error("internal: one LSTM state per layer needed");
+  States s;
+  for (std::size_t l = 0; l < h.size(); ++l) s.push_back({tape.constant(h[l]), tape.constant(c[l])});
+  return s;
+}
+
+template <class T>
+typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x, States& states,
+                                              const Matrix* eps, Var* kl_sum) const {
+  const Chain& ch = chains_[static_cast<std::size_t>(chain)];
+  Var h = x;
+  for (const auto& conv : ch.enc) h = nn::tanh(conv(p, h));
+  Var ml = ch.fc_enc(p, h);
+  Var mu = nn::slice_cols(ml, 0, config_.latent);
+  Var z = mu;
+  if (config_.kl && eps) {
+    Var logvar = nn::slice_cols(ml, config_.latent, config_.latent);
+    z = nn::reparameterize(mu, logvar, *eps);
+    if (kl_sum) {
+      Var kl = nn::scale(nn::gaussian_kl(mu, logvar), static_cast<T>(x.rows()));  // Σ over rows
+      *kl_sum = kl_sum->tape ? nn::add(*kl_sum, kl) : kl;
+    }
+  }
+  Var out = ch.lstm.step(p, z, states);
+  Var d = nn::tanh(ch.fc_dec(p, out));
+  for (std::size_t l = 0; l < ch.dec.size(); ++l) {
+    d = ch.dec[l](p, d);
+    if (l + 1 < ch.dec.size()) d = nn::tanh(d);
+  }
+  return nn::add(x, d);
+}
+
+template <class T>
+std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<T>& p, int chain, Var x0,
+                                                                States states, int steps, Rng& rng,
+                                                                Var* kl_sum) const {
+  std::vector<Var> frames{x0};
+  Matrix eps(x0.rows(), config_.latent);
+  for (int t = 0; t < steps; ++t) {
+    if (config_.kl)
+      for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<T>(rng.normal());
+    frames.push_back(step(p, chain, frames.back(), states, config_.kl ? &eps : nullptr, kl_sum));
+  }
+  return frames;
+}
+
+template <class T>
+typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p,
+                                              const std::vector<Matrix>& window, Rng& rng,
+                                              BdlstmLossTerms* terms) const {
+  const int n = static_cast<int>(window.size());
+  if (n < 2) throw UsageError("a training window needs at least 2 frames");
+  const Index batch = window[0].rows(), v9 = frame_size();
+  for (const auto& w : window)
+    if (w.rows() != batch || w.cols() != v9) throw Error("internal: window frames of different shapes");
+  const T init = static_cast<T>(config_.init_state);
+  const T inv_batch = T(1) / static_cast<T>(batch);
+  auto frame_norms = [&](Var a) { return nn::sum(nn::group_norm(a, v9)); };  // Σ_rows ‖row‖₂
+
+  Var kl_sum;  // Σ over steps and rows
+  std::vector<Var> fwd, bwd;  // fwd[t] ≈ X_t, bwd[t] ≈ X_{n−1−t}, each [batch, 9V]
+  if (config_.directions == Directions::shared) {
+    // Both chains as one batch of 2B rows: forward rows first.
+    Matrix x0(2 * batch, v9), s0(2 * batch, config_.hidden);
+    x0.topRows(batch) = window.front();
+    x0.bottomRows(batch) = window.back();
+    s0.topRows(batch).setConstant(init);
+    s0.bottomRows(batch).setConstant(-init);
+    std::vector<Matrix> s(static_cast<std::size_t>(config_.lstm_layers), s0);
+    auto frames = run_chain(p, 0, tape.constant(x0), states_from(tape, s, s), n - 1, rng, &kl_sum);
+    for (auto& f : frames) {
+      fwd.push_back(nn::slice_rows(f, 0, batch));
+      bwd.push_back(nn::slice_rows(f, batch, batch));
+    }
+  } else {
+    fwd = run_chain(p, 0, tape.constant(window.front()), constant_states(tape, batch, init), n - 1, rng, &kl_sum);
+    if (config_.directions == Directions::standard)
+      bwd = run_chain(p, 1, tape.constant(window.back()), constant_states(tape, batch, -init), n - 1, rng, &kl_sum);
+  }
+
+  // L_recon (eq. 4): frame 0 of each chain is its ground-truth seed, so its term is 0.
+  std::vector<Var> recon, bidir;
+  for (int t = 1; t < n; ++t) {
+    recon.push_back(frame_norms(nn::sub(fwd[static_cast<std::size_t>(t)], tape.constant(window[static_cast<std::size_t>(t)]))));
+    if (!bwd.empty())
+      recon.push_back(frame_norms(
+          nn::sub(bwd[static_cast<std::size_t>(t)], tape.constant(window[static_cast<std::size_t>(n - 1 - t)]))));
+  }
+  // L_bidir (eq. 5): S^f_i against S^b_{n+1−i}.
+  if (!bwd.empty())
+    for (int t = 0; t < n; ++t)
+      bidir.push_back(frame_norms(nn::sub(fwd[static_cast<std::size_t>(t)], bwd[static_cast<std::size_t>(n - 1 - t)])));
+  auto total_of = [&](const std::vector<Var>& parts) {
+    Var s = parts[0];
+    for (std::size_t k = 1; k < parts.size(); ++k) s = nn::add(s, parts[k]);
+    return nn::scale(s, inv_batch);
+  };
+  Var l_recon = total_of(recon);
+  Var total = l_recon;
+  Var l_bidir, l_kl, l_2;
+  if (!bidir.empty()) {
+    l_bidir = total_of(bidir);
+    total = nn::add(total, nn::scale(l_bidir, static_cast<T>(config_.alpha_bidir)));
+  }
+  Var reg;
+  if (kl_sum.tape) reg = l_kl = nn::scale(kl_sum, inv_batch);
+  if (config_.l2) {
+    std::vector<Var> squares;
+    for (const auto& w : p.vars) squares.push_back(nn::sum(nn::square(w)));
+    l_2 = total_of(squares);
+    l_2 = nn::scale(l_2, static_cast<T>(batch));  // total_of averaged over the batch; L_2 is not
+    reg = reg.tape ? nn::add(reg, l_2) : l_2;
+  }
+  if (reg.tape) total = nn::add(total, nn::scale(reg, static_cast<T>(config_.alpha_reg)));
+  if (terms) {
+    auto value = [](const Var& v) { return v.tape ? static_cast<double>(v.value()(0, 0)) : 0.0; };
+    terms->total = value(total);
+    terms->recon = value(l_recon);
+    terms->bidir = value(l_bidir);
+    terms->kl = value(l_kl);
+    terms->l2 = value(l_2);
+  }
+  return total;
+}
+
+template class BdlstmNet<float>;
+template class BdlstmNet<double>;
+
+}  // namespace df::models

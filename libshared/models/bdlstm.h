@@ -1,0 +1,105 @@
+// The share-weight bidirectional LSTM of paper 1 (Qiao, Lai, Fu, Gao: "Synthesizing Mesh
+// Deformation Sequences with Bidirectional LSTM"), SPEC §6, on the network engine.
+//
+// Step model (one time step of one chain), frames as rows of normalized ACAP features [B, 9V]:
+//   z  = Conv(X_t)            3 × (mesh conv 9→9, tanh) → FC 9V → 2·latent (mean, log-variance),
+//                             z sampled by reparameterisation while training (KL term)
+//   z' = LSTM(z, s_t)         3 layers × 128 hidden
+//   δX = tCnv(z')             tanh(FC latent→9V) → mesh conv+tanh → mesh conv+tanh → mesh conv
+//   X_{t+1} = X_t + δX        generated frames are fed back as the next input
+// Training (eq. 3-5): a forward chain from the first frame of a window (states +0.1) and a
+// backward chain from its last frame (states −0.1), same weights, both free-running;
+//   L = L_recon + α₁ L_bidir + α₂ (L_KL + L_2).
+// Ablations (paper Table 2): unidirectional (forward chain only), standard BD-LSTM (separate
+// weights per direction), no KL (deterministic encoder), no L2.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "nn/layers.h"
+
+namespace df::models {
+
+enum class Directions { shared, standard, unidirectional };
+const char* directions_name(Directions d);
+Directions directions_from_name(const std::string& name);  ///< UsageError if unknown
+
+/// Every hyper-parameter of the network and of its loss (stored in the model file's /config).
+struct BdlstmConfig {
+  int conv_layers = 3;  ///< mesh-conv layers in Conv (and in tCnv)
+  int latent = 128;     ///< z (the FC gives mean and log-variance: 2·latent)
+  int hidden = 128;     ///< LSTM hidden size (the LSTM's output feeds tCnv)
+  int lstm_layers = 3;
+  Directions directions = Directions::shared;
+  bool kl = true;  ///< VAE encoder with the KL term; false: z = mean, no KL
+  bool l2 = true;  ///< L_2 = Σ w² over all trainable weights
+  double alpha_bidir = 0.5, alpha_reg = 0.1;
+  double init_state = 0.1;  ///< s₀ᶠ = +init_state, s₀ᵇ = −init_state (h and c of every layer)
+};
+
+/// The loss of one batch of windows, by term (each averaged over the windows of the batch).
+struct BdlstmLossTerms {
+  double total = 0, recon = 0, bidir = 0, kl = 0, l2 = 0;
+};
+
+template <class T>
+class BdlstmNet {
+ public:
+  using Matrix = nn::Matrix<T>;
+  using Var = nn::Var<T>;
+  using States = std::vector<nn::LstmState<T>>;
+
+  /// @param edges  undirected edges of the template (the mesh-conv neighbourhoods)
+  /// @param seed   initial weights come from Rng(seed, 0)
+  BdlstmNet(const BdlstmConfig& config, int n_vertices, const std::vector<std::array<int, 2>>& edges,
+            std::uint64_t seed);
+
+  const BdlstmConfig& config() const { return config_; }
+  int n_vertices() const { return n_vertices_; }
+  int frame_size() const { return 9 * n_vertices_; }
+  nn::ParameterStore<T>& store() { return store_; }
+  const nn::ParameterStore<T>& store() const { return store_; }
+  /// Chains with their own weights: 2 for the standard BD-LSTM, else 1.
+  int n_chains() const { return static_cast<int>(chains_.size()); }
+
+  /// LSTM states with every h and c row set to `value`.
+  States constant_states(nn::Tape<T>& tape, Eigen::Index rows, T value) const;
+  /// LSTM states from explicit matrices (per layer: h then c, each [rows, hidden]).
+  States states_from(nn::Tape<T>& tape, const std::vector<Matrix>& h, const std::vector<Matrix>& c) const;
+
+  /// One time step of chain `chain` (0 = forward / shared, 1 = backward of the standard
+  /// BD-LSTM) for frames x [rows, 9V]: returns X_{t+1}, updates `states`. With `eps`
+  /// ([rows, latent] standard normal) z is sampled and Σ_rows KL is added to *kl_sum
+  /// (when the config has KL); without, z is the mean.
+  Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps, Var* kl_sum) const;
+
+  /// The training loss of a batch of windows. window[t] is frame t of every window
+  /// ([batch, 9V], t = 0..n−1); the reparameterisation noise is drawn from `rng`.
+  Var loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const std::vector<Matrix>& window, Rng& rng,
+           BdlstmLossTerms* terms = nullptr) const;
+
+ private:
+  struct Chain {
+    std::vector<nn::MeshConv<T>> enc, dec;
+    nn::Linear<T> fc_enc, fc_dec;
+    nn::StackedLstm<T> lstm;
+  };
+  /// Runs `steps` free steps of `chain` from x0; returns the frames (x0 first).
+  std::vector<Var> run_chain(const nn::Bound<T>& p, int chain, Var x0, States states, int steps, Rng& rng,
+                             Var* kl_sum) const;
+
+  BdlstmConfig config_;
+  int n_vertices_;
+  nn::ParameterStore<T> store_;
+  std::shared_ptr<const nn::SparseMatrix<T>> adjacency_;
+  std::vector<Chain> chains_;
+};
+
+extern template class BdlstmNet<float>;
+extern template class BdlstmNet<double>;
+
+}  // namespace df::models

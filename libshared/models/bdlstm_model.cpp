@@ -1,0 +1,128 @@
+#include "models/bdlstm_model.h"
+
+#include <fmt/format.h>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "geometry/mesh_topology.h"
+#include "io/file_header.h"
+#include "io/schema.h"
+#include "nn/checkpoint.h"
+
+namespace df::models {
+
+void BdlstmModel::initialize() {
+  auto topo = geometry::mesh_topology(tmpl.faces, static_cast<int>(tmpl.vertices.rows()));
+  net = std::make_unique<BdlstmNet<float>>(config, static_cast<int>(tmpl.vertices.rows()), topo.edges, training.seed);
+  nn::AdamOptions ao;
+  ao.lr = training.lr;
+  adam = std::make_unique<nn::Adam<float>>(net->store().size(), ao);
+  rng = Rng(training.seed, 1);
+  iteration = 0;
+  log.clear();
+}
+
+void save_bdlstm_model(const std::string& path, const BdlstmModel& m, const std::vector<std::string>& inputs,
+                       bool force) {
+  std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
+  AtomicOutput out(path, AtomicOutput::Kind::file, force, in);
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::create, path);
+    io::write_header(f, "bdlstm-model", {m.history});
+    f.create_groups("/config");
+    const auto& c = m.config;
+    f.set_attr("/config", "conv_layers", c.conv_layers);
+    f.set_attr("/config", "latent", c.latent);
+    f.set_attr("/config", "hidden", c.hidden);
+    f.set_attr("/config", "lstm_layers", c.lstm_layers);
+    f.set_attr("/config", "directions", directions_name(c.directions));
+    f.set_attr("/config", "kl", static_cast<int>(c.kl));
+    f.set_attr("/config", "l2", static_cast<int>(c.l2));
+    f.set_attr("/config", "alpha_bidir", c.alpha_bidir);
+    f.set_attr("/config", "alpha_reg", c.alpha_reg);
+    f.set_attr("/config", "init_state", c.init_state);
+    const auto& t = m.training;
+    f.set_attr("/config", "window", t.window);
+    f.set_attr("/config", "batch", t.batch);
+    f.set_attr("/config", "stride", t.stride);
+    f.set_attr("/config", "iterations", t.iterations);
+    f.set_attr("/config", "lr", t.lr);
+    f.set_attr("/config", "test_fraction", t.test_fraction);
+    f.set_attr("/config", "test_part", t.test_part);
+    f.set_attr("/config", "seed", fmt::format("{}", t.seed));
+    f.write_matrix("/template/vertices", m.tmpl.vertices);
+    f.write_matrix("/template/faces", m.tmpl.faces);
+    geometry::write_normalization(f, m.normalization);
+    const std::size_t s = m.split.sequences.size();
+    f.create_groups("/split");
+    f.set_attr("/split", "data", m.split.data);
+    f.write_strings("/split/sequences", m.split.sequences);
+    std::vector<std::int64_t> train, test;
+    for (std::size_t k = 0; k < s; ++k) {
+      train.insert(train.end(), {m.split.train_begin[k], m.split.train_end[k]});
+      test.insert(test.end(), {m.split.test_begin[k], m.split.test_end[k]});
+    }
+    f.write<std::int64_t>("/split/train", train, {s, 2});
+    f.write<std::int64_t>("/split/test", test, {s, 2});
+    if (!m.log.empty()) {
+      const std::size_t cols = BdlstmModel::kLogColumns.size();
+      f.write<double>("/training/log", m.log, {m.log.size() / cols, cols});
+      std::string names;
+      for (const auto& n : BdlstmModel::kLogColumns) names += (names.empty() ? "" : " ") + n;
+      f.set_attr("/training/log", "columns", names);
+    }
+    nn::write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
+    f.close();
+  }
+  out.commit();
+}
+
+BdlstmModel load_bdlstm_model(const std::string& path) {
+  h5::File f = io::open_input(path, "bdlstm-model");
+  BdlstmModel m;
+  m.history = io::read_history(f);
+  auto& c = m.config;
+  auto i = [&](const char* name) { return static_cast<int>(f.attr_int("/config", name)); };
+  c.conv_layers = i("conv_layers");
+  c.latent = i("latent");
+  c.hidden = i("hidden");
+  c.lstm_layers = i("lstm_layers");
+  try {
+    c.directions = directions_from_name(f.attr_string("/config", "directions"));
+  } catch (const UsageError& e) {
+    throw InvalidInput(e.what(), f.where("/config"));
+  }
+  c.kl = i("kl") != 0;
+  c.l2 = i("l2") != 0;
+  c.alpha_bidir = f.attr_double("/config", "alpha_bidir");
+  c.alpha_reg = f.attr_double("/config", "alpha_reg");
+  c.init_state = f.attr_double("/config", "init_state");
+  auto& t = m.training;
+  t.window = i("window");
+  t.batch = i("batch");
+  t.stride = i("stride");
+  t.iterations = f.attr_int("/config", "iterations");
+  t.lr = f.attr_double("/config", "lr");
+  t.test_fraction = f.attr_double("/config", "test_fraction");
+  t.test_part = f.attr_string("/config", "test_part");
+  t.seed = std::stoull(f.attr_string("/config", "seed"));
+  m.tmpl.vertices = f.read_matrix<double>("/template/vertices");
+  m.tmpl.faces = f.read_matrix<int>("/template/faces");
+  m.normalization = geometry::read_normalization(f);
+  m.split.data = f.attr_string("/split", "data");
+  m.split.sequences = f.read_strings("/split/sequences");
+  auto train = f.read<std::int64_t>("/split/train").data, test = f.read<std::int64_t>("/split/test").data;
+  for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
+    m.split.train_begin.push_back(train[2 * k]);
+    m.split.train_end.push_back(train[2 * k + 1]);
+    m.split.test_begin.push_back(test[2 * k]);
+    m.split.test_end.push_back(test[2 * k + 1]);
+  }
+  if (f.exists("/training/log")) m.log = f.read<double>("/training/log").data;
+  m.initialize();
+  m.log = f.exists("/training/log") ? f.read<double>("/training/log").data : std::vector<double>{};
+  m.iteration = nn::read_training_state(f, m.net->store(), *m.adam, m.rng);
+  return m;
+}
+
+}  // namespace df::models

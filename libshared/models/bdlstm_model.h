@@ -1,0 +1,63 @@
+// The bdlstm-model file kind (schemas/bdlstm-model.json): the network's configuration, weights,
+// Adam and RNG state (enough to resume training bit-exactly), the template and normalization of
+// the training data, the train/test split and the training log. Written by train-bdlstm (final
+// model and periodic checkpoints), read by gen-bdlstm.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geometry/acap_features.h"
+#include "io/mesh_io.h"
+#include "models/bdlstm.h"
+#include "nn/adam.h"
+
+namespace df::models {
+
+/// How the model was trained (recorded in /config; checked on --resume).
+struct BdlstmTraining {
+  int window = 32;  ///< frames per training window
+  int batch = 8;    ///< windows per iteration
+  int stride = 1;   ///< take every stride-th frame (2 for slow data)
+  std::int64_t iterations = 7000;
+  double lr = 1e-4;  // 1e-3 (common default) diverges on 2,904-vertex pcow within 6 iterations (KL 3e11)
+  double test_fraction = 0.2;  ///< held-out contiguous part of each sequence
+  std::string test_part = "end";  ///< where the held-out part lies: end | start
+  std::uint64_t seed = 0;
+};
+
+/// Frames of each sequence of the training data used for training and held out for testing
+/// (global frame indices of the data file, half-open ranges).
+struct BdlstmSplit {
+  std::string data;  ///< the data file's name as given
+  std::vector<std::string> sequences;
+  std::vector<std::int64_t> train_begin, train_end, test_begin, test_end;
+};
+
+struct BdlstmModel {
+  BdlstmConfig config;
+  BdlstmTraining training;
+  io::Mesh tmpl;
+  geometry::Normalization normalization;
+  BdlstmSplit split;
+  static inline const std::vector<std::string> kLogColumns = {"iteration", "total", "recon", "bidir", "kl", "l2"};
+  std::vector<double> log;  ///< rows of kLogColumns, flat
+  std::unique_ptr<BdlstmNet<float>> net;
+  std::unique_ptr<nn::Adam<float>> adam;
+  Rng rng;  ///< windows and reparameterisation noise
+  std::int64_t iteration = 0;
+  std::string history;  ///< inherited provenance (the data file's)
+
+  /// A new, untrained model (weights from the seed) for a template.
+  void initialize();
+};
+
+/// Writes the whole model (header included) to `path` atomically.
+void save_bdlstm_model(const std::string& path, const BdlstmModel& m, const std::vector<std::string>& inputs,
+                       bool force);
+/// Reads and validates a model file.
+BdlstmModel load_bdlstm_model(const std::string& path);
+
+}  // namespace df::models

@@ -1,0 +1,196 @@
+#include "models/bdlstm_train.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "io/file_header.h"
+#include "io/schema.h"
+#include "nn/train_step.h"
+
+namespace df::models {
+namespace {
+
+// Refuses to resume a checkpoint made with other settings (the result would be neither run).
+void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::string& path) {
+  auto differs = [&](const char* what, auto a, auto b) {
+    if (a != b)
+      throw InvalidInput(fmt::format("checkpoint was made with {} = {}, this run has {}; remove it or use the "
+                                     "same settings",
+                                     what, a, b),
+                         path);
+  };
+  const auto &a = ck.config, &b = want.config;
+  differs("conv-layers", a.conv_layers, b.conv_layers);
+  differs("latent", a.latent, b.latent);
+  differs("hidden", a.hidden, b.hidden);
+  differs("lstm-layers", a.lstm_layers, b.lstm_layers);
+  differs("directions", std::string(directions_name(a.directions)), std::string(directions_name(b.directions)));
+  differs("kl", a.kl, b.kl);
+  differs("l2", a.l2, b.l2);
+  differs("alpha-bidir", a.alpha_bidir, b.alpha_bidir);
+  differs("alpha-reg", a.alpha_reg, b.alpha_reg);
+  differs("init-state", a.init_state, b.init_state);
+  const auto &s = ck.training, &t = want.training;
+  differs("window", s.window, t.window);
+  differs("batch", s.batch, t.batch);
+  differs("stride", s.stride, t.stride);
+  differs("lr", s.lr, t.lr);
+  differs("test-fraction", s.test_fraction, t.test_fraction);
+  differs("test-part", s.test_part, t.test_part);
+  differs("seed", s.seed, t.seed);
+  differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
+  if (ck.split.train_begin != want.split.train_begin || ck.split.train_end != want.split.train_end)
+    throw InvalidInput("checkpoint was trained on other data (its train/test split differs)", path);
+}
+
+}  // namespace
+
+void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, const std::string& part,
+                     BdlstmSplit& split) {
+  if (!(fraction >= 0 && fraction < 1)) throw UsageError("--test-fraction must be in [0, 1)");
+  if (part != "end" && part != "start") throw UsageError("--test-part must be end or start");
+  for (std::size_t s = 0; s + 1 < offsets.size(); ++s) {
+    const std::int64_t b = offsets[s], e = offsets[s + 1];
+    const auto n_test = static_cast<std::int64_t>(std::llround(fraction * static_cast<double>(e - b)));
+    if (part == "end") {
+      split.train_begin.push_back(b), split.train_end.push_back(e - n_test);
+      split.test_begin.push_back(e - n_test), split.test_end.push_back(e);
+    } else {
+      split.test_begin.push_back(b), split.test_end.push_back(b + n_test);
+      split.train_begin.push_back(b + n_test), split.train_end.push_back(e);
+    }
+  }
+}
+
+void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
+  if (opt.training.window < 2) throw UsageError("--window must be at least 2");
+  if (opt.training.batch < 1 || opt.training.stride < 1 || opt.training.iterations < 0)
+    throw UsageError("--batch and --stride must be positive, --iterations not negative");
+  if (opt.print_every < 1) throw UsageError("--print-every must be positive");
+  if (opt.checkpoint_every < 0 || (opt.checkpoint_every && opt.checkpoint_every % opt.print_every))
+    throw UsageError(fmt::format("--checkpoint-every must be a multiple of --print-every ({})", opt.print_every));
+
+  {  // fail now rather than after hours of training
+    std::error_code ec;
+    if (std::filesystem::exists(opt.output, ec) && !common.force)
+      throw IOError("output exists; use --force to overwrite it", opt.output);
+    if (std::filesystem::exists(opt.input, ec) && std::filesystem::equivalent(opt.input, opt.output, ec))
+      throw IOError("output would overwrite the input", opt.output);
+  }
+  io::Dimensions dims;
+  h5::File in = io::open_input(opt.input, "acap", &dims);
+  if (!in.exists("/features/normalized"))
+    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
+  BdlstmModel m;
+  m.config = opt.net;
+  m.training = opt.training;
+  m.training.seed = common.seed;
+  m.history = io::read_history(in);
+  m.tmpl.vertices = in.read_matrix<double>("/template/vertices");
+  m.tmpl.faces = in.read_matrix<int>("/template/faces");
+  m.normalization = geometry::read_normalization(in);
+  const auto offsets = in.read<std::int64_t>("/sequences/offsets").data;
+  m.split.data = opt.input;
+  m.split.sequences = in.read_strings("/sequences/names");
+  split_sequences(offsets, m.training.test_fraction, m.training.test_part, m.split);
+
+  // Windows: every start in a training part that leaves room for the whole window.
+  const std::int64_t span = static_cast<std::int64_t>(m.training.window - 1) * m.training.stride + 1;
+  std::vector<std::int64_t> starts_before{0};  // cumulative number of window starts per sequence
+  std::int64_t longest = 0;
+  for (std::size_t s = 0; s < m.split.sequences.size(); ++s) {
+    const std::int64_t len = m.split.train_end[s] - m.split.train_begin[s];
+    longest = std::max(longest, len);
+    starts_before.push_back(starts_before.back() + std::max<std::int64_t>(0, len - span + 1));
+  }
+  if (starts_before.back() == 0)
+    throw InvalidInput(fmt::format("no sequence has a training part of {} frames (window {}, stride {}); the longest "
+                                   "has {}: use a smaller --window or --stride",
+                                   span, m.training.window, m.training.stride, longest),
+                       opt.input);
+
+  const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
+  if (opt.resume && std::filesystem::exists(ckpt)) {
+    BdlstmModel ck = load_bdlstm_model(ckpt);
+    check_resumable(ck, m, ckpt);
+    m.net = std::move(ck.net);
+    m.adam = std::move(ck.adam);
+    m.rng = ck.rng;
+    m.iteration = ck.iteration;
+    m.log = std::move(ck.log);
+    log::info("resuming from {} at iteration {}", ckpt, m.iteration);
+  } else {
+    m.initialize();
+  }
+  if (m.iteration > m.training.iterations)
+    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}", m.iteration,
+                                 m.training.iterations));
+
+  // The normalized features of all frames, one row per frame.
+  const Eigen::Index v9 = m.net->frame_size();
+  nn::Matrix<float> data(static_cast<Eigen::Index>(dims.at("N")), v9);
+  in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(data.rows()), data.data());
+  io::check_finite_rows(data.data(), 0, static_cast<std::size_t>(data.rows()), static_cast<std::size_t>(v9),
+                        in.where("/features/normalized"));
+  log::info("{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, stride {}), "
+            "{} parameters, {} directions",
+            opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts_before.back(),
+            m.training.window, m.training.stride, m.net->store().size(), directions_name(m.config.directions));
+
+  nn::Tape<float> tape;
+  std::vector<nn::Matrix<float>> window(static_cast<std::size_t>(m.training.window),
+                                        nn::Matrix<float>(m.training.batch, v9));
+  BdlstmLossTerms sum;
+  int in_interval = 0;
+  auto t0 = std::chrono::steady_clock::now();
+  const std::int64_t first_iteration = m.iteration;
+  for (; m.iteration < m.training.iterations; ++m.iteration) {
+    for (int b = 0; b < m.training.batch; ++b) {
+      const auto r = static_cast<std::int64_t>(m.rng.below(static_cast<std::uint64_t>(starts_before.back())));
+      const auto s = static_cast<std::size_t>(
+          std::upper_bound(starts_before.begin(), starts_before.end(), r) - starts_before.begin() - 1);
+      const std::int64_t first = m.split.train_begin[s] + (r - starts_before[s]);
+      for (int t = 0; t < m.training.window; ++t)
+        window[static_cast<std::size_t>(t)].row(b) = data.row(first + t * m.training.stride);
+    }
+    BdlstmLossTerms terms;
+    nn::train_step<float>(tape, m.net->store(), *m.adam, [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
+      return m.net->loss(t, p, window, m.rng, &terms);
+    });
+    if (!std::isfinite(terms.total))
+      throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr", m.iteration + 1,
+                              terms.total));
+    sum.total += terms.total, sum.recon += terms.recon, sum.bidir += terms.bidir, sum.kl += terms.kl,
+        sum.l2 += terms.l2;
+    ++in_interval;
+    const std::int64_t done = m.iteration + 1;
+    if (done % opt.print_every == 0 || done == m.training.iterations) {
+      const double k = in_interval;
+      m.log.insert(m.log.end(), {static_cast<double>(done), sum.total / k, sum.recon / k, sum.bidir / k,
+                                 sum.kl / k, sum.l2 / k});
+      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double per = secs / static_cast<double>(done - first_iteration);
+      log::info("iteration {}/{}: loss {:.4g} (recon {:.4g}, bidir {:.4g}, kl {:.4g}, l2 {:.4g}); {:.3f} s/iteration, "
+                "{:.0f} s left",
+                done, m.training.iterations, sum.total / k, sum.recon / k, sum.bidir / k, sum.kl / k, sum.l2 / k, per,
+                per * static_cast<double>(m.training.iterations - done));
+      sum = {};
+      in_interval = 0;
+      if (opt.checkpoint_every && done % opt.checkpoint_every == 0 && done < m.training.iterations) {
+        save_bdlstm_model(ckpt, m, {opt.input}, true);
+        log::debug("checkpoint {} at iteration {}", ckpt, done);
+      }
+    }
+  }
+  save_bdlstm_model(opt.output, m, {opt.input}, common.force);
+  std::error_code ec;
+  std::filesystem::remove(ckpt, ec);
+  log::info("wrote {} ({} iterations)", opt.output, m.iteration);
+}
+
+}  // namespace df::models

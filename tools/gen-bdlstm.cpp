@@ -1,0 +1,62 @@
+// gen-bdlstm: predict, complete and diversify mesh sequences with a trained BD-LSTM (paper 1).
+#include "core/tool.h"
+#include "models/bdlstm_generate.h"
+
+int main(int argc, char** argv) {
+  df::Tool tool("gen-bdlstm",
+                "Generate mesh sequences with a BD-LSTM from train-bdlstm (Qiao et al., TVCG 2020).\n"
+                "  --mode predict   feed --initial u frames ending at each --from frame, then let the\n"
+                "                   network run --length frames (the LSTM restarts every --window\n"
+                "                   frames from the last u frames, as the paper chains windows);\n"
+                "  --mode complete  fill the gaps between --keyframes: a forward chain from each\n"
+                "                   keyframe (states +0.1) and a backward chain from the next (-0.1)\n"
+                "                   are merged at the closest pair of frames of the same or adjacent\n"
+                "                   time; random initial states are retried until the relative\n"
+                "                   feature difference is below --threshold (paper: 5%).\n"
+                "--samples K draws K different results per case from random initial LSTM states.\n"
+                "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
+                "(from the last two given frames) or interpolation in ACAP feature space.\n"
+                "--test-every K makes the cases from the model's held-out test parts.\n\n"
+                "INPUT: MODEL (bdlstm-model) and DATA (acap file on the same template: the given\n"
+                "frames). Frames are global indices of DATA or SEQUENCE:K.\n"
+                "OUTPUT: an acap .h5 with normalized features, one sequence per case and sample;\n"
+                "/frames/source names the DATA frame of the same time (-1 past its end) and\n"
+                "/frames/step the frames after the last given one. acap2obj makes meshes of it;\n"
+                "eval-metrics compares it with DATA.");
+  tool.with_threads().with_seed(1).with_force();
+  df::models::BdlstmGenerateOptions opt;
+  auto& app = tool.app();
+  app.add_option("MODEL", opt.model, "bdlstm-model .h5 from train-bdlstm")->required();
+  app.add_option("DATA", opt.data, "acap .h5 holding the given frames")->required();
+  app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
+  app.add_option("--mode", opt.mode, "predict or complete")->default_val(opt.mode);
+  app.add_option("--method", opt.method, "bdlstm, or linear (feature-space baseline)")->default_val(opt.method);
+  app.add_option("--from", opt.frames, "predict: last given frame of a case (repeatable)");
+  app.add_option("--keyframes", opt.frames, "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
+      ->delimiter(',');
+  app.add_option("--test-every", opt.test_every,
+                 "Cases at every K-th frame of the model's held-out test parts (instead of\n"
+                 "--from / --keyframes)")
+      ->default_val(opt.test_every);
+  app.add_option("--initial", opt.initial, "predict: given frames u")->default_val(opt.initial);
+  app.add_option("--length", opt.length, "predict: frames to generate")->default_val(opt.length);
+  app.add_option("--gap", opt.gap, "complete with --test-every: frames between the two keyframes")
+      ->default_val(opt.gap);
+  app.add_option("--samples", opt.samples, "Results per case; K > 1 draws random initial states")
+      ->default_val(opt.samples);
+  app.add_option("--state-sigma", opt.state_sigma, "Std-dev of random initial states around +-0.1")
+      ->default_val(opt.state_sigma);
+  app.add_option("--threshold", opt.threshold, "complete: relative feature difference that merges the chains")
+      ->default_val(opt.threshold);
+  app.add_option("--retries", opt.retries, "complete: attempts per gap before taking the closest pair")
+      ->default_val(opt.retries);
+  app.add_option("--window", opt.window, "predict: frames per chained run (0 = the training window)")
+      ->default_val(opt.window);
+  tool.footer("Examples:\n"
+              "  gen-bdlstm pcow-model.h5 pcow.h5 --from 170 --initial 3 --length 15 -o pred.h5\n"
+              "  gen-bdlstm model.h5 data.h5 --from walk:0 --length 300 -o long.h5\n"
+              "  gen-bdlstm model.h5 data.h5 --mode complete --keyframes 10,20 --samples 8 -o c.h5\n"
+              "  gen-bdlstm model.h5 data.h5 --test-every 2 --initial 2 --method linear -o lin.h5\n"
+              "  acap2obj pred.h5 -o pred-meshes/");
+  return tool.run(argc, argv, [&] { df::models::generate_bdlstm(opt, tool.common()); });
+}

@@ -1,0 +1,77 @@
+// train-bdlstm: train the share-weight bidirectional LSTM on mesh sequences (paper 1).
+#include "core/tool.h"
+#include "models/bdlstm_train.h"
+
+int main(int argc, char** argv) {
+  df::Tool tool("train-bdlstm",
+                "Train the share-weight bidirectional LSTM of Qiao, Lai, Fu, Gao, 'Synthesizing Mesh\n"
+                "Deformation Sequences with Bidirectional LSTM' (TVCG 2020) on ACAP features.\n"
+                "Each step encodes a frame with 3 mesh convolutions + FC to a Gaussian latent (KL),\n"
+                "advances a 3x128 LSTM and decodes the change dX; X(t+1) = X(t) + dX. Each iteration\n"
+                "draws --batch windows of --window frames from the training part of the sequences;\n"
+                "a forward chain starts at each window's first frame (LSTM states +0.1) and a\n"
+                "backward chain at its last frame (states -0.1), both free-running with the same\n"
+                "weights. Loss: L_recon + 0.5 L_bidir + 0.1 (L_KL + sum w^2) (eq. 3-5).\n\n"
+                "INPUT: an acap .h5 with /features/normalized (from obj2acap).\n"
+                "OUTPUT: a bdlstm-model .h5 (weights, Adam/RNG state, config, template,\n"
+                "normalization, train/test split, loss log), for gen-bdlstm. The last --test-fraction\n"
+                "of every sequence is held out (not trained on).");
+  tool.with_threads().with_seed(1).with_force();
+  df::models::BdlstmTrainOptions opt;
+  std::string directions = "shared";
+  bool no_kl = false, no_l2 = false;
+  auto& app = tool.app();
+  app.add_option("INPUT", opt.input, "acap .h5 with normalized features")->required();
+  app.add_option("-o,--output", opt.output, "Output model (.h5)")->required();
+  auto* g = app.add_option_group("Training");
+  g->add_option("--iterations", opt.training.iterations, "Training iterations (paper: 7000)")
+      ->default_val(opt.training.iterations);
+  g->add_option("--window", opt.training.window, "Frames per training window")->default_val(opt.training.window);
+  g->add_option("--batch", opt.training.batch, "Windows per iteration")->default_val(opt.training.batch);
+  g->add_option("--stride", opt.training.stride, "Use every STRIDE-th frame (2 for slow motion)")
+      ->default_val(opt.training.stride);
+  g->add_option("--lr", opt.training.lr, "Adam learning rate (betas 0.9/0.999)")->default_val(opt.training.lr);
+  g->add_option("--test-fraction", opt.training.test_fraction,
+                "Fraction of every sequence held out as a contiguous test part")
+      ->default_val(opt.training.test_fraction);
+  g->add_option("--test-part", opt.training.test_part, "Where the held-out part lies: end or start")
+      ->default_val(opt.training.test_part)
+      ->check(CLI::IsMember({"end", "start"}));
+  g->add_option("--print-every", opt.print_every, "Iterations between loss lines (and log rows)")
+      ->default_val(opt.print_every);
+  g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt; removed at the end)");
+  g->add_option("--checkpoint-every", opt.checkpoint_every,
+                "Iterations between checkpoints, a multiple of --print-every (0 = none)")
+      ->default_val(opt.checkpoint_every);
+  g->add_flag("--resume", opt.resume,
+              "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
+              "uninterrupted run with the same options");
+  auto* n = app.add_option_group("Network (ablations: paper Table 2)");
+  n->add_option("--directions", directions,
+                "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"
+                "direction has its own weights; unidirectional: forward chain only")
+      ->default_val(directions)
+      ->check(CLI::IsMember({"shared", "standard", "unidirectional"}));
+  n->add_flag("--no-kl", no_kl, "Deterministic encoder (z = mean), no KL term");
+  n->add_flag("--no-l2", no_l2, "No L2 penalty on the weights");
+  n->add_option("--latent", opt.net.latent, "Latent size")->default_val(opt.net.latent);
+  n->add_option("--hidden", opt.net.hidden, "LSTM hidden size")->default_val(opt.net.hidden);
+  n->add_option("--lstm-layers", opt.net.lstm_layers, "LSTM layers")->default_val(opt.net.lstm_layers);
+  n->add_option("--conv-layers", opt.net.conv_layers, "Mesh convolutions in the encoder (and decoder)")
+      ->default_val(opt.net.conv_layers);
+  n->add_option("--alpha-bidir", opt.net.alpha_bidir, "Weight of L_bidir")->default_val(opt.net.alpha_bidir);
+  n->add_option("--alpha-reg", opt.net.alpha_reg, "Weight of L_KL + L_2")->default_val(opt.net.alpha_reg);
+  n->add_option("--init-state", opt.net.init_state, "Initial LSTM state of the forward chain (backward: minus)")
+      ->default_val(opt.net.init_state);
+  tool.footer("Examples:\n"
+              "  train-bdlstm pcow.h5 -o pcow-bdlstm.h5\n"
+              "  train-bdlstm --iterations 600 --window 16 --batch 4 finger.h5 -o finger-model.h5\n"
+              "  train-bdlstm --directions unidirectional pcow.h5 -o pcow-uni.h5   # ablation\n"
+              "  train-bdlstm --resume --checkpoint-every 100 pcow.h5 -o m.h5       # after a kill");
+  return tool.run(argc, argv, [&] {
+    opt.net.directions = df::models::directions_from_name(directions);
+    opt.net.kl = !no_kl;
+    opt.net.l2 = !no_l2;
+    df::models::train_bdlstm(opt, tool.common());
+  });
+}
