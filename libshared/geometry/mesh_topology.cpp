@@ -46,4 +46,30 @@ MeshTopology mesh_topology(const io::Faces& F, int n_vertices) {
   return t;
 }
 
+std::vector<int> connected_components(const MeshTopology& topo, int first, int* count) {
+  std::vector<int> component(static_cast<std::size_t>(topo.n_vertices), -1);
+  int n = 0;
+  auto flood = [&](int seed) {
+    std::vector<int> stack{seed};
+    component[static_cast<std::size_t>(seed)] = n;
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      for (int k = topo.ring_offsets[i]; k < topo.ring_offsets[i + 1]; ++k) {
+        const int j = topo.ring_vertices[static_cast<std::size_t>(k)];
+        if (component[static_cast<std::size_t>(j)] < 0) {
+          component[static_cast<std::size_t>(j)] = n;
+          stack.push_back(j);
+        }
+      }
+    }
+    ++n;
+  };
+  if (topo.n_vertices) flood(first);
+  for (int i = 0; i < topo.n_vertices; ++i)
+    if (component[static_cast<std::size_t>(i)] < 0) flood(i);
+  if (count) *count = n;
+  return component;
+}
+
 }  // namespace df::geometry

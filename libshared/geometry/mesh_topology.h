@@ -22,4 +22,8 @@ struct MeshTopology {
 /// @param F  #F by 3 triangles; @param n_vertices  #V (vertices in no face get an empty ring)
 MeshTopology mesh_topology(const io::Faces& F, int n_vertices);
 
+/// The connected component of every vertex: `first`'s component is 0, the others are numbered
+/// in order of their lowest vertex. @param count  receives the number of components
+std::vector<int> connected_components(const MeshTopology& topo, int first, int* count);
+
 }  // namespace df::geometry

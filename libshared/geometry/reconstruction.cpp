@@ -32,26 +32,13 @@ Reconstructor::~Reconstructor() = default;
 void Reconstructor::pin_components(int anchor) {
   const int n = topo_.n_vertices;
   // One pinned vertex per connected component: the anchor, then each other component's first.
-  component_.assign(static_cast<std::size_t>(n), -1);
-  auto flood = [&](int seed) {
-    std::vector<int> stack{seed};
-    component_[seed] = static_cast<int>(pinned_.size());
-    pinned_.push_back(seed);
-    while (!stack.empty()) {
-      int i = stack.back();
-      stack.pop_back();
-      for (int k = topo_.ring_offsets[i]; k < topo_.ring_offsets[i + 1]; ++k) {
-        int j = topo_.ring_vertices[k];
-        if (component_[j] < 0) {
-          component_[j] = component_[seed];
-          stack.push_back(j);
-        }
-      }
-    }
-  };
-  flood(anchor);
+  int count = 0;
+  component_ = connected_components(topo_, anchor, &count);
+  pinned_.assign(static_cast<std::size_t>(count), -1);
+  pinned_[0] = anchor;
   for (int i = 0; i < n; ++i)
-    if (component_[i] < 0) flood(i);
+    if (pinned_[static_cast<std::size_t>(component_[static_cast<std::size_t>(i)])] < 0)
+      pinned_[static_cast<std::size_t>(component_[static_cast<std::size_t>(i)])] = i;
   reduced_.assign(static_cast<std::size_t>(n), 0);
   for (int p : pinned_) reduced_[p] = -1;
   int rows = 0;

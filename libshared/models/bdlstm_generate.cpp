@@ -278,7 +278,6 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
       for (auto& s : g) push(s, d.features.row(c.frames[0]), c.frames[0], 0);
       for (std::size_t gi = 0; gi + 1 < c.frames.size(); ++gi) {
         const std::int64_t a = c.frames[gi], b = c.frames[gi + 1], L = b - a;
-        const std::int32_t step0 = static_cast<std::int32_t>(a - c.frames[0]);
         std::vector<std::vector<Matrix>> path(static_cast<std::size_t>(K));  // frames a+1 .. b
         if (opt.method == "linear") {
           for (int k = 0; k < K; ++k)
@@ -331,7 +330,8 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
           auto& p = path[static_cast<std::size_t>(k)];
           if (static_cast<std::int64_t>(p.size()) != L) throw Error("internal: completion path of the wrong length");
           for (std::int64_t t = 1; t <= L; ++t)
-            push(g[static_cast<std::size_t>(k)], p[static_cast<std::size_t>(t - 1)], source_of(a, t), step0 + static_cast<std::int32_t>(t));
+            push(g[static_cast<std::size_t>(k)], p[static_cast<std::size_t>(t - 1)], source_of(a, t),
+                 t == L ? 0 : static_cast<std::int32_t>(t));  // keyframes are given: step 0
         }
       }
     }

@@ -9,7 +9,8 @@
 // and the baselines of the paper's comparisons: linear extrapolation / interpolation in ACAP
 // feature space. Output: an acap file with normalized features (acap2obj makes meshes), one
 // sequence per case and sample, with /frames/source (the data frame each generated frame
-// corresponds to) and /frames/step (frames after the last given one) for eval-metrics.
+// corresponds to) and /frames/step (frames after the last given one; 0 for given frames and
+// keyframes) for eval-metrics.
 #pragma once
 
 #include <string>

@@ -1,0 +1,309 @@
+#include "eval/eval_metrics.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "convert/frame_reader.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/progress.h"
+#include "eval/mesh_metrics.h"
+#include "geometry/acap_features.h"
+#include "geometry/reconstruction.h"
+#include "io/h5.h"
+#include "io/schema.h"
+
+namespace df::eval {
+namespace {
+
+using geometry::kFeatureDims;
+
+// One input: template, sequences, positions (stored or reconstructed) and raw features.
+struct Frames {
+  std::string path;
+  io::Mesh tmpl;
+  std::vector<std::int64_t> offsets;
+  std::vector<std::string> sequences;
+  std::vector<io::Vertices> positions;  // empty until needed
+  bool positions_stored = false;
+  Eigen::MatrixXd raw;                  // [N, 9V] raw features; 0 rows if none
+  std::optional<geometry::Normalization> normalization;
+  std::vector<std::int64_t> source;     // gen-bdlstm's pairing, if present
+  std::vector<std::int32_t> step;
+  std::size_t size() const { return static_cast<std::size_t>(offsets.back()); }
+};
+
+Frames read_frames(const std::string& path) {
+  Frames fr;
+  fr.path = path;
+  std::error_code ec;
+  if (!io::is_hdf5_path(path)) {  // mesh files
+    convert::FrameReader reader({path});
+    fr.tmpl = reader.read(0);
+    fr.offsets = {0};
+    for (const auto& s : reader.sequences()) {
+      fr.sequences.push_back(s.name);
+      fr.offsets.push_back(static_cast<std::int64_t>(s.first + s.count));
+    }
+    fr.positions.resize(reader.size());
+    tbb::parallel_for(std::size_t{0}, reader.size(),
+                      [&](std::size_t i) { fr.positions[i] = reader.read_positions(i, fr.tmpl, reader.frame_name(0)); });
+    fr.positions_stored = true;
+    return fr;
+  }
+  io::Dimensions dims;
+  h5::File f = io::open_input(path, "acap", &dims);
+  fr.tmpl.vertices = f.read_matrix<double>("/template/vertices");
+  fr.tmpl.faces = f.read_matrix<int>("/template/faces");
+  fr.offsets = f.read<std::int64_t>("/sequences/offsets").data;
+  fr.sequences = f.read_strings("/sequences/names");
+  const std::size_t n = dims.at("N"), nv = dims.at("V"), row = nv * kFeatureDims;
+  if (f.exists("/normalization/min")) fr.normalization = geometry::read_normalization(f);
+  if (f.exists("/features/raw")) {
+    fr.raw.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(fr.raw.rows(), fr.raw.cols());
+    f.read_rows<double>("/features/raw", 0, n, m.data());
+    io::check_finite_rows(m.data(), 0, n, row, f.where("/features/raw"));
+    fr.raw = m;
+  } else if (f.exists("/features/normalized")) {
+    std::vector<float> v(n * row);
+    f.read_rows<float>("/features/normalized", 0, n, v.data());
+    io::check_finite_rows(v.data(), 0, n, row, f.where("/features/normalized"));
+    fr.raw.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < row; ++k)
+        fr.raw(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
+            fr.normalization->denormalize(static_cast<int>(k % kFeatureDims), v[i * row + k]);
+  }
+  if (f.exists("/frames/positions")) {
+    std::vector<float> p(n * nv * 3);
+    f.read_rows<float>("/frames/positions", 0, n, p.data());
+    io::check_finite_rows(p.data(), 0, n, nv * 3, f.where("/frames/positions"));
+    fr.positions.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+      fr.positions[i] = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                            p.data() + i * nv * 3, static_cast<Eigen::Index>(nv), 3)
+                            .cast<double>();
+    fr.positions_stored = true;
+  }
+  if (f.exists("/frames/source")) fr.source = f.read<std::int64_t>("/frames/source").data;
+  if (f.exists("/frames/step")) fr.step = f.read<std::int32_t>("/frames/step").data;
+  return fr;
+}
+
+// Positions from the features, frames in parallel (the exact solver; one factorisation).
+void reconstruct(Frames& fr) {
+  if (!fr.positions.empty()) return;
+  if (fr.raw.rows() == 0) throw InvalidInput("has neither /frames/positions nor features", fr.path);
+  geometry::Reconstructor rec(fr.tmpl.vertices, fr.tmpl.faces, 0, geometry::ReconstructionSolver::gradients);
+  fr.positions.resize(fr.size());
+  Progress progress("reconstructing " + fr.path, fr.size());
+  tbb::parallel_for(std::size_t{0}, fr.size(), [&](std::size_t i) {
+    Eigen::Matrix<double, 1, Eigen::Dynamic> row = fr.raw.row(static_cast<Eigen::Index>(i));
+    fr.positions[i] = rec.solve(row.data());
+    progress.advance();
+  });
+  progress.finish();
+}
+
+// Features in the normalized space of `nz` (raw when none): what the networks see.
+Eigen::VectorXd normalized(const Frames& fr, std::size_t i, const std::optional<geometry::Normalization>& nz) {
+  Eigen::VectorXd x = fr.raw.row(static_cast<Eigen::Index>(i)).transpose();
+  if (nz)
+    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] = nz->normalize(static_cast<int>(k % kFeatureDims), x[k]);
+  return x;
+}
+
+struct PairResult {
+  double error = 0, unit_ball = 0, sted_s = 0, rse = -1;
+};
+
+}  // namespace
+
+void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
+  if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
+  if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
+  Frames pred = read_frames(opt.pred);
+  nlohmann::ordered_json js;
+  js["pred"] = opt.pred;
+  const auto& nz_pred = pred.normalization;
+
+  // Feature change between consecutive frames of each PRED sequence, by index in the sequence.
+  std::vector<double> change_sum;
+  std::vector<int> change_count;
+  double change_total = 0;
+  std::size_t change_n = 0;
+  if (pred.raw.rows()) {
+    for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s)
+      for (auto i = pred.offsets[s]; i + 1 < pred.offsets[s + 1]; ++i) {
+        const auto t = static_cast<std::size_t>(i - pred.offsets[s]);
+        const double c = feature_change(normalized(pred, static_cast<std::size_t>(i), nz_pred),
+                                        normalized(pred, static_cast<std::size_t>(i + 1), nz_pred));
+        if (change_sum.size() <= t) change_sum.resize(t + 1), change_count.resize(t + 1);
+        change_sum[t] += c, change_count[t] += 1, change_total += c, ++change_n;
+      }
+  }
+  std::vector<double> change_by_index;
+  for (std::size_t t = 0; t < change_sum.size(); ++t) change_by_index.push_back(change_sum[t] / change_count[t]);
+
+  std::optional<Frames> truth;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (pred frame, truth frame)
+  std::vector<PairResult> results;
+  double diag = 0, sted_t = 0;
+  std::size_t sted_t_n = 0;
+  if (!opt.truth.empty()) {
+    truth = read_frames(opt.truth);
+    if (truth->tmpl.vertices.rows() != pred.tmpl.vertices.rows() || truth->tmpl.faces != pred.tmpl.faces)
+      throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)", truth->tmpl.vertices.rows(),
+                                     opt.pred, pred.tmpl.vertices.rows()),
+                         opt.truth);
+    if (!pred.source.empty()) {
+      for (std::size_t i = 0; i < pred.size(); ++i)
+        if (pred.source[i] >= 0) {
+          if (static_cast<std::size_t>(pred.source[i]) >= truth->size())
+            throw InvalidInput(fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
+                                           pred.source[i], truth->size()),
+                               opt.pred + "/frames/source");
+          pairs.emplace_back(i, static_cast<std::size_t>(pred.source[i]));
+        }
+    } else {
+      if (pred.size() != truth->size())
+        throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}", pred.size(), truth->size()),
+                           opt.pred);
+      for (std::size_t i = 0; i < pred.size(); ++i) pairs.emplace_back(i, i);
+    }
+    if (pairs.empty()) throw InvalidInput("no frame pairs with the truth", opt.pred);
+    reconstruct(pred);
+    reconstruct(*truth);
+    const auto& T = truth->tmpl.vertices;
+    diag = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
+    const auto topo = geometry::mesh_topology(truth->tmpl.faces, static_cast<int>(T.rows()));
+    const auto hoods = edge_neighbourhoods(topo, opt.sted_rings);
+    int n_components = 0;
+    const std::vector<int> component = geometry::connected_components(topo, 0, &n_components);
+    const auto& nz = truth->normalization ? truth->normalization : nz_pred;
+    const bool features = pred.raw.rows() && truth->raw.rows();
+    results.resize(pairs.size());
+    std::vector<io::Vertices> aligned(pairs.size());
+    tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
+      const auto [i, j] = pairs[k];
+      const io::Vertices& gt = truth->positions[j];
+      aligned[k] = align_translation(pred.positions[i], gt, component, n_components);
+      PairResult& r = results[k];
+      r.error = mean_vertex_error(aligned[k], gt);
+      r.unit_ball = unit_ball_squared_error(aligned[k], gt);
+      r.sted_s = sted_spatial(aligned[k], gt, topo, hoods);
+      if (features) r.rse = relative_squared_error(normalized(*truth, j, nz), normalized(pred, i, nz));
+    });
+    // STED's temporal part over consecutive PRED frames of one sequence that both have truth.
+    for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
+      const auto [i0, j0] = pairs[k];
+      const auto [i1, j1] = pairs[k + 1];
+      const auto s = std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
+      if (i1 != i0 + 1 || static_cast<std::int64_t>(i1) >= *s) continue;
+      sted_t += sted_temporal(aligned[k], aligned[k + 1], truth->positions[j0], truth->positions[j1], topo, opt.sted_dt);
+      ++sted_t_n;
+    }
+  }
+
+  // Aggregates.
+  double err = 0, ub = 0, sted_s = 0, rse_max = 0, rse_mean = 0;
+  std::size_t rse_n = 0;
+  std::map<int, std::pair<double, int>> by_step;
+  // Given frames (step 0 of generated files) are copies of the truth: the totals leave them out.
+  const bool skip_given = std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
+  std::size_t counted = 0;
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const auto& r = results[k];
+    const int step = pred.step.empty() ? static_cast<int>(pairs[k].first) : pred.step[pairs[k].first];
+    by_step[step].first += r.error, by_step[step].second += 1;
+    if (skip_given && step == 0) continue;
+    ++counted;
+    err += r.error, ub += r.unit_ball, sted_s += r.sted_s;
+    if (r.rse >= 0) rse_max = std::max(rse_max, r.rse), rse_mean += r.rse, ++rse_n;
+  }
+  if (truth && counted == 0) throw InvalidInput("no generated frame has a ground-truth frame to compare with", opt.pred);
+  const double np = static_cast<double>(counted);
+  const std::size_t nv = static_cast<std::size_t>(pred.tmpl.vertices.rows());
+  if (truth) {
+    js["truth"] = opt.truth;
+    js["frame_pairs"] = results.size();
+    js["frames_measured"] = counted;
+    js["diagonal"] = diag;
+    js["vertex_error"] = {{"mean", err / np}, {"mean_relative", err / np / diag}};
+    nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+    for (const auto& [s, v] : by_step)
+      steps.push_back({{"step", s}, {"frames", v.second}, {"mean", v.first / v.second}, {"relative", v.first / v.second / diag}});
+    js["vertex_error"]["per_step"] = steps;
+    nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < results.size(); ++k)
+      frames.push_back({{"pred", pairs[k].first}, {"truth", pairs[k].second}, {"error", results[k].error},
+                        {"sted_spatial", results[k].sted_s}});
+    js["vertex_error"]["per_frame"] = frames;
+    js["erms"] = 1000.0 * std::sqrt(ub / (3.0 * np * static_cast<double>(nv)));
+    const double st = sted_t_n ? sted_t / static_cast<double>(sted_t_n) : 0.0;
+    js["sted"] = {{"spatial", sted_s / np}, {"rings", opt.sted_rings}};
+    if (sted_t_n) {
+      js["sted"]["temporal"] = st;
+      js["sted"]["combined"] = std::sqrt(std::pow(sted_s / np, 2) + opt.sted_c * opt.sted_c * st * st);
+      js["sted"]["dt"] = opt.sted_dt;
+      js["sted"]["c"] = opt.sted_c;
+    }
+    if (rse_n) js["relative_squared_error"] = {{"max", rse_max}, {"mean", rse_mean / static_cast<double>(rse_n)}};
+  }
+  if (change_n)
+    js["feature_change"] = {{"mean", change_total / static_cast<double>(change_n)},
+                            {"min", *std::min_element(change_by_index.begin(), change_by_index.end())},
+                            {"max", *std::max_element(change_by_index.begin(), change_by_index.end())},
+                            {"per_index", change_by_index}};
+
+  if (!opt.json.empty() && opt.json != "-") {
+    std::ofstream out(opt.json);
+    out << js.dump(2) << "\n";
+    if (!out) throw IOError("cannot write", opt.json);
+  }
+  if (opt.json == "-") {
+    std::cout << js.dump(2) << "\n";
+    return;
+  }
+  // The human table.
+  std::string t = fmt::format(
+      "{}{}\n", opt.pred,
+      truth ? fmt::format(" vs {} ({} frame pairs{})", opt.truth, results.size(),
+                          skip_given ? fmt::format("; totals over the {} generated frames", counted) : "")
+            : "");
+  if (truth) {
+    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n", "per-vertex position error", err / np,
+                     err / np / diag, diag);
+    t += fmt::format("  {:<28} {:.6g}\n", "E_rms", js["erms"].get<double>());
+    t += fmt::format("  {:<28} spatial {:.6g}", "STED", js["sted"]["spatial"].get<double>());
+    if (sted_t_n)
+      t += fmt::format("  temporal {:.6g}  combined {:.6g}", js["sted"]["temporal"].get<double>(),
+                       js["sted"]["combined"].get<double>());
+    t += "\n";
+    if (rse_n) t += fmt::format("  {:<28} max {:.6g}  mean {:.6g}\n", "relative squared error", rse_max, rse_mean / static_cast<double>(rse_n));
+  }
+  if (change_n)
+    t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n", "feature change",
+                     js["feature_change"]["mean"].get<double>(), js["feature_change"]["min"].get<double>(),
+                     js["feature_change"]["max"].get<double>());
+  if (truth && by_step.size() > 1) {
+    t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", pred.step.empty() ? "frame" : "step", "frames", "error", "x diagonal");
+    for (const auto& [s, v] : by_step) {
+      const bool show = opt.steps.empty() ? by_step.size() <= 40 || s % 5 == 0
+                                          : std::find(opt.steps.begin(), opt.steps.end(), s) != opt.steps.end();
+      if (show) t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, v.second, v.first / v.second, v.first / v.second / diag);
+    }
+  }
+  std::cout << t << std::flush;
+}
+
+}  // namespace df::eval

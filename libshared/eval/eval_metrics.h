@@ -1,0 +1,30 @@
+// eval-metrics: compares predicted frames with ground truth (SPEC §9) and prints a table;
+// --json writes every number (per frame, per future-frame step, per time index).
+//   * inputs: acap files (positions are used when stored, else reconstructed from the features
+//     with the exact solver) or mesh directories;
+//   * frames are paired through PRED's /frames/source (gen-bdlstm) or by index;
+//   * per-vertex position error after removing one translation per connected component (the
+//     reconstruction's freedom), raw and / bounding-box diagonal of TRUTH's template, per frame
+//     and per /frames/step; E_rms; STED spatial, temporal and combined; relative squared error
+//     of normalized ACAP features; feature change between consecutive frames of each sequence.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/tool.h"
+
+namespace df::eval {
+
+struct EvalOptions {
+  std::string pred, truth;  ///< truth "" = only single-file measures (feature change)
+  std::string json;         ///< "" = none; "-" = stdout (then no table)
+  std::vector<int> steps;   ///< steps shown in the table (empty = all when few)
+  int sted_rings = 1;
+  double sted_dt = 1.0;  ///< frame interval for STED's temporal part
+  double sted_c = 1.0;   ///< STED = sqrt(STED_s² + c² STED_t²)
+};
+
+void eval_metrics(const EvalOptions& opt, const CommonOptions& common);
+
+}  // namespace df::eval

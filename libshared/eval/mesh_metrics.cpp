@@ -1,0 +1,106 @@
+#include "eval/mesh_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace df::eval {
+
+io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
+                               int n_components) {
+  Eigen::MatrixXd shift = Eigen::MatrixXd::Zero(n_components, 3);
+  Eigen::VectorXd count = Eigen::VectorXd::Zero(n_components);
+  for (Eigen::Index v = 0; v < pred.rows(); ++v) {
+    shift.row(component[static_cast<std::size_t>(v)]) += truth.row(v) - pred.row(v);
+    count[component[static_cast<std::size_t>(v)]] += 1;
+  }
+  io::Vertices out = pred;
+  for (Eigen::Index v = 0; v < pred.rows(); ++v) {
+    const int c = component[static_cast<std::size_t>(v)];
+    out.row(v) += shift.row(c) / count[c];
+  }
+  return out;
+}
+
+double mean_vertex_error(const io::Vertices& pred, const io::Vertices& truth) {
+  return (pred - truth).rowwise().norm().mean();
+}
+
+double unit_ball_squared_error(const io::Vertices& pred, const io::Vertices& truth) {
+  const Eigen::RowVector3d c = truth.colwise().mean();
+  const double r = (truth.rowwise() - c).rowwise().norm().maxCoeff();
+  const double s = r > 0 ? 1.0 / r : 1.0;
+  return ((pred - truth) * s).squaredNorm();
+}
+
+std::vector<std::vector<int>> edge_neighbourhoods(const geometry::MeshTopology& topo, int rings) {
+  std::vector<std::vector<int>> out(static_cast<std::size_t>(topo.n_vertices));
+  for (int i = 0; i < topo.n_vertices; ++i) {
+    std::set<int> verts{i}, frontier{i}, edges;
+    for (int r = 0; r < rings; ++r) {
+      std::set<int> next;
+      for (int v : frontier)
+        for (int k = topo.ring_offsets[v]; k < topo.ring_offsets[v + 1]; ++k) {
+          edges.insert(topo.ring_edges[static_cast<std::size_t>(k)]);
+          const int w = topo.ring_vertices[static_cast<std::size_t>(k)];
+          if (verts.insert(w).second) next.insert(w);
+        }
+      frontier = std::move(next);
+    }
+    out[static_cast<std::size_t>(i)].assign(edges.begin(), edges.end());
+  }
+  return out;
+}
+
+double sted_spatial(const io::Vertices& pred, const io::Vertices& truth, const geometry::MeshTopology& topo,
+                    const std::vector<std::vector<int>>& neighbourhoods) {
+  const std::size_t ne = topo.edges.size();
+  std::vector<double> ed(ne), len(ne);
+  for (std::size_t e = 0; e < ne; ++e) {
+    const auto [a, b] = topo.edges[e];
+    const double l = (truth.row(a) - truth.row(b)).norm(), lp = (pred.row(a) - pred.row(b)).norm();
+    len[e] = l;
+    ed[e] = l > 0 ? std::abs(lp - l) / l : 0.0;
+  }
+  double total = 0;
+  for (const auto& nb : neighbourhoods) {
+    double w = 0, m = 0;
+    for (int e : nb) w += len[static_cast<std::size_t>(e)], m += len[static_cast<std::size_t>(e)] * ed[static_cast<std::size_t>(e)];
+    if (w <= 0) continue;
+    m /= w;
+    double var = 0;
+    for (int e : nb) {
+      const double d = ed[static_cast<std::size_t>(e)] - m;
+      var += len[static_cast<std::size_t>(e)] * d * d;
+    }
+    total += std::sqrt(var / w);
+  }
+  return neighbourhoods.empty() ? 0.0 : total / static_cast<double>(neighbourhoods.size());
+}
+
+double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1, const io::Vertices& truth0,
+                     const io::Vertices& truth1, const geometry::MeshTopology& topo, double dt) {
+  auto speed = [&](const io::Vertices& p0, const io::Vertices& p1, int i) {
+    double l = 0;
+    const int d = topo.degree(i);
+    for (int k = topo.ring_offsets[i]; k < topo.ring_offsets[i + 1]; ++k)
+      l += (p0.row(i) - p0.row(topo.ring_vertices[static_cast<std::size_t>(k)])).norm();
+    l = d ? l / d : 1.0;
+    return l > 0 ? (p1.row(i) - p0.row(i)).norm() / (dt * l) : 0.0;
+  };
+  double total = 0;
+  for (int i = 0; i < topo.n_vertices; ++i) total += std::abs(speed(pred0, pred1, i) - speed(truth0, truth1, i));
+  return topo.n_vertices ? total / topo.n_vertices : 0.0;
+}
+
+double relative_squared_error(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::Ref<const Eigen::VectorXd>& xhat) {
+  const double n = x.squaredNorm();
+  return n > 0 ? (x - xhat).squaredNorm() / n : 0.0;
+}
+
+double feature_change(const Eigen::Ref<const Eigen::VectorXd>& xt, const Eigen::Ref<const Eigen::VectorXd>& xt1) {
+  const double n = xt.norm();
+  return n > 0 ? (xt - xt1).norm() / n : 0.0;
+}
+
+}  // namespace df::eval

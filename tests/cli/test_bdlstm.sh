@@ -1,0 +1,101 @@
+# BD-LSTM end to end on a tiny synthetic finger: train-bdlstm (resume, threads), gen-bdlstm
+# (predict, samples, complete, linear baselines), eval-metrics, bad input. Golden numbers are in
+# tests/cli/golden/bdlstm.txt: evaluation of deterministic double-precision results (linear
+# baselines) to 1e-5 relative; anything computed by the float network to 2e-3 relative (the
+# same code gives the same bits on one machine; -march=native kernels may round differently
+# elsewhere).
+source "$(dirname "$0")/lib.sh"
+: "${DF_PLUGIN_DIR:?}"
+export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
+GOLDEN=bdlstm.txt
+
+synth-meshseq -q --frames 60 --resolution 4 --periods 2 -o finger.h5
+obj2acap -q finger.h5 -o data.h5
+tiny=(--window 8 --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --print-every 10 --seed 3)
+
+# --- training: log, model file, thread independence
+train-bdlstm -q "${tiny[@]}" --iterations 40 --threads 1 data.h5 -o m.h5
+h5check -q --kind bdlstm-model m.h5
+train-bdlstm -q "${tiny[@]}" --iterations 40 --threads 2 data.h5 -o m2.h5
+for obj in /params /optimizer/m /training/log; do
+  run h5diff m.h5 m2.h5 $obj; expect_rc 0
+done
+echo "ok (train, threads)"
+log=$(h5dump -d /training/log -y -w 0 -m %.9g m.h5 | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9.e+-' ' ')
+read -r -a v <<<"$log"
+[ "${#v[@]}" = 24 ] || fail "training log has ${#v[@]} numbers, expected 4 rows x 6"
+expect_close "loss at 10" "${v[1]}" "$(golden loss10)" 2e-3
+expect_close "loss at 40" "${v[19]}" "$(golden loss40)" 2e-3
+awk -v a="${v[2]}" -v b="${v[20]}" 'BEGIN { exit !(b < a) }' || fail "recon did not decrease: ${v[2]} -> ${v[20]}"
+echo "ok (train golden: loss ${v[1]} -> ${v[19]})"
+
+# --- resume: a 20-iteration model is a checkpoint; resuming to 40 equals the straight run
+train-bdlstm -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
+cp m20.h5 ck.h5
+train-bdlstm -q "${tiny[@]}" --iterations 40 --checkpoint ck.h5 --resume data.h5 -o resumed.h5
+for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
+  run h5diff m.h5 resumed.h5 $obj; expect_rc 0
+done
+[ -f ck.h5 ] && fail "the checkpoint was not removed after the run"
+run train-bdlstm -q --window 8 --batch 2 --latent 8 --hidden 9 --lstm-layers 1 --print-every 10 --seed 3 --iterations 40 --checkpoint m20.h5 --resume data.h5 -o bad.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "hidden"
+echo "ok (resume)"
+
+# --- generation: deterministic for a seed, diverse across seeds
+gen-bdlstm -q m.h5 data.h5 --from 50 --initial 3 --length 9 --samples 3 --seed 5 -o s5.h5
+gen-bdlstm -q m.h5 data.h5 --from 50 --initial 3 --length 9 --samples 3 --seed 5 --threads 1 -o s5b.h5
+run h5diff s5.h5 s5b.h5 /features/normalized; expect_rc 0
+gen-bdlstm -q m.h5 data.h5 --from 50 --initial 3 --length 9 --samples 3 --seed 6 -o s6.h5
+run h5diff -q s5.h5 s6.h5 /features/normalized; expect_rc 1
+h5check -q --kind acap s5.h5
+echo "ok (gen: deterministic, diverse)"
+
+# --- predictions on the held-out part vs ground truth, and the linear baseline (golden)
+gen-bdlstm -q m.h5 data.h5 --test-every 3 --initial 3 --length 6 -o pred.h5
+gen-bdlstm -q m.h5 data.h5 --test-every 3 --initial 3 --length 6 --method linear -o lin.h5
+eval-metrics pred.h5 data.h5 --steps 3,6 >pred.txt
+eval-metrics lin.h5 data.h5 --steps 3,6 >lin.txt
+step_error() { awk -v s="$1" '$1 == s && NF == 4 { print $3 }' "$2"; }
+expect_close "linear error at step 3" "$(step_error 3 lin.txt)" "$(golden linear3)" 1e-5
+expect_close "linear error at step 6" "$(step_error 6 lin.txt)" "$(golden linear6)" 1e-5
+expect_close "bdlstm error at step 6" "$(step_error 6 pred.txt)" "$(golden bdlstm6)" 2e-3
+grep -q "E_rms" lin.txt || fail "no E_rms in the table"
+eval-metrics data.h5 data.h5 --json same.json >/dev/null
+grep -q '"mean": 0.0' same.json || fail "a file against itself has a non-zero error: $(head -c 400 same.json)"
+echo "ok (eval: linear step 3/6 $(step_error 3 lin.txt) $(step_error 6 lin.txt), bdlstm step 6 $(step_error 6 pred.txt))"
+
+# --- completion: keyframes are kept exactly, the chains merge under a loose threshold
+run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --threshold 0.5 -o comp.h5
+expect_rc 0; expect_err "every completion merged"
+eval-metrics comp.h5 data.h5 --json comp.json >/dev/null
+awk '/"step": 0,/ { getline; getline; if ($2 + 0 > 1e-6) bad = 1; seen = 1 } END { exit !(seen && !bad) }' comp.json ||
+  fail "keyframes not reproduced: $(grep -A3 '"step": 0,' comp.json)"
+gen-bdlstm -q m.h5 data.h5 --mode complete --keyframes 40,52 --method linear -o lcomp.h5
+echo "ok (complete)"
+
+# --- a long generation stays finite and moving
+gen-bdlstm -q m.h5 data.h5 --from 0 --length 100 -o long.h5
+eval-metrics long.h5 >long.txt
+grep -q "feature change" long.txt || fail "no feature change for a single file"
+echo "ok (long)"
+
+# --- bad input: one line, the right exit code
+synth-meshseq -q --frames 10 --resolution 5 -o other.h5
+obj2acap -q other.h5 -o other-acap.h5
+run gen-bdlstm m.h5 other-acap.h5 --from 5 -o x.h5
+expect_rc 1; expect_one_error_line gen-bdlstm; expect_err "share the template"
+run gen-bdlstm m.h5 data.h5 --from 1 --initial 3 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "only 2 frames"
+run gen-bdlstm m.h5 data.h5 --mode sideways --from 5 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm
+run gen-bdlstm m.h5 data.h5 --from 5 --method linear -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "initial 2"
+run train-bdlstm -q --window 100 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "smaller --window"
+run train-bdlstm -q finger.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "obj2acap"
+run eval-metrics pred.h5 other-acap.h5
+expect_rc 1; expect_one_error_line eval-metrics; expect_err "template"
+[ -e x.h5 ] && fail "a failed run left x.h5"
+expect_no_temporaries .
+echo "ok (errors)"

@@ -1,0 +1,139 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "helpers.h"
+#include "models/bdlstm.h"
+#include "models/bdlstm_train.h"
+#include "nn/gradient_check.h"
+#include "nn/train_step.h"
+
+using namespace df;
+using namespace df::models;
+
+namespace {
+
+std::vector<std::array<int, 2>> tetra_edges() { return {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}; }
+
+BdlstmConfig tiny_config(Directions d) {
+  BdlstmConfig c;
+  c.conv_layers = 2;
+  c.latent = 3;
+  c.hidden = 4;
+  c.lstm_layers = 2;
+  c.directions = d;
+  return c;
+}
+
+// A smooth periodic "feature" sequence on 4 vertices: frame t, window w, batch row b.
+template <class T>
+std::vector<nn::Matrix<T>> sine_windows(int n, int batch, std::uint64_t seed) {
+  Rng rng(seed, 3);
+  std::vector<nn::Matrix<T>> w(static_cast<std::size_t>(n), nn::Matrix<T>(batch, 36));
+  for (int b = 0; b < batch; ++b) {
+    const double start = rng.uniform(0, 6.28);
+    for (int t = 0; t < n; ++t)
+      for (int k = 0; k < 36; ++k)
+        w[static_cast<std::size_t>(t)](b, k) = static_cast<T>(0.6 * std::sin(start + 0.35 * t + 0.7 * k));
+  }
+  return w;
+}
+
+}  // namespace
+
+TEST_CASE("BD-LSTM loss: gradients of every parameter (all variants)", "[models][bdlstm]") {
+  struct Variant {
+    Directions d;
+    bool kl, l2;
+  };
+  for (auto v : {Variant{Directions::shared, true, true}, Variant{Directions::standard, true, true},
+                 Variant{Directions::unidirectional, true, true}, Variant{Directions::shared, false, false}}) {
+    auto cfg = tiny_config(v.d);
+    cfg.kl = v.kl;
+    cfg.l2 = v.l2;
+    BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
+    const auto window = sine_windows<double>(4, 2, 1);
+    std::vector<nn::Matrix<double>> params;
+    for (std::size_t i = 0; i < net.store().views().size(); ++i) params.push_back(net.store().value(static_cast<int>(i)));
+    auto r = nn::gradient_check(
+        [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
+          nn::Bound<double> p{x};
+          Rng rng(11, 0);  // the same reparameterisation noise in every evaluation
+          return net.loss(t, p, window, rng);
+        },
+        params);
+    INFO(directions_name(v.d) << " kl=" << v.kl << " l2=" << v.l2 << "\n" << r.report);
+    REQUIRE(r.max_error <= 1e-6);
+  }
+}
+
+TEST_CASE("BD-LSTM loss: terms are those of eq. 3-5", "[models][bdlstm]") {
+  auto cfg = tiny_config(Directions::shared);
+  BdlstmNet<double> net(cfg, 4, tetra_edges(), 3);
+  const auto window = sine_windows<double>(5, 3, 2);
+  nn::Tape<double> tape;
+  auto p = net.store().bind(tape);
+  Rng rng(1, 0);
+  BdlstmLossTerms terms;
+  auto loss = net.loss(tape, p, window, rng, &terms);
+  REQUIRE(loss.value()(0, 0) == Approx(terms.recon + 0.5 * terms.bidir + 0.1 * (terms.kl + terms.l2)).epsilon(1e-12));
+  double l2 = 0;
+  for (std::size_t i = 0; i < net.store().views().size(); ++i) l2 += net.store().value(static_cast<int>(i)).squaredNorm();
+  REQUIRE(terms.l2 == Approx(l2).epsilon(1e-12));
+  REQUIRE(terms.kl > 0);
+  // No KL: the encoder is deterministic, the KL term is absent.
+  cfg.kl = false;
+  BdlstmNet<double> det(cfg, 4, tetra_edges(), 3);
+  nn::Tape<double> t2;
+  auto p2 = det.store().bind(t2);
+  Rng r1(1, 0), r2(2, 0);
+  BdlstmLossTerms a, b;
+  det.loss(t2, p2, window, r1, &a);
+  det.loss(t2, p2, window, r2, &b);
+  REQUIRE(a.kl == 0);
+  REQUIRE(a.total == b.total);
+}
+
+TEST_CASE("BD-LSTM training lowers the loss and makes the two chains agree", "[models][bdlstm]") {
+  auto cfg = tiny_config(Directions::shared);
+  cfg.latent = 8;
+  cfg.hidden = 16;
+  BdlstmNet<float> net(cfg, 4, tetra_edges(), 5);
+  nn::AdamOptions ao;
+  ao.lr = 3e-3;
+  nn::Adam<float> adam(net.store().size(), ao);
+  nn::Tape<float> tape;
+  Rng rng(4, 1);
+  auto run = [&](int iterations) {
+    BdlstmLossTerms mean;
+    for (int it = 0; it < iterations; ++it) {
+      const auto window = sine_windows<float>(8, 4, rng.next());
+      BdlstmLossTerms t;
+      nn::train_step<float>(tape, net.store(), adam, [&](nn::Tape<float>& tp, const nn::Bound<float>& p) {
+        return net.loss(tp, p, window, rng, &t);
+      });
+      mean.recon += t.recon / iterations, mean.bidir += t.bidir / iterations;
+    }
+    return mean;
+  };
+  const auto first = run(20);
+  run(300);
+  const auto last = run(20);
+  INFO("recon " << first.recon << " -> " << last.recon << ", bidir " << first.bidir << " -> " << last.bidir);
+  REQUIRE(last.recon < 0.3 * first.recon);
+  REQUIRE(last.bidir < 0.3 * first.bidir);
+}
+
+TEST_CASE("BD-LSTM split: a contiguous held-out part per sequence", "[models][bdlstm]") {
+  BdlstmSplit s;
+  split_sequences({0, 100, 150}, 0.2, "end", s);
+  REQUIRE(s.train_begin == std::vector<std::int64_t>{0, 100});
+  REQUIRE(s.train_end == std::vector<std::int64_t>{80, 140});
+  REQUIRE(s.test_begin == std::vector<std::int64_t>{80, 140});
+  REQUIRE(s.test_end == std::vector<std::int64_t>{100, 150});
+  BdlstmSplit t;
+  split_sequences({0, 10}, 0.2, "start", t);
+  REQUIRE(t.test_begin[0] == 0);
+  REQUIRE(t.test_end[0] == 2);
+  REQUIRE(t.train_begin[0] == 2);
+  REQUIRE_THROWS_AS(split_sequences({0, 10}, 1.0, "end", t), UsageError);
+}
