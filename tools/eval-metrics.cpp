@@ -19,7 +19,9 @@ int main(int argc, char** argv) {
                 "                             max and mean (MSAE paper, eq. 8);\n"
                 "  feature change             mean |X_t - X_t+1| / |X_t| between consecutive frames of\n"
                 "                             PRED's sequences, per time index (BD-LSTM paper, Fig. 2):\n"
-                "                             ~0 means frozen, spikes mean jerks.\n"
+                "                             ~0 means frozen, spikes mean jerks;\n"
+                "  spread of samples          mean vertex distance between the samples NAME~k of one\n"
+                "                             case (gen-bdlstm --samples) at the same frame.\n"
                 "Frames pair through PRED's /frames/source (gen-bdlstm output) or by index. Positions\n"
                 "are reconstructed from features (exact solver) when a file stores none; one\n"
                 "translation per connected component is removed before measuring.\n\n"
@@ -31,6 +33,9 @@ int main(int argc, char** argv) {
   app.add_option("PRED", opt.pred, "Predicted / generated frames")->required();
   app.add_option("TRUTH", opt.truth, "Ground truth on the same template");
   app.add_option("--json", opt.json, "Write every number as JSON to FILE (- = stdout, no table)");
+  app.add_option("--tsv", opt.tsv,
+                 "Write per-step errors, then (after two blank lines: gnuplot 'index 1')\n"
+                 "the feature change per time index, to FILE");
   app.add_option("--steps", opt.steps, "Steps shown in the table, e.g. 5,10,15 (default: all, or every 5th)")
       ->delimiter(',');
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);

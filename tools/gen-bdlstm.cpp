@@ -38,6 +38,11 @@ int main(int argc, char** argv) {
                  "Cases at every K-th frame of the model's held-out test parts (instead of\n"
                  "--from / --keyframes)")
       ->default_val(opt.test_every);
+  app.add_option("--test-context", opt.test_context,
+                 "predict with --test-every: the first predicted frame is at least C frames into\n"
+                 "the held-out part (0 = --initial), so that runs with different --initial and\n"
+                 "--method predict the same frames")
+      ->default_val(opt.test_context);
   app.add_option("--initial", opt.initial, "predict: given frames u")->default_val(opt.initial);
   app.add_option("--length", opt.length, "predict: frames to generate")->default_val(opt.length);
   app.add_option("--gap", opt.gap, "complete with --test-every: frames between the two keyframes")

@@ -214,6 +214,39 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     }
   }
 
+  // Spread of diverse samples: sequences NAME~k of equal length, compared frame by frame.
+  std::map<std::string, std::vector<std::size_t>> groups;
+  for (std::size_t s = 0; s < pred.sequences.size(); ++s) {
+    const auto tilde = pred.sequences[s].rfind('~');
+    if (tilde != std::string::npos) groups[pred.sequences[s].substr(0, tilde)].push_back(s);
+  }
+  std::erase_if(groups, [](const auto& g) { return g.second.size() < 2; });
+  double spread = 0;
+  std::size_t spread_n = 0;
+  if (!groups.empty()) {
+    reconstruct(pred);
+    const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
+    int nc = 0;
+    const auto comp = geometry::connected_components(topo, 0, &nc);
+    for (const auto& [name, seqs] : groups) {
+      const auto len = pred.offsets[seqs[0] + 1] - pred.offsets[seqs[0]];
+      for (auto s : seqs)
+        if (pred.offsets[s + 1] - pred.offsets[s] != len)
+          throw InvalidInput("samples of '" + name + "' have different lengths", opt.pred);
+      for (std::int64_t t = 0; t < len; ++t) {
+        const auto i0 = static_cast<std::size_t>(pred.offsets[seqs[0]] + t);
+        if (!pred.step.empty() && pred.step[i0] == 0) continue;  // given frames are identical
+        for (std::size_t a = 0; a < seqs.size(); ++a)
+          for (std::size_t b = a + 1; b < seqs.size(); ++b) {
+            const auto& pa = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[a]] + t)];
+            const auto& pb = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[b]] + t)];
+            spread += mean_vertex_error(align_translation(pb, pa, comp, nc), pa);
+            ++spread_n;
+          }
+      }
+    }
+  }
+
   // Aggregates.
   double err = 0, ub = 0, sted_s = 0, rse_max = 0, rse_mean = 0;
   std::size_t rse_n = 0;
@@ -259,6 +292,13 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     }
     if (rse_n) js["relative_squared_error"] = {{"max", rse_max}, {"mean", rse_mean / static_cast<double>(rse_n)}};
   }
+  if (spread_n) {
+    const auto& T = truth ? truth->tmpl.vertices : pred.tmpl.vertices;
+    const double d = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
+    js["sample_spread"] = {{"mean", spread / static_cast<double>(spread_n)},
+                           {"mean_relative", spread / static_cast<double>(spread_n) / d},
+                           {"cases", groups.size()}};
+  }
   if (change_n)
     js["feature_change"] = {{"mean", change_total / static_cast<double>(change_n)},
                             {"min", *std::min_element(change_by_index.begin(), change_by_index.end())},
@@ -269,6 +309,15 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     std::ofstream out(opt.json);
     out << js.dump(2) << "\n";
     if (!out) throw IOError("cannot write", opt.json);
+  }
+  if (!opt.tsv.empty()) {
+    std::ofstream out(opt.tsv);
+    out << "# step frames error relative_error\n";
+    for (const auto& [st, v] : by_step)
+      out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / diag);
+    out << "\n\n# index feature_change\n";
+    for (std::size_t k = 0; k < change_by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, change_by_index[k]);
+    if (!out) throw IOError("cannot write", opt.tsv);
   }
   if (opt.json == "-") {
     std::cout << js.dump(2) << "\n";
@@ -295,6 +344,10 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n", "feature change",
                      js["feature_change"]["mean"].get<double>(), js["feature_change"]["min"].get<double>(),
                      js["feature_change"]["max"].get<double>());
+  if (spread_n)
+    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal; {} cases)\n", "spread of samples",
+                     js["sample_spread"]["mean"].get<double>(), js["sample_spread"]["mean_relative"].get<double>(),
+                     groups.size());
   if (truth && by_step.size() > 1) {
     t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", pred.step.empty() ? "frame" : "step", "frames", "error", "x diagonal");
     for (const auto& [s, v] : by_step) {

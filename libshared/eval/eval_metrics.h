@@ -6,7 +6,9 @@
 //   * per-vertex position error after removing one translation per connected component (the
 //     reconstruction's freedom), raw and / bounding-box diagonal of TRUTH's template, per frame
 //     and per /frames/step; E_rms; STED spatial, temporal and combined; relative squared error
-//     of normalized ACAP features; feature change between consecutive frames of each sequence.
+//     of normalized ACAP features; feature change between consecutive frames of each sequence;
+//   * the spread of diverse samples (gen-bdlstm --samples: sequences NAME~k): mean per-vertex
+//     distance between every two samples of a case at the same frame.
 #pragma once
 
 #include <string>
@@ -19,6 +21,7 @@ namespace df::eval {
 struct EvalOptions {
   std::string pred, truth;  ///< truth "" = only single-file measures (feature change)
   std::string json;         ///< "" = none; "-" = stdout (then no table)
+  std::string tsv;          ///< "" = none: per-step errors, then (gnuplot index 1) feature change per index
   std::vector<int> steps;   ///< steps shown in the table (empty = all when few)
   int sted_rings = 1;
   double sted_dt = 1.0;  ///< frame interval for STED's temporal part

@@ -181,11 +181,14 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
       const std::int64_t shift = d.offsets[s] - (m.split.train_begin[k] < m.split.test_begin[k] ? m.split.train_begin[k]
                                                                                                  : m.split.test_begin[k]);
       const std::int64_t b = m.split.test_begin[k] + shift, e = m.split.test_end[k] + shift;
-      const std::int64_t need = opt.mode == "predict" ? u + opt.length : opt.gap + 2;
+      // predict: the first predicted frame p runs from b + context; the given frames are the
+      // u frames before it. complete: keyframes a and a + gap + 1.
+      const std::int64_t context = opt.mode == "predict" ? std::max<std::int64_t>(opt.test_context, u) : 0;
+      const std::int64_t need = opt.mode == "predict" ? context + opt.length : opt.gap + 2;
       for (std::int64_t a = b; a + need <= e; a += opt.test_every) {
         Case c;
         if (opt.mode == "predict")
-          for (std::int64_t t = 0; t < u; ++t) c.frames.push_back(a + t);
+          for (std::int64_t t = context - u; t < context; ++t) c.frames.push_back(a + t);
         else
           c.frames = {a, a + opt.gap + 1};
         c.name = fmt::format("{}-{}", d.sequences[s], c.frames.back() - d.offsets[s]);
@@ -194,7 +197,8 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
     }
     if (cases.empty())
       throw InvalidInput(fmt::format("no held-out part of the model's split is long enough for a case of {} frames",
-                                     opt.mode == "predict" ? u + opt.length : opt.gap + 2),
+                                     opt.mode == "predict" ? std::max<std::int64_t>(opt.test_context, u) + opt.length
+                                                           : opt.gap + 2),
                          opt.data);
   } else if (opt.mode == "predict") {
     for (const auto& spec : opt.frames) {

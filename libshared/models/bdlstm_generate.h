@@ -29,6 +29,9 @@ struct BdlstmGenerateOptions {
   std::vector<std::string> frames;
   /// > 0: cases at every K-th frame of each sequence's held-out part (the model's split)
   int test_every = 0;
+  /// predict with --test-every: the first predicted frame of a case is at least this many frames
+  /// into the held-out part (0 = --initial), so runs with different --initial predict the same frames
+  int test_context = 0;
   int initial = 1;   ///< u: given frames per prediction
   int length = 15;   ///< predict: future frames
   int gap = 9;       ///< complete with --test-every: frames between the two keyframes
