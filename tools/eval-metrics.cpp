@@ -34,8 +34,8 @@ int main(int argc, char** argv) {
   app.add_option("TRUTH", opt.truth, "Ground truth on the same template");
   app.add_option("--json", opt.json, "Write every number as JSON to FILE (- = stdout, no table)");
   app.add_option("--tsv", opt.tsv,
-                 "Write per-step errors, then (after two blank lines: gnuplot 'index 1')\n"
-                 "the feature change per time index, to FILE");
+                 "Write two tables for plots to FILE: per-step errors (gnuplot: index 'step') and\n"
+                 "the feature change per time index (index 'feature_change')");
   app.add_option("--steps", opt.steps, "Steps shown in the table, e.g. 5,10,15 (default: all, or every 5th)")
       ->delimiter(',');
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);

@@ -312,10 +312,11 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   }
   if (!opt.tsv.empty()) {
     std::ofstream out(opt.tsv);
-    out << "# step frames error relative_error\n";
+    // Two data blocks that gnuplot selects by name: index 'step', index 'feature_change'.
+    out << "# step: frames error relative_error\n";
     for (const auto& [st, v] : by_step)
       out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / diag);
-    out << "\n\n# index feature_change\n";
+    out << "\n\n# feature_change: index change\n";
     for (std::size_t k = 0; k < change_by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, change_by_index[k]);
     if (!out) throw IOError("cannot write", opt.tsv);
   }

@@ -21,7 +21,7 @@ namespace df::eval {
 struct EvalOptions {
   std::string pred, truth;  ///< truth "" = only single-file measures (feature change)
   std::string json;         ///< "" = none; "-" = stdout (then no table)
-  std::string tsv;          ///< "" = none: per-step errors, then (gnuplot index 1) feature change per index
+  std::string tsv;          ///< "" = none; else per-step errors and feature change per index, for gnuplot
   std::vector<int> steps;   ///< steps shown in the table (empty = all when few)
   int sted_rings = 1;
   double sted_dt = 1.0;  ///< frame interval for STED's temporal part

@@ -1,0 +1,178 @@
+# BD-LSTM experiments (paper 1: Qiao et al., "Synthesizing Mesh Deformation Sequences with
+# Bidirectional LSTM"), reproduced on the data we have:
+#   make -f Makefile.data bdlstm [DATA=../shared/data] [OUT=out] [BD_SETS="finger pcow"] [-j2]
+# Per data set S (finger: synthetic; faerie: Debian's MD2; pcow, chickenCrossing: DATA):
+#   $(BD)/S/table1.md  fig1.png   prediction error at future frames 5/10/15 from 1 and from 3
+#                                 initial frames vs linear extrapolation (paper Table 1)
+#   $(BD)/S/fig2.png   fig2.md    feature change between consecutive frames of a 300-frame
+#                                 generation: freezing (-> 0) or jerks (spikes) (paper Fig. 2)
+#   $(BD)/S/completion.md fig3.png  completion between keyframes vs linear interpolation, and the
+#                                 spread of 8 diverse completions (paper §4.4)
+# and for the sets in BD_ABLATION_SETS the ablations of paper Table 2 (unidirectional, standard
+# BD-LSTM, no KL, no L2) in $(BD)/S/table2.md with their curves in fig2.png.
+# Training times on 2 cores are in the README (BD-LSTM section).
+BD := $(OUT)/bdlstm
+DATA ?= ../shared/data
+HAVE_DATA := $(wildcard $(DATA)/meshseq/pcow.tar.zst)
+BD_SETS ?= finger faerie $(if $(HAVE_DATA),pcow chickenCrossing)
+BD_ABLATION_SETS ?= finger $(if $(HAVE_DATA),pcow)
+BD_VARIANTS := unidirectional standard no-kl no-l2
+TRAIN_THREADS ?= 0
+
+# --- per-set settings: training, prediction length, test cases
+finger_TRAIN := --iterations 1500 --window 32 --batch 8
+finger_LENGTH := 15
+finger_EVERY := 4
+faerie_TRAIN := --iterations 1500 --window 8 --batch 8 --test-fraction 0.5
+faerie_LENGTH := 5
+faerie_EVERY := 1
+pcow_TRAIN := --iterations 1200 --window 32 --batch 8
+pcow_LENGTH := 15
+pcow_EVERY := 2
+chickenCrossing_TRAIN := --iterations 1200 --window 32 --batch 8 --stride 2
+chickenCrossing_LENGTH := 15
+chickenCrossing_EVERY := 2
+
+unidirectional_FLAGS := --directions unidirectional
+standard_FLAGS := --directions standard
+no-kl_FLAGS := --no-kl
+no-l2_FLAGS := --no-l2
+
+.PHONY: bdlstm
+bdlstm: $(foreach s,$(BD_SETS),$(BD)/$(s)/table1.md $(BD)/$(s)/fig2.png $(BD)/$(s)/completion.md) \
+        $(foreach s,$(filter $(BD_SETS),$(BD_ABLATION_SETS)),$(BD)/$(s)/table2.md)
+	@for s in $(BD_SETS); do \
+	  echo; echo "=== $$s"; cat $(BD)/$$s/table1.md; echo; cat $(BD)/$$s/fig2.md; echo; cat $(BD)/$$s/completion.md; \
+	  [ -f $(BD)/$$s/table2.md ] && { echo; cat $(BD)/$$s/table2.md; }; \
+	  echo; echo "plots: $(BD)/$$s/fig*.png"; \
+	done
+
+# --- data: ACAP features of each set
+$(BD)/finger/frames.h5:
+	@mkdir -p $(@D)
+	$(BIN)/synth-meshseq -q --kind finger --frames 400 --resolution 8 --periods 10 --twist 120 -f -o $@
+$(BD)/finger/data.h5: $(BD)/finger/frames.h5
+	$(BIN)/obj2acap -q -f $< -o $@
+$(BD)/faerie/data.h5: $(FAERIE)
+	@mkdir -p $(@D)
+	$(BIN)/obj2acap -q -f $< -o $@
+# Real sets: unpacked from DATA into $(BD)/S/src/S/ (an archive's single top directory).
+$(BD)/%/src/.unpacked: $(DATA)/meshseq/%.tar.zst
+	@mkdir -p $(@D)
+	tar --zstd -xf $< -C $(@D)
+	touch $@
+$(BD)/pcow/data.h5 $(BD)/chickenCrossing/data.h5: $(BD)/%/data.h5: $(BD)/%/src/.unpacked
+	$(BIN)/obj2acap -q -f $(<D)/$* -o $@
+
+# --- training: the paper's model, and the ablation variants (logs beside the models)
+$(BD)/%/model.h5: $(BD)/%/data.h5
+	$(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
+	  $($*_TRAIN) $< -o $@ 2>&1 | tee $(@:.h5=.log)
+define VARIANT_RULES
+$(BD)/%/model-$(1).h5: $(BD)/%/data.h5
+	$(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
+	  $$($$*_TRAIN) $($(1)_FLAGS) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+endef
+$(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_RULES,$(v))))
+
+# --- (a) Table 1: prediction from 1 and 3 initial frames vs linear extrapolation from 2;
+# every method predicts the same frames (--test-context 3).
+GEN_TEST = --test-every $($*_EVERY) --test-context 3 --length $($*_LENGTH)
+$(BD)/%/pred1.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 1 -o $@
+$(BD)/%/pred3.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 3 -o $@
+$(BD)/%/linear.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 2 --method linear -o $@
+define VARIANT_PRED
+$(BD)/%/pred3-$(1).h5: $(BD)/%/model-$(1).h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -q -f $$^ $$(GEN_TEST) --initial 3 -o $$@
+endef
+$(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_PRED,$(v))))
+
+# Evaluation of any generated file against its data: table on stdout, TSV for the plots.
+$(BD)/%.eval: $(BD)/%.h5
+	$(BIN)/eval-metrics -q $< $(dir $<)data.h5 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+$(BD)/%.change: $(BD)/%.h5
+	$(BIN)/eval-metrics -q $< --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+
+# Error at future frame k of an evaluation's TSV, / bounding-box diagonal x 1000.
+step_err = awk -v k=$(2) '/^\#/ { next } NF == 0 { exit } $$1 == k { printf "%.2f", 1000 * $$4; f = 1 } END { if (!f) printf "-" }' $(1).tsv
+
+$(BD)/%/table1.md: $(BD)/%/pred1.eval $(BD)/%/pred3.eval $(BD)/%/linear.eval
+	{ echo "**$(*F)** — per-vertex position error at the k-th future frame, x 1e-3 of the bounding-box diagonal"; \
+	  echo "(held-out part, $$(sed -n 's/.*(\([0-9]*\) frame pairs.*/\1/p' $(BD)/$*/pred3.eval) frame pairs per method; paper Table 1)"; echo; \
+	  echo "| method | 5th | 10th | 15th | mean over 1..$($(*F)_LENGTH) |"; echo "|---|---:|---:|---:|---:|"; \
+	  for m in "BD-LSTM, 1 initial frame:pred1" "BD-LSTM, 3 initial frames:pred3" "linear extrapolation (2 frames):linear"; do \
+	    f=$(BD)/$*/$${m#*:}.eval; \
+	    echo "| $${m%%:*} | $$($(call step_err,$$f,5)) | $$($(call step_err,$$f,10)) | $$($(call step_err,$$f,15)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$f | awk '{ printf "%.2f", 1000 * $$1 }') |"; \
+	  done; } > $@.tmp && mv $@.tmp $@
+	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/fig1.png'; \
+	  set title '$(*F): prediction error on the held-out part'; set xlabel 'future frame'; \
+	  set ylabel 'mean vertex error / bbox diagonal'; set key top left; \
+	  plot '$(BD)/$*/pred1.eval.tsv' index 'step' using 1:4 with linespoints title 'BD-LSTM, 1 initial frame', \
+	       '$(BD)/$*/pred3.eval.tsv' index 'step' using 1:4 with linespoints title 'BD-LSTM, 3 initial frames', \
+	       '$(BD)/$*/linear.eval.tsv' index 'step' using 1:4 with linespoints title 'linear extrapolation'"
+
+# --- (c) Fig. 2: 300 generated frames from the first held-out frame (and from each ablation)
+$(BD)/%/long.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -q -f $^ --from 0 --length 300 -o $@
+define VARIANT_LONG
+$(BD)/%/long-$(1).h5: $(BD)/%/model-$(1).h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -q -f $$^ --from 0 --length 300 -o $$@
+endef
+$(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_LONG,$(v))))
+$(BD)/%/data.change: $(BD)/%/data.h5
+	$(BIN)/eval-metrics -q $< --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+
+fig2_variants = $(if $(filter $(1),$(BD_ABLATION_SETS)),$(BD_VARIANTS))
+.SECONDEXPANSION:
+$(BD)/%/fig2.md: $(BD)/%/fig2.png ;
+$(BD)/%/fig2.png: $(BD)/%/long.change $(BD)/%/data.change $$(foreach v,$$(call fig2_variants,$$*),$(BD)/$$*/long-$$(v).change)
+	{ echo "**$*** — feature change |X_t - X_t+1| / |X_t| over 300 generated frames (from frame 0; paper Fig. 2)"; echo; \
+	  echo "| model | mean | min | max | last 100 frames |"; echo "|---|---:|---:|---:|---:|"; \
+	  for v in full $(call fig2_variants,$*); do \
+	    if [ $$v = full ]; then f=$(BD)/$*/long.change; else f=$(BD)/$*/long-$$v.change; fi; \
+	    awk -v v=$$v 'BEGIN { s = 0 } /^\#/ { next } NF == 2 { n++; x[n] = $$2; s += $$2 } \
+	      END { lo = 1e9; hi = 0; for (i = 1; i <= n; i++) { if (x[i] < lo) lo = x[i]; if (x[i] > hi) hi = x[i]; if (i > n - 100) t += x[i] } \
+	            printf "| %s | %.4f | %.4f | %.4f | %.4f |\n", v, s / n, lo, hi, t / 100 }' $$f.tsv; \
+	  done; \
+	  awk '/^\#/ { next } NF == 2 { n++; s += $$2 } END { printf "| (data, for scale) | %.4f | | | |\n", s / n }' $(BD)/$*/data.change.tsv; \
+	} > $(BD)/$*/fig2.md
+	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
+	  set title '$*: feature change between consecutive generated frames'; set xlabel 'frame'; \
+	  set ylabel '|X_t - X_{t+1}| / |X_t|'; set key top right; \
+	  plot '$(BD)/$*/long.change.tsv' index 'feature_change' using 1:2 with lines lw 2 title 'BD-LSTM' \
+	  $(foreach v,$(call fig2_variants,$*),, '$(BD)/$*/long-$(v).change.tsv' index 'feature_change' using 1:2 with lines title '$(v)')"
+
+# --- (b) Table 2: ablations, prediction from 3 frames on the held-out part
+$(BD)/%/table2.md: $(BD)/%/pred3.eval $(foreach v,$(BD_VARIANTS),$(BD)/%/pred3-$(v).eval) $(BD)/%/fig2.png
+	{ echo "**$*** — ablations (paper Table 2): mean per-vertex error x 1e-3 of the diagonal, prediction from 3 frames"; echo; \
+	  echo "| network | 5th | 10th | 15th | mean | feature change of 300 frames (mean / min) |"; echo "|---|---:|---:|---:|---:|---:|"; \
+	  for v in full $(BD_VARIANTS); do \
+	    f=$(BD)/$*/pred3-$$v.eval; c=$(BD)/$*/long-$$v.change.tsv; [ $$v = full ] && { f=$(BD)/$*/pred3.eval; c=$(BD)/$*/long.change.tsv; }; \
+	    name=$$v; [ $$v = full ] && name="share-weight BD-LSTM (paper)"; \
+	    echo "| $$name | $$($(call step_err,$$f,5)) | $$($(call step_err,$$f,10)) | $$($(call step_err,$$f,15)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$f | awk '{ printf "%.2f", 1000 * $$1 }') | $$(awk '/^\#/ { next } NF == 2 { n++; s += $$2; if (!lo || $$2 < lo) lo = $$2 } END { printf "%.4f / %.4f", s / n, lo }' $$c) |"; \
+	  done; } > $@.tmp && mv $@.tmp $@
+
+# --- (d) completion of 9-frame gaps in the held-out part: BD-LSTM (8 diverse samples) vs linear
+$(BD)/%/complete.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -f $^ --mode complete --test-every $($*_EVERY) --gap $(if $(filter faerie,$*),4,9) \
+	  --samples 8 --seed 1 -o $@ 2>&1 | tee $(@:.h5=.log)
+$(BD)/%/interp.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
+	$(BIN)/gen-bdlstm -q -f $^ --mode complete --method linear --test-every $($*_EVERY) \
+	  --gap $(if $(filter faerie,$*),4,9) -o $@
+$(BD)/%/completion.md: $(BD)/%/complete.eval $(BD)/%/interp.eval
+	{ echo "**$*** — completion of gaps between two keyframes (held-out part; paper §4.4)"; echo; \
+	  echo "| method | mean vertex error x 1e-3 diag | spread of 8 samples x 1e-3 diag | merged |"; echo "|---|---:|---:|---|"; \
+	  echo "| BD-LSTM (8 samples, random initial states) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $(BD)/$*/complete.eval | awk '{ printf "%.2f", 1000 * $$1 }') | $$(sed -n 's/.*spread of samples.*(\([0-9.e-]*\) x bbox.*/\1/p' $(BD)/$*/complete.eval | awk '{ printf "%.2f", 1000 * $$1 }') | $$(n=$$(sed -n 's/.*wrote \([0-9]*\) sequence.*/\1/p' $(BD)/$*/complete.log); u=$$(sed -n 's/.*warning: \([0-9]*\) completion.*/\1/p' $(BD)/$*/complete.log); echo "$$(( n - $${u:-0} )) of $$n below 5%") |"; \
+	  echo "| linear interpolation in ACAP space | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $(BD)/$*/interp.eval | awk '{ printf "%.2f", 1000 * $$1 }') | 0 | |"; \
+	} > $@.tmp && mv $@.tmp $@
+	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/fig3.png'; \
+	  set title '$*: completion error inside the gap'; set xlabel 'frame after the first keyframe'; \
+	  set ylabel 'mean vertex error / bbox diagonal'; \
+	  plot '$(BD)/$*/complete.eval.tsv' index 'step' using 1:4 with linespoints title 'BD-LSTM (mean of 8 samples)', \
+	       '$(BD)/$*/interp.eval.tsv' index 'step' using 1:4 with linespoints title 'linear interpolation'"
+
+# Keep every intermediate file (models, generations, evaluations): later runs reuse them.
+.SECONDARY:
