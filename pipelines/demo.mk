@@ -4,7 +4,8 @@ FAERIE ?= /usr/share/assimp/models/MD2/faerie.md2
 
 .PHONY: demo
 demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
-      $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj
+      $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
+      $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt
 	@echo
 	@echo "== h5check: file kinds, shapes, compression, history"
 	$(BIN)/h5check --no-history $(DEMO)/faerie.h5
@@ -13,11 +14,19 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@sed -n 's/.*round-trip error[^:]*: /  finger (400 deg twist): /p' $(DEMO)/finger-meshes.log
 	@sed -n 's/.*round-trip error[^:]*: /  faerie (MD2, 16 animations): /p' $(DEMO)/faerie-meshes.log
 	@echo
+	@echo "== BD-LSTM (train-bdlstm, 300 iterations on a walking finger; gen-bdlstm; eval-metrics)"
+	@echo "   prediction of 15 frames from 3 initial frames on the held-out part:"
+	@sed -n 's/^  per-vertex position error *\(.*\)/     BD-LSTM:              \1/p' $(DEMO)/bdlstm-pred.txt
+	@sed -n 's/^  per-vertex position error *\(.*\)/     linear extrapolation: \1/p' $(DEMO)/bdlstm-linear.txt
+	@echo "   (a short demo run; pipelines/bdlstm.mk trains longer and reproduces the paper's tables)"
+	@echo
 	@echo "== outputs in $(DEMO)/"
 	@echo "  finger.h5, bumps.h5     synthetic sequences (acap kind, positions; bumps with ground truth)"
 	@echo "  flag/                   waving flag as OBJ files"
 	@echo "  finger-acap.h5          ACAP features of the finger; finger-meshes/ reconstructed from them"
 	@echo "  faerie.h5               ACAP features of the MD2 faerie; faerie-meshes/ reconstructed"
+	@echo "  bdlstm-model.h5         BD-LSTM trained on bdlstm-finger.h5; bdlstm-long.h5: 120 generated"
+	@echo "                          frames from one initial frame, as meshes in bdlstm-meshes/"
 	@echo "  open the .obj files in any mesh viewer; h5dump reads the .h5 files with"
 	@echo "  HDF5_PLUGIN_PATH=$(HDF5_PLUGIN_PATH) h5dump -H -p FILE"
 
@@ -44,3 +53,27 @@ $(DEMO)/faerie.h5: $(FAERIE) | $(DEMO)
 
 $(DEMO)/faerie-meshes/stand01.obj: $(DEMO)/faerie.h5
 	$(BIN)/acap2obj -f $< -o $(DEMO)/faerie-meshes 2>&1 | tee $(DEMO)/faerie-meshes.log
+
+# BD-LSTM: a short training run on a walking finger, a 120-frame generation as meshes, and
+# prediction on the held-out part against linear extrapolation.
+$(DEMO)/bdlstm-finger.h5: | $(DEMO)
+	$(BIN)/synth-meshseq -q --kind finger --frames 200 --resolution 8 --periods 5 --twist 120 -f -o $(DEMO)/bdlstm-frames.h5
+	$(BIN)/obj2acap -q -f $(DEMO)/bdlstm-frames.h5 -o $@
+
+$(DEMO)/bdlstm-model.h5: $(DEMO)/bdlstm-finger.h5
+	$(BIN)/train-bdlstm -f --iterations 300 --window 16 --batch 4 --print-every 100 $< -o $@
+
+$(DEMO)/bdlstm-long.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
+	$(BIN)/gen-bdlstm -q -f $^ --from 0 --length 120 -o $@
+
+$(DEMO)/bdlstm-meshes/0.obj: $(DEMO)/bdlstm-long.h5
+	$(BIN)/acap2obj -q -f $< -o $(DEMO)/bdlstm-meshes
+
+$(DEMO)/bdlstm-pred.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
+	$(BIN)/gen-bdlstm -q -f $^ --test-every 4 --test-context 3 --initial 3 --length 15 -o $@
+
+$(DEMO)/bdlstm-linear.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
+	$(BIN)/gen-bdlstm -q -f $^ --test-every 4 --test-context 3 --initial 2 --method linear --length 15 -o $@
+
+$(DEMO)/bdlstm-%.txt: $(DEMO)/bdlstm-%.h5 $(DEMO)/bdlstm-finger.h5
+	$(BIN)/eval-metrics -q $^ > $@.tmp && mv $@.tmp $@
