@@ -15,21 +15,21 @@ BD := $(OUT)/bdlstm
 DATA ?= ../shared/data
 HAVE_DATA := $(wildcard $(DATA)/meshseq/pcow.tar.zst)
 BD_SETS ?= finger faerie $(if $(HAVE_DATA),pcow chickenCrossing)
-BD_ABLATION_SETS ?= finger $(if $(HAVE_DATA),pcow)
+BD_ABLATION_SETS ?= finger
 BD_VARIANTS := unidirectional standard no-kl no-l2
 TRAIN_THREADS ?= 0
 
 # --- per-set settings: training, prediction length, test cases
-finger_TRAIN := --iterations 1500 --window 32 --batch 8
+finger_TRAIN := --iterations 1000 --window 32 --batch 8
 finger_LENGTH := 15
 finger_EVERY := 4
-faerie_TRAIN := --iterations 1500 --window 8 --batch 8 --test-fraction 0.5
+faerie_TRAIN := --iterations 1000 --window 8 --batch 8 --test-fraction 0.5
 faerie_LENGTH := 5
 faerie_EVERY := 1
-pcow_TRAIN := --iterations 1200 --window 32 --batch 8
+pcow_TRAIN := --iterations 600 --window 32 --batch 8
 pcow_LENGTH := 15
 pcow_EVERY := 2
-chickenCrossing_TRAIN := --iterations 1200 --window 32 --batch 8 --stride 2
+chickenCrossing_TRAIN := --iterations 600 --window 32 --batch 8 --stride 2
 chickenCrossing_LENGTH := 15
 chickenCrossing_EVERY := 2
 

@@ -37,6 +37,11 @@ int main(int argc, char** argv) {
   g->add_option("--test-part", opt.training.test_part, "Where the held-out part lies: end or start")
       ->default_val(opt.training.test_part)
       ->check(CLI::IsMember({"end", "start"}));
+  g->add_option("--teacher-frames", opt.training.teacher_frames,
+                "Feed each chain u ground-truth frames (u uniform in 1..N per iteration) before\n"
+                "it runs free, so the network learns to use gen-bdlstm's --initial frames\n"
+                "(1 = the paper: only the seed frame)")
+      ->default_val(opt.training.teacher_frames);
   g->add_option("--print-every", opt.print_every, "Iterations between loss lines (and log rows)")
       ->default_val(opt.print_every);
   g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt; removed at the end)");

@@ -42,6 +42,11 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices, const std::v
     ch.fc_dec = nn::Linear<T>(store_, prefix + "fc_dec", config.hidden, v9, rng);
     for (int l = 0; l < config.conv_layers; ++l)
       ch.dec.emplace_back(store_, prefix + "tconv" + std::to_string(l), 9, 9, adjacency_, rng);
+    // δX starts at 0: with Glorot weights the last convolution's initial output is O(1) per
+    // feature while real frame-to-frame changes are ~0.01, and Adam (steps of ~lr per weight)
+    // took thousands of iterations to shrink it.
+    store_.constant(ch.dec.back().w_point, T(0));
+    store_.constant(ch.dec.back().w_nb, T(0));
     chains_.push_back(std::move(ch));
   }
 }
@@ -88,15 +93,16 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, 
 }
 
 template <class T>
-std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<T>& p, int chain, Var x0,
-                                                                States states, int steps, Rng& rng,
-                                                                Var* kl_sum) const {
-  std::vector<Var> frames{x0};
-  Matrix eps(x0.rows(), config_.latent);
+std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<T>& p, int chain,
+                                                                const std::vector<Var>& given, States states,
+                                                                int steps, Rng& rng, Var* kl_sum) const {
+  std::vector<Var> frames{given.front()};
+  Matrix eps(given.front().rows(), config_.latent);
   for (int t = 0; t < steps; ++t) {
     if (config_.kl)
       for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<T>(rng.normal());
-    frames.push_back(step(p, chain, frames.back(), states, config_.kl ? &eps : nullptr, kl_sum));
+    Var in = static_cast<std::size_t>(t) < given.size() ? given[static_cast<std::size_t>(t)] : frames.back();
+    frames.push_back(step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum));
   }
   return frames;
 }
@@ -104,9 +110,10 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p,
                                               const std::vector<Matrix>& window, Rng& rng,
-                                              BdlstmLossTerms* terms) const {
+                                              BdlstmLossTerms* terms, int given) const {
   const int n = static_cast<int>(window.size());
   if (n < 2) throw UsageError("a training window needs at least 2 frames");
+  if (given < 1 || given >= n) throw UsageError("the given frames must be at least 1 and fewer than the window");
   const Index batch = window[0].rows(), v9 = frame_size();
   for (const auto& w : window)
     if (w.rows() != batch || w.cols() != v9) throw Error("internal: window frames of different shapes");
@@ -118,24 +125,35 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
   std::vector<Var> fwd, bwd;  // fwd[t] ≈ X_t, bwd[t] ≈ X_{n−1−t}, each [batch, 9V]
   if (config_.directions == Directions::shared) {
     // Both chains as one batch of 2B rows: forward rows first.
-    Matrix x0(2 * batch, v9), s0(2 * batch, config_.hidden);
-    x0.topRows(batch) = window.front();
-    x0.bottomRows(batch) = window.back();
+    std::vector<Var> inputs;
+    for (int t = 0; t < given; ++t) {
+      Matrix x(2 * batch, v9);
+      x.topRows(batch) = window[static_cast<std::size_t>(t)];
+      x.bottomRows(batch) = window[static_cast<std::size_t>(n - 1 - t)];
+      inputs.push_back(tape.constant(std::move(x)));
+    }
+    Matrix s0(2 * batch, config_.hidden);
     s0.topRows(batch).setConstant(init);
     s0.bottomRows(batch).setConstant(-init);
     std::vector<Matrix> s(static_cast<std::size_t>(config_.lstm_layers), s0);
-    auto frames = run_chain(p, 0, tape.constant(x0), states_from(tape, s, s), n - 1, rng, &kl_sum);
+    auto frames = run_chain(p, 0, inputs, states_from(tape, s, s), n - 1, rng, &kl_sum);
     for (auto& f : frames) {
       fwd.push_back(nn::slice_rows(f, 0, batch));
       bwd.push_back(nn::slice_rows(f, batch, batch));
     }
   } else {
-    fwd = run_chain(p, 0, tape.constant(window.front()), constant_states(tape, batch, init), n - 1, rng, &kl_sum);
+    std::vector<Var> f_in, b_in;
+    for (int t = 0; t < given; ++t) {
+      f_in.push_back(tape.constant(window[static_cast<std::size_t>(t)]));
+      b_in.push_back(tape.constant(window[static_cast<std::size_t>(n - 1 - t)]));
+    }
+    fwd = run_chain(p, 0, f_in, constant_states(tape, batch, init), n - 1, rng, &kl_sum);
     if (config_.directions == Directions::standard)
-      bwd = run_chain(p, 1, tape.constant(window.back()), constant_states(tape, batch, -init), n - 1, rng, &kl_sum);
+      bwd = run_chain(p, 1, b_in, constant_states(tape, batch, -init), n - 1, rng, &kl_sum);
   }
 
-  // L_recon (eq. 4): frame 0 of each chain is its ground-truth seed, so its term is 0.
+  // L_recon (eq. 4): frame 0 of each chain is its ground-truth seed, so its term is 0; frames
+  // 1..given−1 are one-step predictions from ground truth.
   std::vector<Var> recon, bidir;
   for (int t = 1; t < n; ++t) {
     recon.push_back(frame_norms(nn::sub(fwd[static_cast<std::size_t>(t)], tape.constant(window[static_cast<std::size_t>(t)]))));

@@ -78,9 +78,11 @@ class BdlstmNet {
   Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps, Var* kl_sum) const;
 
   /// The training loss of a batch of windows. window[t] is frame t of every window
-  /// ([batch, 9V], t = 0..n−1); the reparameterisation noise is drawn from `rng`.
+  /// ([batch, 9V], t = 0..n−1); the reparameterisation noise is drawn from `rng`. Each chain
+  /// is fed its first `given` ground-truth frames (1 = the paper: free-running after the
+  /// seed frame), as gen-bdlstm feeds --initial frames.
   Var loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const std::vector<Matrix>& window, Rng& rng,
-           BdlstmLossTerms* terms = nullptr) const;
+           BdlstmLossTerms* terms = nullptr, int given = 1) const;
 
  private:
   struct Chain {
@@ -88,9 +90,10 @@ class BdlstmNet {
     nn::Linear<T> fc_enc, fc_dec;
     nn::StackedLstm<T> lstm;
   };
-  /// Runs `steps` free steps of `chain` from x0; returns the frames (x0 first).
-  std::vector<Var> run_chain(const nn::Bound<T>& p, int chain, Var x0, States states, int steps, Rng& rng,
-                             Var* kl_sum) const;
+  /// Runs `steps` steps of `chain`: the inputs are given[0..] (ground truth), then its own
+  /// outputs; returns the frames (given[0] first, then every step's output).
+  std::vector<Var> run_chain(const nn::Bound<T>& p, int chain, const std::vector<Var>& given, States states,
+                             int steps, Rng& rng, Var* kl_sum) const;
 
   BdlstmConfig config_;
   int n_vertices_;

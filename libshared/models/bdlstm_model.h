@@ -25,6 +25,9 @@ struct BdlstmTraining {
   double lr = 1e-4;  // 1e-3 (common default) diverges on 2,904-vertex pcow within 6 iterations (KL 3e11)
   double test_fraction = 0.2;  ///< held-out contiguous part of each sequence
   std::string test_part = "end";  ///< where the held-out part lies: end | start
+  /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
+  /// chains run free (1 = the paper: only the seed frame).
+  int teacher_frames = 1;
   std::uint64_t seed = 0;
 };
 

@@ -43,6 +43,7 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
   differs("test-fraction", s.test_fraction, t.test_fraction);
   differs("test-part", s.test_part, t.test_part);
   differs("seed", s.seed, t.seed);
+  differs("teacher-frames", s.teacher_frames, t.teacher_frames);
   differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
   if (ck.split.train_begin != want.split.train_begin || ck.split.train_end != want.split.train_end)
     throw InvalidInput("checkpoint was trained on other data (its train/test split differs)", path);
@@ -72,6 +73,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (opt.training.batch < 1 || opt.training.stride < 1 || opt.training.iterations < 0)
     throw UsageError("--batch and --stride must be positive, --iterations not negative");
   if (opt.print_every < 1) throw UsageError("--print-every must be positive");
+  if (opt.training.teacher_frames < 1 || opt.training.teacher_frames >= opt.training.window)
+    throw UsageError("--teacher-frames must be at least 1 and smaller than --window");
   if (opt.checkpoint_every < 0 || (opt.checkpoint_every && opt.checkpoint_every % opt.print_every))
     throw UsageError(fmt::format("--checkpoint-every must be a multiple of --print-every ({})", opt.print_every));
 
@@ -158,9 +161,12 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
       for (int t = 0; t < m.training.window; ++t)
         window[static_cast<std::size_t>(t)].row(b) = data.row(first + t * m.training.stride);
     }
+    const int given = m.training.teacher_frames > 1
+                          ? 1 + static_cast<int>(m.rng.below(static_cast<std::uint64_t>(m.training.teacher_frames)))
+                          : 1;
     BdlstmLossTerms terms;
     nn::train_step<float>(tape, m.net->store(), *m.adam, [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
-      return m.net->loss(t, p, window, m.rng, &terms);
+      return m.net->loss(t, p, window, m.rng, &terms, given);
     });
     if (!std::isfinite(terms.total))
       throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr", m.iteration + 1,

@@ -26,7 +26,6 @@ read -r -a v <<<"$log"
 [ "${#v[@]}" = 24 ] || fail "training log has ${#v[@]} numbers, expected 4 rows x 6"
 expect_close "loss at 10" "${v[1]}" "$(golden loss10)" 2e-3
 expect_close "loss at 40" "${v[19]}" "$(golden loss40)" 2e-3
-awk -v a="${v[2]}" -v b="${v[20]}" 'BEGIN { exit !(b < a) }' || fail "recon did not decrease: ${v[2]} -> ${v[20]}"
 echo "ok (train golden: loss ${v[1]} -> ${v[19]})"
 
 # --- resume: a 20-iteration model is a checkpoint; resuming to 40 equals the straight run

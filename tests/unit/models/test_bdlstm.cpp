@@ -44,13 +44,19 @@ TEST_CASE("BD-LSTM loss: gradients of every parameter (all variants)", "[models]
   struct Variant {
     Directions d;
     bool kl, l2;
+    int given;  // ground-truth frames fed before the chains run free
   };
-  for (auto v : {Variant{Directions::shared, true, true}, Variant{Directions::standard, true, true},
-                 Variant{Directions::unidirectional, true, true}, Variant{Directions::shared, false, false}}) {
+  for (auto v : {Variant{Directions::shared, true, true, 1}, Variant{Directions::standard, true, true, 2},
+                 Variant{Directions::unidirectional, true, true, 1}, Variant{Directions::shared, false, false, 3}}) {
     auto cfg = tiny_config(v.d);
     cfg.kl = v.kl;
     cfg.l2 = v.l2;
     BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
+    // Random weights everywhere (the last decoder convolution starts at zero, which would
+    // hide every gradient behind it).
+    Rng w(8, 0);
+    for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(net.store().size()); ++k)
+      net.store().values()[k] = w.uniform(-0.5, 0.5);
     const auto window = sine_windows<double>(4, 2, 1);
     std::vector<nn::Matrix<double>> params;
     for (std::size_t i = 0; i < net.store().views().size(); ++i) params.push_back(net.store().value(static_cast<int>(i)));
@@ -58,12 +64,22 @@ TEST_CASE("BD-LSTM loss: gradients of every parameter (all variants)", "[models]
         [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
           nn::Bound<double> p{x};
           Rng rng(11, 0);  // the same reparameterisation noise in every evaluation
-          return net.loss(t, p, window, rng);
+          return net.loss(t, p, window, rng, nullptr, v.given);
         },
         params);
-    INFO(directions_name(v.d) << " kl=" << v.kl << " l2=" << v.l2 << "\n" << r.report);
+    INFO(directions_name(v.d) << " kl=" << v.kl << " l2=" << v.l2 << " given=" << v.given << "\n" << r.report);
     REQUIRE(r.max_error <= 1e-6);
   }
+}
+
+TEST_CASE("BD-LSTM: an untrained network predicts no change (dX starts at 0)", "[models][bdlstm]") {
+  BdlstmNet<double> net(tiny_config(Directions::shared), 4, tetra_edges(), 7);
+  nn::Tape<double> tape;
+  auto p = net.store().bind(tape);
+  auto states = net.constant_states(tape, 2, 0.1);
+  const auto x = sine_windows<double>(1, 2, 4)[0];
+  auto y = net.step(p, 0, tape.constant(x), states, nullptr, nullptr);
+  REQUIRE((y.value() - x).cwiseAbs().maxCoeff() == 0.0);
 }
 
 TEST_CASE("BD-LSTM loss: terms are those of eq. 3-5", "[models][bdlstm]") {
@@ -119,7 +135,7 @@ TEST_CASE("BD-LSTM training lowers the loss and makes the two chains agree", "[m
   run(300);
   const auto last = run(20);
   INFO("recon " << first.recon << " -> " << last.recon << ", bidir " << first.bidir << " -> " << last.bidir);
-  REQUIRE(last.recon < 0.3 * first.recon);
+  REQUIRE(last.recon < 0.5 * first.recon);
   REQUIRE(last.bidir < 0.3 * first.bidir);
 }
 
