@@ -111,6 +111,29 @@ std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(int n, const std:
   return a;
 }
 
+namespace {
+// Neighbour means of all samples with one sparse product: the samples' [V, c] blocks side by
+// side as [V, B·c] (vertex-major, so every non-zero adds a B·c-wide row: vectorised), rows
+// split into fixed blocks (the same sums at any thread count).
+template <class T>
+Matrix<T> vertex_major(const Eigen::Map<const Matrix<T>>& x, Index B, Index V) {
+  Matrix<T> out(V, B * x.cols());
+  for (Index s = 0; s < B; ++s) out.middleCols(s * x.cols(), x.cols()) = x.middleRows(s * V, V);
+  return out;
+}
+
+template <class T>
+Matrix<T> sparse_rows_product(const SparseMatrix<T>& a, const Matrix<T>& x) {
+  constexpr Index kBlock = 256;
+  Matrix<T> out(a.rows(), x.cols());
+  tbb::parallel_for(Index{0}, (a.rows() + kBlock - 1) / kBlock, [&](Index b) {
+    const Index r0 = b * kBlock, n = std::min(kBlock, a.rows() - r0);
+    out.middleRows(r0, n).noalias() = a.middleRows(r0, n) * x;
+  });
+  return out;
+}
+}  // namespace
+
 template <class T>
 Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<const SparseMatrix<T>> a) {
   Tape<T>& t = *x.tape;
@@ -120,31 +143,34 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<co
                             x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(), bias.cols()));
   using ConstMap = Eigen::Map<const Matrix<T>>;
   ConstMap X(x.value().data(), B * V, cin);  // a sample row [V·cin] is V rows of cin
-  auto N = std::make_shared<Matrix<T>>(B * V, cin);  // neighbour means, kept for backward
-  tbb::parallel_for(Index{0}, B, [&](Index s) { N->middleRows(s * V, V).noalias() = (*a) * X.middleRows(s * V, V); });
+  // Neighbour means, vertex-major [V, B·cin] (sample s in columns s·cin ..), kept for backward.
+  auto Nv = std::make_shared<const Matrix<T>>(sparse_rows_product(*a, vertex_major(X, B, V)));
   Matrix<T> out(B, V * cout);
   Eigen::Map<Matrix<T>> Y(out.data(), B * V, cout);
   Y.noalias() = X * wp.value();
-  Y.noalias() += (*N) * wn.value();
+  for (Index s = 0; s < B; ++s) Y.middleRows(s * V, V).noalias() += Nv->middleCols(s * cin, cin) * wn.value();
   Y.rowwise() += bias.value().row(0);
   const int ix = x.id, ip = wp.id, in = wn.id, ib = bias.id, io = static_cast<int>(t.size());
   const bool rg = x.requires_grad() || wp.requires_grad() || wn.requires_grad() || bias.requires_grad();
-  return t.record(std::move(out), rg, [&t, a, N, ix, ip, in, ib, io, B, V, cin, cout] {
+  return t.record(std::move(out), rg, [&t, a, Nv, ix, ip, in, ib, io, B, V, cin, cout] {
     ConstMap G(t.grad(io).data(), B * V, cout);
     ConstMap X(t.value(ix).data(), B * V, cin);
     if (t.requires_grad(ip)) t.grad(ip).noalias() += X.transpose() * G;
-    if (t.requires_grad(in)) t.grad(in).noalias() += N->transpose() * G;
+    if (t.requires_grad(in))
+      for (Index s = 0; s < B; ++s)
+        t.grad(in).noalias() += Nv->middleCols(s * cin, cin).transpose() * G.middleRows(s * V, V);
     if (t.requires_grad(ib)) t.grad(ib) += G.colwise().sum();
     if (t.requires_grad(ix)) {
       Eigen::Map<Matrix<T>> GX(t.grad(ix).data(), B * V, cin);
       GX.noalias() += G * t.value(ip).transpose();
-      Matrix<T> GN = G * t.value(in).transpose();
-      // Aᵀ as its own row-major matrix: the product becomes a gather per output row (a
-      // product with a->transpose() scatters, 3x slower); transposing costs ~0.1% of it.
+      Matrix<T> GNv(V, B * cin);  // ∂/∂(neighbour means), vertex-major
+      for (Index s = 0; s < B; ++s)
+        GNv.middleCols(s * cin, cin).noalias() = G.middleRows(s * V, V) * t.value(in).transpose();
+      // Aᵀ as its own row-major matrix: the product stays a gather per output row (a product
+      // with a->transpose() scatters, 3x slower); transposing costs ~0.1% of it.
       const SparseMatrix<T> at = a->transpose();
-      tbb::parallel_for(Index{0}, B, [&](Index s) {  // per sample: independent rows
-        GX.middleRows(s * V, V).noalias() += at * GN.middleRows(s * V, V);
-      });
+      const Matrix<T> GXv = sparse_rows_product(at, GNv);
+      for (Index s = 0; s < B; ++s) GX.middleRows(s * V, V) += GXv.middleCols(s * cin, cin);
     }
   });
 }
