@@ -85,6 +85,27 @@ fi
       (cd "$peer" && /usr/bin/python3 blocks.py --threads $threads 2>/dev/null | grep "threads=") | sed 's/^/    /'
     done
   fi
+  if [ -n "${dirs[pcow]:-}" ]; then
+    echo
+    echo "### BD-LSTM training iteration (paper 1; shapes of ../shared/peers/torch/bdlstm.py: seq [8,32,2904,9], 10.46 M parameters)"
+    echo
+    echo "| model | parameters | threads | median ms | min ms | peak MiB |"
+    echo "|---|---|---|---|---|---|"
+    for threads in 1 2; do
+      /usr/bin/time -f "%M" -o "$out/time.log" "$bin/bench_bdlstm" --threads $threads --iters 10 --mesh "${dirs[pcow]}/1.obj" > "$out/bd.txt"
+      awk -v t=$threads -v m="$(awk '{printf "%.0f", $1/1024}' "$out/time.log")" -F'|' \
+        '{printf "| BD-LSTM pcow | %s | %s | %s | %s | %s |\n", $3 + 0, t, $4 + 0, $5 + 0, m}' "$out/bd.txt"
+    done
+    if [ -f "$peer/bdlstm.py" ] && /usr/bin/python3 -c "import torch" 2>/dev/null; then
+      echo
+      echo "PyTorch peer (bdlstm.py, nb=sparse, 10 timed iterations):"
+      echo
+      for threads in 1 2; do
+        (cd "$peer" && /usr/bin/time -f "    peak %M KiB" /usr/bin/python3 bdlstm.py --mesh pcow --threads $threads --iters 10 2>&1 |
+          grep -E "threads=|peak") | sed 's/^/    /'
+      done
+    fi
+  fi
   echo
   echo "### Synthetic data"
   echo

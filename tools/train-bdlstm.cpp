@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
       ->default_val(opt.training.teacher_frames);
   g->add_option("--print-every", opt.print_every, "Iterations between loss lines (and log rows)")
       ->default_val(opt.print_every);
-  g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt; removed at the end)");
+  g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt, removed at the end; a file named\n"
+                "here is kept). Any bdlstm-model file is a checkpoint");
   g->add_option("--checkpoint-every", opt.checkpoint_every,
                 "Iterations between checkpoints, a multiple of --print-every (0 = none)")
       ->default_val(opt.checkpoint_every);

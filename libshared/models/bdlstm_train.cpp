@@ -194,8 +194,10 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     }
   }
   save_bdlstm_model(opt.output, m, {opt.input}, common.force);
-  std::error_code ec;
-  std::filesystem::remove(ckpt, ec);
+  if (opt.checkpoint.empty()) {  // our own OUTPUT.ckpt; a checkpoint the user named is theirs
+    std::error_code ec;
+    std::filesystem::remove(ckpt, ec);
+  }
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);
 }
 

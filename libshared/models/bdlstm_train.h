@@ -12,7 +12,7 @@ namespace df::models {
 
 struct BdlstmTrainOptions {
   std::string input, output;
-  std::string checkpoint;      ///< "" = OUTPUT.ckpt
+  std::string checkpoint;      ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
   int checkpoint_every = 500;  ///< iterations between checkpoints (0 = none)
   bool resume = false;         ///< continue from the checkpoint when it exists
   int print_every = 100;       ///< iterations between loss lines (and training-log rows)

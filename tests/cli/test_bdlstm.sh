@@ -35,7 +35,9 @@ train-bdlstm -q "${tiny[@]}" --iterations 40 --checkpoint ck.h5 --resume data.h5
 for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
   run h5diff m.h5 resumed.h5 $obj; expect_rc 0
 done
-[ -f ck.h5 ] && fail "the checkpoint was not removed after the run"
+[ -f ck.h5 ] || fail "a checkpoint named with --checkpoint was removed"
+train-bdlstm -q "${tiny[@]}" --iterations 20 --checkpoint-every 10 data.h5 -o own.h5
+[ -f own.h5.ckpt ] && fail "the default checkpoint own.h5.ckpt was left behind"
 run train-bdlstm -q --window 8 --batch 2 --latent 8 --hidden 9 --lstm-layers 1 --print-every 10 --seed 3 --iterations 40 --checkpoint m20.h5 --resume data.h5 -o bad.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "hidden"
 echo "ok (resume)"
