@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt, removed at the end; a file named\n"
                 "here is kept). Any bdlstm-model file is a checkpoint");
   g->add_option("--checkpoint-every", opt.checkpoint_every,
-                "Iterations between checkpoints, a multiple of --print-every (0 = none)")
+                "Iterations between checkpoints, taken at the next loss line (0 = none)")
       ->default_val(opt.checkpoint_every);
   g->add_flag("--resume", opt.resume,
               "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
