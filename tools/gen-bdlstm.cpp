@@ -31,8 +31,8 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
   app.add_option("--mode", opt.mode, "predict or complete")->default_val(opt.mode);
   app.add_option("--method", opt.method, "bdlstm, or linear (feature-space baseline)")->default_val(opt.method);
-  app.add_option("--from", opt.frames, "predict: last given frame of a case (repeatable)");
-  app.add_option("--keyframes", opt.frames, "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
+  app.add_option("--from", opt.from, "predict: last given frame of a case (repeatable)");
+  app.add_option("--keyframes", opt.keyframes, "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
       ->delimiter(',');
   app.add_option("--test-every", opt.test_every,
                  "Cases at every K-th frame of the model's held-out test parts (instead of\n"

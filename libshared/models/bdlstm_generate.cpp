@@ -158,8 +158,12 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
     throw UsageError("--length, --gap, --samples and --retries must be positive");
   if (opt.method == "linear" && opt.mode == "predict" && opt.initial < 2)
     throw UsageError("linear extrapolation needs --initial 2 or more (it continues the last two frames)");
-  if (opt.frames.empty() == (opt.test_every == 0))
-    throw UsageError("give the frames (--from / --keyframes) or --test-every, one of them");
+  if (opt.mode == "predict" && !opt.keyframes.empty()) throw UsageError("--keyframes is for --mode complete");
+  if (opt.mode == "complete" && !opt.from.empty()) throw UsageError("--from is for --mode predict");
+  const auto& frames = opt.mode == "predict" ? opt.from : opt.keyframes;
+  if (frames.empty() == (opt.test_every == 0))
+    throw UsageError(opt.mode == "predict" ? "give --from or --test-every, one of them"
+                                           : "give --keyframes or --test-every, one of them");
 
   BdlstmModel m = load_bdlstm_model(opt.model);
   const BdlstmNet<float>& net = *m.net;
@@ -201,7 +205,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
                                                            : opt.gap + 2),
                          opt.data);
   } else if (opt.mode == "predict") {
-    for (const auto& spec : opt.frames) {
+    for (const auto& spec : frames) {
       const std::int64_t last = parse_frame(spec, d);
       const std::size_t s = d.sequence_of(last);
       if (last - d.offsets[s] + 1 < u)
@@ -214,7 +218,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
     }
   } else {
     Case c;
-    for (const auto& spec : opt.frames) c.frames.push_back(parse_frame(spec, d));
+    for (const auto& spec : frames) c.frames.push_back(parse_frame(spec, d));
     if (c.frames.size() < 2) throw UsageError("--keyframes needs at least two frames");
     for (std::size_t k = 1; k < c.frames.size(); ++k)
       if (c.frames[k] <= c.frames[k - 1])

@@ -24,9 +24,9 @@ struct BdlstmGenerateOptions {
   std::string model, data, output;
   std::string mode = "predict";   ///< predict | complete
   std::string method = "bdlstm";  ///< bdlstm | linear (the feature-space baseline)
-  /// predict: the last given frame of each case; complete: keyframes of one case, in order.
   /// A frame is a global index of DATA or SEQUENCE:K (K-th frame of that sequence).
-  std::vector<std::string> frames;
+  std::vector<std::string> from;       ///< predict: the last given frame of each case
+  std::vector<std::string> keyframes;  ///< complete: keyframes of one case, in time order
   /// > 0: cases at every K-th frame of each sequence's held-out part (the model's split)
   int test_every = 0;
   /// predict with --test-every: the first predicted frame of a case is at least this many frames

@@ -89,6 +89,8 @@ run gen-bdlstm m.h5 data.h5 --from 1 --initial 3 -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "only 2 frames"
 run gen-bdlstm m.h5 data.h5 --mode sideways --from 5 -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm
+run gen-bdlstm m.h5 data.h5 --keyframes 5,9 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "mode complete"
 run gen-bdlstm m.h5 data.h5 --from 5 --method linear -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "initial 2"
 run train-bdlstm -q --window 100 data.h5 -o x.h5
