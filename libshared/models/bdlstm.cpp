@@ -165,11 +165,12 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
   if (!bwd.empty())
     for (int t = 0; t < n; ++t)
       bidir.push_back(frame_norms(nn::sub(fwd[static_cast<std::size_t>(t)], bwd[static_cast<std::size_t>(n - 1 - t)])));
-  auto total_of = [&](const std::vector<Var>& parts) {
+  auto sum_of = [](const std::vector<Var>& parts) {
     Var s = parts[0];
     for (std::size_t k = 1; k < parts.size(); ++k) s = nn::add(s, parts[k]);
-    return nn::scale(s, inv_batch);
+    return s;
   };
+  auto total_of = [&](const std::vector<Var>& parts) { return nn::scale(sum_of(parts), inv_batch); };  // per window
   Var l_recon = total_of(recon);
   Var total = l_recon;
   Var l_bidir, l_kl, l_2;
@@ -182,8 +183,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
   if (config_.l2) {
     std::vector<Var> squares;
     for (const auto& w : p.vars) squares.push_back(nn::sum(nn::square(w)));
-    l_2 = total_of(squares);
-    l_2 = nn::scale(l_2, static_cast<T>(batch));  // total_of averaged over the batch; L_2 is not
+    l_2 = sum_of(squares);  // Σ w², not per window
     reg = reg.tape ? nn::add(reg, l_2) : l_2;
   }
   if (reg.tape) total = nn::add(total, nn::scale(reg, static_cast<T>(config_.alpha_reg)));

@@ -120,9 +120,8 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
     m.split.test_begin.push_back(test[2 * k]);
     m.split.test_end.push_back(test[2 * k + 1]);
   }
+  m.initialize();  // the network's shapes; weights, Adam and RNG state come from the file
   if (f.exists("/training/log")) m.log = f.read<double>("/training/log").data;
-  m.initialize();
-  m.log = f.exists("/training/log") ? f.read<double>("/training/log").data : std::vector<double>{};
   m.iteration = nn::read_training_state(f, m.net->store(), *m.adam, m.rng);
   return m;
 }
