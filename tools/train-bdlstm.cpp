@@ -42,6 +42,10 @@ int main(int argc, char** argv) {
                 "it runs free, so the network learns to use gen-bdlstm's --initial frames\n"
                 "(1 = the paper: only the seed frame)")
       ->default_val(opt.training.teacher_frames);
+  g->add_option("--kl-warmup", opt.training.kl_warmup,
+                "Raise the KL weight linearly from 0 to 1 over N iterations (0 = the paper: 1\n"
+                "throughout); counters the latent collapsing to the prior")
+      ->default_val(opt.training.kl_warmup);
   g->add_option("--print-every", opt.print_every, "Iterations between loss lines (and log rows)")
       ->default_val(opt.print_every);
   g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt, removed at the end; a file named\n"

@@ -110,7 +110,7 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p,
                                               const std::vector<Matrix>& window, Rng& rng,
-                                              BdlstmLossTerms* terms, int given) const {
+                                              BdlstmLossTerms* terms, int given, T kl_weight) const {
   const int n = static_cast<int>(window.size());
   if (n < 2) throw UsageError("a training window needs at least 2 frames");
   if (given < 1 || given >= n) throw UsageError("the given frames must be at least 1 and fewer than the window");
@@ -179,7 +179,10 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
     total = nn::add(total, nn::scale(l_bidir, static_cast<T>(config_.alpha_bidir)));
   }
   Var reg;
-  if (kl_sum.tape) reg = l_kl = nn::scale(kl_sum, inv_batch);
+  if (kl_sum.tape) {
+    l_kl = nn::scale(kl_sum, inv_batch);
+    reg = kl_weight == T(1) ? l_kl : nn::scale(l_kl, kl_weight);
+  }
   if (config_.l2) {
     std::vector<Var> squares;
     for (const auto& w : p.vars) squares.push_back(nn::sum(nn::square(w)));

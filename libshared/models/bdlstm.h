@@ -81,8 +81,9 @@ class BdlstmNet {
   /// ([batch, 9V], t = 0..n−1); the reparameterisation noise is drawn from `rng`. Each chain
   /// is fed its first `given` ground-truth frames (1 = the paper: free-running after the
   /// seed frame), as gen-bdlstm feeds --initial frames.
+  /// `kl_weight` scales L_KL (a warm-up ramps it from 0 to 1; 1 = eq. 3).
   Var loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const std::vector<Matrix>& window, Rng& rng,
-           BdlstmLossTerms* terms = nullptr, int given = 1) const;
+           BdlstmLossTerms* terms = nullptr, int given = 1, T kl_weight = T(1)) const;
 
  private:
   struct Chain {

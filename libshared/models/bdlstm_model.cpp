@@ -50,6 +50,7 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m, const std:
     f.set_attr("/config", "test_fraction", t.test_fraction);
     f.set_attr("/config", "test_part", t.test_part);
     f.set_attr("/config", "teacher_frames", t.teacher_frames);
+    f.set_attr("/config", "kl_warmup", t.kl_warmup);
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
     f.write_matrix("/template/vertices", m.tmpl.vertices);
     f.write_matrix("/template/faces", m.tmpl.faces);
@@ -107,6 +108,7 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   t.test_fraction = f.attr_double("/config", "test_fraction");
   t.test_part = f.attr_string("/config", "test_part");
   t.teacher_frames = i("teacher_frames");
+  t.kl_warmup = f.attr_int("/config", "kl_warmup");
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   m.tmpl.vertices = f.read_matrix<double>("/template/vertices");
   m.tmpl.faces = f.read_matrix<int>("/template/faces");

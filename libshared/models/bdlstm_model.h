@@ -28,6 +28,9 @@ struct BdlstmTraining {
   /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
   /// chains run free (1 = the paper: only the seed frame).
   int teacher_frames = 1;
+  /// The KL weight rises linearly from 0 to 1 over this many iterations (0 = always 1, the
+  /// paper), a common remedy when the latent collapses to the prior.
+  std::int64_t kl_warmup = 0;
   std::uint64_t seed = 0;
 };
 

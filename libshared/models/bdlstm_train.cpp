@@ -44,6 +44,7 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
   differs("test-part", s.test_part, t.test_part);
   differs("seed", s.seed, t.seed);
   differs("teacher-frames", s.teacher_frames, t.teacher_frames);
+  differs("kl-warmup", s.kl_warmup, t.kl_warmup);
   differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
   if (ck.split.train_begin != want.split.train_begin || ck.split.train_end != want.split.train_end)
     throw InvalidInput("checkpoint was trained on other data (its train/test split differs)", path);
@@ -76,6 +77,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (opt.training.teacher_frames < 1 || opt.training.teacher_frames >= opt.training.window)
     throw UsageError("--teacher-frames must be at least 1 and smaller than --window");
   if (opt.checkpoint_every < 0) throw UsageError("--checkpoint-every must not be negative");
+  if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
 
   {  // fail now rather than after hours of training
     std::error_code ec;
@@ -164,9 +166,13 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     const int given = m.training.teacher_frames > 1
                           ? 1 + static_cast<int>(m.rng.below(static_cast<std::uint64_t>(m.training.teacher_frames)))
                           : 1;
+    const float kl_weight =
+        m.training.kl_warmup > 0
+            ? static_cast<float>(std::min(1.0, static_cast<double>(m.iteration + 1) / static_cast<double>(m.training.kl_warmup)))
+            : 1.0f;
     BdlstmLossTerms terms;
     nn::train_step<float>(tape, m.net->store(), *m.adam, [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
-      return m.net->loss(t, p, window, m.rng, &terms, given);
+      return m.net->loss(t, p, window, m.rng, &terms, given, kl_weight);
     });
     if (!std::isfinite(terms.total))
       throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr", m.iteration + 1,

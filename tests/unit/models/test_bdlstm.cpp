@@ -96,6 +96,13 @@ TEST_CASE("BD-LSTM loss: terms are those of eq. 3-5", "[models][bdlstm]") {
   for (std::size_t i = 0; i < net.store().views().size(); ++i) l2 += net.store().value(static_cast<int>(i)).squaredNorm();
   REQUIRE(terms.l2 == Approx(l2).epsilon(1e-12));
   REQUIRE(terms.kl > 0);
+  // A KL warm-up weight scales only the KL term.
+  Rng rw(1, 0);
+  BdlstmLossTerms half;
+  auto weighted = net.loss(tape, p, window, rw, &half, 1, 0.5);
+  REQUIRE(half.kl == Approx(terms.kl).epsilon(1e-12));
+  REQUIRE(weighted.value()(0, 0) ==
+          Approx(terms.recon + 0.5 * terms.bidir + 0.1 * (0.5 * terms.kl + terms.l2)).epsilon(1e-12));
   // No KL: the encoder is deterministic, the KL term is absent.
   cfg.kl = false;
   BdlstmNet<double> det(cfg, 4, tetra_edges(), 3);
