@@ -3,8 +3,6 @@
 // ACAP-like features drawn from U(-0.95, 0.95), the paper's network (3 mesh convs, latent 128,
 // LSTM 3 x 128, mirrored decoder), both chains free-running 31 steps, loss eq. 3-5.
 //   bench_bdlstm --mesh pcow/1.obj [--threads N] [--iters 10] [--warmup 2]
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 
 #include "core/tool.h"
@@ -12,9 +10,7 @@
 #include "io/mesh_io.h"
 #include "models/bdlstm.h"
 #include "nn/train_step.h"
-#include "synth/meshseq.h"
-
-using Clock = std::chrono::steady_clock;
+#include "timing.h"
 
 int main(int argc, char** argv) {
   df::Tool tool("bench_bdlstm", "Time one BD-LSTM training iteration (see bench/run.sh).");
@@ -44,15 +40,8 @@ int main(int argc, char** argv) {
         return net.loss(t, p, seq, rng);
       });
     };
-    for (int i = 0; i < warmup; ++i) step();
-    std::vector<double> ms;
-    for (int i = 0; i < iters; ++i) {
-      auto t0 = Clock::now();
-      step();
-      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    }
-    std::sort(ms.begin(), ms.end());
+    const auto tm = df::bench::time_iterations(warmup, iters, step);
     std::printf("| BD-LSTM %s | %zu | %.1f | %.1f | seq[%d,%d,%d,9] |\n", mesh_path.c_str(), net.store().size(),
-                ms[ms.size() / 2], ms.front(), batch, window, V);
+                tm.median_ms, tm.min_ms, batch, window, V);
   });
 }

@@ -14,9 +14,9 @@
 #include "nn/layers.h"
 #include "nn/train_step.h"
 #include "synth/meshseq.h"
+#include "timing.h"
 
 using namespace df::nn;
-using Clock = std::chrono::steady_clock;
 
 namespace {
 struct Case {
@@ -28,16 +28,8 @@ struct Case {
 void time_case(Case& c, int iters) {
   Adam<float> adam(c.store.size(), {});
   Tape<float> t;
-  auto step = [&] { train_step<float>(t, c.store, adam, c.loss); };
-  for (int i = 0; i < 5; ++i) step();
-  std::vector<double> ms;
-  for (int i = 0; i < iters; ++i) {
-    auto t0 = Clock::now();
-    step();
-    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-  }
-  std::sort(ms.begin(), ms.end());
-  std::printf("| %s | %zu | %.2f | %.2f |\n", c.name.c_str(), c.store.size(), ms[ms.size() / 2], ms.front());
+  const auto tm = df::bench::time_iterations(5, iters, [&] { train_step<float>(t, c.store, adam, c.loss); });
+  std::printf("| %s | %zu | %.2f | %.2f |\n", c.name.c_str(), c.store.size(), tm.median_ms, tm.min_ms);
   std::fflush(stdout);
 }
 
