@@ -107,8 +107,9 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   t.lr = f.attr_double("/config", "lr");
   t.test_fraction = f.attr_double("/config", "test_fraction");
   t.test_part = f.attr_string("/config", "test_part");
-  t.teacher_frames = i("teacher_frames");
-  t.kl_warmup = f.attr_int("/config", "kl_warmup");
+  // Added after the first model files were written: absent means the paper's setting.
+  t.teacher_frames = f.has_attr("/config", "teacher_frames") ? i("teacher_frames") : 1;
+  t.kl_warmup = f.has_attr("/config", "kl_warmup") ? f.attr_int("/config", "kl_warmup") : 0;
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   m.tmpl.vertices = f.read_matrix<double>("/template/vertices");
   m.tmpl.faces = f.read_matrix<int>("/template/faces");
