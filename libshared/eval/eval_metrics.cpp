@@ -44,7 +44,6 @@ struct Frames {
 Frames read_frames(const std::string& path) {
   Frames fr;
   fr.path = path;
-  std::error_code ec;
   if (!io::is_hdf5_path(path)) {  // mesh files
     convert::FrameReader reader({path});
     fr.tmpl = reader.read(0);
@@ -132,6 +131,10 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
   if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
   Frames pred = read_frames(opt.pred);
+  // The template's topology and parts (TRUTH must have the same template, checked below).
+  const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
+  int n_components = 0;
+  const std::vector<int> component = geometry::connected_components(topo, 0, &n_components);
   nlohmann::ordered_json js;
   js["pred"] = opt.pred;
   const auto& nz_pred = pred.normalization;
@@ -185,10 +188,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     reconstruct(*truth);
     const auto& T = truth->tmpl.vertices;
     diag = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
-    const auto topo = geometry::mesh_topology(truth->tmpl.faces, static_cast<int>(T.rows()));
     const auto hoods = edge_neighbourhoods(topo, opt.sted_rings);
-    int n_components = 0;
-    const std::vector<int> component = geometry::connected_components(topo, 0, &n_components);
     const auto& nz = truth->normalization ? truth->normalization : nz_pred;
     const bool features = pred.raw.rows() && truth->raw.rows();
     results.resize(pairs.size());
@@ -225,9 +225,6 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   std::size_t spread_n = 0;
   if (!groups.empty()) {
     reconstruct(pred);
-    const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
-    int nc = 0;
-    const auto comp = geometry::connected_components(topo, 0, &nc);
     for (const auto& [name, seqs] : groups) {
       const auto len = pred.offsets[seqs[0] + 1] - pred.offsets[seqs[0]];
       for (auto s : seqs)
@@ -240,7 +237,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
           for (std::size_t b = a + 1; b < seqs.size(); ++b) {
             const auto& pa = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[a]] + t)];
             const auto& pb = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[b]] + t)];
-            spread += mean_vertex_error(align_translation(pb, pa, comp, nc), pa);
+            spread += mean_vertex_error(align_translation(pb, pa, component, n_components), pa);
             ++spread_n;
           }
       }

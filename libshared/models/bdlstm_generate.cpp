@@ -27,16 +27,15 @@ class Stepper {
   Stepper(const BdlstmNet<float>& net, int chain) : net_(net), chain_(chain), bound_(net.store().bind(tape_)) {
     mark_ = tape_.size();
   }
-  /// Initial states for `rows` rows: row r gets init[r] (+ noise when sigma > 0) in every h, c.
-  void reset(const std::vector<float>& init, double sigma, Rng* rng) {
-    const auto rows = static_cast<Index>(init.size()), hidden = static_cast<Index>(net_.config().hidden);
-    h_.assign(static_cast<std::size_t>(net_.config().lstm_layers), Matrix(rows, hidden));
+  /// Initial states of `rows` rows: every h and c entry is `value` (+ N(0, sigma²) when sigma > 0).
+  void reset(Index rows, float value, double sigma, Rng& rng) {
+    const auto hidden = static_cast<Index>(net_.config().hidden);
+    h_.assign(static_cast<std::size_t>(net_.config().lstm_layers), Matrix::Constant(rows, hidden, value));
     c_ = h_;
-    for (auto* states : {&h_, &c_})
-      for (auto& m : *states)
-        for (Index r = 0; r < rows; ++r)
-          for (Index k = 0; k < hidden; ++k)
-            m(r, k) = init[static_cast<std::size_t>(r)] + (sigma > 0 ? static_cast<float>(sigma * rng->normal()) : 0.f);
+    if (sigma > 0)
+      for (auto* states : {&h_, &c_})
+        for (auto& m : *states)
+          for (Index k = 0; k < m.size(); ++k) m.data()[k] += static_cast<float>(sigma * rng.normal());
   }
   Matrix step(const Matrix& x) {
     tape_.truncate(mark_);
@@ -58,7 +57,7 @@ class Stepper {
 struct Data {
   Matrix features;  // [N, 9V] normalized with the model's numbers
   std::vector<std::int64_t> offsets;
-  std::vector<std::string> sequences, names;
+  std::vector<std::string> sequences;
   std::string history;
   std::size_t sequence_of(std::int64_t f) const {
     return static_cast<std::size_t>(std::upper_bound(offsets.begin(), offsets.end(), f) - offsets.begin() - 1);
@@ -78,7 +77,6 @@ Data read_data(const std::string& path, const BdlstmModel& m) {
     throw InvalidInput("its template faces differ from the model's: model and data must share the template", path);
   d.offsets = in.read<std::int64_t>("/sequences/offsets").data;
   d.sequences = in.read_strings("/sequences/names");
-  d.names = in.read_strings("/frames/names");
   d.history = io::read_history(in);
   const auto n = static_cast<Index>(dims.at("N"));
   d.features.resize(n, 9 * nv);
@@ -266,7 +264,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
         for (std::int64_t t = 0; t < u; ++t) recent.push_back(Matrix(d.features.row(c.frames[static_cast<std::size_t>(t)])).replicate(K, 1));
         int produced = 0;
         while (produced < opt.length) {
-          forward.reset(std::vector<float>(static_cast<std::size_t>(K), init), random_states ? opt.state_sigma : 0, &rng);
+          forward.reset(K, init, random_states ? opt.state_sigma : 0, rng);
           Matrix y;
           for (const auto& x : recent) y = forward.step(x);
           int in_run = static_cast<int>(u);
@@ -296,10 +294,10 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
           std::vector<float> best(static_cast<std::size_t>(K), std::numeric_limits<float>::infinity());
           for (int attempt = 0; attempt < opt.retries; ++attempt) {
             const bool rnd = random_states || attempt > 0;
-            forward.reset(std::vector<float>(static_cast<std::size_t>(K), init), rnd ? opt.state_sigma : 0, &rng);
+            forward.reset(K, init, rnd ? opt.state_sigma : 0, rng);
             std::vector<Matrix> F{Matrix(d.features.row(a)).replicate(K, 1)};
             for (std::int64_t t = 0; t < L; ++t) F.push_back(forward.step(F.back()));
-            backward.reset(std::vector<float>(static_cast<std::size_t>(K), -init), rnd ? opt.state_sigma : 0, &rng);
+            backward.reset(K, -init, rnd ? opt.state_sigma : 0, rng);
             std::vector<Matrix> B{Matrix(d.features.row(b)).replicate(K, 1)};
             for (std::int64_t t = 0; t < L; ++t) B.push_back(backward.step(B.back()));
             bool all = true;
