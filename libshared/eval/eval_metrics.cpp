@@ -145,14 +145,17 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   double change_total = 0;
   std::size_t change_n = 0;
   if (pred.raw.rows()) {
-    for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s)
-      for (auto i = pred.offsets[s]; i + 1 < pred.offsets[s + 1]; ++i) {
+    for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
+      Eigen::VectorXd prev = normalized(pred, static_cast<std::size_t>(pred.offsets[s]), nz_pred);
+      for (auto i = pred.offsets[s]; i + 1 < pred.offsets[s + 1]; ++i) {  // each frame normalized once
         const auto t = static_cast<std::size_t>(i - pred.offsets[s]);
-        const double c = feature_change(normalized(pred, static_cast<std::size_t>(i), nz_pred),
-                                        normalized(pred, static_cast<std::size_t>(i + 1), nz_pred));
+        Eigen::VectorXd next = normalized(pred, static_cast<std::size_t>(i + 1), nz_pred);
+        const double c = feature_change(prev, next);
         if (change_sum.size() <= t) change_sum.resize(t + 1), change_count.resize(t + 1);
         change_sum[t] += c, change_count[t] += 1, change_total += c, ++change_n;
+        prev = std::move(next);
       }
+    }
   }
   std::vector<double> change_by_index;
   for (std::size_t t = 0; t < change_sum.size(); ++t) change_by_index.push_back(change_sum[t] / change_count[t]);
