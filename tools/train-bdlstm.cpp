@@ -14,8 +14,9 @@ int main(int argc, char** argv) {
                 "weights. Loss: L_recon + 0.5 L_bidir + 0.1 (L_KL + sum w^2) (eq. 3-5).\n\n"
                 "INPUT: an acap .h5 with /features/normalized (from obj2acap).\n"
                 "OUTPUT: a bdlstm-model .h5 (weights, Adam/RNG state, config, template,\n"
-                "normalization, train/test split, loss log), for gen-bdlstm. The last --test-fraction\n"
-                "of every sequence is held out (not trained on).");
+                "normalization, train/test split, loss log), for gen-bdlstm. A contiguous --test-fraction\n"
+                "of every sequence is held out (not trained on): at its end by default; --test-part\n"
+                "random places it by the seed, as the paper does (no window crosses it).");
   tool.with_threads().with_seed(1).with_force();
   df::models::BdlstmTrainOptions opt;
   std::string directions = "shared";
@@ -34,9 +35,9 @@ int main(int argc, char** argv) {
   g->add_option("--test-fraction", opt.training.test_fraction,
                 "Fraction of every sequence held out as a contiguous test part")
       ->default_val(opt.training.test_fraction);
-  g->add_option("--test-part", opt.training.test_part, "Where the held-out part lies: end or start")
+  g->add_option("--test-part", opt.training.test_part, "Where the held-out part lies: end, start, middle, or random (placed by --seed)")
       ->default_val(opt.training.test_part)
-      ->check(CLI::IsMember({"end", "start"}));
+      ->check(CLI::IsMember({"end", "start", "middle", "random"}));
   g->add_option("--teacher-frames", opt.training.teacher_frames,
                 "Feed each chain u ground-truth frames (u uniform in 1..N per iteration) before\n"
                 "it runs free, so the network learns to use gen-bdlstm's --initial frames\n"

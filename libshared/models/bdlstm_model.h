@@ -24,7 +24,7 @@ struct BdlstmTraining {
   std::int64_t iterations = 7000;
   double lr = 1e-4;  // 1e-3 (common default) diverges on 2,904-vertex pcow within 6 iterations (KL 3e11)
   double test_fraction = 0.2;  ///< held-out contiguous part of each sequence
-  std::string test_part = "end";  ///< where the held-out part lies: end | start
+  std::string test_part = "end";  ///< where the held-out part lies: end | start | middle | random
   /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
   /// chains run free (1 = the paper: only the seed frame).
   int teacher_frames = 1;
@@ -35,7 +35,9 @@ struct BdlstmTraining {
 };
 
 /// Frames of each sequence of the training data used for training and held out for testing
-/// (global frame indices of the data file, half-open ranges).
+/// (global frame indices of the data file, half-open ranges). The frames trained on are the
+/// train range minus the test range (a held-out part inside a sequence splits its training part
+/// in two; no window crosses it).
 struct BdlstmSplit {
   std::string data;  ///< the data file's name as given
   std::vector<std::string> sequences;

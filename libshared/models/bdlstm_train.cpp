@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/rng.h"
 #include "io/file_header.h"
 #include "io/schema.h"
 #include "nn/train_step.h"
@@ -46,27 +48,44 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
   differs("teacher-frames", s.teacher_frames, t.teacher_frames);
   differs("kl-warmup", s.kl_warmup, t.kl_warmup);
   differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
-  if (ck.split.train_begin != want.split.train_begin || ck.split.train_end != want.split.train_end)
+  if (ck.split.train_begin != want.split.train_begin || ck.split.train_end != want.split.train_end ||
+      ck.split.test_begin != want.split.test_begin || ck.split.test_end != want.split.test_end)
     throw InvalidInput("checkpoint was trained on other data (its train/test split differs)", path);
 }
 
 }  // namespace
 
 void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, const std::string& part,
-                     BdlstmSplit& split) {
+                     std::uint64_t seed, BdlstmSplit& split) {
   if (!(fraction >= 0 && fraction < 1)) throw UsageError("--test-fraction must be in [0, 1)");
-  if (part != "end" && part != "start") throw UsageError("--test-part must be end or start");
+  if (part != "end" && part != "start" && part != "middle" && part != "random")
+    throw UsageError("--test-part must be end, start, middle or random");
+  Rng rng(seed, 0x5e9117);  // its own stream: the placement does not shift the training draws
   for (std::size_t s = 0; s + 1 < offsets.size(); ++s) {
     const std::int64_t b = offsets[s], e = offsets[s + 1];
     const auto n_test = static_cast<std::int64_t>(std::llround(fraction * static_cast<double>(e - b)));
     if (part == "end") {
       split.train_begin.push_back(b), split.train_end.push_back(e - n_test);
       split.test_begin.push_back(e - n_test), split.test_end.push_back(e);
-    } else {
+    } else if (part == "start") {
       split.test_begin.push_back(b), split.test_end.push_back(b + n_test);
       split.train_begin.push_back(b + n_test), split.train_end.push_back(e);
+    } else {  // inside: the training part is the sequence minus the held-out part
+      const std::int64_t room = e - b - n_test;
+      const std::int64_t at =
+          part == "middle" ? room / 2 : static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(room + 1)));
+      split.train_begin.push_back(b), split.train_end.push_back(e);
+      split.test_begin.push_back(b + at), split.test_end.push_back(b + at + n_test);
     }
   }
+}
+
+std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span) {
+  std::vector<std::int64_t> starts;
+  for (std::size_t s = 0; s < split.train_begin.size(); ++s)
+    for (std::int64_t f = split.train_begin[s]; f + span <= split.train_end[s]; ++f)
+      if (f + span <= split.test_begin[s] || f >= split.test_end[s]) starts.push_back(f);
+  return starts;
 }
 
 void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
@@ -101,22 +120,23 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   const auto offsets = in.read<std::int64_t>("/sequences/offsets").data;
   m.split.data = opt.input;
   m.split.sequences = in.read_strings("/sequences/names");
-  split_sequences(offsets, m.training.test_fraction, m.training.test_part, m.split);
+  split_sequences(offsets, m.training.test_fraction, m.training.test_part, common.seed, m.split);
 
   // Windows: every start in a training part that leaves room for the whole window.
   const std::int64_t span = static_cast<std::int64_t>(m.training.window - 1) * m.training.stride + 1;
-  std::vector<std::int64_t> starts_before{0};  // cumulative number of window starts per sequence
-  std::int64_t longest = 0;
-  for (std::size_t s = 0; s < m.split.sequences.size(); ++s) {
-    const std::int64_t len = m.split.train_end[s] - m.split.train_begin[s];
-    longest = std::max(longest, len);
-    starts_before.push_back(starts_before.back() + std::max<std::int64_t>(0, len - span + 1));
-  }
-  if (starts_before.back() == 0)
+  const std::vector<std::int64_t> starts = window_starts(m.split, span);
+  if (starts.empty()) {
+    std::int64_t longest = 0;  // the longest run of training frames
+    for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
+      const std::int64_t b = m.split.train_begin[s], e = m.split.train_end[s];
+      const std::int64_t tb = std::clamp(m.split.test_begin[s], b, e), te = std::clamp(m.split.test_end[s], b, e);
+      longest = std::max({longest, tb - b, e - te});
+    }
     throw InvalidInput(fmt::format("no sequence has a training part of {} frames (window {}, stride {}); the longest "
                                    "has {}: use a smaller --window or --stride",
                                    span, m.training.window, m.training.stride, longest),
                        opt.input);
+  }
 
   const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
   if (opt.resume && std::filesystem::exists(ckpt)) {
@@ -143,7 +163,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
                         in.where("/features/normalized"));
   log::info("{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, stride {}), "
             "{} parameters, {} directions",
-            opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts_before.back(),
+            opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts.size(),
             m.training.window, m.training.stride, m.net->store().size(), directions_name(m.config.directions));
 
   nn::Tape<float> tape;
@@ -156,10 +176,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   std::int64_t last_checkpoint = m.iteration;
   for (; m.iteration < m.training.iterations; ++m.iteration) {
     for (int b = 0; b < m.training.batch; ++b) {
-      const auto r = static_cast<std::int64_t>(m.rng.below(static_cast<std::uint64_t>(starts_before.back())));
-      const auto s = static_cast<std::size_t>(
-          std::upper_bound(starts_before.begin(), starts_before.end(), r) - starts_before.begin() - 1);
-      const std::int64_t first = m.split.train_begin[s] + (r - starts_before[s]);
+      const std::int64_t first = starts[m.rng.below(starts.size())];
       for (int t = 0; t < m.training.window; ++t)
         window[static_cast<std::size_t>(t)].row(b) = data.row(first + t * m.training.stride);
     }

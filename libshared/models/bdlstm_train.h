@@ -3,7 +3,9 @@
 // part of the sequences; a contiguous part of each sequence is held out for testing.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/tool.h"
 #include "models/bdlstm_model.h"
@@ -21,9 +23,13 @@ struct BdlstmTrainOptions {
 };
 
 /// Splits each sequence (offsets as in the acap file) into a training part and a held-out
-/// contiguous part of round(fraction × length) frames at its end or start.
+/// contiguous part of round(fraction × length) frames at its end, start, middle, or at a place
+/// drawn from `seed` (random; the paper "randomly excludes a subsequence").
 void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, const std::string& part,
-                     BdlstmSplit& split);
+                     std::uint64_t seed, BdlstmSplit& split);
+/// First frames of every window of `span` frames inside a training part and clear of its
+/// sequence's held-out part, in sequence and frame order.
+std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span);
 
 void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common);
 

@@ -42,6 +42,16 @@ run train-bdlstm -q --window 8 --batch 2 --latent 8 --hidden 9 --lstm-layers 1 -
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "hidden"
 echo "ok (resume)"
 
+# --- a held-out part inside the sequence (--test-part middle): the test cases come from it
+train-bdlstm -q "${tiny[@]}" --iterations 10 --test-part middle data.h5 -o mid.h5
+ints() { h5dump -d "$1" -y -w 0 "$2" | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9-' ' ' | xargs; }
+[ "$(ints /split/test mid.h5)" = "24 36" ] || fail "middle held-out part is '$(ints /split/test mid.h5)', expected 24 36"
+gen-bdlstm -q mid.h5 data.h5 --test-every 2 --initial 2 --length 4 -o midp.h5
+src=$(ints /frames/source midp.h5)
+[ -n "$src" ] || fail "no frames predicted from the middle part"
+for f in $src; do [ "$f" -ge 24 ] && [ "$f" -lt 36 ] || fail "predicted frame of source $f is outside the held-out part 24..35"; done
+echo "ok (held-out part in the middle: cases from frames $src)"
+
 # --- generation: deterministic for a seed, diverse across seeds
 gen-bdlstm -q m.h5 data.h5 --from 50 --initial 3 --length 9 --samples 3 --seed 5 -o s5.h5
 gen-bdlstm -q m.h5 data.h5 --from 50 --initial 3 --length 9 --samples 3 --seed 5 --threads 1 -o s5b.h5

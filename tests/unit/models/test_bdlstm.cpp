@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 
 #include "helpers.h"
@@ -148,15 +149,55 @@ TEST_CASE("BD-LSTM training lowers the loss and makes the two chains agree", "[m
 
 TEST_CASE("BD-LSTM split: a contiguous held-out part per sequence", "[models][bdlstm]") {
   BdlstmSplit s;
-  split_sequences({0, 100, 150}, 0.2, "end", s);
+  split_sequences({0, 100, 150}, 0.2, "end", 1, s);
   REQUIRE(s.train_begin == std::vector<std::int64_t>{0, 100});
   REQUIRE(s.train_end == std::vector<std::int64_t>{80, 140});
   REQUIRE(s.test_begin == std::vector<std::int64_t>{80, 140});
   REQUIRE(s.test_end == std::vector<std::int64_t>{100, 150});
   BdlstmSplit t;
-  split_sequences({0, 10}, 0.2, "start", t);
+  split_sequences({0, 10}, 0.2, "start", 1, t);
   REQUIRE(t.test_begin[0] == 0);
   REQUIRE(t.test_end[0] == 2);
   REQUIRE(t.train_begin[0] == 2);
-  REQUIRE_THROWS_AS(split_sequences({0, 10}, 1.0, "end", t), UsageError);
+  REQUIRE_THROWS_AS(split_sequences({0, 10}, 1.0, "end", 1, t), UsageError);
+  REQUIRE_THROWS_AS(split_sequences({0, 10}, 0.2, "inside", 1, t), UsageError);
+  // Windows of 3 frames: all starts of the training part, none reaching into the test part.
+  REQUIRE(window_starts(s, 3) == [] {
+    std::vector<std::int64_t> w;
+    for (std::int64_t f = 0; f <= 77; ++f) w.push_back(f);
+    for (std::int64_t f = 100; f <= 137; ++f) w.push_back(f);
+    return w;
+  }());
+}
+
+TEST_CASE("BD-LSTM split: a held-out part inside the sequence", "[models][bdlstm]") {
+  BdlstmSplit m;
+  split_sequences({0, 100}, 0.2, "middle", 1, m);
+  REQUIRE(m.test_begin[0] == 40);
+  REQUIRE(m.test_end[0] == 60);
+  REQUIRE(m.train_begin[0] == 0);
+  REQUIRE(m.train_end[0] == 100);
+  // Windows of 10 frames lie in 0..39 or 60..99.
+  const auto w = window_starts(m, 10);
+  REQUIRE(w.size() == 31 + 31);
+  REQUIRE(w[30] == 30);
+  REQUIRE(w[31] == 60);
+  REQUIRE(w.back() == 90);
+  // random: inside the sequence, placed by the seed (same seed, same place; seeds differ).
+  std::vector<std::int64_t> places;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    BdlstmSplit r, again;
+    split_sequences({0, 100, 130}, 0.2, "random", seed, r);
+    split_sequences({0, 100, 130}, 0.2, "random", seed, again);
+    REQUIRE(r.test_begin == again.test_begin);
+    REQUIRE(r.test_end[0] - r.test_begin[0] == 20);
+    REQUIRE(r.test_end[1] - r.test_begin[1] == 6);
+    REQUIRE(r.test_begin[0] >= 0);
+    REQUIRE(r.test_end[0] <= 100);
+    REQUIRE(r.test_begin[1] >= 100);
+    REQUIRE(r.test_end[1] <= 130);
+    places.push_back(r.test_begin[0]);
+  }
+  std::sort(places.begin(), places.end());
+  REQUIRE(std::unique(places.begin(), places.end()) - places.begin() > 3);
 }
