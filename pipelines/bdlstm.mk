@@ -20,16 +20,16 @@ BD_VARIANTS := unidirectional standard no-kl no-l2
 TRAIN_THREADS ?= 0
 
 # --- per-set settings: training, prediction length, test cases
-finger_TRAIN := --iterations 1000 --window 32 --batch 8
+finger_TRAIN := --iterations 2000 --window 32 --batch 8 --teacher-frames 3
 finger_LENGTH := 15
 finger_EVERY := 4
 faerie_TRAIN := --iterations 1000 --window 8 --batch 8 --test-fraction 0.5
 faerie_LENGTH := 5
 faerie_EVERY := 1
-pcow_TRAIN := --iterations 600 --window 32 --batch 8
+pcow_TRAIN := --iterations 1800 --window 32 --batch 8 --teacher-frames 3 --test-part middle
 pcow_LENGTH := 15
 pcow_EVERY := 2
-chickenCrossing_TRAIN := --iterations 600 --window 32 --batch 8 --stride 2
+chickenCrossing_TRAIN := --iterations 1800 --window 32 --batch 8 --stride 2 --teacher-frames 3 --test-part middle
 chickenCrossing_LENGTH := 15
 chickenCrossing_EVERY := 2
 

@@ -16,7 +16,9 @@ int main(int argc, char** argv) {
                 "--samples K draws K different results per case from random initial LSTM states.\n"
                 "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
                 "(from the last two given frames) or interpolation in ACAP feature space.\n"
-                "--test-every K makes the cases from the model's held-out test parts.\n\n"
+                "--test-every K makes the cases from the model's held-out test parts.\n"
+                "A model trained with --stride q steps q data frames per generated frame: the\n"
+                "given frames and keyframes are q apart, and so are the frames it is compared with.\n\n"
                 "INPUT: MODEL (bdlstm-model) and DATA (acap file on the same template: the given\n"
                 "frames). Frames are global indices of DATA or SEQUENCE:K.\n"
                 "OUTPUT: an acap .h5 with normalized features, one sequence per case and sample;\n"
@@ -57,6 +59,10 @@ int main(int argc, char** argv) {
       ->default_val(opt.retries);
   app.add_option("--window", opt.window, "predict: frames per chained run (0 = the training window)")
       ->default_val(opt.window);
+  app.add_option("--stride", opt.stride,
+                 "Data frames per generated frame (0 = the model's training --stride): given frames,\n"
+                 "keyframes and the frames compared with the data are this far apart")
+      ->default_val(opt.stride);
   tool.footer("Examples:\n"
               "  gen-bdlstm pcow-model.h5 pcow.h5 --from 170 --initial 3 --length 15 -o pred.h5\n"
               "  gen-bdlstm model.h5 data.h5 --from walk:0 --length 300 -o long.h5\n"

@@ -170,6 +170,8 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
   Data d = read_data(opt.data, m);
   const int window = opt.window ? opt.window : m.training.window;
   if (window < 2) throw UsageError("--window must be at least 2");
+  if (opt.stride < 0) throw UsageError("--stride must not be negative");
+  const std::int64_t q = opt.stride ? opt.stride : m.training.stride;  // data frames per step
 
   // The cases.
   std::vector<Case> cases;
@@ -183,34 +185,36 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
       const std::int64_t shift = d.offsets[s] - (m.split.train_begin[k] < m.split.test_begin[k] ? m.split.train_begin[k]
                                                                                                  : m.split.test_begin[k]);
       const std::int64_t b = m.split.test_begin[k] + shift, e = m.split.test_end[k] + shift;
-      // predict: the first predicted frame p runs from b + context; the given frames are the
-      // u frames before it. complete: keyframes a and a + gap + 1.
+      // In steps of q frames: predict: the first predicted frame runs from b + context; the
+      // given frames are the u before it. complete: keyframes a and a + gap + 1.
       const std::int64_t context = opt.mode == "predict" ? std::max<std::int64_t>(opt.test_context, u) : 0;
       const std::int64_t need = opt.mode == "predict" ? context + opt.length : opt.gap + 2;
-      for (std::int64_t a = b; a + need <= e; a += opt.test_every) {
+      for (std::int64_t a = b; a + (need - 1) * q < e; a += opt.test_every) {
         Case c;
         if (opt.mode == "predict")
-          for (std::int64_t t = context - u; t < context; ++t) c.frames.push_back(a + t);
+          for (std::int64_t t = context - u; t < context; ++t) c.frames.push_back(a + t * q);
         else
-          c.frames = {a, a + opt.gap + 1};
+          c.frames = {a, a + (opt.gap + 1) * q};
         c.name = fmt::format("{}-{}", d.sequences[s], c.frames.back() - d.offsets[s]);
         cases.push_back(std::move(c));
       }
     }
     if (cases.empty())
-      throw InvalidInput(fmt::format("no held-out part of the model's split is long enough for a case of {} frames",
+      throw InvalidInput(fmt::format("no held-out part of the model's split is long enough for a case of {} frames{}",
                                      opt.mode == "predict" ? std::max<std::int64_t>(opt.test_context, u) + opt.length
-                                                           : opt.gap + 2),
+                                                           : opt.gap + 2,
+                                     q > 1 ? fmt::format(" {} apart", q) : ""),
                          opt.data);
   } else if (opt.mode == "predict") {
     for (const auto& spec : frames) {
       const std::int64_t last = parse_frame(spec, d);
       const std::size_t s = d.sequence_of(last);
-      if (last - d.offsets[s] + 1 < u)
-        throw UsageError(fmt::format("--from {}: only {} frames of '{}' up to it, --initial asks for {}", spec,
-                                     last - d.offsets[s] + 1, d.sequences[s], u));
+      if ((last - d.offsets[s]) / q + 1 < u)
+        throw UsageError(fmt::format("--from {}: only {} frames of '{}' up to it{}, --initial asks for {}", spec,
+                                     (last - d.offsets[s]) / q + 1, d.sequences[s],
+                                     q > 1 ? fmt::format(" at the model's stride {}", q) : "", u));
       Case c;
-      for (std::int64_t t = last - u + 1; t <= last; ++t) c.frames.push_back(t);
+      for (std::int64_t t = u - 1; t >= 0; --t) c.frames.push_back(last - t * q);
       c.name = fmt::format("{}-{}", d.sequences[s], last - d.offsets[s]);
       cases.push_back(std::move(c));
     }
@@ -218,9 +222,14 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
     Case c;
     for (const auto& spec : frames) c.frames.push_back(parse_frame(spec, d));
     if (c.frames.size() < 2) throw UsageError("--keyframes needs at least two frames");
-    for (std::size_t k = 1; k < c.frames.size(); ++k)
+    for (std::size_t k = 1; k < c.frames.size(); ++k) {
       if (c.frames[k] <= c.frames[k - 1])
         throw UsageError("--keyframes must be increasing (a gap runs forward from one keyframe to the next)");
+      if ((c.frames[k] - c.frames[k - 1]) % q != 0)
+        throw UsageError(fmt::format("keyframes {} and {} are {} frames apart, not a multiple of the stride {} the "
+                                     "model steps by (--stride)",
+                                     c.frames[k - 1], c.frames[k], c.frames[k] - c.frames[k - 1], q));
+    }
     c.name = fmt::format("{}-{}", d.sequences[d.sequence_of(c.frames[0])], c.frames[0] - d.offsets[d.sequence_of(c.frames[0])]);
     cases.push_back(std::move(c));
   }
@@ -229,9 +238,9 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
   const bool random_states = K > 1;
   Rng rng(common.seed, 2);
   const auto init = static_cast<float>(m.config.init_state);
-  auto source_of = [&](std::int64_t from, std::int64_t k) -> std::int64_t {  // data frame k after `from`
+  auto source_of = [&](std::int64_t from, std::int64_t k) -> std::int64_t {  // data frame k steps after `from`
     const std::size_t s = d.sequence_of(from);
-    return from + k < d.offsets[s + 1] ? from + k : -1;
+    return from + k * q < d.offsets[s + 1] ? from + k * q : -1;
   };
   std::vector<Generated> out;
   Progress progress(opt.mode == "predict" ? "predicting" : "completing", cases.size());
@@ -255,7 +264,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
       for (auto& s : g)
         for (std::int64_t t = 0; t < u; ++t) push(s, d.features.row(c.frames[static_cast<std::size_t>(t)]), c.frames[static_cast<std::size_t>(t)], 0);
       if (opt.method == "linear") {
-        const Matrix a = d.features.row(last - 1), b = d.features.row(last);
+        const Matrix a = d.features.row(c.frames[static_cast<std::size_t>(u - 2)]), b = d.features.row(last);
         for (auto& s : g)
           for (int k = 1; k <= opt.length; ++k) push(s, b + static_cast<float>(k) * (b - a), source_of(last, k), k);
       } else {
@@ -283,8 +292,8 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
       // Completion, gap by gap; every sample's path starts with the first keyframe.
       for (auto& s : g) push(s, d.features.row(c.frames[0]), c.frames[0], 0);
       for (std::size_t gi = 0; gi + 1 < c.frames.size(); ++gi) {
-        const std::int64_t a = c.frames[gi], b = c.frames[gi + 1], L = b - a;
-        std::vector<std::vector<Matrix>> path(static_cast<std::size_t>(K));  // frames a+1 .. b
+        const std::int64_t a = c.frames[gi], b = c.frames[gi + 1], L = (b - a) / q;  // steps
+        std::vector<std::vector<Matrix>> path(static_cast<std::size_t>(K));  // steps 1 .. L
         if (opt.method == "linear") {
           for (int k = 0; k < K; ++k)
             for (std::int64_t t = 1; t <= L; ++t)
@@ -304,7 +313,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
             for (int k = 0; k < K; ++k) {
               auto& bk = best[static_cast<std::size_t>(k)];
               if (bk < opt.threshold) continue;
-              // F_i is time a+i, B_j time b−j: same time i+j = L, adjacent i+j = L−1.
+              // F_i is i steps after a, B_j j steps before b: same time i+j = L, adjacent i+j = L−1.
               float diff = std::numeric_limits<float>::infinity();
               std::int64_t bi = 0;
               for (std::int64_t i = 0; i <= L; ++i)
@@ -315,7 +324,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
                 }
               if (diff < bk) {
                 bk = diff;
-                // Time a+t comes from the forward chain up to the merge, then from the
+                // Step t comes from the forward chain up to the merge, then from the
                 // backward chain (B_0 = the keyframe b).
                 auto& p = path[static_cast<std::size_t>(k)];
                 p.clear();

@@ -10,7 +10,8 @@
 // feature space. Output: an acap file with normalized features (acap2obj makes meshes), one
 // sequence per case and sample, with /frames/source (the data frame each generated frame
 // corresponds to) and /frames/step (frames after the last given one; 0 for given frames and
-// keyframes) for eval-metrics.
+// keyframes) for eval-metrics. A model trained with --stride q steps q data frames per
+// generated frame (given frames, keyframes and sources are q apart).
 #pragma once
 
 #include <string>
@@ -40,6 +41,10 @@ struct BdlstmGenerateOptions {
   double threshold = 0.05;   ///< complete: merge when ‖S^f − S^b‖ / ‖S^f‖ is below this
   int retries = 20;          ///< complete: attempts with random states before giving up
   int window = 0;            ///< predict: restart the chain every WINDOW frames (0 = the model's)
+  /// Data frames per generated frame (0 = the model's training --stride): a model trained on
+  /// every q-th frame steps q frames at a time, so given frames, keyframes and /frames/source
+  /// are q apart.
+  int stride = 0;
 };
 
 void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& common);

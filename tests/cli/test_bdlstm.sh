@@ -52,6 +52,20 @@ src=$(ints /frames/source midp.h5)
 for f in $src; do [ "$f" -ge 24 ] && [ "$f" -lt 36 ] || fail "predicted frame of source $f is outside the held-out part 24..35"; done
 echo "ok (held-out part in the middle: cases from frames $src)"
 
+# --- a model trained on every 2nd frame (--stride 2) generates every 2nd frame
+train-bdlstm -q "${tiny[@]}" --iterations 10 --stride 2 data.h5 -o s2.h5
+gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 3 --length 4 -o s2p.h5
+[ "$(ints /frames/source s2p.h5)" = "46 48 50 52 54 56 58" ] || fail "stride-2 prediction sources: $(ints /frames/source s2p.h5)"
+gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 2 --length 5 --method linear -o s2l.h5
+[ "$(ints /frames/source s2l.h5)" = "48 50 52 54 56 58 -1" ] || fail "stride-2 linear sources: $(ints /frames/source s2l.h5)"
+gen-bdlstm -q s2.h5 data.h5 --mode complete --keyframes 20,30 -o s2c.h5
+[ "$(ints /frames/source s2c.h5)" = "20 22 24 26 28 30" ] || fail "stride-2 completion sources: $(ints /frames/source s2c.h5)"
+run gen-bdlstm -q s2.h5 data.h5 --mode complete --keyframes 20,31 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "multiple of the stride"
+run gen-bdlstm -q s2.h5 data.h5 --from 3 --initial 3 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "stride 2"
+echo "ok (stride 2: generated frames 2 apart)"
+
 # --- generation: deterministic for a seed, diverse across seeds
 gen-bdlstm -q m.h5 data.h5 --from 50 --initial 3 --length 9 --samples 3 --seed 5 -o s5.h5
 gen-bdlstm -q m.h5 data.h5 --from 50 --initial 3 --length 9 --samples 3 --seed 5 --threads 1 -o s5b.h5
