@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
                 "                   feature difference is below --threshold (paper: 5%).\n"
                 "--samples K draws K different results per case from random initial LSTM states.\n"
                 "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
-                "(from the last two given frames) or interpolation in ACAP feature space.\n"
+                "(from the last two given frames) or interpolation in ACAP feature space; --method\n"
+                "static repeats the last given frame (what a network that learned no motion does).\n"
                 "--test-every K makes the cases from the model's held-out test parts.\n"
                 "A model trained with --stride q steps q data frames per generated frame: the\n"
                 "given frames and keyframes are q apart, and so are the frames it is compared with.\n\n"
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
   app.add_option("DATA", opt.data, "acap .h5 holding the given frames")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
   app.add_option("--mode", opt.mode, "predict or complete")->default_val(opt.mode);
-  app.add_option("--method", opt.method, "bdlstm, or linear (feature-space baseline)")->default_val(opt.method);
+  app.add_option("--method", opt.method, "bdlstm, linear (feature-space baseline), or static (predict: the last given\nframe repeated, the zero-motion reference)")->default_val(opt.method);
   app.add_option("--from", opt.from, "predict: last given frame of a case (repeatable)");
   app.add_option("--keyframes", opt.keyframes, "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
       ->delimiter(',');

@@ -150,7 +150,9 @@ float relative_difference(const Matrix& a, const Matrix& b, Index row) {
 
 void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& common) {
   if (opt.mode != "predict" && opt.mode != "complete") throw UsageError("--mode must be predict or complete, not '" + opt.mode + "'");
-  if (opt.method != "bdlstm" && opt.method != "linear") throw UsageError("--method must be bdlstm or linear");
+  if (opt.method != "bdlstm" && opt.method != "linear" && opt.method != "static")
+    throw UsageError("--method must be bdlstm, linear or static");
+  if (opt.method == "static" && opt.mode != "predict") throw UsageError("--method static is a prediction baseline");
   if (opt.initial < 1) throw UsageError("--initial must be at least 1");
   if (opt.length < 1 || opt.gap < 1 || opt.samples < 1 || opt.retries < 1)
     throw UsageError("--length, --gap, --samples and --retries must be positive");
@@ -263,7 +265,10 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
       const std::int64_t last = c.frames.back();
       for (auto& s : g)
         for (std::int64_t t = 0; t < u; ++t) push(s, d.features.row(c.frames[static_cast<std::size_t>(t)]), c.frames[static_cast<std::size_t>(t)], 0);
-      if (opt.method == "linear") {
+      if (opt.method == "static") {  // zero motion: the last given frame, repeated
+        for (auto& s : g)
+          for (int k = 1; k <= opt.length; ++k) push(s, d.features.row(last), source_of(last, k), k);
+      } else if (opt.method == "linear") {
         const Matrix a = d.features.row(c.frames[static_cast<std::size_t>(u - 2)]), b = d.features.row(last);
         for (auto& s : g)
           for (int k = 1; k <= opt.length; ++k) push(s, b + static_cast<float>(k) * (b - a), source_of(last, k), k);

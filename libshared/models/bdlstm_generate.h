@@ -24,7 +24,7 @@ namespace df::models {
 struct BdlstmGenerateOptions {
   std::string model, data, output;
   std::string mode = "predict";   ///< predict | complete
-  std::string method = "bdlstm";  ///< bdlstm | linear (the feature-space baseline)
+  std::string method = "bdlstm";  ///< bdlstm | linear (the feature-space baseline) | static (predict: no motion)
   /// A frame is a global index of DATA or SEQUENCE:K (K-th frame of that sequence).
   std::vector<std::string> from;       ///< predict: the last given frame of each case
   std::vector<std::string> keyframes;  ///< complete: keyframes of one case, in time order
