@@ -150,9 +150,10 @@ $(BD)/%/fig2.png: $(BD)/%/long.change $(BD)/%/data.change $$(foreach v,$$(call f
 	} > $(BD)/$*/fig2.md
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
 	  set title '$*: feature change between consecutive generated frames'; set xlabel 'frame'; \
-	  set ylabel '|X_t - X_{t+1}| / |X_t|'; set key top right; \
+	  set ylabel '|X_t - X_{t+1}| / |X_t|'; set key top right; set xrange [0:300]; \
 	  plot '$(BD)/$*/long.change.tsv' index 'feature_change' using 1:2 with lines lw 2 title 'BD-LSTM' \
-	  $(foreach v,$(call fig2_variants,$*),, '$(BD)/$*/long-$(v).change.tsv' index 'feature_change' using 1:2 with lines title '$(v)')"
+	  $(foreach v,$(call fig2_variants,$*),, '$(BD)/$*/long-$(v).change.tsv' index 'feature_change' using 1:2 with lines title '$(v)') \
+	  , '$(BD)/$*/data.change.tsv' index 'feature_change' using 1:2 with lines dashtype 3 lc 'black' title 'data$(if $($*_STRIDE), (per data frame))'"
 
 # --- (b) Table 2: ablations, prediction from 3 frames on the held-out part
 $(BD)/%/table2.md: $(BD)/%/pred3.eval $(foreach v,$(BD_VARIANTS),$(BD)/%/pred3-$(v).eval) $(BD)/%/fig2.png
