@@ -58,6 +58,10 @@ gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 3 --length 4 -o s2p.h5
 [ "$(ints /frames/source s2p.h5)" = "46 48 50 52 54 56 58" ] || fail "stride-2 prediction sources: $(ints /frames/source s2p.h5)"
 gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 2 --length 5 --method linear -o s2l.h5
 [ "$(ints /frames/source s2l.h5)" = "48 50 52 54 56 58 -1" ] || fail "stride-2 linear sources: $(ints /frames/source s2l.h5)"
+# its first prediction continues frames 48 -> 50 (one feature checked): X50 + (X50 - X48)
+feature() { h5dump -d /features/normalized -s "$2,3,4" -c "1,1,1" -y -w 0 -m %.9g "$1" | sed -n '/DATA {/,/}/p' | sed '1d;$d' | tr -d ' ,'; }
+expect_close "stride-2 linear extrapolation" "$(feature s2l.h5 2)" \
+  "$(awk -v a="$(feature data.h5 48)" -v b="$(feature data.h5 50)" 'BEGIN { printf "%.9g", 2 * b - a }')" 1e-6
 gen-bdlstm -q s2.h5 data.h5 --mode complete --keyframes 20,30 -o s2c.h5
 [ "$(ints /frames/source s2c.h5)" = "20 22 24 26 28 30" ] || fail "stride-2 completion sources: $(ints /frames/source s2c.h5)"
 gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 1 --length 2 --method static -o s2s.h5
