@@ -174,7 +174,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   auto t0 = std::chrono::steady_clock::now();
   const std::int64_t first_iteration = m.iteration;
   std::int64_t last_checkpoint = m.iteration;
-  for (; m.iteration < m.training.iterations; ++m.iteration) {
+  while (m.iteration < m.training.iterations) {
+    const std::int64_t done = m.iteration + 1;  // counting this one
     for (int b = 0; b < m.training.batch; ++b) {
       const std::int64_t first = starts[m.rng.below(starts.size())];
       for (int t = 0; t < m.training.window; ++t)
@@ -185,19 +186,18 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
                           : 1;
     const float kl_weight =
         m.training.kl_warmup > 0
-            ? static_cast<float>(std::min(1.0, static_cast<double>(m.iteration + 1) / static_cast<double>(m.training.kl_warmup)))
+            ? static_cast<float>(std::min(1.0, static_cast<double>(done) / static_cast<double>(m.training.kl_warmup)))
             : 1.0f;
     BdlstmLossTerms terms;
     nn::train_step<float>(tape, m.net->store(), *m.adam, [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
       return m.net->loss(t, p, window, m.rng, &terms, given, kl_weight);
     });
     if (!std::isfinite(terms.total))
-      throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr", m.iteration + 1,
-                              terms.total));
+      throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr", done, terms.total));
     sum.total += terms.total, sum.recon += terms.recon, sum.bidir += terms.bidir, sum.kl += terms.kl,
         sum.l2 += terms.l2;
     ++in_interval;
-    const std::int64_t done = m.iteration + 1;
+    m.iteration = done;  // before any checkpoint: the file must say how many iterations its state holds
     if (done % opt.print_every == 0 || done == m.training.iterations) {
       const double k = in_interval;
       m.log.insert(m.log.end(), {static_cast<double>(done), sum.total / k, sum.recon / k, sum.bidir / k,

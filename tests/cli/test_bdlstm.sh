@@ -36,6 +36,14 @@ for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
   run h5diff m.h5 resumed.h5 $obj; expect_rc 0
 done
 [ -f ck.h5 ] || fail "a checkpoint named with --checkpoint was removed"
+# A checkpoint taken during a run (the last one of a 40-iteration run is at 30): resuming from
+# it to 40 equals the straight run too (it once recorded 29 iterations for a state after 30).
+train-bdlstm -q "${tiny[@]}" --iterations 40 --checkpoint-every 10 --checkpoint run30.h5 data.h5 -o full.h5
+train-bdlstm "${tiny[@]}" --iterations 40 --checkpoint run30.h5 --resume data.h5 -o resumed-mid.h5 2>resume.log
+grep -q "resuming from run30.h5 at iteration 30" resume.log || fail "expected to resume at iteration 30: $(head -n 1 resume.log)"
+for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
+  run h5diff m.h5 resumed-mid.h5 $obj; expect_rc 0
+done
 train-bdlstm -q "${tiny[@]}" --iterations 20 --checkpoint-every 10 data.h5 -o own.h5
 [ -f own.h5.ckpt ] && fail "the default checkpoint own.h5.ckpt was left behind"
 run train-bdlstm -q --window 8 --batch 2 --latent 8 --hidden 9 --lstm-layers 1 --print-every 10 --seed 3 --iterations 40 --checkpoint m20.h5 --resume data.h5 -o bad.h5
