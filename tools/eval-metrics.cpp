@@ -19,7 +19,9 @@ int main(int argc, char** argv) {
                 "                             max and mean (MSAE paper, eq. 8);\n"
                 "  feature change             mean |X_t - X_t+1| / |X_t| between consecutive frames of\n"
                 "                             PRED's sequences, per time index (BD-LSTM paper, Fig. 2):\n"
-                "                             ~0 means frozen, spikes mean jerks;\n"
+                "                             ~0 means frozen, spikes mean jerks; --change-span K\n"
+                "                             compares frames K apart instead (sustained motion grows\n"
+                "                             with K, frame-to-frame jitter does not);\n"
                 "  spread of samples          mean vertex distance between the samples NAME~k of one\n"
                 "                             case (gen-bdlstm --samples) at the same frame.\n"
                 "Frames pair through PRED's /frames/source (gen-bdlstm output) or by index. Positions\n"
@@ -38,12 +40,15 @@ int main(int argc, char** argv) {
                  "the feature change per time index (index 'feature_change')");
   app.add_option("--steps", opt.steps, "Steps shown in the table, e.g. 5,10,15 (default: all, or every 5th)")
       ->delimiter(',');
+  app.add_option("--change-span", opt.change_span, "Feature change between frames K apart (1 = consecutive)")
+      ->default_val(opt.change_span);
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);
   app.add_option("--sted-dt", opt.sted_dt, "STED frame interval")->default_val(opt.sted_dt);
   app.add_option("--sted-c", opt.sted_c, "STED weight of the temporal part")->default_val(opt.sted_c);
   tool.footer("Examples:\n"
               "  eval-metrics pred.h5 pcow.h5 --steps 5,10,15\n"
               "  eval-metrics long.h5 --json change.json     # freezing / jerks of a generation\n"
+              "  eval-metrics long.h5 --change-span 10       # motion over 10 frames\n"
               "  eval-metrics recon.h5 test.h5 --json -");
   return tool.run(argc, argv, [&] { df::eval::eval_metrics(opt, tool.common()); });
 }

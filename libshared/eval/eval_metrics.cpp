@@ -130,6 +130,7 @@ struct PairResult {
 void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
   if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
+  if (opt.change_span < 1) throw UsageError("--change-span must be at least 1");
   Frames pred = read_frames(opt.pred);
   // The template's topology and parts (TRUTH must have the same template, checked below).
   const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
@@ -139,21 +140,26 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   js["pred"] = opt.pred;
   const auto& nz_pred = pred.normalization;
 
-  // Feature change between consecutive frames of each PRED sequence, by index in the sequence.
+  // Feature change between frames --change-span apart in each PRED sequence, by index in the
+  // sequence (index t: frames t and t + span). Each frame is normalized once; the last span + 1
+  // stay in a ring.
+  const auto span = static_cast<std::int64_t>(opt.change_span);
   std::vector<double> change_sum;
   std::vector<int> change_count;
   double change_total = 0;
   std::size_t change_n = 0;
   if (pred.raw.rows()) {
+    std::vector<Eigen::VectorXd> ring(static_cast<std::size_t>(span + 1));
+    auto slot = [&](std::int64_t t) -> Eigen::VectorXd& { return ring[static_cast<std::size_t>(t % (span + 1))]; };
     for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
-      Eigen::VectorXd prev = normalized(pred, static_cast<std::size_t>(pred.offsets[s]), nz_pred);
-      for (auto i = pred.offsets[s]; i + 1 < pred.offsets[s + 1]; ++i) {  // each frame normalized once
-        const auto t = static_cast<std::size_t>(i - pred.offsets[s]);
-        Eigen::VectorXd next = normalized(pred, static_cast<std::size_t>(i + 1), nz_pred);
-        const double c = feature_change(prev, next);
-        if (change_sum.size() <= t) change_sum.resize(t + 1), change_count.resize(t + 1);
-        change_sum[t] += c, change_count[t] += 1, change_total += c, ++change_n;
-        prev = std::move(next);
+      const std::int64_t begin = pred.offsets[s], n = pred.offsets[s + 1] - begin;
+      for (std::int64_t t = 0; t < n; ++t) {
+        slot(t) = normalized(pred, static_cast<std::size_t>(begin + t), nz_pred);
+        if (t < span) continue;
+        const auto i = static_cast<std::size_t>(t - span);
+        const double c = feature_change(slot(t - span), slot(t));
+        if (change_sum.size() <= i) change_sum.resize(i + 1), change_count.resize(i + 1);
+        change_sum[i] += c, change_count[i] += 1, change_total += c, ++change_n;
       }
     }
   }
@@ -300,7 +306,8 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
                            {"cases", groups.size()}};
   }
   if (change_n)
-    js["feature_change"] = {{"mean", change_total / static_cast<double>(change_n)},
+    js["feature_change"] = {{"span", opt.change_span},
+                            {"mean", change_total / static_cast<double>(change_n)},
                             {"min", *std::min_element(change_by_index.begin(), change_by_index.end())},
                             {"max", *std::max_element(change_by_index.begin(), change_by_index.end())},
                             {"per_index", change_by_index}};
@@ -316,7 +323,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     out << "# step: frames error relative_error\n";
     for (const auto& [st, v] : by_step)
       out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / diag);
-    out << "\n\n# feature_change: index change\n";
+    out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n", opt.change_span);
     for (std::size_t k = 0; k < change_by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, change_by_index[k]);
     if (!out) throw IOError("cannot write", opt.tsv);
   }
@@ -342,7 +349,8 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     if (rse_n) t += fmt::format("  {:<28} max {:.6g}  mean {:.6g}\n", "relative squared error", rse_max, rse_mean / static_cast<double>(rse_n));
   }
   if (change_n)
-    t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n", "feature change",
+    t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n",
+                     opt.change_span == 1 ? std::string("feature change") : fmt::format("feature change, span {}", opt.change_span),
                      js["feature_change"]["mean"].get<double>(), js["feature_change"]["min"].get<double>(),
                      js["feature_change"]["max"].get<double>());
   if (spread_n)

@@ -26,6 +26,9 @@ struct EvalOptions {
   int sted_rings = 1;
   double sted_dt = 1.0;  ///< frame interval for STED's temporal part
   double sted_c = 1.0;   ///< STED = sqrt(STED_s² + c² STED_t²)
+  /// Feature change between frames this far apart (1 = consecutive, the paper's Fig. 2). Wider
+  /// spans tell sustained motion (grows with the span) from frame-to-frame jitter (does not).
+  int change_span = 1;
 };
 
 void eval_metrics(const EvalOptions& opt, const CommonOptions& common);

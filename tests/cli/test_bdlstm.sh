@@ -106,6 +106,15 @@ grep -q "E_rms" lin.txt || fail "no E_rms in the table"
 eval-metrics data.h5 data.h5 --json same.json >/dev/null
 awk '/"vertex_error"/ { getline; if ($2 + 0 == 0) ok1 = 1 } /"erms":/ { if ($2 + 0 == 0) ok2 = 1 }
      END { exit !(ok1 && ok2) }' same.json || fail "a file against itself has a non-zero error: $(head -c 400 same.json)"
+# Feature change over a span: lin.h5's cases are 3 given frames, then a linear extrapolation of
+# the last two, so from index 1 on X_t+2 - X_t = 2 (X_t+1 - X_t): the span-2 change at index 1 is
+# twice the span-1 change (equal values would mean the span is ignored).
+change1() { eval-metrics -q lin.h5 --change-span "$1" --tsv "span$1.tsv" >/dev/null
+            awk '/^# feature_change/ { on = 1; next } on && $1 == 1 { print $2 }' "span$1.tsv"; }
+c1=$(change1 1); c2=$(change1 2)
+expect_close "span-2 feature change of a linear sequence" "$c2" "$(awk -v c="$c1" 'BEGIN { print 2 * c }')" 1e-4
+run eval-metrics lin.h5 --change-span 0
+expect_rc 2; expect_one_error_line eval-metrics; expect_err "change-span"
 echo "ok (eval: linear step 3/6 $(step_error 3 lin.txt) $(step_error 6 lin.txt), bdlstm step 6 $(step_error 6 pred.txt))"
 
 # --- completion: keyframes are kept exactly, the chains merge under a loose threshold
