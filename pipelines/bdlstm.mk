@@ -63,10 +63,14 @@ $(BD)/finger/data.h5: $(BD)/finger/frames.h5
 $(BD)/faerie/data.h5: $(FAERIE)
 	@mkdir -p $(@D)
 	$(BIN)/obj2acap -q -f $< -o $@
-# Real sets: unpacked from DATA into $(BD)/S/src/S/ (an archive's single top directory).
-$(BD)/%/src/.unpacked: $(DATA)/meshseq/%.tar.zst
+# Real sets: unpacked from DATA into $(BD)/S/src/S/ (an archive's single top directory). The
+# archive is followed by its checksum, rewritten only when the bytes change: a fresh copy or mount
+# of DATA (new times, same archives) re-runs nothing downstream.
+$(BD)/%/src/.sha256: $(DATA)/meshseq/%.tar.zst
 	@mkdir -p $(@D)
-	tar --zstd -xf $< -C $(@D)
+	@sha256sum < $< > $@.new; if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
+$(BD)/%/src/.unpacked: $(BD)/%/src/.sha256
+	tar --zstd -xf $(DATA)/meshseq/$*.tar.zst -C $(@D)
 	touch $@
 $(BD)/pcow/data.h5 $(BD)/chickenCrossing/data.h5: $(BD)/%/data.h5: $(BD)/%/src/.unpacked
 	$(BIN)/obj2acap -q -f $(<D)/$* -o $@

@@ -14,3 +14,24 @@ run make -C "$DF_SOURCE" -q -f Makefile.data "$DF_TMP/out/demo/faerie-meshes/sta
   "$DF_TMP/out/demo/finger-meshes/finger-0000.obj" "$DF_TMP/out/demo/bumps.h5" BIN="$DF_BIN" OUT="$DF_TMP/out"
 expect_rc 0
 echo "ok"
+
+# The BD-LSTM pipeline unpacks a data archive once: a fresh copy of DATA (new time, same bytes)
+# re-runs nothing, other bytes unpack again.
+mkdir -p data/meshseq pack/tiny
+echo "v 0 0 0" >pack/tiny/a.obj
+tar --zstd -cf data/meshseq/tiny.tar.zst -C pack tiny
+unpacked="$DF_TMP/out/bdlstm/tiny/src/.unpacked"
+unpack() { make -s -C "$DF_SOURCE" -f Makefile.data "$unpacked" BIN="$DF_BIN" OUT="$DF_TMP/out" DATA="$DF_TMP/data" ||
+             fail "unpacking failed"; }
+unpack
+[ -f out/bdlstm/tiny/src/tiny/a.obj ] || fail "archive not unpacked"
+before=$(stat -c %y "$unpacked")
+touch -d '+1 min' data/meshseq/tiny.tar.zst
+unpack
+[ "$(stat -c %y "$unpacked")" = "$before" ] || fail "an archive with a new time but the same bytes was unpacked again"
+echo "v 1 0 0" >pack/tiny/b.obj
+tar --zstd -cf data/meshseq/tiny.tar.zst -C pack tiny
+touch -d '+2 min' data/meshseq/tiny.tar.zst
+unpack
+[ -f out/bdlstm/tiny/src/tiny/b.obj ] || fail "a changed archive was not unpacked again"
+echo "ok (unpack once)"
