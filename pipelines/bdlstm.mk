@@ -68,7 +68,7 @@ $(BD)/faerie/data.h5: $(FAERIE)
 # of DATA (new times, same archives) re-runs nothing downstream.
 $(BD)/%/src/.sha256: $(DATA)/meshseq/%.tar.zst
 	@mkdir -p $(@D)
-	@sha256sum < $< > $@.new; if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
+	@sha256sum < $< > $@.new && if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
 $(BD)/%/src/.unpacked: $(BD)/%/src/.sha256
 	tar --zstd -xf $(DATA)/meshseq/$*.tar.zst -C $(@D)
 	touch $@
