@@ -149,8 +149,12 @@ $(BD)/%/data.change10: $(BD)/%/data.h5
 	$(BIN)/eval-metrics -q $< --change-span $$(( 10 * $(or $($*_STRIDE),1) )) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 
 fig2_variants = $(if $(filter $(1),$(BD_ABLATION_SETS)),$(BD_VARIANTS))
+# Mean of the values of a feature-change TSV, or of its last $(2).
+change_mean = awk -v last=$(2) '/^\#/ { next } NF == 2 { n++; x[n] = $$2 } \
+  END { f = last ? n - last + 1 : 1; for (i = f; i <= n; i++) t += x[i]; printf "%.4f", t / (n - f + 1) }' $(1)
 .SECONDEXPANSION:
 $(BD)/%/fig2.md: $(BD)/%/fig2.png ;
+# The 10-step column averages the last 90 indices: frames 201-300 of the 301, as the last 100 of the 1-step column.
 $(BD)/%/fig2.png: $(BD)/%/long.change $(BD)/%/long.change10 $(BD)/%/data.change $(BD)/%/data.change10 \
                   $$(foreach v,$$(call fig2_variants,$$*),$(BD)/$$*/long-$$(v).change $(BD)/$$*/long-$$(v).change10)
 	{ echo "**$*** — feature change |X_t - X_t+1| / |X_t| over 300 generated frames (from frame 0; paper Fig. 2),"; \
@@ -158,12 +162,12 @@ $(BD)/%/fig2.png: $(BD)/%/long.change $(BD)/%/long.change10 $(BD)/%/data.change 
 	  echo "| model | mean | min | max | last 100 frames | over 10 steps, last 100 frames |"; echo "|---|---:|---:|---:|---:|---:|"; \
 	  for v in full $(call fig2_variants,$*); do \
 	    if [ $$v = full ]; then f=$(BD)/$*/long.change; else f=$(BD)/$*/long-$$v.change; fi; \
-	    ten=$$(awk '/^\#/ { next } NF == 2 { n++; x[n] = $$2 } END { for (i = n - 89; i <= n; i++) t += x[i]; printf "%.4f", t / 90 }' $${f}10.tsv); \
+	    ten=$$($(call change_mean,$${f}10.tsv,90)); \
 	    awk -v v=$$v -v ten="$$ten" 'BEGIN { s = 0 } /^\#/ { next } NF == 2 { n++; x[n] = $$2; s += $$2 } \
 	      END { lo = 1e9; hi = 0; for (i = 1; i <= n; i++) { if (x[i] < lo) lo = x[i]; if (x[i] > hi) hi = x[i]; if (i > n - 100) t += x[i] } \
 	            printf "| %s | %.4f | %.4f | %.4f | %.4f | %s |\n", v, s / n, lo, hi, t / 100, ten }' $$f.tsv; \
 	  done; \
-	  echo "| (data, for scale) | $$(awk '/^\#/ { next } NF == 2 { n++; s += $$2 } END { printf "%.4f", s / n }' $(BD)/$*/data.change.tsv) | | | | $$(awk '/^\#/ { next } NF == 2 { n++; s += $$2 } END { printf "%.4f", s / n }' $(BD)/$*/data.change10.tsv) |"; \
+	  echo "| (data, for scale) | $$($(call change_mean,$(BD)/$*/data.change.tsv)) | | | | $$($(call change_mean,$(BD)/$*/data.change10.tsv)) |"; \
 	  $(if $($*_STRIDE),echo; echo "The model steps $($*_STRIDE) data frames per generated frame; the data row compares frames $($*_STRIDE) and $$(( 10 * $($*_STRIDE) )) apart.";) \
 	} > $(BD)/$*/fig2.md
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
