@@ -79,19 +79,21 @@ $(BD)/pcow/data.h5 $(BD)/chickenCrossing/data.h5: $(BD)/%/data.h5: $(BD)/%/src/.
 	$(BIN)/obj2acap -q -f $(<D)/$* -o $@
 
 # --- training: the paper's model, and the ablation variants (logs beside the models)
-# A set's training options, rewritten only when they change: models retrain when their settings
-# do (a new --iterations, say), and only then.
+# The options that make S/model or S/model-V: the set's training options and the variant's flags.
+model_args = $(strip $($(patsubst %/,%,$(dir $(1)))_TRAIN) $(if $(filter model-%,$(notdir $(1))),$($(patsubst model-%,%,$(notdir $(1)))_FLAGS)))
+# Beside each model its options, rewritten only when they change: a model retrains when its
+# options do (a new --iterations, say), and only then.
 .PHONY: FORCE
-$(BD)/%/train.args: FORCE
+$(BD)/%.args: FORCE
 	@mkdir -p $(@D)
-	@echo '$($*_TRAIN)' $(write_if_changed)
-$(BD)/%/model.h5: $(BD)/%/data.h5 $(BD)/%/train.args
+	@echo '$(call model_args,$*)' $(write_if_changed)
+$(BD)/%/model.h5: $(BD)/%/data.h5 $(BD)/%/model.args
 	$(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
-	  $($*_TRAIN) $< -o $@ 2>&1 | tee $(@:.h5=.log)
+	  $(call model_args,$*/model) $< -o $@ 2>&1 | tee $(@:.h5=.log)
 define VARIANT_RULES
-$(BD)/%/model-$(1).h5: $(BD)/%/data.h5 $(BD)/%/train.args
+$(BD)/%/model-$(1).h5: $(BD)/%/data.h5 $(BD)/%/model-$(1).args
 	$(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
-	  $$($$*_TRAIN) $($(1)_FLAGS) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+	  $$(call model_args,$$*/model-$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
 endef
 $(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_RULES,$(v))))
 

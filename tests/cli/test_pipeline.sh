@@ -36,7 +36,7 @@ unpack
 [ -f out/bdlstm/tiny/src/tiny/b.obj ] || fail "a changed archive was not unpacked again"
 echo "ok (unpack once)"
 
-# A model retrains when its set's training options change, and only then (a stand-in
+# A model retrains when its options (the set's, an ablation's) change, and only then (a stand-in
 # train-bdlstm counts the runs).
 mkdir -p fakebin
 cat >fakebin/train-bdlstm <<'SH'
@@ -46,12 +46,18 @@ echo run >>"$DF_TMP/train-runs"; touch "$out"
 SH
 chmod +x fakebin/train-bdlstm
 touch out/bdlstm/tiny/data.h5
-train() { make -s -C "$DF_SOURCE" -f Makefile.data "$DF_TMP/out/bdlstm/tiny/model.h5" BIN="$DF_TMP/fakebin" \
-            OUT="$DF_TMP/out" DATA="$DF_TMP/data" tiny_TRAIN="$1" >/dev/null || fail "training rule failed"; }
+train() { make -s -C "$DF_SOURCE" -f Makefile.data "$DF_TMP/out/bdlstm/tiny/${2:-model}.h5" BIN="$DF_TMP/fakebin" \
+            OUT="$DF_TMP/out" DATA="$DF_TMP/data" tiny_TRAIN="$1" ${3:+no-kl_FLAGS="$3"} >/dev/null ||
+            fail "training rule failed"; }
 runs() { wc -l <train-runs; }
 train "--iterations 5"
 train "--iterations 5"
 [ "$(runs)" = 1 ] || fail "unchanged options retrained the model ($(runs) runs)"
 train "--iterations 6"
 [ "$(runs)" = 2 ] || fail "new options did not retrain the model ($(runs) runs)"
+train "--iterations 6" model-no-kl
+train "--iterations 6" model-no-kl
+[ "$(runs)" = 3 ] || fail "an ablation model was not trained once ($(runs) runs in all)"
+train "--iterations 6" model-no-kl "--no-kl --seed 2"
+[ "$(runs)" = 4 ] || fail "new ablation flags did not retrain the ablation model ($(runs) runs in all)"
 echo "ok (retrain on new options)"
