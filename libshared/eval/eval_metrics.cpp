@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "convert/frame_reader.h"
+#include "convert/frame_set.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/progress.h"
@@ -26,100 +26,10 @@ namespace {
 
 using geometry::kFeatureDims;
 
-// One input: template, sequences, positions (stored or reconstructed) and raw features.
-struct Frames {
-  std::string path;
-  io::Mesh tmpl;
-  std::vector<std::int64_t> offsets;
-  std::vector<std::string> sequences;
-  std::vector<io::Vertices> positions;  // empty until needed
-  bool positions_stored = false;
-  Eigen::MatrixXd raw;                  // [N, 9V] raw features; 0 rows if none
-  std::optional<geometry::Normalization> normalization;
-  std::vector<std::int64_t> source;     // gen-bdlstm's pairing, if present
-  std::vector<std::int32_t> step;
-  std::size_t size() const { return static_cast<std::size_t>(offsets.back()); }
-};
-
-Frames read_frames(const std::string& path) {
-  Frames fr;
-  fr.path = path;
-  if (!io::is_hdf5_path(path)) {  // mesh files
-    convert::FrameReader reader({path});
-    fr.tmpl = reader.read(0);
-    fr.offsets = {0};
-    for (const auto& s : reader.sequences()) {
-      fr.sequences.push_back(s.name);
-      fr.offsets.push_back(static_cast<std::int64_t>(s.first + s.count));
-    }
-    fr.positions.resize(reader.size());
-    tbb::parallel_for(std::size_t{0}, reader.size(),
-                      [&](std::size_t i) { fr.positions[i] = reader.read_positions(i, fr.tmpl, reader.frame_name(0)); });
-    fr.positions_stored = true;
-    return fr;
-  }
-  io::Dimensions dims;
-  h5::File f = io::open_input(path, "acap", &dims);
-  fr.tmpl.vertices = f.read_matrix<double>("/template/vertices");
-  fr.tmpl.faces = f.read_matrix<int>("/template/faces");
-  fr.offsets = f.read<std::int64_t>("/sequences/offsets").data;
-  fr.sequences = f.read_strings("/sequences/names");
-  const std::size_t n = dims.at("N"), nv = dims.at("V"), row = nv * kFeatureDims;
-  if (f.exists("/normalization/min")) fr.normalization = geometry::read_normalization(f);
-  if (f.exists("/features/raw")) {
-    fr.raw.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(fr.raw.rows(), fr.raw.cols());
-    f.read_rows<double>("/features/raw", 0, n, m.data());
-    io::check_finite_rows(m.data(), 0, n, row, f.where("/features/raw"));
-    fr.raw = m;
-  } else if (f.exists("/features/normalized")) {
-    std::vector<float> v(n * row);
-    f.read_rows<float>("/features/normalized", 0, n, v.data());
-    io::check_finite_rows(v.data(), 0, n, row, f.where("/features/normalized"));
-    fr.raw.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < row; ++k)
-        fr.raw(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
-            fr.normalization->denormalize(static_cast<int>(k % kFeatureDims), v[i * row + k]);
-  }
-  if (f.exists("/frames/positions")) {
-    std::vector<float> p(n * nv * 3);
-    f.read_rows<float>("/frames/positions", 0, n, p.data());
-    io::check_finite_rows(p.data(), 0, n, nv * 3, f.where("/frames/positions"));
-    fr.positions.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-      fr.positions[i] = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-                            p.data() + i * nv * 3, static_cast<Eigen::Index>(nv), 3)
-                            .cast<double>();
-    fr.positions_stored = true;
-  }
-  if (f.exists("/frames/source")) fr.source = f.read<std::int64_t>("/frames/source").data;
-  if (f.exists("/frames/step")) fr.step = f.read<std::int32_t>("/frames/step").data;
-  return fr;
-}
-
-// Positions from the features, frames in parallel (the exact solver; one factorisation).
-void reconstruct(Frames& fr) {
-  if (!fr.positions.empty()) return;
-  if (fr.raw.rows() == 0) throw InvalidInput("has neither /frames/positions nor features", fr.path);
-  geometry::Reconstructor rec(fr.tmpl.vertices, fr.tmpl.faces, 0, geometry::ReconstructionSolver::gradients);
-  fr.positions.resize(fr.size());
-  Progress progress("reconstructing " + fr.path, fr.size());
-  tbb::parallel_for(std::size_t{0}, fr.size(), [&](std::size_t i) {
-    Eigen::Matrix<double, 1, Eigen::Dynamic> row = fr.raw.row(static_cast<Eigen::Index>(i));
-    fr.positions[i] = rec.solve(row.data());
-    progress.advance();
-  });
-  progress.finish();
-}
-
-// Features in the normalized space of `nz` (raw when none): what the networks see.
-Eigen::VectorXd normalized(const Frames& fr, std::size_t i, const std::optional<geometry::Normalization>& nz) {
-  Eigen::VectorXd x = fr.raw.row(static_cast<Eigen::Index>(i)).transpose();
-  if (nz)
-    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] = nz->normalize(static_cast<int>(k % kFeatureDims), x[k]);
-  return x;
-}
+using convert::FrameSet;
+using convert::read_frame_set;
+using convert::reconstruct;
+using convert::normalized_features;
 
 struct PairResult {
   double error = 0, unit_ball = 0, sted_s = 0, rse = -1;
@@ -131,7 +41,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
   if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
   if (opt.change_span < 1) throw UsageError("--change-span must be at least 1");
-  Frames pred = read_frames(opt.pred);
+  FrameSet pred = read_frame_set(opt.pred);
   // The template's topology and parts (TRUTH must have the same template, checked below).
   const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
   int n_components = 0;
@@ -154,7 +64,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
       const std::int64_t begin = pred.offsets[s], n = pred.offsets[s + 1] - begin;
       for (std::int64_t t = 0; t < n; ++t) {
-        slot(t) = normalized(pred, static_cast<std::size_t>(begin + t), nz_pred);
+        slot(t) = normalized_features(pred, static_cast<std::size_t>(begin + t), nz_pred);
         if (t < span) continue;
         const auto i = static_cast<std::size_t>(t - span);
         const double c = feature_change(slot(t - span), slot(t));
@@ -166,13 +76,13 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   std::vector<double> change_by_index;
   for (std::size_t t = 0; t < change_sum.size(); ++t) change_by_index.push_back(change_sum[t] / change_count[t]);
 
-  std::optional<Frames> truth;
+  std::optional<FrameSet> truth;
   std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (pred frame, truth frame)
   std::vector<PairResult> results;
   double diag = 0, sted_t = 0;
   std::size_t sted_t_n = 0;
   if (!opt.truth.empty()) {
-    truth = read_frames(opt.truth);
+    truth = read_frame_set(opt.truth);
     if (truth->tmpl.vertices.rows() != pred.tmpl.vertices.rows() || truth->tmpl.faces != pred.tmpl.faces)
       throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)", truth->tmpl.vertices.rows(),
                                      opt.pred, pred.tmpl.vertices.rows()),
@@ -210,7 +120,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
       r.error = mean_vertex_error(aligned[k], gt);
       r.unit_ball = unit_ball_squared_error(aligned[k], gt);
       r.sted_s = sted_spatial(aligned[k], gt, topo, hoods);
-      if (features) r.rse = relative_squared_error(normalized(*truth, j, nz), normalized(pred, i, nz));
+      if (features) r.rse = relative_squared_error(normalized_features(*truth, j, nz), normalized_features(pred, i, nz));
     });
     // STED's temporal part over consecutive PRED frames of one sequence that both have truth.
     for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {

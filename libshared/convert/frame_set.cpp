@@ -1,0 +1,112 @@
+#include "convert/frame_set.h"
+
+#include <tbb/parallel_for.h>
+
+#include "convert/frame_reader.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "geometry/reconstruction.h"
+#include "io/h5.h"
+#include "io/schema.h"
+
+namespace df::convert {
+
+using geometry::kFeatureDims;
+
+double FrameSet::diagonal() const {
+  const auto& T = tmpl.vertices;
+  return T.rows() ? (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm() : 0.0;
+}
+
+namespace {
+
+FrameSet read_mesh_files(const std::string& path) {
+  FrameSet fs;
+  fs.path = path;
+  FrameReader reader({path});
+  fs.tmpl = reader.read(0);
+  fs.offsets = {0};
+  for (const auto& s : reader.sequences()) {
+    fs.sequences.push_back(s.name);
+    fs.offsets.push_back(static_cast<std::int64_t>(s.first + s.count));
+  }
+  fs.positions.resize(reader.size());
+  for (std::size_t i = 0; i < reader.size(); ++i) fs.names.push_back(reader.frame_name(i));
+  tbb::parallel_for(std::size_t{0}, reader.size(),
+                    [&](std::size_t i) { fs.positions[i] = reader.read_positions(i, fs.tmpl, reader.frame_name(0)); });
+  fs.positions_stored = true;
+  return fs;
+}
+
+}  // namespace
+
+FrameSet read_frame_set(const std::string& path) {
+  if (!io::is_hdf5_path(path)) return read_mesh_files(path);
+  FrameSet fs;
+  fs.path = path;
+  io::Dimensions dims;
+  h5::File f = io::open_input(path, "acap", &dims);
+  fs.tmpl.vertices = f.read_matrix<double>("/template/vertices");
+  fs.tmpl.faces = f.read_matrix<int>("/template/faces");
+  fs.offsets = f.read<std::int64_t>("/sequences/offsets").data;
+  fs.sequences = f.read_strings("/sequences/names");
+  fs.names = f.read_strings("/frames/names");
+  const std::size_t n = dims.at("N"), nv = dims.at("V"), row = nv * kFeatureDims;
+  if (f.exists("/normalization/min")) fs.normalization = geometry::read_normalization(f);
+  if (f.exists("/features/raw")) {
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(static_cast<Eigen::Index>(n),
+                                                                             static_cast<Eigen::Index>(row));
+    f.read_rows<double>("/features/raw", 0, n, m.data());
+    io::check_finite_rows(m.data(), 0, n, row, f.where("/features/raw"));
+    fs.raw = m;
+  } else if (f.exists("/features/normalized")) {
+    std::vector<float> v(n * row);
+    f.read_rows<float>("/features/normalized", 0, n, v.data());
+    io::check_finite_rows(v.data(), 0, n, row, f.where("/features/normalized"));
+    fs.raw.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < row; ++k)
+        fs.raw(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
+            fs.normalization->denormalize(static_cast<int>(k % kFeatureDims), v[i * row + k]);
+  }
+  fs.positions.resize(n);
+  if (f.exists("/frames/positions")) {
+    std::vector<float> p(n * nv * 3);
+    f.read_rows<float>("/frames/positions", 0, n, p.data());
+    io::check_finite_rows(p.data(), 0, n, nv * 3, f.where("/frames/positions"));
+    for (std::size_t i = 0; i < n; ++i)
+      fs.positions[i] = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                            p.data() + i * nv * 3, static_cast<Eigen::Index>(nv), 3)
+                            .cast<double>();
+    fs.positions_stored = true;
+  }
+  if (f.exists("/frames/source")) fs.source = f.read<std::int64_t>("/frames/source").data;
+  if (f.exists("/frames/step")) fs.step = f.read<std::int32_t>("/frames/step").data;
+  return fs;
+}
+
+void reconstruct(FrameSet& fs, const std::vector<std::size_t>* frames) {
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < fs.size(); ++i)
+    if (fs.positions[i].rows() == 0) todo.push_back(i);
+  if (frames) std::erase_if(todo, [&](std::size_t i) { return std::find(frames->begin(), frames->end(), i) == frames->end(); });
+  if (todo.empty()) return;
+  if (fs.raw.rows() == 0) throw InvalidInput("has neither /frames/positions nor features", fs.path);
+  geometry::Reconstructor rec(fs.tmpl.vertices, fs.tmpl.faces, 0, geometry::ReconstructionSolver::gradients);
+  Progress progress("reconstructing " + fs.path, todo.size());
+  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t k) {
+    Eigen::Matrix<double, 1, Eigen::Dynamic> row = fs.raw.row(static_cast<Eigen::Index>(todo[k]));
+    fs.positions[todo[k]] = rec.solve(row.data());
+    progress.advance();
+  });
+  progress.finish();
+}
+
+Eigen::VectorXd normalized_features(const FrameSet& fs, std::size_t i, const std::optional<geometry::Normalization>& nz) {
+  Eigen::VectorXd x = fs.raw.row(static_cast<Eigen::Index>(i)).transpose();
+  if (nz)
+    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] = nz->normalize(static_cast<int>(k % kFeatureDims), x[k]);
+  return x;
+}
+
+}  // namespace df::convert

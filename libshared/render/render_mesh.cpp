@@ -1,0 +1,476 @@
+#include "render/render_mesh.h"
+
+#include <fmt/args.h>
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <set>
+
+#include "convert/acap2obj.h"
+#include "convert/frame_set.h"
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "core/progress.h"
+#include "eval/mesh_metrics.h"
+#include "geometry/mesh_topology.h"
+#include "io/h5.h"
+#include "io/schema.h"
+#include "io/skeleton_file.h"
+#include "render/canvas.h"
+#include "render/rasterizer.h"
+#include "render/sheet.h"
+#include "render/stick_figure.h"
+
+namespace fs = std::filesystem;
+
+namespace df::render {
+namespace {
+
+constexpr int kMaxColumns = 64, kMaxPanels = 1024;
+constexpr int kBatchColumns = 16;  // per-frame outputs: columns rasterised at once
+
+// One row of the sheet: frames of one input (or of one of its sequences).
+struct Row {
+  std::size_t input = 0;
+  std::string label;
+  std::vector<std::size_t> frames;     // indices into the input's frames
+  std::vector<std::string> captions;   // default column caption of each frame
+  bool truth = false;                  // the ground-truth row of --show-truth
+  std::vector<io::Vertices> shown;     // meshes: positions drawn, per frame
+  std::vector<std::vector<double>> scalar;  // meshes: per-vertex value per frame (empty: plain)
+};
+
+enum class Kind { mesh, skeleton };
+
+Kind input_kind(const std::string& path) {
+  if (!io::is_hdf5_path(path)) return Kind::mesh;
+  if (!fs::exists(path)) throw IOError("no such file", path);
+  h5::File f(path, h5::File::Mode::read);
+  const std::string kind = io::declared_kind(f);
+  if (kind == "acap") return Kind::mesh;
+  if (kind == "skeleton") return Kind::skeleton;
+  throw InvalidInput("is a " + kind + " file; render-mesh draws acap, skeleton and mesh files", path);
+}
+
+std::string stem(const std::string& path) {
+  fs::path p(path);
+  if (p.filename().empty()) p = p.parent_path();
+  return io::is_hdf5_path(path) ? p.stem().string() : p.filename().string();
+}
+
+// Sequence indices chosen by --sequence (names or numbers); all of them when `all` and none given.
+std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted, const std::vector<std::string>& names,
+                                          const std::string& path) {
+  std::vector<std::size_t> out;
+  for (const auto& w : wanted) {
+    auto it = std::find(names.begin(), names.end(), w);
+    if (it != names.end()) {
+      out.push_back(static_cast<std::size_t>(it - names.begin()));
+      continue;
+    }
+    if (!w.empty() && w.find_first_not_of("0123456789") == std::string::npos && std::stoul(w) < names.size()) {
+      out.push_back(std::stoul(w));
+      continue;
+    }
+    throw UsageError(fmt::format("no sequence '{}' in {} (it has {} sequences{}{})", w, path, names.size(),
+                                 names.size() <= 12 ? ": " : "", names.size() <= 12 ? fmt::format("{}", fmt::join(names, ", ")) : ""));
+  }
+  return out;
+}
+
+// The frames of [begin, end) that --steps, --frames and --every select, in order.
+std::vector<std::size_t> select_frames(std::size_t begin, std::size_t end, const std::vector<std::int32_t>& step,
+                                       const RenderOptions& opt, const std::string& where) {
+  std::vector<std::size_t> cand;
+  for (std::size_t i = begin; i < end; ++i) cand.push_back(i);
+  if (!opt.steps.empty()) {
+    if (step.empty()) throw UsageError("--steps needs generated frames with /frames/step (gen-bdlstm output): " + where);
+    std::erase_if(cand, [&](std::size_t i) { return std::find(opt.steps.begin(), opt.steps.end(), step[i]) == opt.steps.end(); });
+  }
+  if (cand.empty()) throw UsageError("no frames selected in " + where);
+  std::vector<std::size_t> out;
+  for (std::size_t k : convert::parse_frame_selection(opt.frames, cand.size())) out.push_back(cand[k]);
+  if (opt.every > 1) {
+    std::vector<std::size_t> thinned;
+    for (std::size_t k = 0; k < out.size(); k += static_cast<std::size_t>(opt.every)) thinned.push_back(out[k]);
+    out = std::move(thinned);
+  }
+  return out;
+}
+
+// --- meshes ----------------------------------------------------------------------------------
+
+std::vector<Row> mesh_rows(const std::vector<convert::FrameSet>& sets, const RenderOptions& opt) {
+  std::vector<Row> rows;
+  for (std::size_t k = 0; k < sets.size(); ++k) {
+    const auto& s = sets[k];
+    if (s.tmpl.faces.rows() == 0) throw InvalidInput("has no triangles to draw", s.path);
+    auto add = [&](std::size_t begin, std::size_t end, const std::string& label) {
+      Row r;
+      r.input = k;
+      r.label = label;
+      r.frames = select_frames(begin, end, s.step, opt, label);
+      for (std::size_t i : r.frames)
+        r.captions.push_back(!s.step.empty() && s.step[i] > 0 ? fmt::format("future frame {}", s.step[i])
+                                                              : fmt::format("frame {}", i - begin));
+      rows.push_back(std::move(r));
+    };
+    if (opt.sequences.empty()) {
+      add(0, s.size(), stem(s.path));
+    } else {
+      for (std::size_t q : chosen_sequences(opt.sequences, s.sequences, s.path))
+        add(static_cast<std::size_t>(s.offsets[q]), static_cast<std::size_t>(s.offsets[q + 1]),
+            fmt::format("{} / {}", stem(s.path), s.sequences[q]));
+    }
+  }
+  return rows;
+}
+
+// The truth frame paired with frame i of `s`: gen-bdlstm's /frames/source, else the same index.
+std::size_t truth_frame(const convert::FrameSet& s, std::size_t i, const convert::FrameSet& truth) {
+  std::int64_t j = s.source.empty() ? static_cast<std::int64_t>(i) : s.source[i];
+  if (j < 0) throw InvalidInput(fmt::format("frame {} has no ground-truth frame (it lies past the data's end)", i), s.path);
+  if (static_cast<std::size_t>(j) >= truth.size())
+    throw InvalidInput(fmt::format("frame {} pairs with frame {} of the ground truth, which has {} frames", i, j, truth.size()),
+                       s.path);
+  return static_cast<std::size_t>(j);
+}
+
+// Per-vertex scalar of one frame: what --color asks for. Returns the values (empty: plain).
+struct Coloring {
+  std::string mode;   // none | error | deformation | displacement | dataset
+  std::string units;
+  std::string dataset;
+};
+
+Coloring coloring(const RenderOptions& opt) {
+  Coloring c;
+  c.mode = opt.color == "auto" ? (opt.error_vs.empty() ? "none" : "error") : opt.color;
+  if (!c.mode.empty() && c.mode[0] == '/') c.dataset = c.mode, c.mode = "dataset";
+  if (c.mode == "error") {
+    if (opt.error_vs.empty()) throw UsageError("--color error needs --error-vs GROUND_TRUTH");
+    c.units = "vertex error (x bbox diagonal)";
+  } else if (c.mode == "deformation") {
+    c.units = "||X - X_r|| per vertex (ACAP features)";
+  } else if (c.mode == "displacement") {
+    c.units = "|p - p_template| (x bbox diagonal)";
+  } else if (c.mode == "dataset") {
+    c.units = c.dataset;
+  } else if (c.mode != "none") {
+    throw UsageError("--color must be none, error, deformation, displacement or a /dataset path, not '" + opt.color + "'");
+  }
+  return c;
+}
+
+// Per-vertex values of dataset `path` of an input for its frames: [N, V] or [V] (same for all).
+std::vector<std::vector<double>> dataset_values(const convert::FrameSet& s, const std::string& path, std::string& units) {
+  if (!io::is_hdf5_path(s.path)) throw UsageError("--color " + path + " needs .h5 inputs: " + s.path);
+  h5::File f(s.path, h5::File::Mode::read);
+  if (!f.is_dataset(path)) throw InvalidInput("has no dataset " + path + " to colour by", s.path);
+  auto a = f.read<double>(path);
+  const std::size_t nv = s.vertices();
+  if (f.has_attr(path, "units")) units = path + " (" + f.attr_string(path, "units") + ")";
+  std::vector<std::vector<double>> out(s.size());
+  if (a.dims.size() == 1 && a.dims[0] == nv) {
+    for (auto& v : out) v = a.data;
+  } else if (a.dims.size() == 2 && a.dims[0] == s.size() && a.dims[1] == nv) {
+    for (std::size_t i = 0; i < s.size(); ++i) out[i].assign(a.data.begin() + static_cast<std::ptrdiff_t>(i * nv),
+                                                             a.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * nv));
+  } else {
+    throw InvalidInput(fmt::format("{} must have shape [V] or [N, V] = [{}, {}] to colour vertices", path, s.size(), nv),
+                       s.path);
+  }
+  return out;
+}
+
+// Fills each row's shown positions and scalars; returns the data range of the scalars.
+std::pair<double, double> prepare_meshes(std::vector<Row>& rows, std::vector<convert::FrameSet>& sets,
+                                         convert::FrameSet* truth, Coloring& col) {
+  for (auto& s : sets) {
+    std::vector<std::size_t> need;
+    for (const auto& r : rows)
+      if (!r.truth && &sets[r.input] == &s) need.insert(need.end(), r.frames.begin(), r.frames.end());
+    convert::reconstruct(s, &need);
+  }
+  double lo = 1e300, hi = -1e300;
+  for (auto& r : rows) {
+    const auto& s = r.truth ? *truth : sets[r.input];
+    const double diag = s.diagonal();
+    std::vector<std::vector<double>> ds;
+    if (col.mode == "dataset" && !r.truth) ds = dataset_values(s, col.dataset, col.units);
+    int n_components = 0;
+    std::vector<int> component;
+    if (col.mode == "error" && !r.truth) {
+      if (truth->vertices() != s.vertices())
+        throw InvalidInput(fmt::format("the error reference has {} vertices, {} has {}", truth->vertices(), s.path, s.vertices()),
+                           truth->path);
+      component = geometry::connected_components(geometry::mesh_topology(s.tmpl.faces, static_cast<int>(s.vertices())), 0,
+                                                  &n_components);
+    }
+    Eigen::VectorXd identity;
+    if (col.mode == "deformation" && !r.truth) {
+      if (s.raw.rows() == 0) throw InvalidInput("has no ACAP features for --color deformation", s.path);
+      const double id[geometry::kFeatureDims] = {0, 0, 0, 1, 0, 0, 1, 0, 1};
+      identity.resize(s.raw.cols());
+      for (Eigen::Index k = 0; k < identity.size(); ++k)
+        identity[k] = s.normalization ? s.normalization->normalize(static_cast<int>(k % geometry::kFeatureDims),
+                                                                   id[k % geometry::kFeatureDims])
+                                      : id[k % geometry::kFeatureDims];
+    }
+    for (std::size_t i : r.frames) {
+      io::Vertices p = s.positions[i];
+      std::vector<double> v;
+      if (r.truth || col.mode == "none") {
+      } else if (col.mode == "error") {
+        const io::Vertices& gt = truth->positions[truth_frame(s, i, *truth)];
+        p = eval::align_translation(p, gt, component, n_components);
+        v.resize(s.vertices());
+        const double d = truth->diagonal();
+        for (Eigen::Index k = 0; k < p.rows(); ++k) v[static_cast<std::size_t>(k)] = (p.row(k) - gt.row(k)).norm() / d;
+      } else if (col.mode == "deformation") {
+        const Eigen::VectorXd x = convert::normalized_features(s, i, s.normalization) - identity;
+        v.resize(s.vertices());
+        for (std::size_t k = 0; k < v.size(); ++k)
+          v[k] = x.segment(static_cast<Eigen::Index>(k * geometry::kFeatureDims), geometry::kFeatureDims).norm();
+      } else if (col.mode == "displacement") {
+        v.resize(s.vertices());
+        for (Eigen::Index k = 0; k < p.rows(); ++k) v[static_cast<std::size_t>(k)] = (p.row(k) - s.tmpl.vertices.row(k)).norm() / diag;
+      } else {
+        v = ds[i];
+      }
+      for (double x : v)
+        if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+      r.shown.push_back(std::move(p));
+      r.scalar.push_back(std::move(v));
+    }
+  }
+  return {lo, hi};
+}
+
+// The first row of --show-truth: the truth frames paired with the first row's frames.
+Row truth_row(const Row& first, const convert::FrameSet& s, const convert::FrameSet& truth) {
+  Row r;
+  r.truth = true;
+  r.label = "ground truth";
+  for (std::size_t i : first.frames) r.frames.push_back(truth_frame(s, i, truth));
+  r.captions = first.captions;
+  return r;
+}
+
+// --- skeletons -------------------------------------------------------------------------------
+
+std::vector<Row> skeleton_rows(const std::vector<io::SkeletonFile>& files, const std::vector<std::string>& paths,
+                               const RenderOptions& opt) {
+  std::vector<Row> rows;
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    const auto& s = files[k];
+    std::vector<std::string> names = s.sequence_names;
+    for (std::size_t q = 0; q < names.size(); ++q)
+      if (names[q].empty()) names[q] = std::to_string(q);
+    std::vector<std::size_t> seqs = chosen_sequences(opt.sequences, names, paths[k]);
+    if (opt.sequences.empty())
+      for (std::size_t q = 0; q < s.sequences(); ++q) seqs.push_back(q);
+    for (std::size_t q : seqs) {
+      Row r;
+      r.input = k;
+      const auto label = static_cast<std::size_t>(s.labels[q]);
+      r.label = fmt::format("{}{} ({})", files.size() > 1 ? stem(paths[k]) + " / " : "", names[q],
+                            label < s.class_names.size() ? s.class_names[label] : "?");
+      const auto begin = static_cast<std::size_t>(s.offsets[q]);
+      r.frames = select_frames(begin, static_cast<std::size_t>(s.offsets[q + 1]), {}, opt, r.label);
+      for (std::size_t i : r.frames) r.captions.push_back(fmt::format("frame {}", i - begin));
+      rows.push_back(std::move(r));
+    }
+  }
+  return rows;
+}
+
+// --- the pictures --------------------------------------------------------------------------
+
+// Output names: one file, or one per column from the pattern.
+std::vector<std::string> output_names(const RenderOptions& opt, const std::vector<Row>& rows, std::size_t cols) {
+  if (io::lower_extension(opt.output) != ".png") throw UsageError("-o must name a .png file (or a NAME{index}.png pattern)");
+  if (opt.output.find('{') == std::string::npos) return {opt.output};
+  std::vector<std::string> out;
+  std::set<std::string> seen;
+  for (std::size_t c = 0; c < cols; ++c) {
+    std::string name;
+    try {
+      const std::size_t frame = c < rows.front().frames.size() ? rows.front().frames[c] : 0;
+      name = fmt::format(fmt::runtime(opt.output), fmt::arg("index", c), fmt::arg("frame", frame));
+    } catch (const fmt::format_error& e) {
+      throw UsageError(fmt::format("bad -o pattern '{}': {}", opt.output, e.what()));
+    }
+    if (!seen.insert(name).second) throw UsageError("two frames get the file name " + name + "; use {index} in -o");
+    out.push_back(name);
+  }
+  return out;
+}
+
+std::vector<std::string> labels_or(const std::vector<std::string>& given, std::vector<std::string> fallback,
+                                   const char* option) {
+  if (given.empty()) return fallback;
+  if (given.size() != fallback.size())
+    throw UsageError(fmt::format("{} gives {} labels for {}", option, given.size(), fallback.size()));
+  return given;
+}
+
+}  // namespace
+
+void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
+  if (opt.inputs.empty()) throw UsageError("no inputs");
+  if (opt.width < 16 || opt.height < 16 || opt.width > 4096 || opt.height > 4096)
+    throw UsageError("--size must be between 16 and 4096 pixels per side");
+  if (opt.supersample < 1 || opt.supersample > 8) throw UsageError("--supersample must be 1 to 8");
+  if (opt.every < 0) throw UsageError("--every must be positive");
+  if (!opt.range.empty() && (opt.range.size() != 2 || !(opt.range[0] < opt.range[1])))
+    throw UsageError("--range needs LO,HI with LO < HI");
+  if (opt.shading != "smooth" && opt.shading != "flat") throw UsageError("--shading must be smooth or flat");
+  if (opt.show_truth && opt.error_vs.empty()) throw UsageError("--show-truth needs --error-vs GROUND_TRUTH");
+  Camera camera(parse_view(opt.view, opt.up));
+  Shading shading;
+  shading.smooth = opt.shading == "smooth";
+  shading.background = parse_color(opt.background);
+  shading.supersample = opt.supersample;
+  const Rgb base = parse_color(opt.base_color);
+  const Colormap map = parse_colormap(opt.colormap);
+  Coloring col = coloring(opt);
+
+  // 1. Inputs and the rows they give.
+  std::vector<Kind> kinds;
+  for (const auto& p : opt.inputs) kinds.push_back(input_kind(p));
+  const bool skeleton = kinds.front() == Kind::skeleton;
+  if (std::any_of(kinds.begin(), kinds.end(), [&](Kind k) { return k != kinds.front(); }))
+    throw UsageError("cannot draw skeleton files and meshes in one picture");
+  std::vector<convert::FrameSet> sets;
+  std::vector<io::SkeletonFile> skels;
+  std::unique_ptr<convert::FrameSet> truth;
+  std::vector<Row> rows;
+  std::optional<ColorBar> bar;
+  if (skeleton) {
+    if (col.mode != "none" || !opt.error_vs.empty()) throw UsageError("skeleton files are drawn without --color / --error-vs");
+    for (const auto& p : opt.inputs) skels.push_back(io::read_skeleton_file(p));
+    rows = skeleton_rows(skels, opt.inputs, opt);
+    for (const auto& r : rows)
+      for (std::size_t t : r.frames)
+        for (std::size_t j = 0; j < skels[r.input].joints; ++j) {
+          double q[3];
+          skels[r.input].joint(t, j, q);
+          camera.include_point({q[0], q[1], q[2]});
+        }
+  } else {
+    for (const auto& p : opt.inputs) sets.push_back(convert::read_frame_set(p));
+    rows = mesh_rows(sets, opt);
+    if (!opt.error_vs.empty()) {
+      truth = std::make_unique<convert::FrameSet>(convert::read_frame_set(opt.error_vs));
+      if (truth->vertices() != sets.front().vertices())
+        throw InvalidInput(fmt::format("the error reference has {} vertices, {} has {}", truth->vertices(), opt.inputs.front(),
+                                       sets.front().vertices()),
+                           opt.error_vs);
+      if (opt.show_truth) rows.insert(rows.begin(), truth_row(rows.front(), sets[rows.front().input], *truth));
+      std::vector<std::size_t> need;
+      for (const auto& r : rows)
+        if (r.truth) need = r.frames;
+      for (const auto& r : rows)
+        if (!r.truth)
+          for (std::size_t i : r.frames) need.push_back(truth_frame(sets[r.input], i, *truth));
+      convert::reconstruct(*truth, &need);
+    }
+    auto [lo, hi] = prepare_meshes(rows, sets, truth.get(), col);
+    if (col.mode != "none") {
+      if (!opt.range.empty()) lo = opt.range[0], hi = opt.range[1];
+      else if (!(lo <= hi)) lo = 0, hi = 1;
+      else lo = std::min(lo, 0.0), hi = hi > lo ? hi : lo + 1;
+      bar = ColorBar{map, lo, hi, col.units};
+    }
+    for (const auto& r : rows)
+      for (const auto& p : r.shown) camera.include(p);
+  }
+  std::size_t cols = 0;
+  for (const auto& r : rows) cols = std::max(cols, r.frames.size());
+  const auto outputs = output_names(opt, rows, cols);
+  const bool per_frame = outputs.size() > 1 || opt.output.find('{') != std::string::npos;
+  if (!per_frame && cols > static_cast<std::size_t>(kMaxColumns))
+    throw UsageError(fmt::format("{} frames selected; a sheet shows at most {}: choose with --frames/--every/--steps, or "
+                                 "write one PNG per frame with -o 'DIR/{{index:04d}}.png'",
+                                 cols, kMaxColumns));
+  if (rows.size() * (per_frame ? 1 : cols) > static_cast<std::size_t>(kMaxPanels))
+    throw UsageError(fmt::format("{} rows x {} columns is too many panels for one picture", rows.size(), cols));
+  std::vector<std::filesystem::path> input_paths(opt.inputs.begin(), opt.inputs.end());
+  if (!opt.error_vs.empty()) input_paths.emplace_back(opt.error_vs);
+  for (const auto& name : outputs) {  // every output checked before any work (each is written atomically)
+    const fs::path dir = fs::path(name).parent_path();
+    if (per_frame && !dir.empty()) fs::create_directories(dir);
+    AtomicOutput check(name, AtomicOutput::Kind::file, common.force, input_paths);
+  }
+
+  // 2. The sheet's captions.
+  std::vector<std::string> row_labels;
+  for (const auto& r : rows) row_labels.push_back(r.label);
+  row_labels = labels_or(opt.row_labels, row_labels, "--row-labels");
+  std::vector<std::string> col_labels;
+  const Row& first = rows.front().truth && rows.size() > 1 ? rows[1] : rows.front();
+  for (std::size_t c = 0; c < cols; ++c) col_labels.push_back(c < first.captions.size() ? first.captions[c] : "");
+  col_labels = labels_or(opt.column_labels, col_labels, "--column-labels");
+
+  // 3. Panels, drawn in batches of columns (all columns for one sheet), one panel per task.
+  Progress progress("rendering", rows.size() * cols);
+  const std::size_t batch = per_frame ? kBatchColumns : cols;
+  for (std::size_t c0 = 0; c0 < cols; c0 += batch) {
+    const std::size_t c1 = std::min(cols, c0 + batch);
+    std::vector<Panel> panels(rows.size() * (c1 - c0));
+    if (!skeleton)
+      tbb::parallel_for(std::size_t{0}, panels.size(), [&](std::size_t k) {
+        const Row& r = rows[k / (c1 - c0)];
+        const std::size_t c = c0 + k % (c1 - c0);
+        if (c >= r.frames.size()) return;
+        const auto& s = r.truth ? *truth : sets[r.input];
+        std::vector<Rgb> colors;
+        if (bar && !r.scalar[c].empty())
+          for (double v : r.scalar[c]) colors.push_back(map_color(map, (v - bar->lo) / (bar->hi - bar->lo)));
+        panels[k] = rasterize_mesh(r.shown[c], s.tmpl.faces, colors, base, camera, opt.width, opt.height, shading);
+        progress.advance();
+      });
+    const std::size_t sheets = per_frame ? c1 - c0 : 1;
+    for (std::size_t o = 0; o < sheets; ++o) {
+      SheetSpec spec;
+      spec.rows = static_cast<int>(rows.size());
+      spec.cols = static_cast<int>(per_frame ? 1 : cols);
+      spec.panel_width = opt.width, spec.panel_height = opt.height;
+      spec.title = opt.title;
+      spec.row_labels = row_labels;
+      spec.column_labels = per_frame ? std::vector<std::string>{col_labels[c0 + o]} : col_labels;
+      spec.bar = bar;
+      spec.background = shading.background;
+      const SheetLayout L = layout_sheet(spec);
+      Canvas canvas(L.width, L.height, shading.background);
+      for (std::size_t ri = 0; ri < rows.size(); ++ri)
+        for (std::size_t c = c0; c < c1; ++c) {
+          if (per_frame && c != c0 + o) continue;
+          if (c >= rows[ri].frames.size()) continue;
+          const int x = L.panel_x(static_cast<int>(per_frame ? 0 : c), spec), y = L.panel_y(static_cast<int>(ri), spec);
+          if (skeleton) {
+            canvas.rectangle(x, y, opt.width, opt.height, shading.background);
+            draw_stick_figure(canvas, skels[rows[ri].input], rows[ri].frames[c], camera, x, y, opt.width, opt.height);
+            progress.advance();
+          } else {
+            canvas.blit(panels[ri * (c1 - c0) + (c - c0)], x, y);
+          }
+        }
+      draw_sheet_frame(canvas, spec, L);
+      AtomicOutput out(outputs[per_frame ? c0 + o : 0], AtomicOutput::Kind::file, common.force, input_paths);
+      canvas.write_png(out.temp_path(), out.final_path().string());
+      out.commit();
+    }
+  }
+  progress.finish();
+  log::info("wrote {} ({} rows x {} frames{})", per_frame ? fmt::format("{} PNG files", outputs.size()) : opt.output,
+            rows.size(), cols, bar ? fmt::format(", colour {} .. {:.3g} {}", bar->lo, bar->hi, bar->units) : "");
+}
+
+}  // namespace df::render
