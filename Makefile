@@ -2,6 +2,7 @@
 #   make demo    install what is missing, build, run the demo pipeline, show where results are
 #   make test    install what is missing, build, run the test suite (ctest)
 #   make bench   benchmarks (bench/), results under $(BUILD)/bench
+#   make update-golden  rewrites tests/unit/render/golden/*.png (only on purpose, then review)
 BUILD ?= build
 JOBS ?= 2
 OUT ?= out
@@ -12,7 +13,7 @@ ifeq ($(CI),true)
   CMAKE_FLAGS += -DDEFORMFLOW_WERROR=ON
 endif
 
-.PHONY: all deps configure build test demo bench clean
+.PHONY: all deps configure build test demo bench clean update-golden
 all: build
 
 deps:
@@ -33,6 +34,10 @@ demo: build
 bench: build
 	@bash scripts/install-deps.sh --with-bench
 	bash bench/run.sh $(BUILD)
+
+# Rewrites the golden picture of the renderer's unit test (review the PNG before committing).
+update-golden: build
+	DF_UPDATE_GOLDEN=1 $(BUILD)/tests/unit_tests "[golden]"
 
 clean:
 	rm -rf $(BUILD)
