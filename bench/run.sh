@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Benchmarks (never run by the test suite). Usage: bench/run.sh [BUILD_DIR]
+# Benchmarks (never run by the test suite). Usage: bench/run.sh [BUILD_DIR] [render]
+# (with "render": only the render-mesh section, into BUILD_DIR/bench/render.md)
 # Writes Markdown tables to BUILD_DIR/bench/results.md and prints them. Rates are vertex-frames
 # per second of the whole tool run (reading, computing, compressing, writing); peak memory is
 # GNU time's maximum resident set size.
@@ -31,6 +32,42 @@ if [ -d "$shared/meshseq" ]; then
     fi
     dirs[$set]=$out/data/$set
   done
+fi
+
+# Pictures: a 10,000-vertex finger (flat/smooth shading, 3x3 supersampling), per frame and as sheets.
+bench_render() {
+  [ -f "$out/finger10k.h5" ] || "$bin/synth-meshseq" -q --kind finger --resolution 50 --frames 30 --twist 200 \
+    -o "$out/finger10k.h5"
+  [ -f "$out/finger10k-acap.h5" ] || "$bin/obj2acap" -q "$out/finger10k.h5" -o "$out/finger10k-acap.h5"
+  local v f
+  v=$("$bin/h5check" "$out/finger10k.h5" | sed -n 's/^ *V = \([0-9]*\).*/\1/p')
+  f=$("$bin/h5check" "$out/finger10k.h5" | sed -n 's/^ *F = \([0-9]*\).*/\1/p')
+  echo "### Pictures (render-mesh), finger of $v vertices, $f triangles"
+  echo
+  echo "| what | panel pixels | threads | seconds | per frame s | peak MiB |"
+  echo "|---|---|---|---|---|---|"
+  for size in 320 512; do
+    for threads in 1 2; do
+      rm -rf "$out/render-frames"
+      read -r s m < <(measure "$bin/render-mesh" --threads $threads --view side --size $size "$out/finger10k.h5" \
+                        -o "$out/render-frames/{index:02d}.png")
+      echo "| 30 frames, one PNG each (reading included) | $size² | $threads | $s | $(awk -v s=$s 'BEGIN{printf "%.3f", s/30}') | $m |"
+    done
+  done
+  for threads in 1 2; do
+    read -r s m < <(measure "$bin/render-mesh" --threads $threads --view side "$out/finger10k.h5" "$out/finger10k.h5" \
+                      "$out/finger10k.h5" --frames 0,10,20 -f -o "$out/render-sheet.png")
+    echo "| sheet 3 rows × 3 frames, stored positions | 320² | $threads | $s | $(awk -v s=$s 'BEGIN{printf "%.3f", s/9}') | $m |"
+  done
+  for threads in 1 2; do
+    read -r s m < <(measure "$bin/render-mesh" --threads $threads --view side "$out/finger10k-acap.h5" \
+                      --error-vs "$out/finger10k.h5" --show-truth --frames 0,10,20 --color displacement -f -o "$out/render-err.png")
+    echo "| sheet 2 rows × 3 frames, positions reconstructed from features, coloured | 320² | $threads | $s | $(awk -v s=$s 'BEGIN{printf "%.3f", s/6}') | $m |"
+  done
+}
+if [ "${2:-}" = render ]; then
+  bench_render | tee "$out/render.md"
+  exit 0
 fi
 
 {
@@ -116,5 +153,7 @@ fi
                       --threads "$threads" -f -o "$out/bumps.h5")
     echo "| synth-meshseq bumps 12,544 v × 1,000 → zstd HDF5 | $threads | $s | $(rate 12544000 $s) | $m |"
   done
+  echo
+  bench_render
 } | tee "$results"
 echo "results: $results"

@@ -10,6 +10,10 @@
 #                                 the table adds the change over 10 steps (motion vs jitter)
 #   $(BD)/S/completion.md fig3.png  completion between keyframes vs linear interpolation, and the
 #                                 spread of 8 diverse completions (paper §4.4)
+#   $(BD)/S/fig5.png              the meshes: ground truth, BD-LSTM from 3 initial frames and linear
+#                                 extrapolation at future frames 5, 10, 15 of the first held-out
+#                                 case, coloured by per-vertex error (paper Fig. 5)
+#   $(BD)/S/long.png              every 30th frame of the 300-frame generation
 # and for the sets in BD_ABLATION_SETS the ablations of paper Table 2 (unidirectional, standard
 # BD-LSTM, no KL, no L2) in $(BD)/S/table2.md with their curves in fig2.png.
 # Training times on 2 cores are in the README (BD-LSTM section).
@@ -41,18 +45,26 @@ chickenCrossing_TRAIN := --iterations 7000 --window 32 --batch 8 --stride $(chic
 chickenCrossing_LENGTH := 15
 chickenCrossing_EVERY := 2
 
+# How the pictures look at each set (render-mesh): the finger lies along z, the MD2 faerie is z-up;
+# pcow and chickenCrossing are y-up, seen from the front. faerie predicts 5 frames.
+finger_VIEW := --view side --height 140
+faerie_VIEW := --view side --up z
+faerie_STEPS := 1,3,5
+BD_FIG5_STEPS := 5,10,15
+
 unidirectional_FLAGS := --directions unidirectional
 standard_FLAGS := --directions standard
 no-kl_FLAGS := --no-kl
 no-l2_FLAGS := --no-l2
 
 .PHONY: bdlstm
-bdlstm: $(foreach s,$(BD_SETS),$(BD)/$(s)/table1.md $(BD)/$(s)/fig2.png $(BD)/$(s)/completion.md) \
+bdlstm: $(foreach s,$(BD_SETS),$(BD)/$(s)/table1.md $(BD)/$(s)/fig2.png $(BD)/$(s)/completion.md \
+                                $(BD)/$(s)/fig5.png $(BD)/$(s)/long.png) \
         $(foreach s,$(filter $(BD_SETS),$(BD_ABLATION_SETS)),$(BD)/$(s)/table2.md)
 	@for s in $(BD_SETS); do \
 	  echo; echo "=== $$s"; cat $(BD)/$$s/table1.md; echo; cat $(BD)/$$s/fig2.md; echo; cat $(BD)/$$s/completion.md; \
 	  [ -f $(BD)/$$s/table2.md ] && { echo; cat $(BD)/$$s/table2.md; }; \
-	  echo; echo "plots: $(BD)/$$s/fig*.png"; \
+	  echo; echo "plots: $(BD)/$$s/fig*.png; meshes: $(BD)/$$s/fig5.png, $(BD)/$$s/long.png"; \
 	done
 
 # --- data: ACAP features of each set
@@ -216,6 +228,18 @@ $(BD)/%/completion.md: $(BD)/%/complete.eval $(BD)/%/interp.eval
 	  set ylabel 'mean vertex error / bbox diagonal'; \
 	  plot '$(BD)/$*/complete.eval.tsv' index 'step' using 1:4 with linespoints title 'BD-LSTM (mean of 8 samples)', \
 	       '$(BD)/$*/interp.eval.tsv' index 'step' using 1:4 with linespoints title 'linear interpolation'"
+
+# --- (e) the meshes themselves (paper Fig. 5): the first held-out case (chosen before any result),
+# ground truth / BD-LSTM from 3 initial frames / linear extrapolation at future frames 5, 10, 15,
+# coloured by per-vertex error / bbox diagonal; and every 30th frame of the 300-frame generation.
+$(BD)/%/fig5.png: $(BD)/%/pred3.h5 $(BD)/%/linear.h5 $(BD)/%/data.h5
+	$(BIN)/render-mesh -q -f $(BD)/$*/pred3.h5 $(BD)/$*/linear.h5 --error-vs $(BD)/$*/data.h5 --show-truth \
+	  --sequence 0 --steps $(or $($*_STEPS),$(BD_FIG5_STEPS)) $($*_VIEW) --size 240 \
+	  --row-labels "ground truth,BD-LSTM (3 initial frames),linear extrapolation" \
+	  --title "$*: prediction of held-out frames (paper Fig. 5)" -o $@
+$(BD)/%/long.png: $(BD)/%/long.h5
+	$(BIN)/render-mesh -q -f $< --every 30 $($*_VIEW) --size 160 --row-labels BD-LSTM \
+	  --title "$*: 300 frames generated from frame 0, every 30th (paper Fig. 2)" -o $@
 
 # Keep every intermediate file (models, generations, evaluations): later runs reuse them.
 .SECONDARY:

@@ -5,7 +5,8 @@ FAERIE ?= /usr/share/assimp/models/MD2/faerie.md2
 .PHONY: demo
 demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
       $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
-      $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt
+      $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt \
+      $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png
 	@echo
 	@echo "== h5check: file kinds, shapes, compression, history"
 	$(BIN)/h5check --no-history $(DEMO)/faerie.h5
@@ -20,6 +21,10 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@sed -n 's/^  per-vertex position error *\(.*\)/     linear extrapolation: \1/p' $(DEMO)/bdlstm-linear.txt
 	@echo "   (a short demo run; pipelines/bdlstm.mk trains longer and reproduces the paper's tables)"
 	@echo
+	@echo "== pictures (render-mesh)"
+	@echo "  $(DEMO)/bdlstm-prediction.png   truth / BD-LSTM / linear at future frames 5, 10, 15, coloured by error"
+	@echo "  $(DEMO)/faerie.png              MD2 frames above their ACAP round trip, coloured by error"
+	@echo
 	@echo "== outputs in $(DEMO)/"
 	@echo "  finger.h5, bumps.h5     synthetic sequences (acap kind, positions; bumps with ground truth)"
 	@echo "  flag/                   waving flag as OBJ files"
@@ -27,6 +32,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo "  faerie.h5               ACAP features of the MD2 faerie; faerie-meshes/ reconstructed"
 	@echo "  bdlstm-model.h5         BD-LSTM trained on bdlstm-finger.h5; bdlstm-long.h5: 120 generated"
 	@echo "                          frames from one initial frame, as meshes in bdlstm-meshes/"
+	@echo "  faerie.png, bdlstm-prediction.png  pictures of the round trip and the prediction (render-mesh)"
 	@echo "  open the .obj files in any mesh viewer; h5dump reads the .h5 files with"
 	@echo "  HDF5_PLUGIN_PATH=$(HDF5_PLUGIN_PATH) h5dump -H -p FILE"
 
@@ -54,6 +60,15 @@ $(DEMO)/faerie.h5: $(FAERIE) | $(DEMO)
 $(DEMO)/faerie-meshes/stand01.obj: $(DEMO)/faerie.h5
 	$(BIN)/acap2obj -f $< -o $(DEMO)/faerie-meshes 2>&1 | tee $(DEMO)/faerie-meshes.log
 
+# The round trip in pictures: positions rebuilt from the features (acap2obj into an acap file, so
+# frames keep their order), drawn under the MD2 frames and coloured by their distance to them.
+$(DEMO)/faerie-roundtrip.h5: $(DEMO)/faerie.h5
+	$(BIN)/acap2obj -q -f $< -o $@
+$(DEMO)/faerie.png: $(DEMO)/faerie-roundtrip.h5 $(DEMO)/faerie.h5
+	$(BIN)/render-mesh -q -f $< --error-vs $(DEMO)/faerie.h5 --show-truth --frames 0,40,80,120,160 \
+	  --up z --view side --size 200 --range 0,0.001 --row-labels "MD2 frames,ACAP round trip" \
+	  --title "faerie (Debian's assimp-testmodels): MD2 frames and their ACAP round trip" -o $@
+
 # BD-LSTM: a short training run on a walking finger, a 120-frame generation as meshes, and
 # prediction on the held-out part against linear extrapolation.
 $(DEMO)/bdlstm-finger.h5: | $(DEMO)
@@ -74,6 +89,12 @@ $(DEMO)/bdlstm-pred.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
 
 $(DEMO)/bdlstm-linear.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
 	$(BIN)/gen-bdlstm -q -f $^ --test-every 4 --test-context 3 --initial 2 --method linear --length 15 -o $@
+
+$(DEMO)/bdlstm-prediction.png: $(DEMO)/bdlstm-pred.h5 $(DEMO)/bdlstm-linear.h5 $(DEMO)/bdlstm-finger.h5
+	$(BIN)/render-mesh -q -f $(DEMO)/bdlstm-pred.h5 $(DEMO)/bdlstm-linear.h5 --error-vs $(DEMO)/bdlstm-finger.h5 \
+	  --show-truth --sequence 0 --steps 5,10,15 --view side --size 240 --height 140 \
+	  --row-labels "ground truth,BD-LSTM (3 initial frames),linear extrapolation" \
+	  --title "walking finger: prediction of held-out frames" -o $@
 
 $(DEMO)/bdlstm-%.txt: $(DEMO)/bdlstm-%.h5 $(DEMO)/bdlstm-finger.h5
 	$(BIN)/eval-metrics -q $^ > $@.tmp && mv $@.tmp $@

@@ -60,8 +60,11 @@ SheetLayout layout_sheet(const SheetSpec& s) {
 void draw_sheet_frame(Canvas& c, const SheetSpec& s, const SheetLayout& L) {
   const Rgb ink = (s.background.r + s.background.g + s.background.b) / 3 < 0.5 ? Rgb{1, 1, 1} : Rgb{0.1, 0.1, 0.1};
   if (!s.title.empty()) c.text(s.title, L.left, L.title_y, kTitleSize, -1, ink, true);
-  for (int k = 0; k < static_cast<int>(s.column_labels.size()) && k < s.cols; ++k)
-    c.text(s.column_labels[static_cast<std::size_t>(k)], L.panel_x(k, s) + s.panel_width / 2.0, L.column_label_y, kLabelSize, 0, ink);
+  for (int k = 0; k < static_cast<int>(s.column_labels.size()) && k < s.cols; ++k) {
+    const auto& label = s.column_labels[static_cast<std::size_t>(k)];
+    const double w = c.text_width(label, kLabelSize), room = s.panel_width - 4.0;  // shrink to fit the column
+    c.text(label, L.panel_x(k, s) + s.panel_width / 2.0, L.column_label_y, w > room ? kLabelSize * room / w : kLabelSize, 0, ink);
+  }
   for (int r = 0; r < static_cast<int>(s.row_labels.size()) && r < s.rows; ++r)
     c.text(s.row_labels[static_cast<std::size_t>(r)], kPad, L.panel_y(r, s) + s.panel_height / 2.0, kLabelSize, -1, ink);
   if (!s.bar) return;
