@@ -32,8 +32,9 @@ FrameSet read_mesh_files(const std::string& path) {
   }
   fs.positions.resize(reader.size());
   for (std::size_t i = 0; i < reader.size(); ++i) fs.names.push_back(reader.frame_name(i));
-  tbb::parallel_for(std::size_t{0}, reader.size(),
-                    [&](std::size_t i) { fs.positions[i] = reader.read_positions(i, fs.tmpl, reader.frame_name(0)); });
+  tbb::parallel_for(std::size_t{0}, reader.size(), [&](std::size_t i) {
+    fs.positions[i] = reader.read_positions(i, fs.tmpl, reader.frame_name(0));
+  });
   fs.positions_stored = true;
   return fs;
 }
@@ -54,8 +55,8 @@ FrameSet read_frame_set(const std::string& path) {
   const std::size_t n = dims.at("N"), nv = dims.at("V"), row = nv * kFeatureDims;
   if (f.exists("/normalization/min")) fs.normalization = geometry::read_normalization(f);
   if (f.exists("/features/raw")) {
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(static_cast<Eigen::Index>(n),
-                                                                             static_cast<Eigen::Index>(row));
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(
+        static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
     f.read_rows<double>("/features/raw", 0, n, m.data());
     io::check_finite_rows(m.data(), 0, n, row, f.where("/features/raw"));
     fs.raw = m;
@@ -89,10 +90,14 @@ void reconstruct(FrameSet& fs, const std::vector<std::size_t>* frames) {
   std::vector<std::size_t> todo;
   for (std::size_t i = 0; i < fs.size(); ++i)
     if (fs.positions[i].rows() == 0) todo.push_back(i);
-  if (frames) std::erase_if(todo, [&](std::size_t i) { return std::find(frames->begin(), frames->end(), i) == frames->end(); });
+  if (frames)
+    std::erase_if(todo, [&](std::size_t i) {
+      return std::find(frames->begin(), frames->end(), i) == frames->end();
+    });
   if (todo.empty()) return;
   if (fs.raw.rows() == 0) throw InvalidInput("has neither /frames/positions nor features", fs.path);
-  geometry::Reconstructor rec(fs.tmpl.vertices, fs.tmpl.faces, 0, geometry::ReconstructionSolver::gradients);
+  geometry::Reconstructor rec(fs.tmpl.vertices, fs.tmpl.faces, 0,
+                              geometry::ReconstructionSolver::gradients);
   Progress progress("reconstructing " + fs.path, todo.size());
   tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t k) {
     Eigen::Matrix<double, 1, Eigen::Dynamic> row = fs.raw.row(static_cast<Eigen::Index>(todo[k]));
@@ -102,10 +107,12 @@ void reconstruct(FrameSet& fs, const std::vector<std::size_t>* frames) {
   progress.finish();
 }
 
-Eigen::VectorXd normalized_features(const FrameSet& fs, std::size_t i, const std::optional<geometry::Normalization>& nz) {
+Eigen::VectorXd normalized_features(const FrameSet& fs, std::size_t i,
+                                    const std::optional<geometry::Normalization>& nz) {
   Eigen::VectorXd x = fs.raw.row(static_cast<Eigen::Index>(i)).transpose();
   if (nz)
-    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] = nz->normalize(static_cast<int>(k % kFeatureDims), x[k]);
+    for (Eigen::Index k = 0; k < x.size(); ++k)
+      x[k] = nz->normalize(static_cast<int>(k % kFeatureDims), x[k]);
   return x;
 }
 

@@ -17,17 +17,17 @@ namespace df::convert {
 
 struct FrameSet {
   std::string path;
-  io::Mesh tmpl;                         ///< the template (reference) mesh
-  std::vector<std::int64_t> offsets;     ///< [S+1] sequence offsets
-  std::vector<std::string> sequences;    ///< [S] sequence names
-  std::vector<std::string> names;        ///< [N] frame names
+  io::Mesh tmpl;                       ///< the template (reference) mesh
+  std::vector<std::int64_t> offsets;   ///< [S+1] sequence offsets
+  std::vector<std::string> sequences;  ///< [S] sequence names
+  std::vector<std::string> names;      ///< [N] frame names
   /// [N] #V by 3 positions (mesh units); an entry is empty until stored or reconstructed
   std::vector<io::Vertices> positions;
   bool positions_stored = false;
-  Eigen::MatrixXd raw;                   ///< [N, 9V] raw features; 0 rows if none
+  Eigen::MatrixXd raw;  ///< [N, 9V] raw features; 0 rows if none
   std::optional<geometry::Normalization> normalization;
-  std::vector<std::int64_t> source;      ///< gen-bdlstm's data frame of each frame, if present
-  std::vector<std::int32_t> step;        ///< gen-bdlstm's steps after the last given frame, if present
+  std::vector<std::int64_t> source;  ///< gen-bdlstm's data frame of each frame, if present
+  std::vector<std::int32_t> step;    ///< gen-bdlstm's steps after the last given frame, if present
   std::size_t size() const { return static_cast<std::size_t>(offsets.back()); }
   std::size_t vertices() const { return static_cast<std::size_t>(tmpl.vertices.rows()); }
   /// Length of the template's bounding-box diagonal (mesh units).
@@ -43,6 +43,6 @@ void reconstruct(FrameSet& fs, const std::vector<std::size_t>* frames = nullptr)
 
 /// Frame i's features in the normalized space of `nz` (raw when none): what the networks see.
 Eigen::VectorXd normalized_features(const FrameSet& fs, std::size_t i,
-                                   const std::optional<geometry::Normalization>& nz);
+                                    const std::optional<geometry::Normalization>& nz);
 
 }  // namespace df::convert

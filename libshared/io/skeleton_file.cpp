@@ -19,7 +19,8 @@ SkeletonFile read_skeleton_file(const std::string& path) {
   s.joints = d.at("J");
   s.dims = static_cast<int>(d.at("D"));
   s.poses = f.read<float>("/poses").data;
-  check_finite_rows(s.poses.data(), 0, s.frames, s.joints * static_cast<std::size_t>(s.dims), f.where("/poses"));
+  check_finite_rows(s.poses.data(), 0, s.frames, s.joints * static_cast<std::size_t>(s.dims),
+                    f.where("/poses"));
   s.offsets = f.read<std::int64_t>("/sequences/offsets").data;
   s.sequence_names = f.exists("/sequences/names") ? f.read_strings("/sequences/names")
                                                   : std::vector<std::string>(s.sequences());

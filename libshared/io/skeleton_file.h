@@ -13,15 +13,15 @@ namespace df::io {
 
 struct SkeletonFile {
   std::size_t frames = 0, joints = 0;
-  int dims = 3;                        ///< coordinates per joint (2 or 3)
-  std::vector<float> poses;            ///< [frames, joints, dims]
-  std::vector<std::int64_t> offsets;   ///< [S+1]
+  int dims = 3;                             ///< coordinates per joint (2 or 3)
+  std::vector<float> poses;                 ///< [frames, joints, dims]
+  std::vector<std::int64_t> offsets;        ///< [S+1]
   std::vector<std::string> sequence_names;  ///< [S] ("" entries when the file has none)
-  std::vector<std::int32_t> labels;    ///< [S] class of each sequence
+  std::vector<std::int32_t> labels;         ///< [S] class of each sequence
   std::vector<std::string> class_names;     ///< [C]
-  std::vector<std::int32_t> parents;   ///< [J] parent joint, −1 for a root
+  std::vector<std::int32_t> parents;        ///< [J] parent joint, −1 for a root
   std::vector<std::string> joint_names;     ///< [J]
-  double frame_rate = 30;              ///< frames per second
+  double frame_rate = 30;                   ///< frames per second
   std::size_t sequences() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   /// Joint j of frame t, as (x, y, z) with z = 0 for 2-D data.
   void joint(std::size_t t, std::size_t j, double out[3]) const;

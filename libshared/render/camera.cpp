@@ -23,16 +23,20 @@ View parse_view(const std::string& text, const std::string& up) {
       std::size_t n1 = 0, n2 = 0;
       v.azimuth = std::stod(text.substr(0, comma), &n1);
       v.elevation = std::stod(text.substr(comma + 1), &n2);
-      if (n1 == comma && n2 == text.size() - comma - 1 && std::abs(v.elevation) <= 90 && std::isfinite(v.azimuth))
+      if (n1 == comma && n2 == text.size() - comma - 1 && std::abs(v.elevation) <= 90 &&
+          std::isfinite(v.azimuth))
         return v;
     }
   } catch (const std::exception&) {
   }
-  throw UsageError("bad --view '" + text + "' (front, side, top, back, or AZIMUTH,ELEVATION in degrees with |elevation| <= 90)");
+  throw UsageError(
+      "bad --view '" + text +
+      "' (front, side, top, back, or AZIMUTH,ELEVATION in degrees with |elevation| <= 90)");
 }
 
 Camera::Camera(const View& view) {
-  const double a = view.azimuth * std::numbers::pi / 180, e = view.elevation * std::numbers::pi / 180;
+  const double a = view.azimuth * std::numbers::pi / 180,
+               e = view.elevation * std::numbers::pi / 180;
   // In y-up coordinates: the direction towards the camera d, screen right x, screen up y = d × x.
   const Eigen::Vector3d d(std::sin(a) * std::cos(e), std::sin(e), std::cos(a) * std::cos(e));
   const Eigen::Vector3d x(std::cos(a), 0, -std::sin(a));
@@ -42,7 +46,8 @@ Camera::Camera(const View& view) {
   R.row(1) = y.transpose();
   R.row(2) = d.transpose();
   Eigen::Matrix3d to_y_up = Eigen::Matrix3d::Identity();
-  if (view.up == 'z') to_y_up << 1, 0, 0, 0, 0, 1, 0, -1, 0;  // (x, y, z) -> (x, z, −y): front looks from −y
+  if (view.up == 'z')
+    to_y_up << 1, 0, 0, 0, 0, 1, 0, -1, 0;  // (x, y, z) -> (x, z, −y): front looks from −y
   rotation_ = R * to_y_up;
 }
 
@@ -62,7 +67,8 @@ double Camera::scale(double w, double h, double margin) const {
   return s < 1e300 ? s : 1;  // a single point: any scale
 }
 
-Eigen::Vector3d Camera::to_panel(const Eigen::Vector3d& p, double w, double h, double margin) const {
+Eigen::Vector3d Camera::to_panel(const Eigen::Vector3d& p, double w, double h,
+                                 double margin) const {
   const Eigen::Vector3d v = rotation_ * p;
   const double s = scale(w, h, margin);
   const Eigen::Vector2d c = empty() ? Eigen::Vector2d::Zero() : Eigen::Vector2d((lo_ + hi_) / 2);

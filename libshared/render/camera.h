@@ -10,7 +10,8 @@ namespace df::render {
 
 /// Where the camera looks from. View space: x right, y up, z towards the viewer.
 struct View {
-  double azimuth = 0;    ///< degrees around the up axis; 0 = front (+z for y-up, −y for z-up), 90 = from +x
+  double azimuth =
+      0;  ///< degrees around the up axis; 0 = front (+z for y-up, −y for z-up), 90 = from +x
   double elevation = 0;  ///< degrees above the horizontal plane; 90 = from above
   char up = 'y';         ///< the world's up axis: 'y' or 'z'
 };
@@ -37,7 +38,8 @@ class Camera {
   /// Panel coordinates of world point p in a w by h panel, with `margin` (fraction of the
   /// smaller side) left on each side of the fitted extent: x right, y down (pixels), z = view
   /// depth (larger is nearer). The extent is centred and scaled uniformly to fit.
-  Eigen::Vector3d to_panel(const Eigen::Vector3d& p, double w, double h, double margin = 0.05) const;
+  Eigen::Vector3d to_panel(const Eigen::Vector3d& p, double w, double h,
+                           double margin = 0.05) const;
   /// Pixels per world unit in a w by h panel.
   double scale(double w, double h, double margin = 0.05) const;
 

@@ -21,7 +21,8 @@ Panel read_png(const std::filesystem::path& path) {
   const unsigned char* data = cairo_image_surface_get_data(s);
   const int stride = cairo_image_surface_get_stride(s);
   for (int y = 0; y < p.height; ++y)
-    std::memcpy(p.pixels.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(p.width), data + static_cast<std::ptrdiff_t>(y) * stride,
+    std::memcpy(p.pixels.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(p.width),
+                data + static_cast<std::ptrdiff_t>(y) * stride,
                 static_cast<std::size_t>(p.width) * 4);
   cairo_surface_destroy(s);
   return p;
@@ -34,7 +35,8 @@ Canvas::Canvas(int width, int height, const Rgb& background) : width_(width), he
     const std::string why = cairo_status_to_string(cairo_status(cr_));
     cairo_destroy(cr_);
     cairo_surface_destroy(surface_);
-    throw Error("cannot create a " + std::to_string(width) + " x " + std::to_string(height) + " picture: " + why);
+    throw Error("cannot create a " + std::to_string(width) + " x " + std::to_string(height) +
+                " picture: " + why);
   }
   cairo_set_source_rgb(cr_, background.r, background.g, background.b);
   cairo_paint(cr_);
@@ -56,14 +58,17 @@ void Canvas::blit(const Panel& panel, int x, int y) {
       const int xx = x + c;
       if (xx < 0 || xx >= width_) continue;
       const std::uint32_t p = panel.at(c, r);
-      std::memcpy(data + static_cast<std::ptrdiff_t>(yy) * stride + static_cast<std::ptrdiff_t>(xx) * 4, &p, 4);
+      std::memcpy(
+          data + static_cast<std::ptrdiff_t>(yy) * stride + static_cast<std::ptrdiff_t>(xx) * 4, &p,
+          4);
     }
   }
   cairo_surface_mark_dirty(surface_);
 }
 
 void Canvas::font(double size, bool bold) {
-  cairo_select_font_face(cr_, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_select_font_face(cr_, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                         bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr_, size);
 }
 
@@ -74,7 +79,8 @@ double Canvas::text_width(const std::string& s, double size, bool bold) {
   return e.x_advance;
 }
 
-void Canvas::text(const std::string& s, double x, double y, double size, int align, const Rgb& color, bool bold) {
+void Canvas::text(const std::string& s, double x, double y, double size, int align,
+                  const Rgb& color, bool bold) {
   font(size, bold);
   cairo_text_extents_t e;
   cairo_text_extents(cr_, s.c_str(), &e);
@@ -103,7 +109,8 @@ void Canvas::disc(double x, double y, double radius, const Rgb& color) {
   cairo_fill(cr_);
 }
 
-void Canvas::rectangle(double x, double y, double w, double h, const Rgb& color, double line_width) {
+void Canvas::rectangle(double x, double y, double w, double h, const Rgb& color,
+                       double line_width) {
   cairo_set_source_rgb(cr_, color.r, color.g, color.b);
   cairo_rectangle(cr_, x, y, w, h);
   if (line_width > 0) {
@@ -131,14 +138,18 @@ void Canvas::vertical_gradient(double x, double y, double w, double h, Colormap 
 std::uint32_t Canvas::pixel(int x, int y) {
   cairo_surface_flush(surface_);
   std::uint32_t p;
-  std::memcpy(&p, cairo_image_surface_get_data(surface_) + static_cast<std::ptrdiff_t>(y) * cairo_image_surface_get_stride(surface_) + x * 4, 4);
+  std::memcpy(&p,
+              cairo_image_surface_get_data(surface_) +
+                  static_cast<std::ptrdiff_t>(y) * cairo_image_surface_get_stride(surface_) + x * 4,
+              4);
   return p;
 }
 
 void Canvas::write_png(const std::filesystem::path& path, const std::string& display_name) {
   cairo_surface_flush(surface_);
   const cairo_status_t st = cairo_surface_write_to_png(surface_, path.c_str());
-  if (st != CAIRO_STATUS_SUCCESS) throw IOError(std::string("cannot write PNG: ") + cairo_status_to_string(st), display_name);
+  if (st != CAIRO_STATUS_SUCCESS)
+    throw IOError(std::string("cannot write PNG: ") + cairo_status_to_string(st), display_name);
 }
 
 }  // namespace df::render

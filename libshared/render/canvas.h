@@ -32,7 +32,8 @@ class Canvas {
   /// Copies a panel with its top-left corner at (x, y).
   void blit(const Panel& panel, int x, int y);
   /// Text centred vertically on y; `align` −1 left of x starts, 0 centred on x, 1 ends at x.
-  void text(const std::string& s, double x, double y, double size, int align, const Rgb& color = {}, bool bold = false);
+  void text(const std::string& s, double x, double y, double size, int align, const Rgb& color = {},
+            bool bold = false);
   /// Width of `s` in pixels at `size`.
   double text_width(const std::string& s, double size, bool bold = false);
   void line(double x0, double y0, double x1, double y1, double width, const Rgb& color);

@@ -43,7 +43,9 @@ Rgb interpolate(std::span<const Rgb> stops, double t) {
   return {a.r + u * (b.r - a.r), a.g + u * (b.g - a.g), a.b + u * (b.b - a.b)};
 }
 
-std::uint32_t channel(double v) { return static_cast<std::uint32_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); }
+std::uint32_t channel(double v) {
+  return static_cast<std::uint32_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
+}
 
 }  // namespace
 
@@ -51,7 +53,8 @@ Rgb parse_color(const std::string& text) {
   if (text == "white") return {1, 1, 1};
   if (text == "black") return {0, 0, 0};
   if (text == "grey" || text == "gray") return {0.5, 0.5, 0.5};
-  if (text.size() == 7 && text[0] == '#' && text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
+  if (text.size() == 7 && text[0] == '#' &&
+      text.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos) {
     const auto v = std::stoul(text.substr(1), nullptr, 16);
     return {((v >> 16) & 255) / 255.0, ((v >> 8) & 255) / 255.0, (v & 255) / 255.0};
   }
@@ -62,7 +65,9 @@ std::uint32_t to_argb(const Rgb& c) {
   return 0xff000000u | (channel(c.r) << 16) | (channel(c.g) << 8) | channel(c.b);
 }
 
-Rgb from_argb(std::uint32_t p) { return {((p >> 16) & 255) / 255.0, ((p >> 8) & 255) / 255.0, (p & 255) / 255.0}; }
+Rgb from_argb(std::uint32_t p) {
+  return {((p >> 16) & 255) / 255.0, ((p >> 8) & 255) / 255.0, (p & 255) / 255.0};
+}
 
 Colormap parse_colormap(const std::string& name) {
   if (name == "viridis") return Colormap::viridis;

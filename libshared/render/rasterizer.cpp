@@ -14,12 +14,18 @@ struct Samples {
   std::vector<float> depth, b1, b2;
   std::vector<std::int32_t> triangle;
   Samples(int w, int h)
-      : width(w), height(h), depth(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), -std::numeric_limits<float>::infinity()),
-        b1(depth.size()), b2(depth.size()), triangle(depth.size(), -1) {}
+      : width(w),
+        height(h),
+        depth(static_cast<std::size_t>(w) * static_cast<std::size_t>(h),
+              -std::numeric_limits<float>::infinity()),
+        b1(depth.size()),
+        b2(depth.size()),
+        triangle(depth.size(), -1) {}
 };
 
 // Screen position (samples) and depth of every vertex.
-std::vector<Eigen::Vector3d> project(const io::Vertices& V, const Camera& camera, int w, int h, const Shading& s) {
+std::vector<Eigen::Vector3d> project(const io::Vertices& V, const Camera& camera, int w, int h,
+                                     const Shading& s) {
   std::vector<Eigen::Vector3d> P(static_cast<std::size_t>(V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     Eigen::Vector3d p = camera.to_panel(V.row(i).transpose(), w, h, s.margin);
@@ -36,9 +42,11 @@ void rasterize_triangles(const std::vector<Eigen::Vector3d>& P, const io::Faces&
     const double area = (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
     if (!(std::abs(area) > 1e-12)) continue;  // degenerate on screen (or NaN)
     const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x(), b.x(), c.x()}))));
-    const int x1 = std::min(g.width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
+    const int x1 =
+        std::min(g.width - 1, static_cast<int>(std::ceil(std::max({a.x(), b.x(), c.x()}))));
     const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y(), b.y(), c.y()}))));
-    const int y1 = std::min(g.height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
+    const int y1 =
+        std::min(g.height - 1, static_cast<int>(std::ceil(std::max({a.y(), b.y(), c.y()}))));
     const double inv = 1.0 / area;
     for (int y = y0; y <= y1; ++y) {
       const double py = y + 0.5;
@@ -50,7 +58,8 @@ void rasterize_triangles(const std::vector<Eigen::Vector3d>& P, const io::Faces&
         const double l2 = 1.0 - l0 - l1;
         if (l0 < 0 || l1 < 0 || l2 < 0) continue;
         const auto z = static_cast<float>(l0 * a.z() + l1 * b.z() + l2 * c.z());
-        const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(g.width) + static_cast<std::size_t>(x);
+        const std::size_t k = static_cast<std::size_t>(y) * static_cast<std::size_t>(g.width) +
+                              static_cast<std::size_t>(x);
         if (z > g.depth[k]) {
           g.depth[k] = z;
           g.triangle[k] = static_cast<std::int32_t>(f);
@@ -67,13 +76,15 @@ void normals(const io::Vertices& V, const io::Faces& F, const Camera& camera, bo
              std::vector<Eigen::Vector3d>& face_n, std::vector<Eigen::Vector3d>& vertex_n) {
   face_n.resize(static_cast<std::size_t>(F.rows()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const Eigen::Vector3d a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(), c = V.row(F(f, 2)).transpose();
+    const Eigen::Vector3d a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(),
+                          c = V.row(F(f, 2)).transpose();
     face_n[static_cast<std::size_t>(f)] = camera.rotation() * (b - a).cross(c - a);
   }
   if (!smooth) return;
   vertex_n.assign(static_cast<std::size_t>(V.rows()), Eigen::Vector3d::Zero());
   for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) vertex_n[static_cast<std::size_t>(F(f, k))] += face_n[static_cast<std::size_t>(f)];
+    for (int k = 0; k < 3; ++k)
+      vertex_n[static_cast<std::size_t>(F(f, k))] += face_n[static_cast<std::size_t>(f)];
 }
 
 Rgb shade(Eigen::Vector3d n, const Rgb& base, const Eigen::Vector3d& light) {
@@ -90,8 +101,8 @@ Rgb shade(Eigen::Vector3d n, const Rgb& base, const Eigen::Vector3d& light) {
 
 }  // namespace
 
-Panel rasterize_mesh(const io::Vertices& V, const io::Faces& F, const std::vector<Rgb>& colors, const Rgb& base,
-                     const Camera& camera, int w, int h, const Shading& shading) {
+Panel rasterize_mesh(const io::Vertices& V, const io::Faces& F, const std::vector<Rgb>& colors,
+                     const Rgb& base, const Camera& camera, int w, int h, const Shading& shading) {
   const int ss = std::max(1, shading.supersample);
   Samples g(w * ss, h * ss);
   rasterize_triangles(project(V, camera, w, h, shading), F, g);
@@ -99,34 +110,40 @@ Panel rasterize_mesh(const io::Vertices& V, const io::Faces& F, const std::vecto
   normals(V, F, camera, shading.smooth, face_n, vertex_n);
   const Eigen::Vector3d light = shading.light.normalized();
 
-  Panel out{w, h, std::vector<std::uint32_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h))};
+  Panel out{w, h,
+            std::vector<std::uint32_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h))};
   const double n_samples = ss * ss;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       Rgb sum;
       for (int sy = 0; sy < ss; ++sy)
         for (int sx = 0; sx < ss; ++sx) {
-          const std::size_t k = static_cast<std::size_t>(y * ss + sy) * static_cast<std::size_t>(g.width) +
-                                static_cast<std::size_t>(x * ss + sx);
+          const std::size_t k =
+              static_cast<std::size_t>(y * ss + sy) * static_cast<std::size_t>(g.width) +
+              static_cast<std::size_t>(x * ss + sx);
           Rgb c = shading.background;
           if (const int f = g.triangle[k]; f >= 0) {
             const double l1 = g.b1[k], l2 = g.b2[k], l0 = 1.0 - l1 - l2;
             const int i0 = F(f, 0), i1 = F(f, 1), i2 = F(f, 2);
-            const Eigen::Vector3d n = shading.smooth ? Eigen::Vector3d(l0 * vertex_n[static_cast<std::size_t>(i0)] +
-                                                                       l1 * vertex_n[static_cast<std::size_t>(i1)] +
-                                                                       l2 * vertex_n[static_cast<std::size_t>(i2)])
-                                                     : face_n[static_cast<std::size_t>(f)];
+            const Eigen::Vector3d n =
+                shading.smooth ? Eigen::Vector3d(l0 * vertex_n[static_cast<std::size_t>(i0)] +
+                                                 l1 * vertex_n[static_cast<std::size_t>(i1)] +
+                                                 l2 * vertex_n[static_cast<std::size_t>(i2)])
+                               : face_n[static_cast<std::size_t>(f)];
             Rgb albedo = base;
             if (!colors.empty()) {
-              const Rgb &c0 = colors[static_cast<std::size_t>(i0)], &c1 = colors[static_cast<std::size_t>(i1)],
+              const Rgb &c0 = colors[static_cast<std::size_t>(i0)],
+                        &c1 = colors[static_cast<std::size_t>(i1)],
                         &c2 = colors[static_cast<std::size_t>(i2)];
-              albedo = {l0 * c0.r + l1 * c1.r + l2 * c2.r, l0 * c0.g + l1 * c1.g + l2 * c2.g, l0 * c0.b + l1 * c1.b + l2 * c2.b};
+              albedo = {l0 * c0.r + l1 * c1.r + l2 * c2.r, l0 * c0.g + l1 * c1.g + l2 * c2.g,
+                        l0 * c0.b + l1 * c1.b + l2 * c2.b};
             }
             c = shade(n, albedo, light);
           }
           sum.r += c.r, sum.g += c.g, sum.b += c.b;
         }
-      out.pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+      out.pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                 static_cast<std::size_t>(x)] =
           to_argb({sum.r / n_samples, sum.g / n_samples, sum.b / n_samples});
     }
   return out;

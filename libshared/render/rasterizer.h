@@ -29,14 +29,17 @@ struct Shading {
 struct Panel {
   int width = 0, height = 0;
   std::vector<std::uint32_t> pixels;
-  std::uint32_t at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)]; }
+  std::uint32_t at(int x, int y) const {
+    return pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                  static_cast<std::size_t>(x)];
+  }
 };
 
 /// Renders a triangle mesh into a w by h panel through `camera`.
 /// @param V       #V by 3 positions (world units)
 /// @param F       #F by 3 triangles
 /// @param colors  #V per-vertex colours, or empty for `base` everywhere
-Panel rasterize_mesh(const io::Vertices& V, const io::Faces& F, const std::vector<Rgb>& colors, const Rgb& base,
-                     const Camera& camera, int w, int h, const Shading& shading);
+Panel rasterize_mesh(const io::Vertices& V, const io::Faces& F, const std::vector<Rgb>& colors,
+                     const Rgb& base, const Camera& camera, int w, int h, const Shading& shading);
 
 }  // namespace df::render

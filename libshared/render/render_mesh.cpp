@@ -38,10 +38,10 @@ constexpr int kBatchColumns = 16;  // per-frame outputs: columns rasterised at o
 struct Row {
   std::size_t input = 0;
   std::string label;
-  std::vector<std::size_t> frames;     // indices into the input's frames
-  std::vector<std::string> captions;   // default column caption of each frame
-  bool truth = false;                  // the ground-truth row of --show-truth
-  std::vector<io::Vertices> shown;     // meshes: positions drawn, per frame
+  std::vector<std::size_t> frames;          // indices into the input's frames
+  std::vector<std::string> captions;        // default column caption of each frame
+  bool truth = false;                       // the ground-truth row of --show-truth
+  std::vector<io::Vertices> shown;          // meshes: positions drawn, per frame
   std::vector<std::vector<double>> scalar;  // meshes: per-vertex value per frame (empty: plain)
 };
 
@@ -54,7 +54,8 @@ Kind input_kind(const std::string& path) {
   const std::string kind = io::declared_kind(f);
   if (kind == "acap") return Kind::mesh;
   if (kind == "skeleton") return Kind::skeleton;
-  throw InvalidInput("is a " + kind + " file; render-mesh draws acap, skeleton and mesh files", path);
+  throw InvalidInput("is a " + kind + " file; render-mesh draws acap, skeleton and mesh files",
+                     path);
 }
 
 std::string stem(const std::string& path) {
@@ -64,7 +65,8 @@ std::string stem(const std::string& path) {
 }
 
 // Sequence indices chosen by --sequence (names or numbers); all of them when `all` and none given.
-std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted, const std::vector<std::string>& names,
+std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted,
+                                          const std::vector<std::string>& names,
                                           const std::string& path) {
   std::vector<std::size_t> out;
   for (const auto& w : wanted) {
@@ -73,31 +75,41 @@ std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted
       out.push_back(static_cast<std::size_t>(it - names.begin()));
       continue;
     }
-    if (!w.empty() && w.find_first_not_of("0123456789") == std::string::npos && std::stoul(w) < names.size()) {
+    if (!w.empty() && w.find_first_not_of("0123456789") == std::string::npos &&
+        std::stoul(w) < names.size()) {
       out.push_back(std::stoul(w));
       continue;
     }
-    throw UsageError(fmt::format("no sequence '{}' in {} (it has {} sequences{}{})", w, path, names.size(),
-                                 names.size() <= 12 ? ": " : "", names.size() <= 12 ? fmt::format("{}", fmt::join(names, ", ")) : ""));
+    throw UsageError(
+        fmt::format("no sequence '{}' in {} (it has {} sequences{}{})", w, path, names.size(),
+                    names.size() <= 12 ? ": " : "",
+                    names.size() <= 12 ? fmt::format("{}", fmt::join(names, ", ")) : ""));
   }
   return out;
 }
 
 // The frames of [begin, end) that --steps, --frames and --every select, in order.
-std::vector<std::size_t> select_frames(std::size_t begin, std::size_t end, const std::vector<std::int32_t>& step,
+std::vector<std::size_t> select_frames(std::size_t begin, std::size_t end,
+                                       const std::vector<std::int32_t>& step,
                                        const RenderOptions& opt, const std::string& where) {
   std::vector<std::size_t> cand;
   for (std::size_t i = begin; i < end; ++i) cand.push_back(i);
   if (!opt.steps.empty()) {
-    if (step.empty()) throw UsageError("--steps needs generated frames with /frames/step (gen-bdlstm output): " + where);
-    std::erase_if(cand, [&](std::size_t i) { return std::find(opt.steps.begin(), opt.steps.end(), step[i]) == opt.steps.end(); });
+    if (step.empty())
+      throw UsageError("--steps needs generated frames with /frames/step (gen-bdlstm output): " +
+                       where);
+    std::erase_if(cand, [&](std::size_t i) {
+      return std::find(opt.steps.begin(), opt.steps.end(), step[i]) == opt.steps.end();
+    });
   }
   if (cand.empty()) throw UsageError("no frames selected in " + where);
   std::vector<std::size_t> out;
-  for (std::size_t k : convert::parse_frame_selection(opt.frames, cand.size())) out.push_back(cand[k]);
+  for (std::size_t k : convert::parse_frame_selection(opt.frames, cand.size()))
+    out.push_back(cand[k]);
   if (opt.every > 1) {
     std::vector<std::size_t> thinned;
-    for (std::size_t k = 0; k < out.size(); k += static_cast<std::size_t>(opt.every)) thinned.push_back(out[k]);
+    for (std::size_t k = 0; k < out.size(); k += static_cast<std::size_t>(opt.every))
+      thinned.push_back(out[k]);
     out = std::move(thinned);
   }
   return out;
@@ -116,8 +128,9 @@ std::vector<Row> mesh_rows(const std::vector<convert::FrameSet>& sets, const Ren
       r.label = label;
       r.frames = select_frames(begin, end, s.step, opt, label);
       for (std::size_t i : r.frames)
-        r.captions.push_back(!s.step.empty() && s.step[i] > 0 ? fmt::format("future frame {}", s.step[i])
-                                                              : fmt::format("frame {}", i - begin));
+        r.captions.push_back(!s.step.empty() && s.step[i] > 0
+                                 ? fmt::format("future frame {}", s.step[i])
+                                 : fmt::format("frame {}", i - begin));
       rows.push_back(std::move(r));
     };
     if (opt.sequences.empty()) {
@@ -134,16 +147,20 @@ std::vector<Row> mesh_rows(const std::vector<convert::FrameSet>& sets, const Ren
 // The truth frame paired with frame i of `s`: gen-bdlstm's /frames/source, else the same index.
 std::size_t truth_frame(const convert::FrameSet& s, std::size_t i, const convert::FrameSet& truth) {
   std::int64_t j = s.source.empty() ? static_cast<std::int64_t>(i) : s.source[i];
-  if (j < 0) throw InvalidInput(fmt::format("frame {} has no ground-truth frame (it lies past the data's end)", i), s.path);
+  if (j < 0)
+    throw InvalidInput(
+        fmt::format("frame {} has no ground-truth frame (it lies past the data's end)", i), s.path);
   if (static_cast<std::size_t>(j) >= truth.size())
-    throw InvalidInput(fmt::format("frame {} pairs with frame {} of the ground truth, which has {} frames", i, j, truth.size()),
-                       s.path);
+    throw InvalidInput(
+        fmt::format("frame {} pairs with frame {} of the ground truth, which has {} frames", i, j,
+                    truth.size()),
+        s.path);
   return static_cast<std::size_t>(j);
 }
 
 // Per-vertex scalar of one frame: what --color asks for. Returns the values (empty: plain).
 struct Coloring {
-  std::string mode;   // none | error | deformation | displacement | dataset
+  std::string mode;  // none | error | deformation | displacement | dataset
   std::string units;
   std::string dataset;
 };
@@ -162,14 +179,18 @@ Coloring coloring(const RenderOptions& opt) {
   } else if (c.mode == "dataset") {
     c.units = c.dataset;
   } else if (c.mode != "none") {
-    throw UsageError("--color must be none, error, deformation, displacement or a /dataset path, not '" + opt.color + "'");
+    throw UsageError(
+        "--color must be none, error, deformation, displacement or a /dataset path, not '" +
+        opt.color + "'");
   }
   return c;
 }
 
 // Per-vertex values of dataset `path` of an input for its frames: [N, V] or [V] (same for all).
-std::vector<std::vector<double>> dataset_values(const convert::FrameSet& s, const std::string& path, std::string& units) {
-  if (!io::is_hdf5_path(s.path)) throw UsageError("--color " + path + " needs .h5 inputs: " + s.path);
+std::vector<std::vector<double>> dataset_values(const convert::FrameSet& s, const std::string& path,
+                                                std::string& units) {
+  if (!io::is_hdf5_path(s.path))
+    throw UsageError("--color " + path + " needs .h5 inputs: " + s.path);
   h5::File f(s.path, h5::File::Mode::read);
   if (!f.is_dataset(path)) throw InvalidInput("has no dataset " + path + " to colour by", s.path);
   auto a = f.read<double>(path);
@@ -179,22 +200,26 @@ std::vector<std::vector<double>> dataset_values(const convert::FrameSet& s, cons
   if (a.dims.size() == 1 && a.dims[0] == nv) {
     for (auto& v : out) v = a.data;
   } else if (a.dims.size() == 2 && a.dims[0] == s.size() && a.dims[1] == nv) {
-    for (std::size_t i = 0; i < s.size(); ++i) out[i].assign(a.data.begin() + static_cast<std::ptrdiff_t>(i * nv),
-                                                             a.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * nv));
+    for (std::size_t i = 0; i < s.size(); ++i)
+      out[i].assign(a.data.begin() + static_cast<std::ptrdiff_t>(i * nv),
+                    a.data.begin() + static_cast<std::ptrdiff_t>((i + 1) * nv));
   } else {
-    throw InvalidInput(fmt::format("{} must have shape [V] or [N, V] = [{}, {}] to colour vertices", path, s.size(), nv),
+    throw InvalidInput(fmt::format("{} must have shape [V] or [N, V] = [{}, {}] to colour vertices",
+                                   path, s.size(), nv),
                        s.path);
   }
   return out;
 }
 
 // Fills each row's shown positions and scalars; returns the data range of the scalars.
-std::pair<double, double> prepare_meshes(std::vector<Row>& rows, std::vector<convert::FrameSet>& sets,
+std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
+                                         std::vector<convert::FrameSet>& sets,
                                          convert::FrameSet* truth, Coloring& col) {
   for (auto& s : sets) {
     std::vector<std::size_t> need;
     for (const auto& r : rows)
-      if (!r.truth && &sets[r.input] == &s) need.insert(need.end(), r.frames.begin(), r.frames.end());
+      if (!r.truth && &sets[r.input] == &s)
+        need.insert(need.end(), r.frames.begin(), r.frames.end());
     convert::reconstruct(s, &need);
   }
   double lo = 1e300, hi = -1e300;
@@ -207,20 +232,23 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows, std::vector<con
     std::vector<int> component;
     if (col.mode == "error" && !r.truth) {
       if (truth->vertices() != s.vertices())
-        throw InvalidInput(fmt::format("the error reference has {} vertices, {} has {}", truth->vertices(), s.path, s.vertices()),
+        throw InvalidInput(fmt::format("the error reference has {} vertices, {} has {}",
+                                       truth->vertices(), s.path, s.vertices()),
                            truth->path);
-      component = geometry::connected_components(geometry::mesh_topology(s.tmpl.faces, static_cast<int>(s.vertices())), 0,
-                                                  &n_components);
+      component = geometry::connected_components(
+          geometry::mesh_topology(s.tmpl.faces, static_cast<int>(s.vertices())), 0, &n_components);
     }
     Eigen::VectorXd identity;
     if (col.mode == "deformation" && !r.truth) {
-      if (s.raw.rows() == 0) throw InvalidInput("has no ACAP features for --color deformation", s.path);
+      if (s.raw.rows() == 0)
+        throw InvalidInput("has no ACAP features for --color deformation", s.path);
       const double id[geometry::kFeatureDims] = {0, 0, 0, 1, 0, 0, 1, 0, 1};
       identity.resize(s.raw.cols());
       for (Eigen::Index k = 0; k < identity.size(); ++k)
-        identity[k] = s.normalization ? s.normalization->normalize(static_cast<int>(k % geometry::kFeatureDims),
-                                                                   id[k % geometry::kFeatureDims])
-                                      : id[k % geometry::kFeatureDims];
+        identity[k] = s.normalization
+                          ? s.normalization->normalize(static_cast<int>(k % geometry::kFeatureDims),
+                                                       id[k % geometry::kFeatureDims])
+                          : id[k % geometry::kFeatureDims];
     }
     for (std::size_t i : r.frames) {
       io::Vertices p = s.positions[i];
@@ -231,15 +259,19 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows, std::vector<con
         p = eval::align_translation(p, gt, component, n_components);
         v.resize(s.vertices());
         const double d = truth->diagonal();
-        for (Eigen::Index k = 0; k < p.rows(); ++k) v[static_cast<std::size_t>(k)] = (p.row(k) - gt.row(k)).norm() / d;
+        for (Eigen::Index k = 0; k < p.rows(); ++k)
+          v[static_cast<std::size_t>(k)] = (p.row(k) - gt.row(k)).norm() / d;
       } else if (col.mode == "deformation") {
         const Eigen::VectorXd x = convert::normalized_features(s, i, s.normalization) - identity;
         v.resize(s.vertices());
         for (std::size_t k = 0; k < v.size(); ++k)
-          v[k] = x.segment(static_cast<Eigen::Index>(k * geometry::kFeatureDims), geometry::kFeatureDims).norm();
+          v[k] = x.segment(static_cast<Eigen::Index>(k * geometry::kFeatureDims),
+                           geometry::kFeatureDims)
+                     .norm();
       } else if (col.mode == "displacement") {
         v.resize(s.vertices());
-        for (Eigen::Index k = 0; k < p.rows(); ++k) v[static_cast<std::size_t>(k)] = (p.row(k) - s.tmpl.vertices.row(k)).norm() / diag;
+        for (Eigen::Index k = 0; k < p.rows(); ++k)
+          v[static_cast<std::size_t>(k)] = (p.row(k) - s.tmpl.vertices.row(k)).norm() / diag;
       } else {
         v = ds[i];
       }
@@ -264,8 +296,8 @@ Row truth_row(const Row& first, const convert::FrameSet& s, const convert::Frame
 
 // --- skeletons -------------------------------------------------------------------------------
 
-std::vector<Row> skeleton_rows(const std::vector<io::SkeletonFile>& files, const std::vector<std::string>& paths,
-                               const RenderOptions& opt) {
+std::vector<Row> skeleton_rows(const std::vector<io::SkeletonFile>& files,
+                               const std::vector<std::string>& paths, const RenderOptions& opt) {
   std::vector<Row> rows;
   for (std::size_t k = 0; k < files.size(); ++k) {
     const auto& s = files[k];
@@ -293,8 +325,10 @@ std::vector<Row> skeleton_rows(const std::vector<io::SkeletonFile>& files, const
 // --- the pictures --------------------------------------------------------------------------
 
 // Output names: one file, or one per column from the pattern.
-std::vector<std::string> output_names(const RenderOptions& opt, const std::vector<Row>& rows, std::size_t cols) {
-  if (io::lower_extension(opt.output) != ".png") throw UsageError("-o must name a .png file (or a NAME{index}.png pattern)");
+std::vector<std::string> output_names(const RenderOptions& opt, const std::vector<Row>& rows,
+                                      std::size_t cols) {
+  if (io::lower_extension(opt.output) != ".png")
+    throw UsageError("-o must name a .png file (or a NAME{index}.png pattern)");
   if (opt.output.find('{') == std::string::npos) return {opt.output};
   std::vector<std::string> out;
   std::set<std::string> seen;
@@ -306,17 +340,19 @@ std::vector<std::string> output_names(const RenderOptions& opt, const std::vecto
     } catch (const fmt::format_error& e) {
       throw UsageError(fmt::format("bad -o pattern '{}': {}", opt.output, e.what()));
     }
-    if (!seen.insert(name).second) throw UsageError("two frames get the file name " + name + "; use {index} in -o");
+    if (!seen.insert(name).second)
+      throw UsageError("two frames get the file name " + name + "; use {index} in -o");
     out.push_back(name);
   }
   return out;
 }
 
-std::vector<std::string> labels_or(const std::vector<std::string>& given, std::vector<std::string> fallback,
-                                   const char* option) {
+std::vector<std::string> labels_or(const std::vector<std::string>& given,
+                                   std::vector<std::string> fallback, const char* option) {
   if (given.empty()) return fallback;
   if (given.size() != fallback.size())
-    throw UsageError(fmt::format("{} gives {} labels for {}", option, given.size(), fallback.size()));
+    throw UsageError(
+        fmt::format("{} gives {} labels for {}", option, given.size(), fallback.size()));
   return given;
 }
 
@@ -330,8 +366,10 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
   if (opt.every < 0) throw UsageError("--every must be positive");
   if (!opt.range.empty() && (opt.range.size() != 2 || !(opt.range[0] < opt.range[1])))
     throw UsageError("--range needs LO,HI with LO < HI");
-  if (opt.shading != "smooth" && opt.shading != "flat") throw UsageError("--shading must be smooth or flat");
-  if (opt.show_truth && opt.error_vs.empty()) throw UsageError("--show-truth needs --error-vs GROUND_TRUTH");
+  if (opt.shading != "smooth" && opt.shading != "flat")
+    throw UsageError("--shading must be smooth or flat");
+  if (opt.show_truth && opt.error_vs.empty())
+    throw UsageError("--show-truth needs --error-vs GROUND_TRUTH");
   Camera camera(parse_view(opt.view, opt.up));
   Shading shading;
   shading.smooth = opt.shading == "smooth";
@@ -353,7 +391,8 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
   std::vector<Row> rows;
   std::optional<ColorBar> bar;
   if (skeleton) {
-    if (col.mode != "none" || !opt.error_vs.empty()) throw UsageError("skeleton files are drawn without --color / --error-vs");
+    if (col.mode != "none" || !opt.error_vs.empty())
+      throw UsageError("skeleton files are drawn without --color / --error-vs");
     for (const auto& p : opt.inputs) skels.push_back(io::read_skeleton_file(p));
     rows = skeleton_rows(skels, opt.inputs, opt);
     for (const auto& r : rows)
@@ -369,10 +408,12 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
     if (!opt.error_vs.empty()) {
       truth = std::make_unique<convert::FrameSet>(convert::read_frame_set(opt.error_vs));
       if (truth->vertices() != sets.front().vertices())
-        throw InvalidInput(fmt::format("the error reference has {} vertices, {} has {}", truth->vertices(), opt.inputs.front(),
-                                       sets.front().vertices()),
-                           opt.error_vs);
-      if (opt.show_truth) rows.insert(rows.begin(), truth_row(rows.front(), sets[rows.front().input], *truth));
+        throw InvalidInput(
+            fmt::format("the error reference has {} vertices, {} has {}", truth->vertices(),
+                        opt.inputs.front(), sets.front().vertices()),
+            opt.error_vs);
+      if (opt.show_truth)
+        rows.insert(rows.begin(), truth_row(rows.front(), sets[rows.front().input], *truth));
       std::vector<std::size_t> need;
       for (const auto& r : rows)
         if (r.truth) need = r.frames;
@@ -383,9 +424,12 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
     }
     auto [lo, hi] = prepare_meshes(rows, sets, truth.get(), col);
     if (col.mode != "none") {
-      if (!opt.range.empty()) lo = opt.range[0], hi = opt.range[1];
-      else if (!(lo <= hi)) lo = 0, hi = 1;
-      else lo = std::min(lo, 0.0), hi = hi > lo ? hi : lo + 1;
+      if (!opt.range.empty())
+        lo = opt.range[0], hi = opt.range[1];
+      else if (!(lo <= hi))
+        lo = 0, hi = 1;
+      else
+        lo = std::min(lo, 0.0), hi = hi > lo ? hi : lo + 1;
       bar = ColorBar{map, lo, hi, col.units};
     }
     for (const auto& r : rows)
@@ -396,14 +440,17 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
   const auto outputs = output_names(opt, rows, cols);
   const bool per_frame = outputs.size() > 1 || opt.output.find('{') != std::string::npos;
   if (!per_frame && cols > static_cast<std::size_t>(kMaxColumns))
-    throw UsageError(fmt::format("{} frames selected; a sheet shows at most {}: choose with --frames/--every/--steps, or "
-                                 "write one PNG per frame with -o 'DIR/{{index:04d}}.png'",
-                                 cols, kMaxColumns));
+    throw UsageError(fmt::format(
+        "{} frames selected; a sheet shows at most {}: choose with --frames/--every/--steps, or "
+        "write one PNG per frame with -o 'DIR/{{index:04d}}.png'",
+        cols, kMaxColumns));
   if (rows.size() * (per_frame ? 1 : cols) > static_cast<std::size_t>(kMaxPanels))
-    throw UsageError(fmt::format("{} rows x {} columns is too many panels for one picture", rows.size(), cols));
+    throw UsageError(
+        fmt::format("{} rows x {} columns is too many panels for one picture", rows.size(), cols));
   std::vector<std::filesystem::path> input_paths(opt.inputs.begin(), opt.inputs.end());
   if (!opt.error_vs.empty()) input_paths.emplace_back(opt.error_vs);
-  for (const auto& name : outputs) {  // every output checked before any work (each is written atomically)
+  for (const auto& name :
+       outputs) {  // every output checked before any work (each is written atomically)
     const fs::path dir = fs::path(name).parent_path();
     if (per_frame && !dir.empty()) fs::create_directories(dir);
     AtomicOutput check(name, AtomicOutput::Kind::file, common.force, input_paths);
@@ -415,7 +462,8 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
   row_labels = labels_or(opt.row_labels, row_labels, "--row-labels");
   std::vector<std::string> col_labels;
   const Row& first = rows.front().truth && rows.size() > 1 ? rows[1] : rows.front();
-  for (std::size_t c = 0; c < cols; ++c) col_labels.push_back(c < first.captions.size() ? first.captions[c] : "");
+  for (std::size_t c = 0; c < cols; ++c)
+    col_labels.push_back(c < first.captions.size() ? first.captions[c] : "");
   col_labels = labels_or(opt.column_labels, col_labels, "--column-labels");
 
   // 3. Panels, drawn in batches of columns (all columns for one sheet), one panel per task.
@@ -432,8 +480,10 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
         const auto& s = r.truth ? *truth : sets[r.input];
         std::vector<Rgb> colors;
         if (bar && !r.scalar[c].empty())
-          for (double v : r.scalar[c]) colors.push_back(map_color(map, (v - bar->lo) / (bar->hi - bar->lo)));
-        panels[k] = rasterize_mesh(r.shown[c], s.tmpl.faces, colors, base, camera, opt.width, opt.height, shading);
+          for (double v : r.scalar[c])
+            colors.push_back(map_color(map, (v - bar->lo) / (bar->hi - bar->lo)));
+        panels[k] = rasterize_mesh(r.shown[c], s.tmpl.faces, colors, base, camera, opt.width,
+                                   opt.height, shading);
         progress.advance();
       });
     const std::size_t sheets = per_frame ? c1 - c0 : 1;
@@ -453,24 +503,28 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
         for (std::size_t c = c0; c < c1; ++c) {
           if (per_frame && c != c0 + o) continue;
           if (c >= rows[ri].frames.size()) continue;
-          const int x = L.panel_x(static_cast<int>(per_frame ? 0 : c), spec), y = L.panel_y(static_cast<int>(ri), spec);
+          const int x = L.panel_x(static_cast<int>(per_frame ? 0 : c), spec),
+                    y = L.panel_y(static_cast<int>(ri), spec);
           if (skeleton) {
             canvas.rectangle(x, y, opt.width, opt.height, shading.background);
-            draw_stick_figure(canvas, skels[rows[ri].input], rows[ri].frames[c], camera, x, y, opt.width, opt.height);
+            draw_stick_figure(canvas, skels[rows[ri].input], rows[ri].frames[c], camera, x, y,
+                              opt.width, opt.height);
             progress.advance();
           } else {
             canvas.blit(panels[ri * (c1 - c0) + (c - c0)], x, y);
           }
         }
       draw_sheet_frame(canvas, spec, L);
-      AtomicOutput out(outputs[per_frame ? c0 + o : 0], AtomicOutput::Kind::file, common.force, input_paths);
+      AtomicOutput out(outputs[per_frame ? c0 + o : 0], AtomicOutput::Kind::file, common.force,
+                       input_paths);
       canvas.write_png(out.temp_path(), out.final_path().string());
       out.commit();
     }
   }
   progress.finish();
-  log::info("wrote {} ({} rows x {} frames{})", per_frame ? fmt::format("{} PNG files", outputs.size()) : opt.output,
-            rows.size(), cols, bar ? fmt::format(", colour {} .. {:.3g} {}", bar->lo, bar->hi, bar->units) : "");
+  log::info("wrote {} ({} rows x {} frames{})",
+            per_frame ? fmt::format("{} PNG files", outputs.size()) : opt.output, rows.size(), cols,
+            bar ? fmt::format(", colour {} .. {:.3g} {}", bar->lo, bar->hi, bar->units) : "");
 }
 
 }  // namespace df::render

@@ -18,21 +18,21 @@ struct RenderOptions {
   /// a .png file, or a pattern with {index} (column) and {frame} (frame of the first row) for
   /// one PNG per selected frame
   std::string output;
-  std::string frames;                   ///< "0,5,10-20" of each row (of the --sequence when given)
-  int every = 0;                        ///< > 0: every K-th of the selected frames
-  std::vector<std::string> sequences;   ///< names or indices; each becomes a row
-  std::vector<int> steps;               ///< only frames with these /frames/step (gen-bdlstm output)
-  std::string error_vs;                 ///< ground truth for --color error
-  bool show_truth = false;              ///< first row: the ground-truth frames paired with the others
+  std::string frames;                  ///< "0,5,10-20" of each row (of the --sequence when given)
+  int every = 0;                       ///< > 0: every K-th of the selected frames
+  std::vector<std::string> sequences;  ///< names or indices; each becomes a row
+  std::vector<int> steps;              ///< only frames with these /frames/step (gen-bdlstm output)
+  std::string error_vs;                ///< ground truth for --color error
+  bool show_truth = false;  ///< first row: the ground-truth frames paired with the others
   /// none | error | deformation | displacement | /dataset/path | auto (error with --error-vs)
   std::string color = "auto";
   std::string colormap = "viridis";
-  std::vector<double> range;            ///< {lo, hi}; empty = from the data (0 .. max)
+  std::vector<double> range;  ///< {lo, hi}; empty = from the data (0 .. max)
   std::string view = "front", up = "y";
-  int width = 320, height = 320;        ///< one panel
+  int width = 320, height = 320;  ///< one panel
   std::string background = "white";
-  std::string base_color = "#b4c3d9";   ///< meshes without a scalar colour
-  std::string shading = "smooth";       ///< smooth | flat
+  std::string base_color = "#b4c3d9";  ///< meshes without a scalar colour
+  std::string shading = "smooth";      ///< smooth | flat
   int supersample = 3;
   std::vector<std::string> row_labels, column_labels;
   std::string title;

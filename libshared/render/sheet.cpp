@@ -11,7 +11,9 @@ namespace {
 constexpr double kTitleSize = 16, kLabelSize = 13, kTickSize = 11;
 constexpr int kPad = 8;
 
-std::string tick_text(double v) { return fmt::format("{:.3g}", std::abs(v) < 1e-300 ? 0.0 : v); }
+std::string tick_text(double v) {
+  return fmt::format("{:.3g}", std::abs(v) < 1e-300 ? 0.0 : v);
+}
 
 }  // namespace
 
@@ -25,7 +27,9 @@ SheetLayout layout_sheet(const SheetSpec& s) {
   Canvas scratch(1, 1, s.background);  // for text metrics
   SheetLayout L;
   int row_label_w = 0;
-  for (const auto& r : s.row_labels) row_label_w = std::max(row_label_w, static_cast<int>(std::ceil(scratch.text_width(r, kLabelSize))));
+  for (const auto& r : s.row_labels)
+    row_label_w =
+        std::max(row_label_w, static_cast<int>(std::ceil(scratch.text_width(r, kLabelSize))));
   L.left = kPad + (row_label_w ? row_label_w + kPad : 0);
   L.top = kPad;
   if (!s.title.empty()) {
@@ -43,7 +47,8 @@ SheetLayout layout_sheet(const SheetSpec& s) {
     int label_w = static_cast<int>(std::ceil(scratch.text_width(s.bar->units, kTickSize)));
     int tick_w = 0;
     for (double v : bar_ticks(s.bar->lo, s.bar->hi))
-      tick_w = std::max(tick_w, static_cast<int>(std::ceil(scratch.text_width(tick_text(v), kTickSize))));
+      tick_w = std::max(tick_w,
+                        static_cast<int>(std::ceil(scratch.text_width(tick_text(v), kTickSize))));
     L.bar_width = 16;
     L.bar_x = L.left + grid_w + 2 * kPad;
     const int bar_area = std::max(L.bar_width + 6 + tick_w, label_w);
@@ -58,15 +63,19 @@ SheetLayout layout_sheet(const SheetSpec& s) {
 }
 
 void draw_sheet_frame(Canvas& c, const SheetSpec& s, const SheetLayout& L) {
-  const Rgb ink = (s.background.r + s.background.g + s.background.b) / 3 < 0.5 ? Rgb{1, 1, 1} : Rgb{0.1, 0.1, 0.1};
+  const Rgb ink = (s.background.r + s.background.g + s.background.b) / 3 < 0.5 ? Rgb{1, 1, 1}
+                                                                               : Rgb{0.1, 0.1, 0.1};
   if (!s.title.empty()) c.text(s.title, L.left, L.title_y, kTitleSize, -1, ink, true);
   for (int k = 0; k < static_cast<int>(s.column_labels.size()) && k < s.cols; ++k) {
     const auto& label = s.column_labels[static_cast<std::size_t>(k)];
-    const double w = c.text_width(label, kLabelSize), room = s.panel_width - 4.0;  // shrink to fit the column
-    c.text(label, L.panel_x(k, s) + s.panel_width / 2.0, L.column_label_y, w > room ? kLabelSize * room / w : kLabelSize, 0, ink);
+    const double w = c.text_width(label, kLabelSize),
+                 room = s.panel_width - 4.0;  // shrink to fit the column
+    c.text(label, L.panel_x(k, s) + s.panel_width / 2.0, L.column_label_y,
+           w > room ? kLabelSize * room / w : kLabelSize, 0, ink);
   }
   for (int r = 0; r < static_cast<int>(s.row_labels.size()) && r < s.rows; ++r)
-    c.text(s.row_labels[static_cast<std::size_t>(r)], kPad, L.panel_y(r, s) + s.panel_height / 2.0, kLabelSize, -1, ink);
+    c.text(s.row_labels[static_cast<std::size_t>(r)], kPad, L.panel_y(r, s) + s.panel_height / 2.0,
+           kLabelSize, -1, ink);
   if (!s.bar) return;
   const auto& b = *s.bar;
   c.text(b.units, L.bar_x, L.bar_y - 12, kTickSize, -1, ink);
@@ -74,7 +83,8 @@ void draw_sheet_frame(Canvas& c, const SheetSpec& s, const SheetLayout& L) {
   c.rectangle(L.bar_x + 0.5, L.bar_y + 0.5, L.bar_width - 1, L.bar_height - 1, ink, 1);
   const auto ticks = bar_ticks(b.lo, b.hi);
   for (std::size_t k = 0; k < ticks.size(); ++k) {
-    const double y = L.bar_y + L.bar_height - L.bar_height * static_cast<double>(k) / static_cast<double>(ticks.size() - 1);
+    const double y = L.bar_y + L.bar_height -
+                     L.bar_height * static_cast<double>(k) / static_cast<double>(ticks.size() - 1);
     c.line(L.bar_x + L.bar_width, y, L.bar_x + L.bar_width + 4, y, 1, ink);
     c.text(tick_text(ticks[k]), L.bar_x + L.bar_width + 6, y, kTickSize, -1, ink);
   }

@@ -9,7 +9,7 @@
 namespace df::render {
 
 /// Draws frame t of `s` into the w by h panel whose top-left corner is (x, y).
-void draw_stick_figure(Canvas& canvas, const io::SkeletonFile& s, std::size_t t, const Camera& camera, int x, int y,
-                       int w, int h, double margin = 0.08);
+void draw_stick_figure(Canvas& canvas, const io::SkeletonFile& s, std::size_t t,
+                       const Camera& camera, int x, int y, int w, int h, double margin = 0.08);
 
 }  // namespace df::render

@@ -20,6 +20,17 @@ render-mesh -q data.h5 --frames 0,5,10-12 --size 100 -o five.png
 read -r w5 _ < <(png_size five.png)
 [ "$w5" -ge 500 ] || fail "5 frames should give 5 columns, got width $w5"
 
+# --- colour by a dataset given by name: a per-vertex [V] weight added with h5import
+V=$(h5check data.h5 | sed -n 's/^ *V = \([0-9]*\).*/\1/p')
+cp data.h5 weighted.h5
+awk -v n="$V" 'BEGIN { for (i = 0; i < n; i++) print i / n }' > w.txt
+printf 'PATH /extra/weight\nINPUT-CLASS TEXTFP\nRANK 1\nDIMENSION-SIZES %d\nOUTPUT-CLASS FP\nOUTPUT-SIZE 64\n' "$V" > w.cfg
+h5import w.txt -c w.cfg -o weighted.h5
+render-mesh weighted.h5 --frames 0,20 --color /extra/weight --size 80 -o weight.png 2>weight.log
+grep -qE "colour 0 \.\. 0\.9[0-9]* /extra/weight" weight.log || fail "dataset colouring: $(cat weight.log)"
+render-mesh -q weighted.h5 --frames 0,20 --size 80 -o plain.png
+cmp -s weight.png plain.png && fail "--color /extra/weight did not change the picture"
+
 # --- generated frames (no positions: reconstructed), error colouring, truth row, thread independence
 train-bdlstm -q --window 8 --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --iterations 10 --print-every 10 \
   --seed 3 data.h5 -o m.h5
@@ -61,6 +72,9 @@ bad 1 "error reference has [0-9]+ vertices" data.h5 --error-vs other.h5
 : > empty.obj
 bad 1 "empty.obj" empty.obj
 bad 2 "error-vs" data.h5 --color error
+bad 1 "no dataset /extra/none" weighted.h5 --color /extra/none
+synth-meshseq -q --kind bumps --frames 3 --resolution 6 -o bumps.h5
+bad 1 "shape \[V\] or \[N, V\]" bumps.h5 --color /synthetic/regions
 bad 2 "no sequence 'walk'" data.h5 --sequence walk
 bad 2 "at most 64" other.h5 --size 16
 bad 2 "bad --view" data.h5 --view diagonal

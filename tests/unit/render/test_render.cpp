@@ -25,9 +25,11 @@ namespace {
 df::io::Mesh box(double lo, double hi) {
   df::io::Mesh m;
   m.vertices.resize(8, 3);
-  for (int i = 0; i < 8; ++i) m.vertices.row(i) << (i & 1 ? hi : lo), (i & 2 ? hi : lo), (i & 4 ? hi : lo);
+  for (int i = 0; i < 8; ++i)
+    m.vertices.row(i) << (i & 1 ? hi : lo), (i & 2 ? hi : lo), (i & 4 ? hi : lo);
   m.faces.resize(12, 3);
-  m.faces << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5;
+  m.faces << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4,
+      6, 1, 3, 5, 3, 7, 5;
   return m;
 }
 
@@ -39,8 +41,10 @@ df::io::Mesh torus(int nu, int nv) {
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
       const double u = 2 * std::numbers::pi * i / nu, v = 2 * std::numbers::pi * j / nv;
-      m.vertices.row(i * nv + j) << (1 + 0.35 * std::cos(v)) * std::cos(u), 0.35 * std::sin(v), (1 + 0.35 * std::cos(v)) * std::sin(u);
-      const int a = i * nv + j, b = ((i + 1) % nu) * nv + j, c = ((i + 1) % nu) * nv + (j + 1) % nv, d = i * nv + (j + 1) % nv;
+      m.vertices.row(i * nv + j) << (1 + 0.35 * std::cos(v)) * std::cos(u), 0.35 * std::sin(v),
+          (1 + 0.35 * std::cos(v)) * std::sin(u);
+      const int a = i * nv + j, b = ((i + 1) % nu) * nv + j, c = ((i + 1) % nu) * nv + (j + 1) % nv,
+                d = i * nv + (j + 1) % nv;
       m.faces.row(2 * a) << a, b, c;
       m.faces.row(2 * a + 1) << a, c, d;
     }
@@ -55,7 +59,9 @@ PixelBox covered(const Panel& p, std::uint32_t background) {
   PixelBox b;
   for (int y = 0; y < p.height; ++y)
     for (int x = 0; x < p.width; ++x)
-      if (p.at(x, y) != background) b.x0 = std::min(b.x0, x), b.x1 = std::max(b.x1, x), b.y0 = std::min(b.y0, y), b.y1 = std::max(b.y1, y);
+      if (p.at(x, y) != background)
+        b.x0 = std::min(b.x0, x), b.x1 = std::max(b.x1, x), b.y0 = std::min(b.y0, y),
+        b.y1 = std::max(b.y1, y);
   return b;
 }
 
@@ -73,7 +79,8 @@ TEST_CASE("render: a unit cube from the front covers the fitted pixel box", "[re
   s.margin = 0.05;
   for (int ss : {1, 3}) {
     s.supersample = ss;
-    const Panel p = rasterize_mesh(cube.vertices, cube.faces, {}, {0.7, 0.7, 0.7}, cam, 200, 160, s);
+    const Panel p =
+        rasterize_mesh(cube.vertices, cube.faces, {}, {0.7, 0.7, 0.7}, cam, 200, 160, s);
     // The 1 x 1 face fills the smaller side less the margins: 160 − 2·8 = 144 pixels, centred.
     const PixelBox b = covered(p, to_argb(s.background));
     CHECK(std::abs(b.x0 - 28) <= 1);
@@ -86,21 +93,24 @@ TEST_CASE("render: a unit cube from the front covers the fitted pixel box", "[re
 
 TEST_CASE("render: views and the camera fit", "[render]") {
   Camera side(parse_view("side", "y"));
-  CHECK((side.to_view({1, 0, 0}) - Eigen::Vector3d(0, 0, 1)).norm() < 1e-12);  // +x faces the viewer
+  CHECK((side.to_view({1, 0, 0}) - Eigen::Vector3d(0, 0, 1)).norm() <
+        1e-12);  // +x faces the viewer
   Camera top(parse_view("top", "y"));
   CHECK((top.to_view({0, 1, 0}) - Eigen::Vector3d(0, 0, 1)).norm() < 1e-12);
   Camera zup(parse_view("front", "z"));
-  CHECK((zup.to_view({0, 0, 1}) - Eigen::Vector3d(0, 1, 0)).norm() < 1e-12);  // z is up on screen
+  CHECK((zup.to_view({0, 0, 1}) - Eigen::Vector3d(0, 1, 0)).norm() < 1e-12);   // z is up on screen
   CHECK((zup.to_view({0, -1, 0}) - Eigen::Vector3d(0, 0, 1)).norm() < 1e-12);  // looking from −y
   Camera oblique(parse_view("30,20", "y"));
-  CHECK((oblique.rotation() * oblique.rotation().transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+  CHECK((oblique.rotation() * oblique.rotation().transpose() - Eigen::Matrix3d::Identity()).norm() <
+        1e-12);
   CHECK(oblique.rotation().determinant() == Approx(1));
   CHECK_THROWS_AS(parse_view("diagonal", "y"), df::UsageError);
   CHECK_THROWS_AS(parse_view("10,95", "y"), df::UsageError);
   CHECK_THROWS_AS(parse_view("front", "x"), df::UsageError);
 }
 
-TEST_CASE("render: the nearer triangle hides the farther one, whatever the drawing order", "[render]") {
+TEST_CASE("render: the nearer triangle hides the farther one, whatever the drawing order",
+          "[render]") {
   // Two squares overlapping on screen: red at z = 1 (near), blue at z = 0.
   df::io::Vertices V(8, 3);
   V << 0, 0, 1, 2, 0, 1, 2, 2, 1, 0, 2, 1,  // red
@@ -122,7 +132,8 @@ TEST_CASE("render: the nearer triangle hides the farther one, whatever the drawi
     CHECK(px.r > 0.9);
     CHECK(px.b < 0.3);
     const Eigen::Vector3d only_blue = cam.to_panel({2.7, 2.7, 0}, 120, 120, s.margin);
-    CHECK(from_argb(p.at(static_cast<int>(only_blue.x()), static_cast<int>(only_blue.y()))).b > 0.9);
+    CHECK(from_argb(p.at(static_cast<int>(only_blue.x()), static_cast<int>(only_blue.y()))).b >
+          0.9);
   }
 }
 
@@ -137,13 +148,17 @@ TEST_CASE("render: colour maps have exact ends and clamp", "[render]") {
   CHECK(to_argb(map_color(Colormap::jet, 1)) == to_argb({0.5, 0, 0}));
   CHECK(to_argb(map_color(Colormap::jet, 0.5)) == to_argb({0.5, 1, 0.5}));
   // Monotone in "lightness" for viridis: green channel rises along the map.
-  for (int k = 0; k < 10; ++k) CHECK(map_color(Colormap::viridis, k / 10.0).g < map_color(Colormap::viridis, (k + 1) / 10.0).g);
+  for (int k = 0; k < 10; ++k)
+    CHECK(map_color(Colormap::viridis, k / 10.0).g <
+          map_color(Colormap::viridis, (k + 1) / 10.0).g);
   CHECK_THROWS_AS(parse_colormap("rainbow"), df::UsageError);
   CHECK(to_argb(parse_color("#ff8000")) == 0xffff8000u);
   CHECK_THROWS_AS(parse_color("#ff80"), df::UsageError);
 }
 
-TEST_CASE("render: the colour bar runs from the map's first colour at the bottom to its last at the top", "[render]") {
+TEST_CASE(
+    "render: the colour bar runs from the map's first colour at the bottom to its last at the top",
+    "[render]") {
   SheetSpec spec;
   spec.rows = 2, spec.cols = 3, spec.panel_width = 100, spec.panel_height = 100;
   spec.bar = ColorBar{Colormap::jet, 0, 0.25, "error"};
@@ -156,15 +171,19 @@ TEST_CASE("render: the colour bar runs from the map's first colour at the bottom
   Canvas c(L.width, L.height, spec.background);
   draw_sheet_frame(c, spec, L);
   const int x = L.bar_x + L.bar_width / 2;
-  auto t_at = [&](int y) { return (L.bar_y + L.bar_height - (y + 0.5)) / L.bar_height; };  // pixel centre
+  auto t_at = [&](int y) {
+    return (L.bar_y + L.bar_height - (y + 0.5)) / L.bar_height;
+  };  // pixel centre
   for (int y : {L.bar_y + L.bar_height - 2, L.bar_y + 1, L.bar_y + L.bar_height / 2})
     CHECK(channel_distance(from_argb(c.pixel(x, y)), map_color(Colormap::jet, t_at(y))) < 0.03);
-  CHECK(channel_distance(from_argb(c.pixel(x, L.bar_y + L.bar_height - 2)), map_color(Colormap::jet, 0)) < 0.05);
+  CHECK(channel_distance(from_argb(c.pixel(x, L.bar_y + L.bar_height - 2)),
+                         map_color(Colormap::jet, 0)) < 0.05);
   CHECK(channel_distance(from_argb(c.pixel(x, L.bar_y + 1)), map_color(Colormap::jet, 1)) < 0.05);
   // Tick labels are drawn to the right of the bar.
   int ink = 0;
   for (int y = L.bar_y; y < L.bar_y + L.bar_height; ++y)
-    for (int xx = L.bar_x + L.bar_width + 6; xx < L.width; ++xx) ink += c.pixel(xx, y) != 0xffffffffu;
+    for (int xx = L.bar_x + L.bar_width + 6; xx < L.width; ++xx)
+      ink += c.pixel(xx, y) != 0xffffffffu;
   CHECK(ink > 50);
   CHECK(bar_ticks(0, 0.25) == std::vector<double>{0, 0.0625, 0.125, 0.1875, 0.25});
 }
@@ -175,11 +194,13 @@ TEST_CASE("render: the colour bar runs from the map's first colour at the bottom
 TEST_CASE("render: golden picture of a coloured torus", "[render][golden]") {
   const auto t = torus(32, 16);
   std::vector<Rgb> colors;
-  for (Eigen::Index i = 0; i < t.vertices.rows(); ++i) colors.push_back(map_color(Colormap::viridis, (t.vertices(i, 1) + 0.35) / 0.7));
+  for (Eigen::Index i = 0; i < t.vertices.rows(); ++i)
+    colors.push_back(map_color(Colormap::viridis, (t.vertices(i, 1) + 0.35) / 0.7));
   Camera cam(parse_view("30,35", "y"));
   cam.include(t.vertices);
   const Panel p = rasterize_mesh(t.vertices, t.faces, colors, {}, cam, 160, 120, Shading{});
-  const std::filesystem::path golden = std::filesystem::path(DF_SOURCE_DIR) / "tests/unit/render/golden/torus.png";
+  const std::filesystem::path golden =
+      std::filesystem::path(DF_SOURCE_DIR) / "tests/unit/render/golden/torus.png";
   if (std::getenv("DF_UPDATE_GOLDEN")) {
     Canvas c(p.width, p.height, {1, 1, 1});
     c.blit(p, 0, 0);
