@@ -356,9 +356,23 @@ std::vector<std::string> labels_or(const std::vector<std::string>& given,
   return given;
 }
 
-}  // namespace
+// Everything a picture shows: the inputs, their rows, the colour bar, the camera fitted to it all.
+struct Scene {
+  bool skeleton = false;
+  std::vector<convert::FrameSet> sets;
+  std::vector<io::SkeletonFile> skels;
+  std::unique_ptr<convert::FrameSet> truth;
+  std::vector<Row> rows;
+  std::optional<ColorBar> bar;
+  Camera camera{View{}};
+  std::size_t columns() const {
+    std::size_t c = 0;
+    for (const auto& r : rows) c = std::max(c, r.frames.size());
+    return c;
+  }
+};
 
-void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
+void check_options(const RenderOptions& opt) {
   if (opt.inputs.empty()) throw UsageError("no inputs");
   if (opt.width < 16 || opt.height < 16 || opt.width > 4096 || opt.height > 4096)
     throw UsageError("--size must be between 16 and 4096 pixels per side");
@@ -370,161 +384,199 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
     throw UsageError("--shading must be smooth or flat");
   if (opt.show_truth && opt.error_vs.empty())
     throw UsageError("--show-truth needs --error-vs GROUND_TRUTH");
-  Camera camera(parse_view(opt.view, opt.up));
+}
+
+Scene load_skeletons(const RenderOptions& opt, const Coloring& col) {
+  if (col.mode != "none" || !opt.error_vs.empty())
+    throw UsageError("skeleton files are drawn without --color / --error-vs");
+  Scene sc;
+  sc.skeleton = true;
+  sc.camera = Camera(parse_view(opt.view, opt.up));
+  for (const auto& p : opt.inputs) sc.skels.push_back(io::read_skeleton_file(p));
+  sc.rows = skeleton_rows(sc.skels, opt.inputs, opt);
+  for (const auto& r : sc.rows)
+    for (std::size_t t : r.frames)
+      for (std::size_t j = 0; j < sc.skels[r.input].joints; ++j) {
+        double q[3];
+        sc.skels[r.input].joint(t, j, q);
+        sc.camera.include_point({q[0], q[1], q[2]});
+      }
+  return sc;
+}
+
+Scene load_meshes(const RenderOptions& opt, Coloring& col) {
+  Scene sc;
+  sc.camera = Camera(parse_view(opt.view, opt.up));
+  for (const auto& p : opt.inputs) sc.sets.push_back(convert::read_frame_set(p));
+  sc.rows = mesh_rows(sc.sets, opt);
+  if (!opt.error_vs.empty()) {  // the truth: its frames paired with every row's
+    sc.truth = std::make_unique<convert::FrameSet>(convert::read_frame_set(opt.error_vs));
+    auto& truth = *sc.truth;
+    if (truth.vertices() != sc.sets.front().vertices())
+      throw InvalidInput(
+          fmt::format("the error reference has {} vertices, {} has {}", truth.vertices(),
+                      opt.inputs.front(), sc.sets.front().vertices()),
+          opt.error_vs);
+    if (opt.show_truth)
+      sc.rows.insert(sc.rows.begin(),
+                     truth_row(sc.rows.front(), sc.sets[sc.rows.front().input], truth));
+    std::vector<std::size_t> need;
+    for (const auto& r : sc.rows)
+      for (std::size_t i : r.frames)
+        need.push_back(r.truth ? i : truth_frame(sc.sets[r.input], i, truth));
+    convert::reconstruct(truth, &need);
+  }
+  auto [lo, hi] = prepare_meshes(sc.rows, sc.sets, sc.truth.get(), col);
+  if (col.mode != "none") {
+    if (!opt.range.empty())
+      lo = opt.range[0], hi = opt.range[1];
+    else if (!(lo <= hi))  // nothing finite
+      lo = 0, hi = 1;
+    else
+      lo = std::min(lo, 0.0), hi = hi > lo ? hi : lo + 1;
+    sc.bar = ColorBar{parse_colormap(opt.colormap), lo, hi, col.units};
+  }
+  for (const auto& r : sc.rows)
+    for (const auto& p : r.shown) sc.camera.include(p);
+  return sc;
+}
+
+// The PNG files to write, checked before any drawing (each is then written atomically).
+struct Outputs {
+  std::vector<std::string> names;
+  bool per_frame = false;
+  std::vector<fs::path> inputs;  // never overwritten
+};
+
+Outputs check_outputs(const RenderOptions& opt, const Scene& sc, const CommonOptions& common) {
+  Outputs out;
+  const std::size_t cols = sc.columns();
+  out.names = output_names(opt, sc.rows, cols);
+  out.per_frame = opt.output.find('{') != std::string::npos;
+  if (!out.per_frame && cols > static_cast<std::size_t>(kMaxColumns))
+    throw UsageError(fmt::format(
+        "{} frames selected; a sheet shows at most {}: choose with --frames/--every/--steps, or "
+        "write one PNG per frame with -o 'DIR/{{index:04d}}.png'",
+        cols, kMaxColumns));
+  if (sc.rows.size() * (out.per_frame ? 1 : cols) > static_cast<std::size_t>(kMaxPanels))
+    throw UsageError(fmt::format("{} rows x {} columns is too many panels for one picture",
+                                 sc.rows.size(), cols));
+  out.inputs.assign(opt.inputs.begin(), opt.inputs.end());
+  if (!opt.error_vs.empty()) out.inputs.emplace_back(opt.error_vs);
+  for (const auto& name : out.names) {
+    const fs::path dir = fs::path(name).parent_path();
+    if (out.per_frame && !dir.empty()) fs::create_directories(dir);
+    AtomicOutput check(name, AtomicOutput::Kind::file, common.force, out.inputs);
+  }
+  return out;
+}
+
+// Title, captions and colour bar of the sheets (one sheet, or one per column).
+SheetSpec sheet_spec(const RenderOptions& opt, const Scene& sc) {
+  SheetSpec spec;
+  spec.rows = static_cast<int>(sc.rows.size());
+  spec.cols = static_cast<int>(sc.columns());
+  spec.panel_width = opt.width, spec.panel_height = opt.height;
+  spec.title = opt.title;
+  for (const auto& r : sc.rows) spec.row_labels.push_back(r.label);
+  spec.row_labels = labels_or(opt.row_labels, spec.row_labels, "--row-labels");
+  const Row& first = sc.rows.front().truth && sc.rows.size() > 1 ? sc.rows[1] : sc.rows.front();
+  for (std::size_t c = 0; c < sc.columns(); ++c)
+    spec.column_labels.push_back(c < first.captions.size() ? first.captions[c] : "");
+  spec.column_labels = labels_or(opt.column_labels, spec.column_labels, "--column-labels");
+  spec.bar = sc.bar;
+  spec.background = parse_color(opt.background);
+  return spec;
+}
+
+// Mesh panels of columns [c0, c1) of every row, rasterised in parallel (one panel per task, so
+// the pixels do not depend on the thread count); row-major.
+std::vector<Panel> mesh_panels(const Scene& sc, const RenderOptions& opt, std::size_t c0,
+                               std::size_t c1, Progress& progress) {
   Shading shading;
   shading.smooth = opt.shading == "smooth";
   shading.background = parse_color(opt.background);
   shading.supersample = opt.supersample;
   const Rgb base = parse_color(opt.base_color);
-  const Colormap map = parse_colormap(opt.colormap);
-  Coloring col = coloring(opt);
+  std::vector<Panel> panels(sc.rows.size() * (c1 - c0));
+  tbb::parallel_for(std::size_t{0}, panels.size(), [&](std::size_t k) {
+    const Row& r = sc.rows[k / (c1 - c0)];
+    const std::size_t c = c0 + k % (c1 - c0);
+    if (c >= r.frames.size()) return;
+    std::vector<Rgb> colors;
+    if (sc.bar && !r.scalar[c].empty())
+      for (double v : r.scalar[c])
+        colors.push_back(map_color(sc.bar->map, (v - sc.bar->lo) / (sc.bar->hi - sc.bar->lo)));
+    const auto& faces = (r.truth ? *sc.truth : sc.sets[r.input]).tmpl.faces;
+    panels[k] =
+        rasterize_mesh(r.shown[c], faces, colors, base, sc.camera, opt.width, opt.height, shading);
+    progress.advance();
+  });
+  return panels;
+}
 
-  // 1. Inputs and the rows they give.
-  std::vector<Kind> kinds;
-  for (const auto& p : opt.inputs) kinds.push_back(input_kind(p));
-  const bool skeleton = kinds.front() == Kind::skeleton;
-  if (std::any_of(kinds.begin(), kinds.end(), [&](Kind k) { return k != kinds.front(); }))
-    throw UsageError("cannot draw skeleton files and meshes in one picture");
-  std::vector<convert::FrameSet> sets;
-  std::vector<io::SkeletonFile> skels;
-  std::unique_ptr<convert::FrameSet> truth;
-  std::vector<Row> rows;
-  std::optional<ColorBar> bar;
-  if (skeleton) {
-    if (col.mode != "none" || !opt.error_vs.empty())
-      throw UsageError("skeleton files are drawn without --color / --error-vs");
-    for (const auto& p : opt.inputs) skels.push_back(io::read_skeleton_file(p));
-    rows = skeleton_rows(skels, opt.inputs, opt);
-    for (const auto& r : rows)
-      for (std::size_t t : r.frames)
-        for (std::size_t j = 0; j < skels[r.input].joints; ++j) {
-          double q[3];
-          skels[r.input].joint(t, j, q);
-          camera.include_point({q[0], q[1], q[2]});
-        }
-  } else {
-    for (const auto& p : opt.inputs) sets.push_back(convert::read_frame_set(p));
-    rows = mesh_rows(sets, opt);
-    if (!opt.error_vs.empty()) {
-      truth = std::make_unique<convert::FrameSet>(convert::read_frame_set(opt.error_vs));
-      if (truth->vertices() != sets.front().vertices())
-        throw InvalidInput(
-            fmt::format("the error reference has {} vertices, {} has {}", truth->vertices(),
-                        opt.inputs.front(), sets.front().vertices()),
-            opt.error_vs);
-      if (opt.show_truth)
-        rows.insert(rows.begin(), truth_row(rows.front(), sets[rows.front().input], *truth));
-      std::vector<std::size_t> need;
-      for (const auto& r : rows)
-        if (r.truth) need = r.frames;
-      for (const auto& r : rows)
-        if (!r.truth)
-          for (std::size_t i : r.frames) need.push_back(truth_frame(sets[r.input], i, *truth));
-      convert::reconstruct(*truth, &need);
-    }
-    auto [lo, hi] = prepare_meshes(rows, sets, truth.get(), col);
-    if (col.mode != "none") {
-      if (!opt.range.empty())
-        lo = opt.range[0], hi = opt.range[1];
-      else if (!(lo <= hi))
-        lo = 0, hi = 1;
-      else
-        lo = std::min(lo, 0.0), hi = hi > lo ? hi : lo + 1;
-      bar = ColorBar{map, lo, hi, col.units};
-    }
-    for (const auto& r : rows)
-      for (const auto& p : r.shown) camera.include(p);
-  }
-  std::size_t cols = 0;
-  for (const auto& r : rows) cols = std::max(cols, r.frames.size());
-  const auto outputs = output_names(opt, rows, cols);
-  const bool per_frame = outputs.size() > 1 || opt.output.find('{') != std::string::npos;
-  if (!per_frame && cols > static_cast<std::size_t>(kMaxColumns))
-    throw UsageError(fmt::format(
-        "{} frames selected; a sheet shows at most {}: choose with --frames/--every/--steps, or "
-        "write one PNG per frame with -o 'DIR/{{index:04d}}.png'",
-        cols, kMaxColumns));
-  if (rows.size() * (per_frame ? 1 : cols) > static_cast<std::size_t>(kMaxPanels))
-    throw UsageError(
-        fmt::format("{} rows x {} columns is too many panels for one picture", rows.size(), cols));
-  std::vector<std::filesystem::path> input_paths(opt.inputs.begin(), opt.inputs.end());
-  if (!opt.error_vs.empty()) input_paths.emplace_back(opt.error_vs);
-  for (const auto& name :
-       outputs) {  // every output checked before any work (each is written atomically)
-    const fs::path dir = fs::path(name).parent_path();
-    if (per_frame && !dir.empty()) fs::create_directories(dir);
-    AtomicOutput check(name, AtomicOutput::Kind::file, common.force, input_paths);
-  }
-
-  // 2. The sheet's captions.
-  std::vector<std::string> row_labels;
-  for (const auto& r : rows) row_labels.push_back(r.label);
-  row_labels = labels_or(opt.row_labels, row_labels, "--row-labels");
-  std::vector<std::string> col_labels;
-  const Row& first = rows.front().truth && rows.size() > 1 ? rows[1] : rows.front();
-  for (std::size_t c = 0; c < cols; ++c)
-    col_labels.push_back(c < first.captions.size() ? first.captions[c] : "");
-  col_labels = labels_or(opt.column_labels, col_labels, "--column-labels");
-
-  // 3. Panels, drawn in batches of columns (all columns for one sheet), one panel per task.
-  Progress progress("rendering", rows.size() * cols);
-  const std::size_t batch = per_frame ? kBatchColumns : cols;
+// Draws and writes the pictures: one sheet, or one per column (in batches of columns, so a long
+// sequence never holds all its panels in memory).
+void draw_pictures(const Scene& sc, const RenderOptions& opt, const CommonOptions& common,
+                   const Outputs& out) {
+  const std::size_t cols = sc.columns();
+  const SheetSpec all = sheet_spec(opt, sc);
+  Progress progress("rendering", sc.rows.size() * cols);
+  const std::size_t batch = out.per_frame ? kBatchColumns : cols;
   for (std::size_t c0 = 0; c0 < cols; c0 += batch) {
     const std::size_t c1 = std::min(cols, c0 + batch);
-    std::vector<Panel> panels(rows.size() * (c1 - c0));
-    if (!skeleton)
-      tbb::parallel_for(std::size_t{0}, panels.size(), [&](std::size_t k) {
-        const Row& r = rows[k / (c1 - c0)];
-        const std::size_t c = c0 + k % (c1 - c0);
-        if (c >= r.frames.size()) return;
-        const auto& s = r.truth ? *truth : sets[r.input];
-        std::vector<Rgb> colors;
-        if (bar && !r.scalar[c].empty())
-          for (double v : r.scalar[c])
-            colors.push_back(map_color(map, (v - bar->lo) / (bar->hi - bar->lo)));
-        panels[k] = rasterize_mesh(r.shown[c], s.tmpl.faces, colors, base, camera, opt.width,
-                                   opt.height, shading);
-        progress.advance();
-      });
-    const std::size_t sheets = per_frame ? c1 - c0 : 1;
-    for (std::size_t o = 0; o < sheets; ++o) {
-      SheetSpec spec;
-      spec.rows = static_cast<int>(rows.size());
-      spec.cols = static_cast<int>(per_frame ? 1 : cols);
-      spec.panel_width = opt.width, spec.panel_height = opt.height;
-      spec.title = opt.title;
-      spec.row_labels = row_labels;
-      spec.column_labels = per_frame ? std::vector<std::string>{col_labels[c0 + o]} : col_labels;
-      spec.bar = bar;
-      spec.background = shading.background;
+    const std::vector<Panel> panels =
+        sc.skeleton ? std::vector<Panel>{} : mesh_panels(sc, opt, c0, c1, progress);
+    for (std::size_t o = 0; o < (out.per_frame ? c1 - c0 : 1); ++o) {
+      SheetSpec spec = all;
+      if (out.per_frame) spec.cols = 1, spec.column_labels = {all.column_labels[c0 + o]};
       const SheetLayout L = layout_sheet(spec);
-      Canvas canvas(L.width, L.height, shading.background);
-      for (std::size_t ri = 0; ri < rows.size(); ++ri)
-        for (std::size_t c = c0; c < c1; ++c) {
-          if (per_frame && c != c0 + o) continue;
-          if (c >= rows[ri].frames.size()) continue;
-          const int x = L.panel_x(static_cast<int>(per_frame ? 0 : c), spec),
+      Canvas canvas(L.width, L.height, spec.background);
+      for (std::size_t ri = 0; ri < sc.rows.size(); ++ri)
+        for (std::size_t c = out.per_frame ? c0 + o : c0; c < (out.per_frame ? c0 + o + 1 : c1);
+             ++c) {
+          if (c >= sc.rows[ri].frames.size()) continue;
+          const int x = L.panel_x(static_cast<int>(out.per_frame ? 0 : c), spec),
                     y = L.panel_y(static_cast<int>(ri), spec);
-          if (skeleton) {
-            canvas.rectangle(x, y, opt.width, opt.height, shading.background);
-            draw_stick_figure(canvas, skels[rows[ri].input], rows[ri].frames[c], camera, x, y,
-                              opt.width, opt.height);
+          if (sc.skeleton) {
+            draw_stick_figure(canvas, sc.skels[sc.rows[ri].input], sc.rows[ri].frames[c], sc.camera,
+                              x, y, opt.width, opt.height);
             progress.advance();
           } else {
             canvas.blit(panels[ri * (c1 - c0) + (c - c0)], x, y);
           }
         }
       draw_sheet_frame(canvas, spec, L);
-      AtomicOutput out(outputs[per_frame ? c0 + o : 0], AtomicOutput::Kind::file, common.force,
-                       input_paths);
-      canvas.write_png(out.temp_path(), out.final_path().string());
-      out.commit();
+      AtomicOutput file(out.names[out.per_frame ? c0 + o : 0], AtomicOutput::Kind::file,
+                        common.force, out.inputs);
+      canvas.write_png(file.temp_path(), file.final_path().string());
+      file.commit();
     }
   }
   progress.finish();
+}
+
+}  // namespace
+
+void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
+  check_options(opt);
+  parse_colormap(opt.colormap), parse_color(opt.background),
+      parse_color(opt.base_color);  // usage errors first
+  Coloring col = coloring(opt);
+  std::vector<Kind> kinds;
+  for (const auto& p : opt.inputs) kinds.push_back(input_kind(p));
+  if (std::any_of(kinds.begin(), kinds.end(), [&](Kind k) { return k != kinds.front(); }))
+    throw UsageError("cannot draw skeleton files and meshes in one picture");
+  const Scene scene =
+      kinds.front() == Kind::skeleton ? load_skeletons(opt, col) : load_meshes(opt, col);
+  const Outputs out = check_outputs(opt, scene, common);
+  draw_pictures(scene, opt, common, out);
   log::info("wrote {} ({} rows x {} frames{})",
-            per_frame ? fmt::format("{} PNG files", outputs.size()) : opt.output, rows.size(), cols,
-            bar ? fmt::format(", colour {} .. {:.3g} {}", bar->lo, bar->hi, bar->units) : "");
+            out.per_frame ? fmt::format("{} PNG files", out.names.size()) : opt.output,
+            scene.rows.size(), scene.columns(),
+            scene.bar ? fmt::format(", colour {} .. {:.3g} {}", scene.bar->lo, scene.bar->hi,
+                                    scene.bar->units)
+                      : "");
 }
 
 }  // namespace df::render
