@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
       "                (identity), in the file's normalized units (how the MSAE paper shows\n"
       "                deformation components);\n"
       "  displacement  |p - p_template| / the bounding-box diagonal;\n"
-      "  /DATASET      a dataset of the input, shape [V] or [N,V] (e.g. a per-vertex\n                quantity of your own, added with h5import).\n"
+      "  /DATASET      a dataset of the input, shape [V] or [N,V] (e.g. a per-vertex\n             "
+      "   quantity of your own, added with h5import).\n"
       "Skeleton files (/poses, /skeleton/parents): stick figures, one row per sequence.\n\n"
       "INPUT: acap .h5 files (stored /frames/positions, or positions reconstructed from the\n"
       "features with the exact solver, e.g. gen-bdlstm output), mesh directories / @LISTs /\n"
@@ -63,6 +64,10 @@ int main(int argc, char** argv) {
   app.add_option("--view", opt.view, "front, side, top, back, or AZIMUTH,ELEVATION in degrees")
       ->default_val(opt.view);
   app.add_option("--up", opt.up, "The data's up axis: y or z")->default_val(opt.up);
+  app.add_option("--fit", opt.fit,
+                 "Fit the camera to all rows, or to the first (the truth with --show-truth;\n"
+                 "other rows are clipped at the panel's edge)")
+      ->default_val(opt.fit);
   app.add_option("--size", opt.width,
                  "Panel width and height in pixels (--size 320 or --height too)")
       ->default_val(opt.width);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <set>
+#include <span>
 
 #include "convert/acap2obj.h"
 #include "convert/frame_set.h"
@@ -372,6 +373,11 @@ struct Scene {
   }
 };
 
+// The rows the camera is fitted to (--fit).
+std::span<const Row> fitted_rows(const std::vector<Row>& rows, const RenderOptions& opt) {
+  return opt.fit == "first" ? std::span<const Row>(rows.data(), 1) : std::span<const Row>(rows);
+}
+
 void check_options(const RenderOptions& opt) {
   if (opt.inputs.empty()) throw UsageError("no inputs");
   if (opt.width < 16 || opt.height < 16 || opt.width > 4096 || opt.height > 4096)
@@ -382,6 +388,7 @@ void check_options(const RenderOptions& opt) {
     throw UsageError("--range needs LO,HI with LO < HI");
   if (opt.shading != "smooth" && opt.shading != "flat")
     throw UsageError("--shading must be smooth or flat");
+  if (opt.fit != "all" && opt.fit != "first") throw UsageError("--fit must be all or first");
   if (opt.show_truth && opt.error_vs.empty())
     throw UsageError("--show-truth needs --error-vs GROUND_TRUTH");
 }
@@ -394,7 +401,7 @@ Scene load_skeletons(const RenderOptions& opt, const Coloring& col) {
   sc.camera = Camera(parse_view(opt.view, opt.up));
   for (const auto& p : opt.inputs) sc.skels.push_back(io::read_skeleton_file(p));
   sc.rows = skeleton_rows(sc.skels, opt.inputs, opt);
-  for (const auto& r : sc.rows)
+  for (const auto& r : fitted_rows(sc.rows, opt))
     for (std::size_t t : r.frames)
       for (std::size_t j = 0; j < sc.skels[r.input].joints; ++j) {
         double q[3];
@@ -436,7 +443,7 @@ Scene load_meshes(const RenderOptions& opt, Coloring& col) {
       lo = std::min(lo, 0.0), hi = hi > lo ? hi : lo + 1;
     sc.bar = ColorBar{parse_colormap(opt.colormap), lo, hi, col.units};
   }
-  for (const auto& r : sc.rows)
+  for (const auto& r : fitted_rows(sc.rows, opt))
     for (const auto& p : r.shown) sc.camera.include(p);
   return sc;
 }

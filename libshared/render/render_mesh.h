@@ -29,6 +29,9 @@ struct RenderOptions {
   std::string colormap = "viridis";
   std::vector<double> range;  ///< {lo, hi}; empty = from the data (0 .. max)
   std::string view = "front", up = "y";
+  /// all: the camera fits every row; first: only the first row (others may be clipped, e.g. a
+  /// baseline that throws spikes would otherwise shrink the truth to a dot)
+  std::string fit = "all";
   int width = 320, height = 320;  ///< one panel
   std::string background = "white";
   std::string base_color = "#b4c3d9";  ///< meshes without a scalar colour

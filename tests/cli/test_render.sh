@@ -43,6 +43,8 @@ render-mesh -q "${fig[@]}" --threads 2 -o fig2.png
 cmp -s fig1.png fig2.png || fail "--threads 1 and 2 gave different PNG bytes"
 render-mesh -q "${fig[@]}" --threads 2 -f -o fig2.png
 cmp -s fig1.png fig2.png || fail "a second run gave different PNG bytes"
+render-mesh -q "${fig[@]}" --fit first -o fitfirst.png
+cmp -s fig1.png fitfirst.png && fail "--fit first drew the same picture as --fit all"
 render-mesh -q "${fig[@]}" --colormap jet --range 0,0.5 -o jet.png
 cmp -s fig1.png jet.png && fail "--colormap jet --range did not change the picture"
 
@@ -78,6 +80,7 @@ bad 1 "shape \[V\] or \[N, V\]" bumps.h5 --color /synthetic/regions
 bad 2 "no sequence 'walk'" data.h5 --sequence walk
 bad 2 "at most 64" other.h5 --size 16
 bad 2 "bad --view" data.h5 --view diagonal
+bad 2 "--fit must be all or first" data.h5 --fit some
 bad 1 "model" m.h5
 run render-mesh data.h5 -o out.jpg
 expect_rc 2; expect_one_error_line render-mesh; expect_err "png"
