@@ -121,6 +121,16 @@ void Canvas::rectangle(double x, double y, double w, double h, const Rgb& color,
   }
 }
 
+void Canvas::push_clip(double x, double y, double w, double h) {
+  cairo_save(cr_);
+  cairo_rectangle(cr_, x, y, w, h);
+  cairo_clip(cr_);
+}
+
+void Canvas::pop_clip() {
+  cairo_restore(cr_);
+}
+
 void Canvas::vertical_gradient(double x, double y, double w, double h, Colormap map) {
   cairo_pattern_t* g = cairo_pattern_create_linear(0, y + h, 0, y);
   const int stops = 64;

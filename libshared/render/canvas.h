@@ -39,6 +39,9 @@ class Canvas {
   void line(double x0, double y0, double x1, double y1, double width, const Rgb& color);
   void disc(double x, double y, double radius, const Rgb& color);
   void rectangle(double x, double y, double w, double h, const Rgb& color, double line_width = 0);
+  /// Restricts drawing to a rectangle until pop_clip() (a panel: nothing spills into the next).
+  void push_clip(double x, double y, double w, double h);
+  void pop_clip();
   /// A w by h rectangle whose colour runs through `map` from t = 0 at the bottom to 1 at the top.
   void vertical_gradient(double x, double y, double w, double h, Colormap map);
 

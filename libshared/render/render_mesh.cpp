@@ -65,7 +65,7 @@ std::string stem(const std::string& path) {
   return io::is_hdf5_path(path) ? p.stem().string() : p.filename().string();
 }
 
-// Sequence indices chosen by --sequence (names or numbers); all of them when `all` and none given.
+// Sequence indices chosen by --sequence (names, or indices when no name matches).
 std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted,
                                           const std::vector<std::string>& names,
                                           const std::string& path) {
@@ -76,7 +76,7 @@ std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted
       out.push_back(static_cast<std::size_t>(it - names.begin()));
       continue;
     }
-    if (!w.empty() && w.find_first_not_of("0123456789") == std::string::npos &&
+    if (!w.empty() && w.size() < 10 && w.find_first_not_of("0123456789") == std::string::npos &&
         std::stoul(w) < names.size()) {
       out.push_back(std::stoul(w));
       continue;
@@ -159,7 +159,7 @@ std::size_t truth_frame(const convert::FrameSet& s, std::size_t i, const convert
   return static_cast<std::size_t>(j);
 }
 
-// Per-vertex scalar of one frame: what --color asks for. Returns the values (empty: plain).
+// What --color asks for: the per-vertex quantity, its units for the colour bar, the dataset.
 struct Coloring {
   std::string mode;  // none | error | deformation | displacement | dataset
   std::string units;
@@ -255,6 +255,7 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
       io::Vertices p = s.positions[i];
       std::vector<double> v;
       if (r.truth || col.mode == "none") {
+        // drawn in the plain mesh colour
       } else if (col.mode == "error") {
         const io::Vertices& gt = truth->positions[truth_frame(s, i, *truth)];
         p = eval::align_translation(p, gt, component, n_components);

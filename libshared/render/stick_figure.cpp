@@ -36,12 +36,14 @@ void draw_stick_figure(Canvas& canvas, const io::SkeletonFile& s, std::size_t t,
     return p[a].z() + p[static_cast<std::size_t>(s.parents[a])].z() <
            p[b].z() + p[static_cast<std::size_t>(s.parents[b])].z();
   });
+  canvas.push_clip(x, y, w, h);
   for (std::size_t j : bones) {
     const auto& q = p[static_cast<std::size_t>(s.parents[j])];
     canvas.line(q.x(), q.y(), p[j].x(), p[j].y(), width, side_color(s.joint_names[j]));
   }
   for (std::size_t j = 0; j < s.joints; ++j)
     canvas.disc(p[j].x(), p[j].y(), radius, {0.95, 0.55, 0.1});
+  canvas.pop_clip();
 }
 
 }  // namespace df::render
