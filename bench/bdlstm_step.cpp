@@ -8,7 +8,7 @@
 #include "core/tool.h"
 #include "geometry/mesh_topology.h"
 #include "io/mesh_io.h"
-#include "models/bdlstm.h"
+#include "models/bdlstm/network.h"
 #include "nn/train_step.h"
 #include "timing.h"
 

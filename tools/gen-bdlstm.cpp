@@ -1,6 +1,6 @@
 // gen-bdlstm: predict, complete and diversify mesh sequences with a trained BD-LSTM (paper 1).
 #include "core/tool.h"
-#include "models/bdlstm_generate.h"
+#include "models/bdlstm/generate.h"
 
 int main(int argc, char** argv) {
   df::Tool tool("gen-bdlstm",

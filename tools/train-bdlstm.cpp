@@ -1,6 +1,6 @@
 // train-bdlstm: train the share-weight bidirectional LSTM on mesh sequences (paper 1).
 #include "core/tool.h"
-#include "models/bdlstm_train.h"
+#include "models/bdlstm/train.h"
 
 int main(int argc, char** argv) {
   df::Tool tool("train-bdlstm",

@@ -1,4 +1,4 @@
-#include "models/bdlstm_generate.h"
+#include "models/bdlstm/generate.h"
 
 #include <fmt/format.h>
 
@@ -12,7 +12,7 @@
 #include "core/progress.h"
 #include "io/file_header.h"
 #include "io/schema.h"
-#include "models/bdlstm_model.h"
+#include "models/bdlstm/model.h"
 
 namespace df::models {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "geometry/acap_features.h"
 #include "io/mesh_io.h"
-#include "models/bdlstm.h"
+#include "models/bdlstm/network.h"
 #include "nn/adam.h"
 
 namespace df::models {

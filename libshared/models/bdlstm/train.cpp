@@ -1,9 +1,8 @@
-#include "models/bdlstm_train.h"
+#include "models/bdlstm/train.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 
@@ -12,6 +11,7 @@
 #include "core/rng.h"
 #include "io/file_header.h"
 #include "io/schema.h"
+#include "models/common/training.h"
 #include "nn/train_step.h"
 
 namespace df::models {
@@ -21,17 +21,19 @@ namespace {
 void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::string& path) {
   auto differs = [&](const char* what, auto a, auto b) {
     if (a != b)
-      throw InvalidInput(fmt::format("checkpoint was made with {} = {}, this run has {}; remove it or use the "
-                                     "same settings",
-                                     what, a, b),
-                         path);
+      throw InvalidInput(
+          fmt::format("checkpoint was made with {} = {}, this run has {}; remove it or use the "
+                      "same settings",
+                      what, a, b),
+          path);
   };
   const auto &a = ck.config, &b = want.config;
   differs("conv-layers", a.conv_layers, b.conv_layers);
   differs("latent", a.latent, b.latent);
   differs("hidden", a.hidden, b.hidden);
   differs("lstm-layers", a.lstm_layers, b.lstm_layers);
-  differs("directions", std::string(directions_name(a.directions)), std::string(directions_name(b.directions)));
+  differs("directions", std::string(directions_name(a.directions)),
+          std::string(directions_name(b.directions)));
   differs("kl", a.kl, b.kl);
   differs("l2", a.l2, b.l2);
   differs("alpha-bidir", a.alpha_bidir, b.alpha_bidir);
@@ -48,22 +50,24 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
   differs("teacher-frames", s.teacher_frames, t.teacher_frames);
   differs("kl-warmup", s.kl_warmup, t.kl_warmup);
   differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
-  if (ck.split.train_begin != want.split.train_begin || ck.split.train_end != want.split.train_end ||
-      ck.split.test_begin != want.split.test_begin || ck.split.test_end != want.split.test_end)
+  if (ck.split.train_begin != want.split.train_begin ||
+      ck.split.train_end != want.split.train_end || ck.split.test_begin != want.split.test_begin ||
+      ck.split.test_end != want.split.test_end)
     throw InvalidInput("checkpoint was trained on other data (its train/test split differs)", path);
 }
 
 }  // namespace
 
-void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, const std::string& part,
-                     std::uint64_t seed, BdlstmSplit& split) {
+void split_sequences(const std::vector<std::int64_t>& offsets, double fraction,
+                     const std::string& part, std::uint64_t seed, BdlstmSplit& split) {
   if (!(fraction >= 0 && fraction < 1)) throw UsageError("--test-fraction must be in [0, 1)");
   if (part != "end" && part != "start" && part != "middle" && part != "random")
     throw UsageError("--test-part must be end, start, middle or random");
   Rng rng(seed, 0x5e9117);  // its own stream: the placement does not shift the training draws
   for (std::size_t s = 0; s + 1 < offsets.size(); ++s) {
     const std::int64_t b = offsets[s], e = offsets[s + 1];
-    const auto n_test = static_cast<std::int64_t>(std::llround(fraction * static_cast<double>(e - b)));
+    const auto n_test =
+        static_cast<std::int64_t>(std::llround(fraction * static_cast<double>(e - b)));
     if (part == "end") {
       split.train_begin.push_back(b), split.train_end.push_back(e - n_test);
       split.test_begin.push_back(e - n_test), split.test_end.push_back(e);
@@ -73,7 +77,9 @@ void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, 
     } else {  // inside: the training part is the sequence minus the held-out part
       const std::int64_t room = e - b - n_test;
       const std::int64_t at =
-          part == "middle" ? room / 2 : static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(room + 1)));
+          part == "middle"
+              ? room / 2
+              : static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(room + 1)));
       split.train_begin.push_back(b), split.train_end.push_back(e);
       split.test_begin.push_back(b + at), split.test_end.push_back(b + at + n_test);
     }
@@ -98,13 +104,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (opt.checkpoint_every < 0) throw UsageError("--checkpoint-every must not be negative");
   if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
 
-  {  // fail now rather than after hours of training
-    std::error_code ec;
-    if (std::filesystem::exists(opt.output, ec) && !common.force)
-      throw IOError("output exists; use --force to overwrite it", opt.output);
-    if (std::filesystem::exists(opt.input, ec) && std::filesystem::equivalent(opt.input, opt.output, ec))
-      throw IOError("output would overwrite the input", opt.output);
-  }
+  check_training_output(opt.output, opt.input, common.force);
   io::Dimensions dims;
   h5::File in = io::open_input(opt.input, "acap", &dims);
   if (!in.exists("/features/normalized"))
@@ -123,19 +123,23 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   split_sequences(offsets, m.training.test_fraction, m.training.test_part, common.seed, m.split);
 
   // Windows: every start in a training part that leaves room for the whole window.
-  const std::int64_t span = static_cast<std::int64_t>(m.training.window - 1) * m.training.stride + 1;
+  const std::int64_t span =
+      static_cast<std::int64_t>(m.training.window - 1) * m.training.stride + 1;
   const std::vector<std::int64_t> starts = window_starts(m.split, span);
   if (starts.empty()) {
     std::int64_t longest = 0;  // the longest run of training frames
     for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
       const std::int64_t b = m.split.train_begin[s], e = m.split.train_end[s];
-      const std::int64_t tb = std::clamp(m.split.test_begin[s], b, e), te = std::clamp(m.split.test_end[s], b, e);
+      const std::int64_t tb = std::clamp(m.split.test_begin[s], b, e),
+                         te = std::clamp(m.split.test_end[s], b, e);
       longest = std::max({longest, tb - b, e - te});
     }
-    throw InvalidInput(fmt::format("no sequence has a training part of {} frames (window {}, stride {}); the longest "
-                                   "has {}: use a smaller --window or --stride",
-                                   span, m.training.window, m.training.stride, longest),
-                       opt.input);
+    throw InvalidInput(
+        fmt::format(
+            "no sequence has a training part of {} frames (window {}, stride {}); the longest "
+            "has {}: use a smaller --window or --stride",
+            span, m.training.window, m.training.stride, longest),
+        opt.input);
   }
 
   const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
@@ -152,74 +156,57 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     m.initialize();
   }
   if (m.iteration > m.training.iterations)
-    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}", m.iteration,
-                                 m.training.iterations));
+    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}",
+                                 m.iteration, m.training.iterations));
 
   // The normalized features of all frames, one row per frame.
   const Eigen::Index v9 = m.net->frame_size();
   nn::Matrix<float> data(static_cast<Eigen::Index>(dims.at("N")), v9);
-  in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(data.rows()), data.data());
-  io::check_finite_rows(data.data(), 0, static_cast<std::size_t>(data.rows()), static_cast<std::size_t>(v9),
-                        in.where("/features/normalized"));
-  log::info("{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, stride {}), "
-            "{} parameters, {} directions",
-            opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts.size(),
-            m.training.window, m.training.stride, m.net->store().size(), directions_name(m.config.directions));
+  in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(data.rows()),
+                      data.data());
+  io::check_finite_rows(data.data(), 0, static_cast<std::size_t>(data.rows()),
+                        static_cast<std::size_t>(v9), in.where("/features/normalized"));
+  log::info(
+      "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, "
+      "stride {}), "
+      "{} parameters, {} directions",
+      opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts.size(),
+      m.training.window, m.training.stride, m.net->store().size(),
+      directions_name(m.config.directions));
 
   nn::Tape<float> tape;
   std::vector<nn::Matrix<float>> window(static_cast<std::size_t>(m.training.window),
                                         nn::Matrix<float>(m.training.batch, v9));
-  BdlstmLossTerms sum;
-  int in_interval = 0;
-  auto t0 = std::chrono::steady_clock::now();
-  const std::int64_t first_iteration = m.iteration;
-  std::int64_t last_checkpoint = m.iteration;
-  while (m.iteration < m.training.iterations) {
-    const std::int64_t done = m.iteration + 1;  // counting this one
+  // One iteration: a batch of windows and the number of teacher frames drawn with the model's
+  // RNG, the KL weight of the warm-up, one Adam step.
+  auto step = [&](std::int64_t done) -> LossTerms {
     for (int b = 0; b < m.training.batch; ++b) {
       const std::int64_t first = starts[m.rng.below(starts.size())];
       for (int t = 0; t < m.training.window; ++t)
         window[static_cast<std::size_t>(t)].row(b) = data.row(first + t * m.training.stride);
     }
     const int given = m.training.teacher_frames > 1
-                          ? 1 + static_cast<int>(m.rng.below(static_cast<std::uint64_t>(m.training.teacher_frames)))
+                          ? 1 + static_cast<int>(m.rng.below(
+                                    static_cast<std::uint64_t>(m.training.teacher_frames)))
                           : 1;
     const float kl_weight =
         m.training.kl_warmup > 0
-            ? static_cast<float>(std::min(1.0, static_cast<double>(done) / static_cast<double>(m.training.kl_warmup)))
+            ? static_cast<float>(std::min(
+                  1.0, static_cast<double>(done) / static_cast<double>(m.training.kl_warmup)))
             : 1.0f;
     BdlstmLossTerms terms;
-    nn::train_step<float>(tape, m.net->store(), *m.adam, [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
-      return m.net->loss(t, p, window, m.rng, &terms, given, kl_weight);
-    });
-    if (!std::isfinite(terms.total))
-      throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr", done, terms.total));
-    sum.total += terms.total, sum.recon += terms.recon, sum.bidir += terms.bidir, sum.kl += terms.kl,
-        sum.l2 += terms.l2;
-    ++in_interval;
-    m.iteration = done;  // before any checkpoint: the file must say how many iterations its state holds
-    if (done % opt.print_every == 0 || done == m.training.iterations) {
-      const double k = in_interval;
-      m.log.insert(m.log.end(), {static_cast<double>(done), sum.total / k, sum.recon / k, sum.bidir / k,
-                                 sum.kl / k, sum.l2 / k});
-      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const double per = secs / static_cast<double>(done - first_iteration);
-      log::info("iteration {}/{}: loss {:.4g} (recon {:.4g}, bidir {:.4g}, kl {:.4g}, l2 {:.4g}); {:.3f} s/iteration, "
-                "{:.0f} s left",
-                done, m.training.iterations, sum.total / k, sum.recon / k, sum.bidir / k, sum.kl / k, sum.l2 / k, per,
-                per * static_cast<double>(m.training.iterations - done));
-      sum = {};
-      in_interval = 0;
-      // Checkpoints fall on printing boundaries (the interval averages restart there, so a
-      // resumed run logs exactly what an uninterrupted one does).
-      if (opt.checkpoint_every && done / opt.checkpoint_every > last_checkpoint / opt.checkpoint_every &&
-          done < m.training.iterations) {
-        last_checkpoint = done;
-        save_bdlstm_model(ckpt, m, {opt.input}, true);
-        log::debug("checkpoint {} at iteration {}", ckpt, done);
-      }
-    }
-  }
+    nn::train_step<float>(tape, m.net->store(), *m.adam,
+                          [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
+                            return m.net->loss(t, p, window, m.rng, &terms, given, kl_weight);
+                          });
+    return {terms.total, terms.recon, terms.bidir, terms.kl, terms.l2};
+  };
+  auto checkpoint = [&] {
+    save_bdlstm_model(ckpt, m, {opt.input}, true);
+    log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
+  };
+  run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every},
+                    {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, step, checkpoint);
   save_bdlstm_model(opt.output, m, {opt.input}, common.force);
   if (opt.checkpoint.empty()) {  // our own OUTPUT.ckpt; a checkpoint the user named is theirs
     std::error_code ec;

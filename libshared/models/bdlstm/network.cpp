@@ -1,4 +1,4 @@
-#include "models/bdlstm.h"
+#include "models/bdlstm/network.h"
 
 #include "core/error.h"
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/tool.h"
-#include "models/bdlstm_model.h"
+#include "models/bdlstm/model.h"
 
 namespace df::models {
 

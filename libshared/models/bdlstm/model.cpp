@@ -1,4 +1,4 @@
-#include "models/bdlstm_model.h"
+#include "models/bdlstm/model.h"
 
 #include <fmt/format.h>
 

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "helpers.h"
-#include "models/bdlstm.h"
-#include "models/bdlstm_train.h"
+#include "models/bdlstm/network.h"
+#include "models/bdlstm/train.h"
 #include "nn/gradient_check.h"
 #include "nn/train_step.h"
 

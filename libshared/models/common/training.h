@@ -1,0 +1,40 @@
+// What every trainer of the toolkit shares (train-bdlstm now, train-msae and train-actgan next):
+// the iteration loop with its loss printing, the training log, checkpoints on printing
+// boundaries, and the early output check. A trainer supplies one step (draw a batch with the
+// model's RNG, take an optimizer step, return the loss terms) and one checkpoint writer.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace df::models {
+
+struct TrainingLoop {
+  std::int64_t iterations = 0;  ///< train until the model has done this many
+  int print_every = 100;        ///< average and print the loss terms every K iterations
+  int checkpoint_every = 0;     ///< 0 = no checkpoints during the run
+};
+
+/// Loss terms of one iteration; the first is the total that was minimised.
+using LossTerms = std::vector<double>;
+
+/// Runs iterations iteration+1 .. loop.iterations. Each calls step(k) with k the iteration it
+/// completes (1-based) and gets its loss terms; a non-finite total stops with an Error. Every
+/// print_every iterations (and at the last) the mean terms since the last print are appended to
+/// `log` as one row [k, means...] and printed ("iteration k/K: loss ... (recon ..., ...)").
+/// `iteration` is updated before any checkpoint, so a checkpoint records the iterations its state
+/// holds; checkpoints fall on printing boundaries where a multiple of checkpoint_every was passed
+/// (the interval averages restart there, so a resumed run logs what an uninterrupted one does).
+/// @param names  the terms' names, as printed ("loss", "recon", ...)
+void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>& names,
+                       std::int64_t& iteration, std::vector<double>& log,
+                       const std::function<LossTerms(std::int64_t)>& step,
+                       const std::function<void()>& checkpoint);
+
+/// Fails now rather than after hours of training: IOError if `output` exists without `force`, or
+/// is `input`.
+void check_training_output(const std::string& output, const std::string& input, bool force);
+
+}  // namespace df::models
