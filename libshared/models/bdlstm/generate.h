@@ -14,29 +14,34 @@
 // generated frame (given frames, keyframes and sources are q apart).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "core/rng.h"
 #include "core/tool.h"
+#include "models/bdlstm/model.h"
 
 namespace df::models {
 
 struct BdlstmGenerateOptions {
   std::string model, data, output;
-  std::string mode = "predict";   ///< predict | complete
-  std::string method = "bdlstm";  ///< bdlstm | linear (the feature-space baseline) | static (predict: no motion)
+  std::string mode = "predict";  ///< predict | complete
+  std::string method =
+      "bdlstm";  ///< bdlstm | linear (the feature-space baseline) | static (predict: no motion)
   /// A frame is a global index of DATA or SEQUENCE:K (K-th frame of that sequence).
   std::vector<std::string> from;       ///< predict: the last given frame of each case
   std::vector<std::string> keyframes;  ///< complete: keyframes of one case, in time order
   /// > 0: cases at every K-th frame of each sequence's held-out part (the model's split)
   int test_every = 0;
   /// predict with --test-every: the first predicted frame of a case is at least this many frames
-  /// into the held-out part (0 = --initial), so runs with different --initial predict the same frames
+  /// into the held-out part (0 = --initial), so runs with different --initial predict the same
+  /// frames
   int test_context = 0;
-  int initial = 1;   ///< u: given frames per prediction
-  int length = 15;   ///< predict: future frames
-  int gap = 9;       ///< complete with --test-every: frames between the two keyframes
-  int samples = 1;   ///< per case; > 1 draws random initial states
+  int initial = 1;           ///< u: given frames per prediction
+  int length = 15;           ///< predict: future frames
+  int gap = 9;               ///< complete with --test-every: frames between the two keyframes
+  int samples = 1;           ///< per case; > 1 draws random initial states
   double state_sigma = 0.1;  ///< std-dev of random initial states around ±init_state
   double threshold = 0.05;   ///< complete: merge when ‖S^f − S^b‖ / ‖S^f‖ is below this
   int retries = 20;          ///< complete: attempts with random states before giving up
@@ -47,6 +52,78 @@ struct BdlstmGenerateOptions {
   int stride = 0;
 };
 
+/// Reads and checks the options, plans the cases, runs them, writes the output.
 void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& common);
+
+// --- the steps of generate_bdlstm, each callable on its own -----------------------------------
+
+/// The data a generation starts from: features normalized with the model's numbers.
+struct GenerationData {
+  nn::Matrix<float> features;  ///< [N, 9V]
+  std::vector<std::int64_t> offsets;
+  std::vector<std::string> sequences;
+  std::string history;
+  std::size_t sequence_of(std::int64_t frame) const;
+};
+/// Reads DATA, checking that it shares the model's template; renormalizes from raw features
+/// when its normalization differs from the model's.
+GenerationData read_generation_data(const std::string& path, const BdlstmModel& m);
+
+/// One case: predict: its given frames (global, in time order, `stride` apart); complete: its
+/// keyframes.
+struct GenerationCase {
+  std::string name;
+  std::vector<std::int64_t> frames;
+};
+/// The cases of a run: --test-every cases inside the model's held-out parts, or the --from /
+/// --keyframes frames. UsageError / InvalidInput when there are none or a frame is invalid.
+std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const BdlstmModel& m,
+                                       const GenerationData& d, std::int64_t stride);
+
+/// One output sequence: normalized features per frame, the data frame of the same time (−1 past
+/// the data's end) and the steps after the last given frame (0 for given frames and keyframes).
+struct GeneratedSequence {
+  std::string name;
+  std::vector<nn::Matrix<float>> frames;  ///< each [1, 9V]
+  std::vector<std::int64_t> source;
+  std::vector<std::int32_t> step;
+};
+
+/// Runs the chains of a model over cases: one object per run, cases in order (the random
+/// initial states are drawn from one stream seeded by --seed).
+class ChainRunner {
+ public:
+  ChainRunner(const BdlstmGenerateOptions& opt, const BdlstmModel& m, const GenerationData& d,
+              std::int64_t stride, std::uint64_t seed);
+  ~ChainRunner();
+  /// --samples sequences of the given frames followed by --length predicted ones.
+  std::vector<GeneratedSequence> predict(const GenerationCase& c);
+  /// --samples sequences from the first keyframe through every gap to the last.
+  std::vector<GeneratedSequence> complete(const GenerationCase& c);
+  /// Completions that did not merge below --threshold, and the worst merge difference.
+  int unmerged() const { return unmerged_; }
+  double worst_merge() const { return worst_merge_; }
+
+ private:
+  class Stepper;
+  std::int64_t source_of(std::int64_t from, std::int64_t k) const;
+  // Paths of steps 1 .. L of every sample across the gap from keyframe a to b.
+  std::vector<std::vector<nn::Matrix<float>>> complete_gap(std::int64_t a, std::int64_t b);
+  const BdlstmGenerateOptions& opt_;
+  const BdlstmModel& m_;
+  const GenerationData& d_;
+  std::int64_t q_;
+  int window_;
+  Rng rng_;
+  std::unique_ptr<Stepper> forward_, backward_own_;
+  Stepper* backward_;
+  int unmerged_ = 0;
+  double worst_merge_ = 0;
+};
+
+/// Writes the sequences as an acap file of normalized features with /frames/source and
+/// /frames/step (atomically).
+void write_generated(const std::vector<GeneratedSequence>& out, const BdlstmGenerateOptions& opt,
+                     const BdlstmModel& m, const GenerationData& d, const CommonOptions& common);
 
 }  // namespace df::models

@@ -1,0 +1,79 @@
+#include <catch2/catch.hpp>
+
+#include "core/error.h"
+#include "models/bdlstm/generate.h"
+
+using namespace df::models;
+
+namespace {
+
+// One 50-frame sequence "s" whose last 10 frames (40-49) are held out; a second sequence the
+// model never saw.
+struct Fixture {
+  BdlstmModel m;
+  GenerationData d;
+  Fixture() {
+    m.split.sequences = {"s"};
+    m.split.train_begin = {0}, m.split.train_end = {40}, m.split.test_begin = {40},
+    m.split.test_end = {50};
+    d.offsets = {0, 50, 80};
+    d.sequences = {"s", "other"};
+  }
+};
+
+}  // namespace
+
+TEST_CASE("gen-bdlstm plan: prediction cases inside the held-out part", "[models][bdlstm]") {
+  Fixture f;
+  BdlstmGenerateOptions opt;
+  opt.test_every = 2, opt.initial = 3, opt.test_context = 3, opt.length = 4;
+  // The first predicted frame is 3 frames into the part; a case needs 3 + 4 frames.
+  auto cases = plan_cases(opt, f.m, f.d, 1);
+  REQUIRE(cases.size() == 2);
+  CHECK(cases[0].frames == std::vector<std::int64_t>{40, 41, 42});
+  CHECK(cases[0].name == "s-42");
+  CHECK(cases[1].frames == std::vector<std::int64_t>{42, 43, 44});
+  // One given frame, same context: the same predicted frames (43 on) as with three.
+  opt.initial = 1;
+  cases = plan_cases(opt, f.m, f.d, 1);
+  CHECK(cases[0].frames == std::vector<std::int64_t>{42});
+  // Stride 2: frames 2 apart; 3 given + 2 predicted span 9 frames: one case fits in 10.
+  opt.initial = 3, opt.length = 2;
+  cases = plan_cases(opt, f.m, f.d, 2);
+  REQUIRE(cases.size() == 1);
+  CHECK(cases[0].frames == std::vector<std::int64_t>{40, 42, 44});
+  opt.length = 8;
+  CHECK_THROWS_AS(plan_cases(opt, f.m, f.d, 2), df::InvalidInput);
+}
+
+TEST_CASE("gen-bdlstm plan: completion cases, --from and --keyframes", "[models][bdlstm]") {
+  Fixture f;
+  BdlstmGenerateOptions opt;
+  opt.mode = "complete", opt.test_every = 3, opt.gap = 2;
+  auto cases = plan_cases(opt, f.m, f.d, 1);
+  REQUIRE(cases.size() == 3);  // keyframes (40, 43), (43, 46), (46, 49)
+  CHECK(cases[2].frames == std::vector<std::int64_t>{46, 49});
+
+  opt.test_every = 0;
+  opt.keyframes = {"other:2", "other:10", "other:20"};
+  cases = plan_cases(opt, f.m, f.d, 1);
+  REQUIRE(cases.size() == 1);
+  CHECK(cases[0].frames == std::vector<std::int64_t>{52, 60, 70});
+  CHECK(cases[0].name == "other-2");
+  CHECK_THROWS_AS(plan_cases(opt, f.m, f.d, 3),
+                  df::UsageError);  // 8 frames apart: not a multiple of 3
+  opt.keyframes = {"60", "52"};
+  CHECK_THROWS_AS(plan_cases(opt, f.m, f.d, 1), df::UsageError);  // decreasing
+
+  BdlstmGenerateOptions pred;
+  pred.from = {"other:4", "12"};
+  pred.initial = 3;
+  cases = plan_cases(pred, f.m, f.d, 2);
+  CHECK(cases[0].frames == std::vector<std::int64_t>{50, 52, 54});
+  CHECK(cases[1].frames == std::vector<std::int64_t>{8, 10, 12});
+  pred.from = {"other:3"};
+  CHECK_THROWS_AS(plan_cases(pred, f.m, f.d, 2),
+                  df::UsageError);  // only 2 frames of 'other' up to it
+  pred.from = {"nowhere:1"};
+  CHECK_THROWS_AS(plan_cases(pred, f.m, f.d, 1), df::UsageError);
+}
