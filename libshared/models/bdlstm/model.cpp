@@ -7,13 +7,15 @@
 #include "geometry/mesh_topology.h"
 #include "io/file_header.h"
 #include "io/schema.h"
+#include "models/common/model_file.h"
 #include "nn/checkpoint.h"
 
 namespace df::models {
 
 void BdlstmModel::initialize() {
   auto topo = geometry::mesh_topology(tmpl.faces, static_cast<int>(tmpl.vertices.rows()));
-  net = std::make_unique<BdlstmNet<float>>(config, static_cast<int>(tmpl.vertices.rows()), topo.edges, training.seed);
+  net = std::make_unique<BdlstmNet<float>>(config, static_cast<int>(tmpl.vertices.rows()),
+                                           topo.edges, training.seed);
   nn::AdamOptions ao;
   ao.lr = training.lr;
   adam = std::make_unique<nn::Adam<float>>(net->store().size(), ao);
@@ -22,8 +24,8 @@ void BdlstmModel::initialize() {
   log.clear();
 }
 
-void save_bdlstm_model(const std::string& path, const BdlstmModel& m, const std::vector<std::string>& inputs,
-                       bool force) {
+void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
+                       const std::vector<std::string>& inputs, bool force) {
   std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
   AtomicOutput out(path, AtomicOutput::Kind::file, force, in);
   {
@@ -52,9 +54,7 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m, const std:
     f.set_attr("/config", "teacher_frames", t.teacher_frames);
     f.set_attr("/config", "kl_warmup", t.kl_warmup);
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
-    f.write_matrix("/template/vertices", m.tmpl.vertices);
-    f.write_matrix("/template/faces", m.tmpl.faces);
-    geometry::write_normalization(f, m.normalization);
+    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, BdlstmModel::kLogColumns);
     const std::size_t s = m.split.sequences.size();
     f.create_groups("/split");
     f.set_attr("/split", "data", m.split.data);
@@ -66,13 +66,6 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m, const std:
     }
     f.write<std::int64_t>("/split/train", train, {s, 2});
     f.write<std::int64_t>("/split/test", test, {s, 2});
-    if (!m.log.empty()) {
-      const std::size_t cols = BdlstmModel::kLogColumns.size();
-      f.write<double>("/training/log", m.log, {m.log.size() / cols, cols});
-      std::string names;
-      for (const auto& n : BdlstmModel::kLogColumns) names += (names.empty() ? "" : " ") + n;
-      f.set_attr("/training/log", "columns", names);
-    }
     nn::write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
     f.close();
   }
@@ -111,20 +104,20 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   t.teacher_frames = f.has_attr("/config", "teacher_frames") ? i("teacher_frames") : 1;
   t.kl_warmup = f.has_attr("/config", "kl_warmup") ? f.attr_int("/config", "kl_warmup") : 0;
   t.seed = std::stoull(f.attr_string("/config", "seed"));
-  m.tmpl.vertices = f.read_matrix<double>("/template/vertices");
-  m.tmpl.faces = f.read_matrix<int>("/template/faces");
-  m.normalization = geometry::read_normalization(f);
+  std::vector<double> log;
+  read_mesh_model_common(f, m.tmpl, m.normalization, log);
   m.split.data = f.attr_string("/split", "data");
   m.split.sequences = f.read_strings("/split/sequences");
-  auto train = f.read<std::int64_t>("/split/train").data, test = f.read<std::int64_t>("/split/test").data;
+  auto train = f.read<std::int64_t>("/split/train").data,
+       test = f.read<std::int64_t>("/split/test").data;
   for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
     m.split.train_begin.push_back(train[2 * k]);
     m.split.train_end.push_back(train[2 * k + 1]);
     m.split.test_begin.push_back(test[2 * k]);
     m.split.test_end.push_back(test[2 * k + 1]);
   }
-  m.initialize();  // the network's shapes; weights, Adam and RNG state come from the file
-  if (f.exists("/training/log")) m.log = f.read<double>("/training/log").data;
+  m.initialize();          // the network's shapes; weights, Adam and RNG state come from the file
+  m.log = std::move(log);  // after initialize(), which clears it
   m.iteration = nn::read_training_state(f, m.net->store(), *m.adam, m.rng);
   return m;
 }

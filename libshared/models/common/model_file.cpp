@@ -1,0 +1,26 @@
+#include "models/common/model_file.h"
+
+namespace df::models {
+
+void write_mesh_model_common(h5::File& f, const io::Mesh& tmpl, const geometry::Normalization& nz,
+                             const std::vector<double>& log,
+                             const std::vector<std::string>& columns) {
+  f.write_matrix("/template/vertices", tmpl.vertices);
+  f.write_matrix("/template/faces", tmpl.faces);
+  geometry::write_normalization(f, nz);
+  if (log.empty()) return;
+  f.write<double>("/training/log", log, {log.size() / columns.size(), columns.size()});
+  std::string names;
+  for (const auto& n : columns) names += (names.empty() ? "" : " ") + n;
+  f.set_attr("/training/log", "columns", names);
+}
+
+void read_mesh_model_common(const h5::File& f, io::Mesh& tmpl, geometry::Normalization& nz,
+                            std::vector<double>& log) {
+  tmpl.vertices = f.read_matrix<double>("/template/vertices");
+  tmpl.faces = f.read_matrix<int>("/template/faces");
+  nz = geometry::read_normalization(f);
+  log = f.exists("/training/log") ? f.read<double>("/training/log").data : std::vector<double>{};
+}
+
+}  // namespace df::models
