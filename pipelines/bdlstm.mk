@@ -14,6 +14,10 @@
 #                                 extrapolation at future frames 5, 10, 15 of the first held-out
 #                                 case, coloured by per-vertex error (paper Fig. 5)
 #   $(BD)/S/long.png              every 30th frame of the 300-frame generation
+#   $(BD)/S/latent.txt fig-latent.png  what the model learned: loss terms over training, KL per
+#                                 latent dimension, and training-part windows predicted with
+#                                 z = the encoder's mean, a prior draw and 0 beside zero motion
+#                                 (inspect-bdlstm; a collapsed latent predicts zero motion)
 # and for the sets in BD_ABLATION_SETS the ablations of paper Table 2 (unidirectional, standard
 # BD-LSTM, no KL, no L2) in $(BD)/S/table2.md with their curves in fig2.png.
 # Training times on 2 cores are in the README (BD-LSTM section).
@@ -50,6 +54,7 @@ chickenCrossing_EVERY := 2
 finger_VIEW := --view side --height 140
 faerie_VIEW := --view side --up z
 faerie_STEPS := 1,3,5
+faerie_INSPECT := --initial 2 --length 4
 BD_FIG5_STEPS := 5,10,15
 
 unidirectional_FLAGS := --directions unidirectional
@@ -59,7 +64,7 @@ no-l2_FLAGS := --no-l2
 
 .PHONY: bdlstm
 bdlstm: $(foreach s,$(BD_SETS),$(BD)/$(s)/table1.md $(BD)/$(s)/fig2.png $(BD)/$(s)/completion.md \
-                                $(BD)/$(s)/fig5.png $(BD)/$(s)/long.png) \
+                                $(BD)/$(s)/fig5.png $(BD)/$(s)/long.png $(BD)/$(s)/fig-latent.png) \
         $(foreach s,$(filter $(BD_SETS),$(BD_ABLATION_SETS)),$(BD)/$(s)/table2.md)
 	@for s in $(BD_SETS); do \
 	  echo; echo "=== $$s"; cat $(BD)/$$s/table1.md; echo; cat $(BD)/$$s/fig2.md; echo; cat $(BD)/$$s/completion.md; \
@@ -242,6 +247,25 @@ $(BD)/%/fig5.png: $(BD)/%/pred3.h5 $(BD)/%/linear.h5 $(BD)/%/data.h5
 $(BD)/%/long.png: $(BD)/%/long.h5
 	$(BIN)/render-mesh -q -f $< --every 30 $($*_VIEW) --size 160 --row-labels BD-LSTM \
 	  --title "$*: 300 frames generated from frame 0, every 30th (paper Fig. 2)" -o $@
+
+# --- (f) what the model learned: loss terms over training, KL per latent dimension, and windows
+# of the training part predicted with z = mean / prior draw / 0 beside zero motion.
+$(BD)/%/latent.txt: $(BD)/%/model.h5 $(BD)/%/data.h5
+	$(BIN)/inspect-bdlstm -q $^ $($*_INSPECT) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+$(BD)/%/fig-latent.png: $(BD)/%/latent.txt
+	gnuplot -e "set terminal pngcairo size 1500,450; set output '$@'; set multiplot layout 1,3 title '$*: what the model learned'; \
+	  set key top right; set xlabel 'iteration'; set ylabel 'loss term (interval mean)'; set logscale y; \
+	  plot '$<.tsv' index 'training_log' using 1:3 with lines lw 2 title 'recon', \
+	       '' index 'training_log' using 1:4 with lines lw 2 title 'bidir', \
+	       '' index 'training_log' using 1:5 with lines lw 2 title 'KL', \
+	       '' index 'training_log' using 1:6 with lines lw 2 title 'L2'; \
+	  unset logscale y; set logscale y; set xlabel 'latent dimension (largest KL first)'; set ylabel 'KL per dimension, nats'; \
+	  plot '$<.tsv' index 'kl_per_dimension' using 1:(\$$2 > 1e-6 ? \$$2 : 1e-6) with lines lw 2 notitle; \
+	  unset logscale y; set xlabel 'predicted step (training-part windows)'; set ylabel '|X^ - X| / |X|'; set key top left; \
+	  plot '$<.tsv' index 'error_by_step' using 1:2 with linespoints lw 2 title 'z = encoder mean', \
+	       '' index 'error_by_step' using 1:3 with linespoints title 'z drawn from the prior', \
+	       '' index 'error_by_step' using 1:4 with linespoints title 'z = 0', \
+	       '' index 'error_by_step' using 1:5 with lines dashtype 2 lc 'black' title 'zero motion'; unset multiplot"
 
 # Keep every intermediate file (models, generations, evaluations): later runs reuse them.
 .SECONDARY:

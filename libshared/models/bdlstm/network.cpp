@@ -8,9 +8,12 @@ using Eigen::Index;
 
 const char* directions_name(Directions d) {
   switch (d) {
-    case Directions::shared: return "shared";
-    case Directions::standard: return "standard";
-    case Directions::unidirectional: return "unidirectional";
+    case Directions::shared:
+      return "shared";
+    case Directions::standard:
+      return "standard";
+    case Directions::unidirectional:
+      return "unidirectional";
   }
   return "?";
 }
@@ -23,8 +26,8 @@ Directions directions_from_name(const std::string& name) {
 }
 
 template <class T>
-BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices, const std::vector<std::array<int, 2>>& edges,
-                        std::uint64_t seed)
+BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
+                        const std::vector<std::array<int, 2>>& edges, std::uint64_t seed)
     : config_(config), n_vertices_(n_vertices) {
   if (config.conv_layers < 1 || config.latent < 1 || config.hidden < 1 || config.lstm_layers < 1)
     throw UsageError("BD-LSTM sizes must be positive");
@@ -38,7 +41,8 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices, const std::v
     for (int l = 0; l < config.conv_layers; ++l)
       ch.enc.emplace_back(store_, prefix + "conv" + std::to_string(l), 9, 9, adjacency_, rng);
     ch.fc_enc = nn::Linear<T>(store_, prefix + "fc_enc", v9, 2 * config.latent, rng);
-    ch.lstm = nn::StackedLstm<T>(store_, prefix + "lstm", config.latent, config.hidden, config.lstm_layers, rng);
+    ch.lstm = nn::StackedLstm<T>(store_, prefix + "lstm", config.latent, config.hidden,
+                                 config.lstm_layers, rng);
     ch.fc_dec = nn::Linear<T>(store_, prefix + "fc_dec", config.hidden, v9, rng);
     for (int l = 0; l < config.conv_layers; ++l)
       ch.dec.emplace_back(store_, prefix + "tconv" + std::to_string(l), 9, 9, adjacency_, rng);
@@ -52,37 +56,38 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices, const std::v
 }
 
 template <class T>
-typename BdlstmNet<T>::States BdlstmNet<T>::constant_states(nn::Tape<T>& tape, Index rows, T value) const {
+typename BdlstmNet<T>::States BdlstmNet<T>::constant_states(nn::Tape<T>& tape, Index rows,
+                                                            T value) const {
   return chains_[0].lstm.constant_states(tape, rows, value);
 }
 
 template <class T>
-typename BdlstmNet<T>::States BdlstmNet<T>::states_from(nn::Tape<T>& tape, const std::vector<Matrix>& h,
+typename BdlstmNet<T>::States BdlstmNet<T>::states_from(nn::Tape<T>& tape,
+                                                        const std::vector<Matrix>& h,
                                                         const std::vector<Matrix>& c) const {
   if (h.size() != static_cast<std::size_t>(config_.lstm_layers) || c.size() != h.size())
     throw Error("internal: one LSTM state per layer needed");
   States s;
-  for (std::size_t l = 0; l < h.size(); ++l) s.push_back({tape.constant(h[l]), tape.constant(c[l])});
+  for (std::size_t l = 0; l < h.size(); ++l)
+    s.push_back({tape.constant(h[l]), tape.constant(c[l])});
   return s;
 }
 
 template <class T>
-typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x, States& states,
-                                              const Matrix* eps, Var* kl_sum) const {
+std::pair<typename BdlstmNet<T>::Var, typename BdlstmNet<T>::Var> BdlstmNet<T>::encode(
+    const nn::Bound<T>& p, int chain, Var x) const {
   const Chain& ch = chains_[static_cast<std::size_t>(chain)];
   Var h = x;
   for (const auto& conv : ch.enc) h = nn::tanh(conv(p, h));
   Var ml = ch.fc_enc(p, h);
-  Var mu = nn::slice_cols(ml, 0, config_.latent);
-  Var z = mu;
-  if (config_.kl && eps) {
-    Var logvar = nn::slice_cols(ml, config_.latent, config_.latent);
-    z = nn::reparameterize(mu, logvar, *eps);
-    if (kl_sum) {
-      Var kl = nn::scale(nn::gaussian_kl(mu, logvar), static_cast<T>(x.rows()));  // Σ over rows
-      *kl_sum = kl_sum->tape ? nn::add(*kl_sum, kl) : kl;
-    }
-  }
+  return {nn::slice_cols(ml, 0, config_.latent),
+          nn::slice_cols(ml, config_.latent, config_.latent)};
+}
+
+template <class T>
+typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int chain, Var x, Var z,
+                                                     States& states) const {
+  const Chain& ch = chains_[static_cast<std::size_t>(chain)];
   Var out = ch.lstm.step(p, z, states);
   Var d = nn::tanh(ch.fc_dec(p, out));
   for (std::size_t l = 0; l < ch.dec.size(); ++l) {
@@ -93,15 +98,33 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, 
 }
 
 template <class T>
+typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x,
+                                              States& states, const Matrix* eps,
+                                              Var* kl_sum) const {
+  auto [mu, logvar] = encode(p, chain, x);
+  Var z = mu;
+  if (config_.kl && eps) {
+    z = nn::reparameterize(mu, logvar, *eps);
+    if (kl_sum) {
+      Var kl = nn::scale(nn::gaussian_kl(mu, logvar), static_cast<T>(x.rows()));  // Σ over rows
+      *kl_sum = kl_sum->tape ? nn::add(*kl_sum, kl) : kl;
+    }
+  }
+  return decode_step(p, chain, x, z, states);
+}
+
+template <class T>
 std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<T>& p, int chain,
-                                                                const std::vector<Var>& given, States states,
-                                                                int steps, Rng& rng, Var* kl_sum) const {
+                                                                const std::vector<Var>& given,
+                                                                States states, int steps, Rng& rng,
+                                                                Var* kl_sum) const {
   std::vector<Var> frames{given.front()};
   Matrix eps(given.front().rows(), config_.latent);
   for (int t = 0; t < steps; ++t) {
     if (config_.kl)
       for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<T>(rng.normal());
-    Var in = static_cast<std::size_t>(t) < given.size() ? given[static_cast<std::size_t>(t)] : frames.back();
+    Var in = static_cast<std::size_t>(t) < given.size() ? given[static_cast<std::size_t>(t)]
+                                                        : frames.back();
     frames.push_back(step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum));
   }
   return frames;
@@ -110,18 +133,21 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p,
                                               const std::vector<Matrix>& window, Rng& rng,
-                                              BdlstmLossTerms* terms, int given, T kl_weight) const {
+                                              BdlstmLossTerms* terms, int given,
+                                              T kl_weight) const {
   const int n = static_cast<int>(window.size());
   if (n < 2) throw UsageError("a training window needs at least 2 frames");
-  if (given < 1 || given >= n) throw UsageError("the given frames must be at least 1 and fewer than the window");
+  if (given < 1 || given >= n)
+    throw UsageError("the given frames must be at least 1 and fewer than the window");
   const Index batch = window[0].rows(), v9 = frame_size();
   for (const auto& w : window)
-    if (w.rows() != batch || w.cols() != v9) throw Error("internal: window frames of different shapes");
+    if (w.rows() != batch || w.cols() != v9)
+      throw Error("internal: window frames of different shapes");
   const T init = static_cast<T>(config_.init_state);
   const T inv_batch = T(1) / static_cast<T>(batch);
   auto frame_norms = [&](Var a) { return nn::sum(nn::group_norm(a, v9)); };  // Σ_rows ‖row‖₂
 
-  Var kl_sum;  // Σ over steps and rows
+  Var kl_sum;                 // Σ over steps and rows
   std::vector<Var> fwd, bwd;  // fwd[t] ≈ X_t, bwd[t] ≈ X_{n−1−t}, each [batch, 9V]
   if (config_.directions == Directions::shared) {
     // Both chains as one batch of 2B rows: forward rows first.
@@ -156,21 +182,26 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
   // 1..given−1 are one-step predictions from ground truth.
   std::vector<Var> recon, bidir;
   for (int t = 1; t < n; ++t) {
-    recon.push_back(frame_norms(nn::sub(fwd[static_cast<std::size_t>(t)], tape.constant(window[static_cast<std::size_t>(t)]))));
+    recon.push_back(frame_norms(nn::sub(fwd[static_cast<std::size_t>(t)],
+                                        tape.constant(window[static_cast<std::size_t>(t)]))));
     if (!bwd.empty())
-      recon.push_back(frame_norms(
-          nn::sub(bwd[static_cast<std::size_t>(t)], tape.constant(window[static_cast<std::size_t>(n - 1 - t)]))));
+      recon.push_back(
+          frame_norms(nn::sub(bwd[static_cast<std::size_t>(t)],
+                              tape.constant(window[static_cast<std::size_t>(n - 1 - t)]))));
   }
   // L_bidir (eq. 5): S^f_i against S^b_{n+1−i}.
   if (!bwd.empty())
     for (int t = 0; t < n; ++t)
-      bidir.push_back(frame_norms(nn::sub(fwd[static_cast<std::size_t>(t)], bwd[static_cast<std::size_t>(n - 1 - t)])));
+      bidir.push_back(frame_norms(
+          nn::sub(fwd[static_cast<std::size_t>(t)], bwd[static_cast<std::size_t>(n - 1 - t)])));
   auto sum_of = [](const std::vector<Var>& parts) {
     Var s = parts[0];
     for (std::size_t k = 1; k < parts.size(); ++k) s = nn::add(s, parts[k]);
     return s;
   };
-  auto total_of = [&](const std::vector<Var>& parts) { return nn::scale(sum_of(parts), inv_batch); };  // per window
+  auto total_of = [&](const std::vector<Var>& parts) {
+    return nn::scale(sum_of(parts), inv_batch);
+  };  // per window
   Var l_recon = total_of(recon);
   Var total = l_recon;
   Var l_bidir, l_kl, l_2;

@@ -25,6 +25,10 @@
 namespace df::models {
 
 enum class Directions { shared, standard, unidirectional };
+/// What z is when generating or probing a trained network: the encoder's mean (the default), a
+/// draw from the prior N(0, I) that ignores the encoder, or zero. If "prior" or "zero" predict as
+/// well as "mean", the latent carries no information (posterior collapse).
+enum class LatentInput { mean, prior, zero };
 const char* directions_name(Directions d);
 Directions directions_from_name(const std::string& name);  ///< UsageError if unknown
 
@@ -55,8 +59,8 @@ class BdlstmNet {
 
   /// @param edges  undirected edges of the template (the mesh-conv neighbourhoods)
   /// @param seed   initial weights come from Rng(seed, 0)
-  BdlstmNet(const BdlstmConfig& config, int n_vertices, const std::vector<std::array<int, 2>>& edges,
-            std::uint64_t seed);
+  BdlstmNet(const BdlstmConfig& config, int n_vertices,
+            const std::vector<std::array<int, 2>>& edges, std::uint64_t seed);
 
   const BdlstmConfig& config() const { return config_; }
   int n_vertices() const { return n_vertices_; }
@@ -69,13 +73,21 @@ class BdlstmNet {
   /// LSTM states with every h and c row set to `value`.
   States constant_states(nn::Tape<T>& tape, Eigen::Index rows, T value) const;
   /// LSTM states from explicit matrices (per layer: h then c, each [rows, hidden]).
-  States states_from(nn::Tape<T>& tape, const std::vector<Matrix>& h, const std::vector<Matrix>& c) const;
+  States states_from(nn::Tape<T>& tape, const std::vector<Matrix>& h,
+                     const std::vector<Matrix>& c) const;
 
   /// One time step of chain `chain` (0 = forward / shared, 1 = backward of the standard
   /// BD-LSTM) for frames x [rows, 9V]: returns X_{t+1}, updates `states`. With `eps`
   /// ([rows, latent] standard normal) z is sampled and Σ_rows KL is added to *kl_sum
   /// (when the config has KL); without, z is the mean.
-  Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps, Var* kl_sum) const;
+  Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps,
+           Var* kl_sum) const;
+
+  /// The encoder of chain `chain`: the latent mean and log-variance of frames x [rows, 9V]
+  /// (each [rows, latent]; the log-variance is meaningless without KL).
+  std::pair<Var, Var> encode(const nn::Bound<T>& p, int chain, Var x) const;
+  /// One step with z given ([rows, latent]): LSTM, decoder, X_{t+1} = x + δX.
+  Var decode_step(const nn::Bound<T>& p, int chain, Var x, Var z, States& states) const;
 
   /// The training loss of a batch of windows. window[t] is frame t of every window
   /// ([batch, 9V], t = 0..n−1); the reparameterisation noise is drawn from `rng`. Each chain
@@ -93,8 +105,8 @@ class BdlstmNet {
   };
   /// Runs `steps` steps of `chain`: the inputs are given[0..] (ground truth), then its own
   /// outputs; returns the frames (given[0] first, then every step's output).
-  std::vector<Var> run_chain(const nn::Bound<T>& p, int chain, const std::vector<Var>& given, States states,
-                             int steps, Rng& rng, Var* kl_sum) const;
+  std::vector<Var> run_chain(const nn::Bound<T>& p, int chain, const std::vector<Var>& given,
+                             States states, int steps, Rng& rng, Var* kl_sum) const;
 
   BdlstmConfig config_;
   int n_vertices_;

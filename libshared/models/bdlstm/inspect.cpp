@@ -1,0 +1,236 @@
+#include "models/bdlstm/inspect.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "models/bdlstm/generate.h"
+#include "models/bdlstm/train.h"
+
+namespace df::models {
+namespace {
+
+using Matrix = nn::Matrix<float>;
+using Eigen::Index;
+
+// First frames of windows of `span` frames inside the chosen part of every sequence.
+std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
+                                      std::int64_t span) {
+  if (part == "train") return window_starts(split, span);
+  std::vector<std::int64_t> starts;
+  for (std::size_t s = 0; s < split.test_begin.size(); ++s)
+    for (std::int64_t f = split.test_begin[s]; f + span <= split.test_end[s]; ++f)
+      starts.push_back(f);
+  return starts;
+}
+
+template <class V>
+std::vector<V> evenly(const std::vector<V>& all, std::size_t n) {
+  if (all.size() <= n) return all;
+  std::vector<V> out;
+  for (std::size_t i = 0; i < n; ++i) out.push_back(all[i * all.size() / n]);
+  return out;
+}
+
+// Mean KL(q(z|x) ‖ N(0, I)) per latent dimension over `frames` (nats), encoded in batches.
+std::vector<double> kl_per_dimension(const BdlstmModel& m, const Matrix& X,
+                                     const std::vector<std::int64_t>& frames) {
+  const auto& net = *m.net;
+  std::vector<double> kl(static_cast<std::size_t>(m.config.latent), 0.0);
+  nn::Tape<float> tape;
+  const auto bound = net.store().bind(tape);
+  const std::size_t mark = tape.size();
+  for (std::size_t b = 0; b < frames.size(); b += 64) {
+    const std::size_t n = std::min<std::size_t>(64, frames.size() - b);
+    Matrix x(static_cast<Index>(n), X.cols());
+    for (std::size_t k = 0; k < n; ++k) x.row(static_cast<Index>(k)) = X.row(frames[b + k]);
+    tape.truncate(mark);
+    auto [mu, logvar] = net.encode(bound, 0, tape.constant(x));
+    const Matrix& M = mu.value();
+    const Matrix& L = logvar.value();
+    for (Index r = 0; r < M.rows(); ++r)
+      for (Index j = 0; j < M.cols(); ++j) {
+        const double u = M(r, j), l = L(r, j);
+        kl[static_cast<std::size_t>(j)] +=
+            0.5 * (u * u + std::exp(l) - l - 1) / static_cast<double>(frames.size());
+      }
+  }
+  return kl;
+}
+
+// Relative feature error ‖X̂_k − X_k‖ / ‖X_k‖ at steps k = 1..length, mean over the windows, of
+// the forward chain fed `initial` frames, with z chosen by `mode`; or zero motion (mode empty).
+std::vector<double> probe(const BdlstmModel& m, const Matrix& X,
+                          const std::vector<std::int64_t>& starts, int initial, int length,
+                          std::int64_t q, const LatentInput* mode, Rng& rng) {
+  const auto rows = static_cast<Index>(starts.size());
+  auto frame = [&](int t) {  // frame t of every window, [rows, 9V]
+    Matrix x(rows, X.cols());
+    for (Index r = 0; r < rows; ++r) x.row(r) = X.row(starts[static_cast<std::size_t>(r)] + t * q);
+    return x;
+  };
+  auto error = [&](const Matrix& pred, const Matrix& truth) {
+    double e = 0;
+    for (Index r = 0; r < rows; ++r)
+      e += (pred.row(r) - truth.row(r)).norm() / std::max(truth.row(r).norm(), 1e-12f);
+    return e / static_cast<double>(rows);
+  };
+  std::vector<double> err;
+  if (!mode) {  // zero motion: the last given frame
+    const Matrix last = frame(initial - 1);
+    for (int k = 1; k <= length; ++k) err.push_back(error(last, frame(initial - 1 + k)));
+    return err;
+  }
+  const auto& net = *m.net;
+  nn::Tape<float> tape;
+  const auto bound = net.store().bind(tape);
+  const std::size_t mark = tape.size();
+  const auto hidden = static_cast<Index>(m.config.hidden);
+  std::vector<Matrix> h(static_cast<std::size_t>(m.config.lstm_layers),
+                        Matrix::Constant(rows, hidden, static_cast<float>(m.config.init_state)));
+  std::vector<Matrix> c = h;
+  auto step = [&](const Matrix& x) {
+    tape.truncate(mark);
+    auto states = net.states_from(tape, h, c);
+    nn::Var<float> xin = tape.constant(x), z;
+    if (*mode == LatentInput::mean) {
+      z = net.encode(bound, 0, xin).first;
+    } else {
+      Matrix eps = Matrix::Zero(rows, m.config.latent);
+      if (*mode == LatentInput::prior)
+        for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
+      z = tape.constant(eps);
+    }
+    Matrix y = net.decode_step(bound, 0, xin, z, states).value();
+    for (std::size_t l = 0; l < states.size(); ++l)
+      h[l] = states[l].h.value(), c[l] = states[l].c.value();
+    return y;
+  };
+  Matrix y;
+  for (int t = 0; t < initial; ++t) y = step(frame(t));
+  for (int k = 1; k <= length; ++k) {
+    err.push_back(error(y, frame(initial - 1 + k)));
+    if (k < length) y = step(y);
+  }
+  return err;
+}
+
+double mean_of(const std::vector<double>& v) {
+  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+}  // namespace
+
+void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common) {
+  if (opt.part != "train" && opt.part != "test") throw UsageError("--part must be train or test");
+  if (opt.initial < 1 || opt.length < 1 || opt.cases < 1 || opt.max_frames < 1)
+    throw UsageError("--initial, --length, --cases and --max-frames must be positive");
+  const BdlstmModel m = load_bdlstm_model(opt.model);
+  const GenerationData d = read_generation_data(opt.data, m);
+  if (d.sequences != m.split.sequences || d.offsets.back() < m.split.train_end.back())
+    throw InvalidInput(
+        "is not the data the model was trained on (its sequences differ from the model's split)",
+        opt.data);
+  const std::int64_t q = m.training.stride;
+  const std::int64_t span = static_cast<std::int64_t>(opt.initial + opt.length - 1) * q + 1;
+  const auto starts =
+      evenly(part_starts(m.split, opt.part, span), static_cast<std::size_t>(opt.cases));
+  if (starts.empty())
+    throw InvalidInput(
+        fmt::format("the {} part has no window of {} frames ({} given + {} predicted, stride {})",
+                    opt.part, span, opt.initial, opt.length, q),
+        opt.data);
+
+  // 1. The training log.
+  const std::size_t cols = BdlstmModel::kLogColumns.size();
+  std::cout << fmt::format("{}: {} iterations, latent {} ({})\n", opt.model, m.iteration,
+                           m.config.latent,
+                           m.config.kl ? "VAE encoder with KL" : "deterministic encoder");
+  if (m.log.size() >= cols) {
+    auto row = [&](std::size_t r) {
+      std::string s;
+      for (std::size_t k = 0; k < cols; ++k)
+        s += fmt::format("{} {:.4g}  ", BdlstmModel::kLogColumns[k], m.log[r * cols + k]);
+      return s;
+    };
+    std::cout << "  training log, first row: " << row(0)
+              << "\n  training log, last row:  " << row(m.log.size() / cols - 1) << "\n";
+  }
+
+  // 2. KL per latent dimension over frames of the part.
+  std::vector<std::int64_t> frames;
+  for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
+    const bool train = opt.part == "train";
+    const std::int64_t b = train ? m.split.train_begin[s] : m.split.test_begin[s];
+    const std::int64_t e = train ? m.split.train_end[s] : m.split.test_end[s];
+    for (std::int64_t f = b; f < e; ++f)
+      if (!train || f < m.split.test_begin[s] || f >= m.split.test_end[s]) frames.push_back(f);
+  }
+  frames = evenly(frames, static_cast<std::size_t>(opt.max_frames));
+  const std::vector<double> kl = kl_per_dimension(m, d.features, frames);
+  std::vector<double> sorted = kl;
+  std::sort(sorted.rbegin(), sorted.rend());
+  const auto active = std::count_if(kl.begin(), kl.end(), [](double v) { return v > 0.01; });
+  std::cout << fmt::format(
+                   "  KL(q(z|x) || N(0,I)) over {} frames of the {} part: {:.4g} nats in all, {} "
+                   "of {} dimensions "
+                   "above 0.01 nats; largest {:.3g}",
+                   frames.size(), opt.part, std::accumulate(kl.begin(), kl.end(), 0.0), active,
+                   kl.size(),
+                   fmt::join(
+                       std::vector<double>(sorted.begin(), sorted.begin() + std::min<std::size_t>(
+                                                                                5, sorted.size())),
+                       " "))
+            << (m.config.kl ? "" : " (no KL in training: the log-variance is untrained)") << "\n";
+
+  // 3. What z carries: the same windows predicted with z = mean, prior draws, zero; zero motion.
+  Rng rng(common.seed, 7);
+  const LatentInput modes[] = {LatentInput::mean, LatentInput::prior, LatentInput::zero};
+  const char* names[] = {"z = encoder mean", "z ~ prior N(0, I)", "z = 0", "zero motion"};
+  std::vector<std::vector<double>> errors;
+  for (const auto& mode : modes)
+    errors.push_back(probe(m, d.features, starts, opt.initial, opt.length, q, &mode, rng));
+  errors.push_back(probe(m, d.features, starts, opt.initial, opt.length, q, nullptr, rng));
+  std::vector<int> shown{1};  // steps in the table: 1, 5, 10 (those that exist) and the last
+  for (int k : {5, 10, opt.length})
+    if (k <= opt.length && k > shown.back()) shown.push_back(k);
+  std::cout << fmt::format(
+      "  {} windows of the {} part, {} given frames: relative feature error |X^ - X| / |X| at step "
+      "{} and mean over 1..{}\n",
+      starts.size(), opt.part, opt.initial, fmt::join(shown, " / "), opt.length);
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    std::vector<std::string> at;
+    for (int step : shown)
+      at.push_back(fmt::format("{:.4f}", errors[k][static_cast<std::size_t>(step - 1)]));
+    std::cout << fmt::format("    {:<20} {}   mean {:.4f}\n", names[k], fmt::join(at, " / "),
+                             mean_of(errors[k]));
+  }
+
+  if (!opt.tsv.empty()) {
+    std::ofstream out(opt.tsv);
+    if (!out) throw IOError("cannot write", opt.tsv);
+    out << "# kl_per_dimension: rank, nats (largest first)\n";
+    for (std::size_t j = 0; j < sorted.size(); ++j) out << j + 1 << "\t" << sorted[j] << "\n";
+    out << "\n\n# error_by_step: step, z_mean, z_prior, z_zero, zero_motion\n";
+    for (int k = 0; k < opt.length; ++k) {
+      out << k + 1;
+      for (const auto& e : errors) out << "\t" << e[static_cast<std::size_t>(k)];
+      out << "\n";
+    }
+    out << "\n\n# training_log: " << fmt::format("{}", fmt::join(BdlstmModel::kLogColumns, ", "))
+        << "\n";
+    for (std::size_t r = 0; r + cols <= m.log.size(); r += cols) {
+      for (std::size_t k = 0; k < cols; ++k) out << (k ? "\t" : "") << m.log[r + k];
+      out << "\n";
+    }
+    if (!out) throw IOError("cannot write", opt.tsv);
+  }
+}
+
+}  // namespace df::models
