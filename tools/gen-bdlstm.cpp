@@ -41,6 +41,11 @@ int main(int argc, char** argv) {
                  "Cases at every K-th frame of the model's held-out test parts (instead of\n"
                  "--from / --keyframes)")
       ->default_val(opt.test_every);
+  app.add_option("--part", opt.part,
+                 "Where --test-every cases lie: test (the held-out part) or validation (the part\n"
+                 "train-bdlstm --validation-fraction carved out of the training frames)")
+      ->default_val(opt.part)
+      ->check(CLI::IsMember({"test", "validation"}));
   app.add_option("--test-context", opt.test_context,
                  "predict with --test-every: the first predicted frame is at least C frames into\n"
                  "the held-out part (0 = --initial), so that runs with different --initial and\n"

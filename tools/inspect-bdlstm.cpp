@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   app.add_option("DATA", opt.data, "acap .h5 the model was trained on")->required();
   app.add_option("--tsv", opt.tsv,
                  "Also write the KL per dimension and the errors per step (gnuplot blocks)");
-  app.add_option("--part", opt.part, "train or test: which frames to probe")->default_val(opt.part);
+  app.add_option("--part", opt.part, "train, validation or test: which frames to probe")
+      ->default_val(opt.part);
   app.add_option("--initial", opt.initial, "Given frames per probe window")
       ->default_val(opt.initial);
   app.add_option("--length", opt.length, "Predicted steps per probe window")

@@ -35,6 +35,11 @@ int main(int argc, char** argv) {
   g->add_option("--test-fraction", opt.training.test_fraction,
                 "Fraction of every sequence held out as a contiguous test part")
       ->default_val(opt.training.test_fraction);
+  g->add_option("--validation-fraction", opt.training.validation_fraction,
+                "A validation part of each sequence, this fraction of its frames, carved out of the\n"
+                "training frames at a place drawn from --seed; no window crosses it. Choose options and\n"
+                "iteration counts on it (gen-bdlstm --part validation), never on the test part")
+      ->default_val(opt.training.validation_fraction);
   g->add_option("--test-part", opt.training.test_part, "Where the held-out part lies: end, start, middle, or random (placed by --seed)")
       ->default_val(opt.training.test_part)
       ->check(CLI::IsMember({"end", "start", "middle", "random"}));

@@ -43,8 +43,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (opt.change_span < 1) throw UsageError("--change-span must be at least 1");
   FrameSet pred = read_frame_set(opt.pred);
   // The template's topology and parts (TRUTH must have the same template, checked below).
-  const auto topo =
-      geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
+  const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
   int n_components = 0;
   const std::vector<int> component = geometry::connected_components(topo, 0, &n_components);
   nlohmann::ordered_json js;
@@ -61,9 +60,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   std::size_t change_n = 0;
   if (pred.raw.rows()) {
     std::vector<Eigen::VectorXd> ring(static_cast<std::size_t>(span + 1));
-    auto slot = [&](std::int64_t t) -> Eigen::VectorXd& {
-      return ring[static_cast<std::size_t>(t % (span + 1))];
-    };
+    auto slot = [&](std::int64_t t) -> Eigen::VectorXd& { return ring[static_cast<std::size_t>(t % (span + 1))]; };
     for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
       const std::int64_t begin = pred.offsets[s], n = pred.offsets[s + 1] - begin;
       for (std::int64_t t = 0; t < n; ++t) {
@@ -77,8 +74,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     }
   }
   std::vector<double> change_by_index;
-  for (std::size_t t = 0; t < change_sum.size(); ++t)
-    change_by_index.push_back(change_sum[t] / change_count[t]);
+  for (std::size_t t = 0; t < change_sum.size(); ++t) change_by_index.push_back(change_sum[t] / change_count[t]);
 
   std::optional<FrameSet> truth;
   std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (pred frame, truth frame)
@@ -87,26 +83,22 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   std::size_t sted_t_n = 0;
   if (!opt.truth.empty()) {
     truth = read_frame_set(opt.truth);
-    if (truth->tmpl.vertices.rows() != pred.tmpl.vertices.rows() ||
-        truth->tmpl.faces != pred.tmpl.faces)
-      throw InvalidInput(
-          fmt::format("its template ({} vertices) differs from {}'s ({} vertices)",
-                      truth->tmpl.vertices.rows(), opt.pred, pred.tmpl.vertices.rows()),
-          opt.truth);
+    if (truth->tmpl.vertices.rows() != pred.tmpl.vertices.rows() || truth->tmpl.faces != pred.tmpl.faces)
+      throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)", truth->tmpl.vertices.rows(),
+                                     opt.pred, pred.tmpl.vertices.rows()),
+                         opt.truth);
     if (!pred.source.empty()) {
       for (std::size_t i = 0; i < pred.size(); ++i)
         if (pred.source[i] >= 0) {
           if (static_cast<std::size_t>(pred.source[i]) >= truth->size())
-            throw InvalidInput(
-                fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
-                            pred.source[i], truth->size()),
-                opt.pred + "/frames/source");
+            throw InvalidInput(fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
+                                           pred.source[i], truth->size()),
+                               opt.pred + "/frames/source");
           pairs.emplace_back(i, static_cast<std::size_t>(pred.source[i]));
         }
     } else {
       if (pred.size() != truth->size())
-        throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}",
-                                       pred.size(), truth->size()),
+        throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}", pred.size(), truth->size()),
                            opt.pred);
       for (std::size_t i = 0; i < pred.size(); ++i) pairs.emplace_back(i, i);
     }
@@ -128,19 +120,15 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
       r.error = mean_vertex_error(aligned[k], gt);
       r.unit_ball = unit_ball_squared_error(aligned[k], gt);
       r.sted_s = sted_spatial(aligned[k], gt, topo, hoods);
-      if (features)
-        r.rse = relative_squared_error(normalized_features(*truth, j, nz),
-                                       normalized_features(pred, i, nz));
+      if (features) r.rse = relative_squared_error(normalized_features(*truth, j, nz), normalized_features(pred, i, nz));
     });
     // STED's temporal part over consecutive PRED frames of one sequence that both have truth.
     for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
       const auto [i0, j0] = pairs[k];
       const auto [i1, j1] = pairs[k + 1];
-      const auto s =
-          std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
+      const auto s = std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
       if (i1 != i0 + 1 || static_cast<std::int64_t>(i1) >= *s) continue;
-      sted_t += sted_temporal(aligned[k], aligned[k + 1], truth->positions[j0],
-                              truth->positions[j1], topo, opt.sted_dt);
+      sted_t += sted_temporal(aligned[k], aligned[k + 1], truth->positions[j0], truth->positions[j1], topo, opt.sted_dt);
       ++sted_t_n;
     }
   }
@@ -180,21 +168,18 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   std::size_t rse_n = 0;
   std::map<int, std::pair<double, int>> by_step;
   // Given frames (step 0 of generated files) are copies of the truth: the totals leave them out.
-  const bool skip_given =
-      std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
+  const bool skip_given = std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
   std::size_t counted = 0;
   for (std::size_t k = 0; k < results.size(); ++k) {
     const auto& r = results[k];
-    const int step =
-        pred.step.empty() ? static_cast<int>(pairs[k].first) : pred.step[pairs[k].first];
+    const int step = pred.step.empty() ? static_cast<int>(pairs[k].first) : pred.step[pairs[k].first];
     by_step[step].first += r.error, by_step[step].second += 1;
     if (skip_given && step == 0) continue;
     ++counted;
     err += r.error, ub += r.unit_ball, sted_s += r.sted_s;
     if (r.rse >= 0) rse_max = std::max(rse_max, r.rse), rse_mean += r.rse, ++rse_n;
   }
-  if (truth && counted == 0)
-    throw InvalidInput("no generated frame has a ground-truth frame to compare with", opt.pred);
+  if (truth && counted == 0) throw InvalidInput("no generated frame has a ground-truth frame to compare with", opt.pred);
   const double np = static_cast<double>(counted);
   const std::size_t nv = static_cast<std::size_t>(pred.tmpl.vertices.rows());
   if (truth) {
@@ -205,16 +190,11 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     js["vertex_error"] = {{"mean", err / np}, {"mean_relative", err / np / diag}};
     nlohmann::ordered_json steps = nlohmann::ordered_json::array();
     for (const auto& [s, v] : by_step)
-      steps.push_back({{"step", s},
-                       {"frames", v.second},
-                       {"mean", v.first / v.second},
-                       {"relative", v.first / v.second / diag}});
+      steps.push_back({{"step", s}, {"frames", v.second}, {"mean", v.first / v.second}, {"relative", v.first / v.second / diag}});
     js["vertex_error"]["per_step"] = steps;
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < results.size(); ++k)
-      frames.push_back({{"pred", pairs[k].first},
-                        {"truth", pairs[k].second},
-                        {"error", results[k].error},
+      frames.push_back({{"pred", pairs[k].first}, {"truth", pairs[k].second}, {"error", results[k].error},
                         {"sted_spatial", results[k].sted_s}});
     js["vertex_error"]["per_frame"] = frames;
     js["erms"] = 1000.0 * std::sqrt(ub / (3.0 * np * static_cast<double>(nv)));
@@ -222,14 +202,11 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     js["sted"] = {{"spatial", sted_s / np}, {"rings", opt.sted_rings}};
     if (sted_t_n) {
       js["sted"]["temporal"] = st;
-      js["sted"]["combined"] =
-          std::sqrt(std::pow(sted_s / np, 2) + opt.sted_c * opt.sted_c * st * st);
+      js["sted"]["combined"] = std::sqrt(std::pow(sted_s / np, 2) + opt.sted_c * opt.sted_c * st * st);
       js["sted"]["dt"] = opt.sted_dt;
       js["sted"]["c"] = opt.sted_c;
     }
-    if (rse_n)
-      js["relative_squared_error"] = {{"max", rse_max},
-                                      {"mean", rse_mean / static_cast<double>(rse_n)}};
+    if (rse_n) js["relative_squared_error"] = {{"max", rse_max}, {"mean", rse_mean / static_cast<double>(rse_n)}};
   }
   if (spread_n) {
     const auto& T = truth ? truth->tmpl.vertices : pred.tmpl.vertices;
@@ -239,12 +216,11 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
                            {"cases", groups.size()}};
   }
   if (change_n)
-    js["feature_change"] = {
-        {"span", opt.change_span},
-        {"mean", change_total / static_cast<double>(change_n)},
-        {"min", *std::min_element(change_by_index.begin(), change_by_index.end())},
-        {"max", *std::max_element(change_by_index.begin(), change_by_index.end())},
-        {"per_index", change_by_index}};
+    js["feature_change"] = {{"span", opt.change_span},
+                            {"mean", change_total / static_cast<double>(change_n)},
+                            {"min", *std::min_element(change_by_index.begin(), change_by_index.end())},
+                            {"max", *std::max_element(change_by_index.begin(), change_by_index.end())},
+                            {"per_index", change_by_index}};
 
   if (!opt.json.empty() && opt.json != "-") {
     std::ofstream out(opt.json);
@@ -256,12 +232,9 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     // Two data blocks that gnuplot selects by name: index 'step', index 'feature_change'.
     out << "# step: frames error relative_error\n";
     for (const auto& [st, v] : by_step)
-      out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second,
-                         v.first / v.second / diag);
-    out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n",
-                       opt.change_span);
-    for (std::size_t k = 0; k < change_by_index.size(); ++k)
-      out << fmt::format("{} {:.9g}\n", k, change_by_index[k]);
+      out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / diag);
+    out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n", opt.change_span);
+    for (std::size_t k = 0; k < change_by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, change_by_index[k]);
     if (!out) throw IOError("cannot write", opt.tsv);
   }
   if (opt.json == "-") {
@@ -271,44 +244,35 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   // The human table.
   std::string t = fmt::format(
       "{}{}\n", opt.pred,
-      truth ? fmt::format(
-                  " vs {} ({} frame pairs{})", opt.truth, results.size(),
-                  skip_given ? fmt::format("; totals over the {} generated frames", counted) : "")
+      truth ? fmt::format(" vs {} ({} frame pairs{})", opt.truth, results.size(),
+                          skip_given ? fmt::format("; totals over the {} generated frames", counted) : "")
             : "");
   if (truth) {
-    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n",
-                     "per-vertex position error", err / np, err / np / diag, diag);
+    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n", "per-vertex position error", err / np,
+                     err / np / diag, diag);
     t += fmt::format("  {:<28} {:.6g}\n", "E_rms", js["erms"].get<double>());
     t += fmt::format("  {:<28} spatial {:.6g}", "STED", js["sted"]["spatial"].get<double>());
     if (sted_t_n)
       t += fmt::format("  temporal {:.6g}  combined {:.6g}", js["sted"]["temporal"].get<double>(),
                        js["sted"]["combined"].get<double>());
     t += "\n";
-    if (rse_n)
-      t += fmt::format("  {:<28} max {:.6g}  mean {:.6g}\n", "relative squared error", rse_max,
-                       rse_mean / static_cast<double>(rse_n));
+    if (rse_n) t += fmt::format("  {:<28} max {:.6g}  mean {:.6g}\n", "relative squared error", rse_max, rse_mean / static_cast<double>(rse_n));
   }
   if (change_n)
     t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n",
-                     opt.change_span == 1 ? std::string("feature change")
-                                          : fmt::format("feature change, span {}", opt.change_span),
-                     js["feature_change"]["mean"].get<double>(),
-                     js["feature_change"]["min"].get<double>(),
+                     opt.change_span == 1 ? std::string("feature change") : fmt::format("feature change, span {}", opt.change_span),
+                     js["feature_change"]["mean"].get<double>(), js["feature_change"]["min"].get<double>(),
                      js["feature_change"]["max"].get<double>());
   if (spread_n)
     t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal; {} cases)\n", "spread of samples",
-                     js["sample_spread"]["mean"].get<double>(),
-                     js["sample_spread"]["mean_relative"].get<double>(), groups.size());
+                     js["sample_spread"]["mean"].get<double>(), js["sample_spread"]["mean_relative"].get<double>(),
+                     groups.size());
   if (truth && by_step.size() > 1) {
-    t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", pred.step.empty() ? "frame" : "step",
-                     "frames", "error", "x diagonal");
+    t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", pred.step.empty() ? "frame" : "step", "frames", "error", "x diagonal");
     for (const auto& [s, v] : by_step) {
-      const bool show = opt.steps.empty()
-                            ? by_step.size() <= 40 || s % 5 == 0
-                            : std::find(opt.steps.begin(), opt.steps.end(), s) != opt.steps.end();
-      if (show)
-        t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, v.second, v.first / v.second,
-                         v.first / v.second / diag);
+      const bool show = opt.steps.empty() ? by_step.size() <= 40 || s % 5 == 0
+                                          : std::find(opt.steps.begin(), opt.steps.end(), s) != opt.steps.end();
+      if (show) t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, v.second, v.first / v.second, v.first / v.second / diag);
     }
   }
   std::cout << t << std::flush;

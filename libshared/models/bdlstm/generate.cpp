@@ -72,6 +72,8 @@ void check_options(const BdlstmGenerateOptions& opt) {
     throw UsageError(opt.mode == "predict" ? "give --from or --test-every, one of them"
                                            : "give --keyframes or --test-every, one of them");
   if (opt.stride < 0) throw UsageError("--stride must not be negative");
+  if (opt.part != "test" && opt.part != "validation")
+    throw UsageError("--part must be test or validation");
 }
 
 }  // namespace
@@ -177,7 +179,10 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
       const std::int64_t shift =
           d.offsets[s] - (m.split.train_begin[k] < m.split.test_begin[k] ? m.split.train_begin[k]
                                                                          : m.split.test_begin[k]);
-      const std::int64_t b = m.split.test_begin[k] + shift, e = m.split.test_end[k] + shift;
+      const bool validation = opt.part == "validation";
+      const std::int64_t b =
+          (validation ? m.split.validation_begin[k] : m.split.test_begin[k]) + shift;
+      const std::int64_t e = (validation ? m.split.validation_end[k] : m.split.test_end[k]) + shift;
       // In steps of q frames: predict: the first predicted frame runs from b + context; the
       // given frames are the u before it. complete: keyframes a and a + gap + 1.
       const std::int64_t context =
@@ -195,11 +200,12 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
     }
     if (cases.empty())
       throw InvalidInput(
-          fmt::format(
-              "no held-out part of the model's split is long enough for a case of {} frames{}",
-              opt.mode == "predict" ? std::max<std::int64_t>(opt.test_context, u) + opt.length
-                                    : opt.gap + 2,
-              q > 1 ? fmt::format(" {} apart", q) : ""),
+          fmt::format("no {} part of the model's split is long enough for a case of {} frames{}",
+                      opt.part == "validation" ? "validation" : "held-out",
+                      opt.mode == "predict"
+                          ? std::max<std::int64_t>(opt.test_context, u) + opt.length
+                          : opt.gap + 2,
+                      q > 1 ? fmt::format(" {} apart", q) : ""),
           opt.data);
   } else if (opt.mode == "predict") {
     for (const auto& spec : frames) {

@@ -34,6 +34,8 @@ struct BdlstmGenerateOptions {
   std::vector<std::string> keyframes;  ///< complete: keyframes of one case, in time order
   /// > 0: cases at every K-th frame of each sequence's held-out part (the model's split)
   int test_every = 0;
+  /// which part of the model's split --test-every cases come from: test | validation
+  std::string part = "test";
   /// predict with --test-every: the first predicted frame of a case is at least this many frames
   /// into the held-out part (0 = --initial), so runs with different --initial predict the same
   /// frames

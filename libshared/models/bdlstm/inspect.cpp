@@ -23,10 +23,13 @@ using Eigen::Index;
 std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
                                       std::int64_t span) {
   if (part == "train") return window_starts(split, span);
+  const bool test = part == "test";
   std::vector<std::int64_t> starts;
-  for (std::size_t s = 0; s < split.test_begin.size(); ++s)
-    for (std::int64_t f = split.test_begin[s]; f + span <= split.test_end[s]; ++f)
-      starts.push_back(f);
+  for (std::size_t s = 0; s < split.test_begin.size(); ++s) {
+    const std::int64_t b = test ? split.test_begin[s] : split.validation_begin[s];
+    const std::int64_t e = test ? split.test_end[s] : split.validation_end[s];
+    for (std::int64_t f = b; f + span <= e; ++f) starts.push_back(f);
+  }
   return starts;
 }
 
@@ -128,7 +131,8 @@ double mean_of(const std::vector<double>& v) {
 }  // namespace
 
 void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common) {
-  if (opt.part != "train" && opt.part != "test") throw UsageError("--part must be train or test");
+  if (opt.part != "train" && opt.part != "test" && opt.part != "validation")
+    throw UsageError("--part must be train, test or validation");
   if (opt.initial < 1 || opt.length < 1 || opt.cases < 1 || opt.max_frames < 1)
     throw UsageError("--initial, --length, --cases and --max-frames must be positive");
   const BdlstmModel m = load_bdlstm_model(opt.model);
@@ -166,11 +170,20 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
   // 2. KL per latent dimension over frames of the part.
   std::vector<std::int64_t> frames;
   for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
-    const bool train = opt.part == "train";
-    const std::int64_t b = train ? m.split.train_begin[s] : m.split.test_begin[s];
-    const std::int64_t e = train ? m.split.train_end[s] : m.split.test_end[s];
+    const bool train = opt.part == "train", test = opt.part == "test";
+    const std::int64_t b = train  ? m.split.train_begin[s]
+                           : test ? m.split.test_begin[s]
+                                  : m.split.validation_begin[s];
+    const std::int64_t e = train  ? m.split.train_end[s]
+                           : test ? m.split.test_end[s]
+                                  : m.split.validation_end[s];
+    auto outside = [](std::int64_t f, std::int64_t lo, std::int64_t hi) {
+      return f < lo || f >= hi;
+    };
     for (std::int64_t f = b; f < e; ++f)
-      if (!train || f < m.split.test_begin[s] || f >= m.split.test_end[s]) frames.push_back(f);
+      if (!train || (outside(f, m.split.test_begin[s], m.split.test_end[s]) &&
+                     outside(f, m.split.validation_begin[s], m.split.validation_end[s])))
+        frames.push_back(f);
   }
   frames = evenly(frames, static_cast<std::size_t>(opt.max_frames));
   const std::vector<double> kl = kl_per_dimension(m, d.features, frames);

@@ -14,7 +14,7 @@ namespace df::models {
 struct BdlstmInspectOptions {
   std::string model, data;
   std::string tsv;             ///< optional: KL per dimension and the error per step, for plots
-  std::string part = "train";  ///< train | test: the frames probed
+  std::string part = "train";  ///< train | validation | test: the frames probed
   int initial = 3;             ///< given frames of each probe window
   int length = 10;             ///< predicted steps of each probe window
   int cases = 64;              ///< probe windows, evenly spaced over the part

@@ -51,6 +51,7 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     f.set_attr("/config", "lr", t.lr);
     f.set_attr("/config", "test_fraction", t.test_fraction);
     f.set_attr("/config", "test_part", t.test_part);
+    f.set_attr("/config", "validation_fraction", t.validation_fraction);
     f.set_attr("/config", "teacher_frames", t.teacher_frames);
     f.set_attr("/config", "kl_warmup", t.kl_warmup);
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
@@ -66,6 +67,10 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     }
     f.write<std::int64_t>("/split/train", train, {s, 2});
     f.write<std::int64_t>("/split/test", test, {s, 2});
+    std::vector<std::int64_t> validation;
+    for (std::size_t k = 0; k < s; ++k)
+      validation.insert(validation.end(), {m.split.validation_begin[k], m.split.validation_end[k]});
+    f.write<std::int64_t>("/split/validation", validation, {s, 2});
     nn::write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
     f.close();
   }
@@ -100,6 +105,9 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   t.lr = f.attr_double("/config", "lr");
   t.test_fraction = f.attr_double("/config", "test_fraction");
   t.test_part = f.attr_string("/config", "test_part");
+  t.validation_fraction = f.has_attr("/config", "validation_fraction")
+                              ? f.attr_double("/config", "validation_fraction")
+                              : 0.0;
   // Added after the first model files were written: absent means the paper's setting.
   t.teacher_frames = f.has_attr("/config", "teacher_frames") ? i("teacher_frames") : 1;
   t.kl_warmup = f.has_attr("/config", "kl_warmup") ? f.attr_int("/config", "kl_warmup") : 0;
@@ -115,6 +123,16 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
     m.split.train_end.push_back(train[2 * k + 1]);
     m.split.test_begin.push_back(test[2 * k]);
     m.split.test_end.push_back(test[2 * k + 1]);
+  }
+  // Added later: absent means no validation part (an empty range per sequence).
+  const auto validation = f.exists("/split/validation")
+                              ? f.read<std::int64_t>("/split/validation").data
+                              : std::vector<std::int64_t>{};
+  for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
+    m.split.validation_begin.push_back(validation.empty() ? m.split.train_begin[k]
+                                                          : validation[2 * k]);
+    m.split.validation_end.push_back(validation.empty() ? m.split.train_begin[k]
+                                                        : validation[2 * k + 1]);
   }
   m.initialize();          // the network's shapes; weights, Adam and RNG state come from the file
   m.log = std::move(log);  // after initialize(), which clears it

@@ -22,9 +22,14 @@ struct BdlstmTraining {
   int batch = 8;    ///< windows per iteration
   int stride = 1;   ///< take every stride-th frame (2 for slow data)
   std::int64_t iterations = 7000;
-  double lr = 1e-4;  // 1e-3 (common default) diverges on 2,904-vertex pcow within 6 iterations (KL 3e11)
-  double test_fraction = 0.2;  ///< held-out contiguous part of each sequence
+  double lr =
+      1e-4;  // 1e-3 (common default) diverges on 2,904-vertex pcow within 6 iterations (KL 3e11)
+  double test_fraction = 0.2;     ///< held-out contiguous part of each sequence
   std::string test_part = "end";  ///< where the held-out part lies: end | start | middle | random
+  /// A validation part of round(fraction × length) frames carved out of each sequence's training
+  /// frames, placed by the seed (0 = none): no training window crosses it; remedies and iteration
+  /// counts are chosen on it, never on the test part.
+  double validation_fraction = 0;
   /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
   /// chains run free (1 = the paper: only the seed frame).
   int teacher_frames = 1;
@@ -42,6 +47,8 @@ struct BdlstmSplit {
   std::string data;  ///< the data file's name as given
   std::vector<std::string> sequences;
   std::vector<std::int64_t> train_begin, train_end, test_begin, test_end;
+  /// Per sequence, the validation part inside the training frames ([b, b) when none).
+  std::vector<std::int64_t> validation_begin, validation_end;
 };
 
 struct BdlstmModel {
@@ -50,7 +57,8 @@ struct BdlstmModel {
   io::Mesh tmpl;
   geometry::Normalization normalization;
   BdlstmSplit split;
-  static inline const std::vector<std::string> kLogColumns = {"iteration", "total", "recon", "bidir", "kl", "l2"};
+  static inline const std::vector<std::string> kLogColumns = {"iteration", "total", "recon",
+                                                              "bidir",     "kl",    "l2"};
   std::vector<double> log;  ///< rows of kLogColumns, flat
   std::unique_ptr<BdlstmNet<float>> net;
   std::unique_ptr<nn::Adam<float>> adam;
@@ -63,8 +71,8 @@ struct BdlstmModel {
 };
 
 /// Writes the whole model (header included) to `path` atomically.
-void save_bdlstm_model(const std::string& path, const BdlstmModel& m, const std::vector<std::string>& inputs,
-                       bool force);
+void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
+                       const std::vector<std::string>& inputs, bool force);
 /// Reads and validates a model file.
 BdlstmModel load_bdlstm_model(const std::string& path);
 

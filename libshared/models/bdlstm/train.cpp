@@ -46,6 +46,7 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
   differs("lr", s.lr, t.lr);
   differs("test-fraction", s.test_fraction, t.test_fraction);
   differs("test-part", s.test_part, t.test_part);
+  differs("validation-fraction", s.validation_fraction, t.validation_fraction);
   differs("seed", s.seed, t.seed);
   differs("teacher-frames", s.teacher_frames, t.teacher_frames);
   differs("kl-warmup", s.kl_warmup, t.kl_warmup);
@@ -59,11 +60,17 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
 }  // namespace
 
 void split_sequences(const std::vector<std::int64_t>& offsets, double fraction,
-                     const std::string& part, std::uint64_t seed, BdlstmSplit& split) {
+                     const std::string& part, std::uint64_t seed, BdlstmSplit& split,
+                     double validation_fraction) {
   if (!(fraction >= 0 && fraction < 1)) throw UsageError("--test-fraction must be in [0, 1)");
+  if (!(validation_fraction >= 0 && fraction + validation_fraction < 1))
+    throw UsageError(
+        "--validation-fraction must be at least 0 and leave training frames beside "
+        "--test-fraction");
   if (part != "end" && part != "start" && part != "middle" && part != "random")
     throw UsageError("--test-part must be end, start, middle or random");
   Rng rng(seed, 0x5e9117);  // its own stream: the placement does not shift the training draws
+  Rng validation_rng(seed, 0x7a1);  // and the validation part's does not move the test part
   for (std::size_t s = 0; s + 1 < offsets.size(); ++s) {
     const std::int64_t b = offsets[s], e = offsets[s + 1];
     const auto n_test =
@@ -83,14 +90,34 @@ void split_sequences(const std::vector<std::int64_t>& offsets, double fraction,
       split.train_begin.push_back(b), split.train_end.push_back(e);
       split.test_begin.push_back(b + at), split.test_end.push_back(b + at + n_test);
     }
+    // The validation part: any contiguous stretch of training frames, uniformly among them.
+    const auto n_val =
+        static_cast<std::int64_t>(std::llround(validation_fraction * static_cast<double>(e - b)));
+    std::vector<std::int64_t> places;
+    if (n_val > 0)
+      for (std::int64_t v = split.train_begin.back(); v + n_val <= split.train_end.back(); ++v)
+        if (v + n_val <= split.test_begin.back() || v >= split.test_end.back()) places.push_back(v);
+    if (n_val > 0 && places.empty())
+      throw InvalidInput(fmt::format(
+          "sequence {} has no {} contiguous training frames for the validation part", s, n_val));
+    const std::int64_t v =
+        places.empty() ? split.train_begin.back()
+                       : places[validation_rng.below(static_cast<std::uint64_t>(places.size()))];
+    split.validation_begin.push_back(v), split.validation_end.push_back(v + n_val);
   }
 }
 
 std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span) {
+  auto clear_of = [](std::int64_t f, std::int64_t span, std::int64_t b, std::int64_t e) {
+    return b >= e || f + span <= b || f >= e;
+  };
   std::vector<std::int64_t> starts;
   for (std::size_t s = 0; s < split.train_begin.size(); ++s)
     for (std::int64_t f = split.train_begin[s]; f + span <= split.train_end[s]; ++f)
-      if (f + span <= split.test_begin[s] || f >= split.test_end[s]) starts.push_back(f);
+      if (clear_of(f, span, split.test_begin[s], split.test_end[s]) &&
+          (split.validation_begin.size() <= s ||
+           clear_of(f, span, split.validation_begin[s], split.validation_end[s])))
+        starts.push_back(f);
   return starts;
 }
 
@@ -120,7 +147,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   const auto offsets = in.read<std::int64_t>("/sequences/offsets").data;
   m.split.data = opt.input;
   m.split.sequences = in.read_strings("/sequences/names");
-  split_sequences(offsets, m.training.test_fraction, m.training.test_part, common.seed, m.split);
+  split_sequences(offsets, m.training.test_fraction, m.training.test_part, common.seed, m.split,
+                  m.training.validation_fraction);
 
   // Windows: every start in a training part that leaves room for the whole window.
   const std::int64_t span =

@@ -25,10 +25,14 @@ struct BdlstmTrainOptions {
 /// Splits each sequence (offsets as in the acap file) into a training part and a held-out
 /// contiguous part of round(fraction × length) frames at its end, start, middle, or at a place
 /// drawn from `seed` (random; the paper "randomly excludes a subsequence").
-void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, const std::string& part,
-                     std::uint64_t seed, BdlstmSplit& split);
+/// Then, when validation_fraction > 0, a validation part of round(validation_fraction × length)
+/// frames inside the training frames at a place drawn from `seed` (its own stream: the test part
+/// and the training draws do not move); InvalidInput if the training frames have no room for it.
+void split_sequences(const std::vector<std::int64_t>& offsets, double fraction,
+                     const std::string& part, std::uint64_t seed, BdlstmSplit& split,
+                     double validation_fraction = 0);
 /// First frames of every window of `span` frames inside a training part and clear of its
-/// sequence's held-out part, in sequence and frame order.
+/// sequence's held-out and validation parts, in sequence and frame order.
 std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span);
 
 void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common);

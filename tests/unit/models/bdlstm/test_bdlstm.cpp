@@ -201,3 +201,41 @@ TEST_CASE("BD-LSTM split: a held-out part inside the sequence", "[models][bdlstm
   std::sort(places.begin(), places.end());
   REQUIRE(std::unique(places.begin(), places.end()) - places.begin() > 3);
 }
+
+TEST_CASE("BD-LSTM split: a validation part carved out of the training frames", "[models][bdlstm]") {
+  std::vector<std::int64_t> places;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    BdlstmSplit plain, v, again;
+    split_sequences({0, 100, 130}, 0.2, "random", seed, plain);
+    split_sequences({0, 100, 130}, 0.2, "random", seed, v, 0.1);
+    split_sequences({0, 100, 130}, 0.2, "random", seed, again, 0.1);
+    // The test part does not move; the validation part is deterministic per seed.
+    REQUIRE(v.test_begin == plain.test_begin);
+    REQUIRE(v.validation_begin == again.validation_begin);
+    for (std::size_t s = 0; s < 2; ++s) {
+      const std::int64_t b = v.validation_begin[s], e = v.validation_end[s];
+      REQUIRE(e - b == (s == 0 ? 10 : 3));
+      REQUIRE(b >= v.train_begin[s]);
+      REQUIRE(e <= v.train_end[s]);
+      REQUIRE((e <= v.test_begin[s] || b >= v.test_end[s]));  // clear of the test part
+    }
+    // No training window touches either part.
+    for (std::int64_t f : window_starts(v, 5)) {
+      const std::size_t s = f < 100 ? 0 : 1;
+      REQUIRE((f + 5 <= v.validation_begin[s] || f >= v.validation_end[s]));
+      REQUIRE((f + 5 <= v.test_begin[s] || f >= v.test_end[s]));
+    }
+    REQUIRE(window_starts(v, 5).size() < window_starts(plain, 5).size());
+    places.push_back(v.validation_begin[0]);
+  }
+  std::sort(places.begin(), places.end());
+  REQUIRE(std::unique(places.begin(), places.end()) - places.begin() > 3);
+  // No validation: empty ranges, the same windows as before.
+  BdlstmSplit none;
+  split_sequences({0, 50}, 0.2, "end", 1, none);
+  REQUIRE(none.validation_begin == none.validation_end);
+  // Too large for the training runs beside a test part in the middle (40 + 40 frames).
+  BdlstmSplit big;
+  REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, "middle", 1, big, 0.5), df::InvalidInput);
+  REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, "end", 1, big, 0.8), UsageError);
+}
