@@ -77,6 +77,18 @@ int main(int argc, char** argv) {
       ->default_val(opt.net.conv_layers);
   n->add_option("--alpha-bidir", opt.net.alpha_bidir, "Weight of L_bidir")->default_val(opt.net.alpha_bidir);
   n->add_option("--alpha-reg", opt.net.alpha_reg, "Weight of L_KL + L_2")->default_val(opt.net.alpha_reg);
+  n->add_option("--l2-scope", opt.net.l2_scope,
+                "L_2 over all trainable values (the paper's Σw²) or the weights only (no biases, so\n"
+                "the forget-gate bias keeps its 1)")
+      ->default_val(opt.net.l2_scope)
+      ->check(CLI::IsMember({"all", "weights"}));
+  n->add_option("--l2-weight", opt.net.l2_weight, "Factor of L_2 inside alpha-reg (L_KL + w L_2)")
+      ->default_val(opt.net.l2_weight);
+  n->add_option("--decoder-init", opt.net.decoder_init,
+                "Last decoder convolution at zero (dX = 0 at first) or small (Glorot x 0.01: the\n"
+                "encoder gets a reconstruction gradient from the start)")
+      ->default_val(opt.net.decoder_init)
+      ->check(CLI::IsMember({"zero", "small"}));
   n->add_option("--init-state", opt.net.init_state, "Initial LSTM state of the forward chain (backward: minus)")
       ->default_val(opt.net.init_state);
   tool.footer("Examples:\n"

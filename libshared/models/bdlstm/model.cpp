@@ -43,6 +43,9 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     f.set_attr("/config", "alpha_bidir", c.alpha_bidir);
     f.set_attr("/config", "alpha_reg", c.alpha_reg);
     f.set_attr("/config", "init_state", c.init_state);
+    f.set_attr("/config", "l2_scope", c.l2_scope);
+    f.set_attr("/config", "l2_weight", c.l2_weight);
+    f.set_attr("/config", "decoder_init", c.decoder_init);
     const auto& t = m.training;
     f.set_attr("/config", "window", t.window);
     f.set_attr("/config", "batch", t.batch);
@@ -97,6 +100,11 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   c.alpha_bidir = f.attr_double("/config", "alpha_bidir");
   c.alpha_reg = f.attr_double("/config", "alpha_reg");
   c.init_state = f.attr_double("/config", "init_state");
+  // Added later: absent means the paper's form.
+  c.l2_scope = f.has_attr("/config", "l2_scope") ? f.attr_string("/config", "l2_scope") : "all";
+  c.l2_weight = f.has_attr("/config", "l2_weight") ? f.attr_double("/config", "l2_weight") : 1.0;
+  c.decoder_init =
+      f.has_attr("/config", "decoder_init") ? f.attr_string("/config", "decoder_init") : "zero";
   auto& t = m.training;
   t.window = i("window");
   t.batch = i("batch");

@@ -31,6 +31,11 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     : config_(config), n_vertices_(n_vertices) {
   if (config.conv_layers < 1 || config.latent < 1 || config.hidden < 1 || config.lstm_layers < 1)
     throw UsageError("BD-LSTM sizes must be positive");
+  if (config.l2_scope != "all" && config.l2_scope != "weights")
+    throw UsageError("--l2-scope must be all or weights");
+  if (config.decoder_init != "zero" && config.decoder_init != "small")
+    throw UsageError("--decoder-init must be zero or small");
+  if (!(config.l2_weight >= 0)) throw UsageError("--l2-weight must not be negative");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
   Rng rng(seed, 0);
   const int n = config.directions == Directions::standard ? 2 : 1;
@@ -49,8 +54,12 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     // δX starts at 0: with Glorot weights the last convolution's initial output is O(1) per
     // feature while real frame-to-frame changes are ~0.01, and Adam (steps of ~lr per weight)
     // took thousands of iterations to shrink it.
-    store_.constant(ch.dec.back().w_point, T(0));
-    store_.constant(ch.dec.back().w_nb, T(0));
+    if (config.decoder_init == "zero") {
+      store_.constant(ch.dec.back().w_point, T(0));
+      store_.constant(ch.dec.back().w_nb, T(0));
+    } else {  // small: the Glorot draw scaled down, so the encoder gets a gradient from the start
+      for (int w : {ch.dec.back().w_point, ch.dec.back().w_nb}) store_.value(w) *= T(0.01);
+    }
     chains_.push_back(std::move(ch));
   }
 }
@@ -216,9 +225,14 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
   }
   if (config_.l2) {
     std::vector<Var> squares;
-    for (const auto& w : p.vars) squares.push_back(nn::sum(nn::square(w)));
+    const auto& views = store_.views();
+    for (std::size_t k = 0; k < p.vars.size(); ++k)
+      if (config_.l2_scope == "all" || !views[k].name.ends_with(".bias"))
+        squares.push_back(nn::sum(nn::square(p.vars[k])));
     l_2 = sum_of(squares);  // Σ w², not per window
-    reg = reg.tape ? nn::add(reg, l_2) : l_2;
+    const Var weighted =
+        config_.l2_weight == 1 ? l_2 : nn::scale(l_2, static_cast<T>(config_.l2_weight));
+    reg = reg.tape ? nn::add(reg, weighted) : weighted;
   }
   if (reg.tape) total = nn::add(total, nn::scale(reg, static_cast<T>(config_.alpha_reg)));
   if (terms) {

@@ -43,6 +43,15 @@ struct BdlstmConfig {
   bool l2 = true;  ///< L_2 = Σ w² over all trainable weights
   double alpha_bidir = 0.5, alpha_reg = 0.1;
   double init_state = 0.1;  ///< s₀ᶠ = +init_state, s₀ᵇ = −init_state (h and c of every layer)
+  // Remedies under study (issue: the latent collapses and L_2 pulls towards zero motion); the
+  // defaults are the paper's form.
+  /// L_2 over every trainable value ("all", the paper's Σw²) or the weight matrices only
+  /// ("weights": no biases, so the LSTM's forget-gate bias of 1 is not pulled to 0)
+  std::string l2_scope = "all";
+  double l2_weight = 1;  ///< L_2's factor inside α₂ (L_KL + l2_weight · L_2)
+  /// The last decoder convolution starts at "zero" (δX = 0, no reconstruction gradient reaches
+  /// the encoder at first) or "small" (Glorot × 0.01)
+  std::string decoder_init = "zero";
 };
 
 /// The loss of one batch of windows, by term (each averaged over the windows of the batch).

@@ -39,6 +39,9 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
   differs("alpha-bidir", a.alpha_bidir, b.alpha_bidir);
   differs("alpha-reg", a.alpha_reg, b.alpha_reg);
   differs("init-state", a.init_state, b.init_state);
+  differs("l2-scope", a.l2_scope, b.l2_scope);
+  differs("l2-weight", a.l2_weight, b.l2_weight);
+  differs("decoder-init", a.decoder_init, b.decoder_init);
   const auto &s = ck.training, &t = want.training;
   differs("window", s.window, t.window);
   differs("batch", s.batch, t.batch);
