@@ -158,17 +158,20 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
       static_cast<std::int64_t>(m.training.window - 1) * m.training.stride + 1;
   const std::vector<std::int64_t> starts = window_starts(m.split, span);
   if (starts.empty()) {
-    std::int64_t longest = 0;  // the longest run of training frames
+    std::int64_t longest = 0;  // the longest run of training frames (clear of test and validation)
     for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
-      const std::int64_t b = m.split.train_begin[s], e = m.split.train_end[s];
-      const std::int64_t tb = std::clamp(m.split.test_begin[s], b, e),
-                         te = std::clamp(m.split.test_end[s], b, e);
-      longest = std::max({longest, tb - b, e - te});
+      std::int64_t run = 0;
+      for (std::int64_t f = m.split.train_begin[s]; f < m.split.train_end[s]; ++f) {
+        const bool held = (f >= m.split.test_begin[s] && f < m.split.test_end[s]) ||
+                          (f >= m.split.validation_begin[s] && f < m.split.validation_end[s]);
+        run = held ? 0 : run + 1;
+        longest = std::max(longest, run);
+      }
     }
     throw InvalidInput(
         fmt::format(
             "no sequence has a training part of {} frames (window {}, stride {}); the longest "
-            "has {}: use a smaller --window or --stride",
+            "has {}: use a smaller --window, --stride or --validation-fraction",
             span, m.training.window, m.training.stride, longest),
         opt.input);
   }
