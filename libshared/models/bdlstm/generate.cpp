@@ -78,43 +78,44 @@ void check_options(const BdlstmGenerateOptions& opt) {
 
 }  // namespace
 
-// Runs one chain of the network step by step without keeping the activations: parameters are
-// bound once, every step's nodes are dropped after it.
-class ChainRunner::Stepper {
- public:
-  Stepper(const BdlstmNet<float>& net, int chain)
-      : net_(net), chain_(chain), bound_(net.store().bind(tape_)) {
-    mark_ = tape_.size();
-  }
-  /// Initial states of `rows` rows: every h and c entry is `value` (+ N(0, sigma²) when sigma > 0).
-  void reset(Index rows, float value, double sigma, Rng& rng) {
-    const auto hidden = static_cast<Index>(net_.config().hidden);
-    h_.assign(static_cast<std::size_t>(net_.config().lstm_layers),
-              Matrix::Constant(rows, hidden, value));
-    c_ = h_;
-    if (sigma > 0)
-      for (auto* states : {&h_, &c_})
-        for (auto& m : *states)
-          for (Index k = 0; k < m.size(); ++k)
-            m.data()[k] += static_cast<float>(sigma * rng.normal());
-  }
-  Matrix step(const Matrix& x) {
-    tape_.truncate(mark_);
-    auto states = net_.states_from(tape_, h_, c_);
-    auto y = net_.step(bound_, chain_, tape_.constant(x), states, nullptr, nullptr);
-    for (std::size_t l = 0; l < states.size(); ++l)
-      h_[l] = states[l].h.value(), c_[l] = states[l].c.value();
-    return y.value();
-  }
+ChainStepper::ChainStepper(const BdlstmNet<float>& net, int chain)
+    : net_(net), chain_(chain), bound_(net.store().bind(tape_)), mark_(tape_.size()) {}
 
- private:
-  const BdlstmNet<float>& net_;
-  int chain_;
-  nn::Tape<float> tape_;
-  nn::Bound<float> bound_;
-  std::size_t mark_ = 0;
-  std::vector<Matrix> h_, c_;
-};
+void ChainStepper::reset(Index rows, float value, double sigma, Rng& rng) {
+  const auto hidden = static_cast<Index>(net_.config().hidden);
+  h_.assign(static_cast<std::size_t>(net_.config().lstm_layers),
+            Matrix::Constant(rows, hidden, value));
+  c_ = h_;
+  if (sigma > 0)
+    for (auto* states : {&h_, &c_})
+      for (auto& m : *states)
+        for (Index k = 0; k < m.size(); ++k)
+          m.data()[k] += static_cast<float>(sigma * rng.normal());
+}
+
+Matrix ChainStepper::step(const Matrix& x) {
+  Rng unused;
+  return step(x, LatentInput::mean, unused);
+}
+
+Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
+  tape_.truncate(mark_);
+  auto states = net_.states_from(tape_, h_, c_);
+  const nn::Var<float> xin = tape_.constant(x);
+  nn::Var<float> z;
+  if (latent == LatentInput::mean) {
+    z = net_.encode(bound_, chain_, xin).first;
+  } else {
+    Matrix eps = Matrix::Zero(x.rows(), net_.config().latent);
+    if (latent == LatentInput::prior)
+      for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
+    z = tape_.constant(eps);
+  }
+  const Matrix y = net_.decode_step(bound_, chain_, xin, z, states).value();
+  for (std::size_t l = 0; l < states.size(); ++l)
+    h_[l] = states[l].h.value(), c_[l] = states[l].c.value();
+  return y;
+}
 
 std::size_t GenerationData::sequence_of(std::int64_t f) const {
   return static_cast<std::size_t>(std::upper_bound(offsets.begin(), offsets.end(), f) -
@@ -250,9 +251,9 @@ ChainRunner::ChainRunner(const BdlstmGenerateOptions& opt, const BdlstmModel& m,
       q_(stride),
       window_(opt.window ? opt.window : m.training.window),
       rng_(seed, 2),
-      forward_(std::make_unique<Stepper>(*m.net, 0)) {
+      forward_(std::make_unique<ChainStepper>(*m.net, 0)) {
   if (window_ < 2) throw UsageError("--window must be at least 2");
-  if (m.net->n_chains() == 2) backward_own_ = std::make_unique<Stepper>(*m.net, 1);
+  if (m.net->n_chains() == 2) backward_own_ = std::make_unique<ChainStepper>(*m.net, 1);
   backward_ = backward_own_ ? backward_own_.get() : forward_.get();
 }
 

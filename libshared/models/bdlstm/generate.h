@@ -91,6 +91,27 @@ struct GeneratedSequence {
   std::vector<std::int32_t> step;
 };
 
+/// Runs one chain of the network step by step without keeping the activations: parameters are
+/// bound once, every step's nodes are dropped after it (generation and inspect-bdlstm).
+class ChainStepper {
+ public:
+  ChainStepper(const BdlstmNet<float>& net, int chain);
+  /// Initial states of `rows` rows: every h and c entry is `value` (+ N(0, sigma²) when sigma > 0).
+  void reset(Eigen::Index rows, float value, double sigma, Rng& rng);
+  /// X_{t+1} for frames x [rows, 9V], z the encoder's mean.
+  nn::Matrix<float> step(const nn::Matrix<float>& x);
+  /// The same with z chosen by `latent` (prior draws come from `rng`).
+  nn::Matrix<float> step(const nn::Matrix<float>& x, LatentInput latent, Rng& rng);
+
+ private:
+  const BdlstmNet<float>& net_;
+  int chain_;
+  nn::Tape<float> tape_;
+  nn::Bound<float> bound_;
+  std::size_t mark_ = 0;
+  std::vector<nn::Matrix<float>> h_, c_;
+};
+
 /// Runs the chains of a model over cases: one object per run, cases in order (the random
 /// initial states are drawn from one stream seeded by --seed).
 class ChainRunner {
@@ -107,7 +128,6 @@ class ChainRunner {
   double worst_merge() const { return worst_merge_; }
 
  private:
-  class Stepper;
   std::int64_t source_of(std::int64_t from, std::int64_t k) const;
   // Paths of steps 1 .. L of every sample across the gap from keyframe a to b.
   std::vector<std::vector<nn::Matrix<float>>> complete_gap(std::int64_t a, std::int64_t b);
@@ -117,8 +137,8 @@ class ChainRunner {
   std::int64_t q_;
   int window_;
   Rng rng_;
-  std::unique_ptr<Stepper> forward_, backward_own_;
-  Stepper* backward_;
+  std::unique_ptr<ChainStepper> forward_, backward_own_;
+  ChainStepper* backward_;
   int unmerged_ = 0;
   double worst_merge_ = 0;
 };

@@ -90,31 +90,9 @@ std::vector<double> probe(const BdlstmModel& m, const Matrix& X,
     for (int k = 1; k <= length; ++k) err.push_back(error(last, frame(initial - 1 + k)));
     return err;
   }
-  const auto& net = *m.net;
-  nn::Tape<float> tape;
-  const auto bound = net.store().bind(tape);
-  const std::size_t mark = tape.size();
-  const auto hidden = static_cast<Index>(m.config.hidden);
-  std::vector<Matrix> h(static_cast<std::size_t>(m.config.lstm_layers),
-                        Matrix::Constant(rows, hidden, static_cast<float>(m.config.init_state)));
-  std::vector<Matrix> c = h;
-  auto step = [&](const Matrix& x) {
-    tape.truncate(mark);
-    auto states = net.states_from(tape, h, c);
-    nn::Var<float> xin = tape.constant(x), z;
-    if (*mode == LatentInput::mean) {
-      z = net.encode(bound, 0, xin).first;
-    } else {
-      Matrix eps = Matrix::Zero(rows, m.config.latent);
-      if (*mode == LatentInput::prior)
-        for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
-      z = tape.constant(eps);
-    }
-    Matrix y = net.decode_step(bound, 0, xin, z, states).value();
-    for (std::size_t l = 0; l < states.size(); ++l)
-      h[l] = states[l].h.value(), c[l] = states[l].c.value();
-    return y;
-  };
+  ChainStepper chain(*m.net, 0);
+  chain.reset(rows, static_cast<float>(m.config.init_state), 0, rng);
+  auto step = [&](const Matrix& x) { return chain.step(x, *mode, rng); };
   Matrix y;
   for (int t = 0; t < initial; ++t) y = step(frame(t));
   for (int k = 1; k <= length; ++k) {
