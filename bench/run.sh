@@ -62,7 +62,7 @@ bench_render() {
   for threads in 1 2; do
     read -r s m < <(measure "$bin/render-mesh" --threads $threads --view side "$out/finger10k-acap.h5" \
                       --error-vs "$out/finger10k.h5" --show-truth --frames 0,10,20 -f -o "$out/render-err.png")
-    echo "| sheet 2 rows × 3 frames, positions reconstructed from features, coloured by error | 320² | $threads | $s | $(awk -v s=$s 'BEGIN{printf "%.3f", s/6}') | $m |"
+    echo "| sheet 2 rows × 3 frames (truth row + an acap file of the same frames), coloured by error | 320² | $threads | $s | $(awk -v s=$s 'BEGIN{printf "%.3f", s/6}') | $m |"
   done
 }
 if [ "${2:-}" = render ]; then

@@ -87,13 +87,12 @@ FrameSet read_frame_set(const std::string& path) {
 }
 
 void reconstruct(FrameSet& fs, const std::vector<std::size_t>* frames) {
-  std::vector<std::size_t> todo;
-  for (std::size_t i = 0; i < fs.size(); ++i)
-    if (fs.positions[i].rows() == 0) todo.push_back(i);
+  std::vector<char> wanted(fs.size(), frames ? 0 : 1);
   if (frames)
-    std::erase_if(todo, [&](std::size_t i) {
-      return std::find(frames->begin(), frames->end(), i) == frames->end();
-    });
+    for (std::size_t i : *frames) wanted.at(i) = 1;
+  std::vector<std::size_t> todo;  // wanted frames without positions
+  for (std::size_t i = 0; i < fs.size(); ++i)
+    if (wanted[i] && fs.positions[i].rows() == 0) todo.push_back(i);
   if (todo.empty()) return;
   if (fs.raw.rows() == 0) throw InvalidInput("has neither /frames/positions nor features", fs.path);
   geometry::Reconstructor rec(fs.tmpl.vertices, fs.tmpl.faces, 0,

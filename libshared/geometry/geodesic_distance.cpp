@@ -202,16 +202,13 @@ Eigen::MatrixXf normalized_geodesic_distances(const io::Vertices& V, const io::F
   Eigen::MatrixXd D(n, n);
   tbb::parallel_for(Eigen::Index{0}, n,
                     [&](Eigen::Index i) { D.col(i) = heat.from(static_cast<int>(i)); });
+  D = (0.5 * (D + D.transpose())).eval();  // symmetrise once (inf stays inf)
   double top = 0;
-  for (Eigen::Index j = 0; j < n; ++j)
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (std::isfinite(D(i, j))) top = std::max(top, 0.5 * (D(i, j) + D(j, i)));
+  for (Eigen::Index k = 0; k < D.size(); ++k)
+    if (std::isfinite(D.data()[k])) top = std::max(top, D.data()[k]);
   Eigen::MatrixXf out(n, n);
-  for (Eigen::Index j = 0; j < n; ++j)
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double d = 0.5 * (D(i, j) + D(j, i));
-      out(i, j) = std::isfinite(d) ? static_cast<float>(top > 0 ? d / top : 0.0) : 1.0f;
-    }
+  for (Eigen::Index k = 0; k < D.size(); ++k)
+    out.data()[k] = std::isfinite(D.data()[k]) ? static_cast<float>(top > 0 ? D.data()[k] / top : 0.0) : 1.0f;
   return out;
 }
 

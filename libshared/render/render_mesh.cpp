@@ -223,34 +223,35 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
         need.insert(need.end(), r.frames.begin(), r.frames.end());
     convert::reconstruct(s, &need);
   }
+  // What a colouring needs per input, computed once for all its rows.
+  const std::size_t n_inputs = sets.size();
+  std::vector<std::vector<std::vector<double>>> datasets(n_inputs);
+  std::vector<std::vector<int>> components(n_inputs);
+  std::vector<int> n_components(n_inputs, 0);
+  std::vector<Eigen::VectorXd> identity(n_inputs);
+  for (std::size_t k = 0; k < n_inputs; ++k) {
+    const auto& s = sets[k];
+    if (col.mode == "dataset") datasets[k] = dataset_values(s, col.dataset, col.units);
+    if (col.mode == "error")
+      components[k] = geometry::connected_components(
+          geometry::mesh_topology(s.tmpl.faces, static_cast<int>(s.vertices())), 0,
+          &n_components[k]);
+    if (col.mode == "deformation") {
+      if (s.raw.rows() == 0)
+        throw InvalidInput("has no ACAP features for --color deformation", s.path);
+      const double id[geometry::kFeatureDims] = {0, 0, 0, 1, 0, 0, 1, 0, 1};  // r = 0, S = I
+      identity[k].resize(s.raw.cols());
+      for (Eigen::Index j = 0; j < identity[k].size(); ++j) {
+        const int d = static_cast<int>(j % geometry::kFeatureDims);
+        identity[k][j] = s.normalization ? s.normalization->normalize(d, id[d]) : id[d];
+      }
+    }
+  }
+  const double truth_diag = truth ? truth->diagonal() : 0.0;
   double lo = 1e300, hi = -1e300;
   for (auto& r : rows) {
     const auto& s = r.truth ? *truth : sets[r.input];
     const double diag = s.diagonal();
-    std::vector<std::vector<double>> ds;
-    if (col.mode == "dataset" && !r.truth) ds = dataset_values(s, col.dataset, col.units);
-    int n_components = 0;
-    std::vector<int> component;
-    if (col.mode == "error" && !r.truth) {
-      if (truth->vertices() != s.vertices())
-        throw InvalidInput(fmt::format("the error reference has {} vertices, {} has {}",
-                                       truth->vertices(), s.path, s.vertices()),
-                           truth->path);
-      component = geometry::connected_components(
-          geometry::mesh_topology(s.tmpl.faces, static_cast<int>(s.vertices())), 0, &n_components);
-    }
-    Eigen::VectorXd identity;
-    if (col.mode == "deformation" && !r.truth) {
-      if (s.raw.rows() == 0)
-        throw InvalidInput("has no ACAP features for --color deformation", s.path);
-      const double id[geometry::kFeatureDims] = {0, 0, 0, 1, 0, 0, 1, 0, 1};
-      identity.resize(s.raw.cols());
-      for (Eigen::Index k = 0; k < identity.size(); ++k)
-        identity[k] = s.normalization
-                          ? s.normalization->normalize(static_cast<int>(k % geometry::kFeatureDims),
-                                                       id[k % geometry::kFeatureDims])
-                          : id[k % geometry::kFeatureDims];
-    }
     for (std::size_t i : r.frames) {
       io::Vertices p = s.positions[i];
       std::vector<double> v;
@@ -258,13 +259,13 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
         // drawn in the plain mesh colour
       } else if (col.mode == "error") {
         const io::Vertices& gt = truth->positions[truth_frame(s, i, *truth)];
-        p = eval::align_translation(p, gt, component, n_components);
+        p = eval::align_translation(p, gt, components[r.input], n_components[r.input]);
         v.resize(s.vertices());
-        const double d = truth->diagonal();
         for (Eigen::Index k = 0; k < p.rows(); ++k)
-          v[static_cast<std::size_t>(k)] = (p.row(k) - gt.row(k)).norm() / d;
+          v[static_cast<std::size_t>(k)] = (p.row(k) - gt.row(k)).norm() / truth_diag;
       } else if (col.mode == "deformation") {
-        const Eigen::VectorXd x = convert::normalized_features(s, i, s.normalization) - identity;
+        const Eigen::VectorXd x =
+            convert::normalized_features(s, i, s.normalization) - identity[r.input];
         v.resize(s.vertices());
         for (std::size_t k = 0; k < v.size(); ++k)
           v[k] = x.segment(static_cast<Eigen::Index>(k * geometry::kFeatureDims),
@@ -275,7 +276,7 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
         for (Eigen::Index k = 0; k < p.rows(); ++k)
           v[static_cast<std::size_t>(k)] = (p.row(k) - s.tmpl.vertices.row(k)).norm() / diag;
       } else {
-        v = ds[i];
+        v = datasets[r.input][i];
       }
       for (double x : v)
         if (std::isfinite(x)) lo = std::min(lo, x), hi = std::max(hi, x);
@@ -420,11 +421,11 @@ Scene load_meshes(const RenderOptions& opt, Coloring& col) {
   if (!opt.error_vs.empty()) {  // the truth: its frames paired with every row's
     sc.truth = std::make_unique<convert::FrameSet>(convert::read_frame_set(opt.error_vs));
     auto& truth = *sc.truth;
-    if (truth.vertices() != sc.sets.front().vertices())
-      throw InvalidInput(
-          fmt::format("the error reference has {} vertices, {} has {}", truth.vertices(),
-                      opt.inputs.front(), sc.sets.front().vertices()),
-          opt.error_vs);
+    for (const auto& in : sc.sets)
+      if (truth.vertices() != in.vertices())
+        throw InvalidInput(fmt::format("the error reference has {} vertices, {} has {}",
+                                       truth.vertices(), in.path, in.vertices()),
+                           opt.error_vs);
     if (opt.show_truth)
       sc.rows.insert(sc.rows.begin(),
                      truth_row(sc.rows.front(), sc.sets[sc.rows.front().input], truth));
