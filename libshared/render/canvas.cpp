@@ -2,6 +2,7 @@
 
 #include <cairo/cairo.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "core/error.h"
@@ -51,18 +52,15 @@ void Canvas::blit(const Panel& panel, int x, int y) {
   cairo_surface_flush(surface_);
   unsigned char* data = cairo_image_surface_get_data(surface_);
   const int stride = cairo_image_surface_get_stride(surface_);
-  for (int r = 0; r < panel.height; ++r) {
-    const int yy = y + r;
-    if (yy < 0 || yy >= height_) continue;
-    for (int c = 0; c < panel.width; ++c) {
-      const int xx = x + c;
-      if (xx < 0 || xx >= width_) continue;
-      const std::uint32_t p = panel.at(c, r);
-      std::memcpy(
-          data + static_cast<std::ptrdiff_t>(yy) * stride + static_cast<std::ptrdiff_t>(xx) * 4, &p,
-          4);
-    }
-  }
+  const int c0 = std::max(0, -x),
+            c1 = std::min(panel.width, width_ - x);  // columns inside the picture
+  for (int r = std::max(0, -y); r < panel.height && y + r < height_ && c0 < c1; ++r)
+    std::memcpy(data + static_cast<std::ptrdiff_t>(y + r) * stride +
+                    static_cast<std::ptrdiff_t>(x + c0) * 4,
+                panel.pixels.data() +
+                    static_cast<std::size_t>(r) * static_cast<std::size_t>(panel.width) +
+                    static_cast<std::size_t>(c0),
+                static_cast<std::size_t>(c1 - c0) * 4);
   cairo_surface_mark_dirty(surface_);
 }
 
