@@ -6,6 +6,7 @@
 #include <Eigen/SparseCholesky>
 #include <cmath>
 #include <limits>
+#include <algorithm>
 #include <map>
 
 #include "core/error.h"
@@ -210,6 +211,54 @@ Eigen::MatrixXf normalized_geodesic_distances(const io::Vertices& V, const io::F
   for (Eigen::Index k = 0; k < D.size(); ++k)
     out.data()[k] = std::isfinite(D.data()[k]) ? static_cast<float>(top > 0 ? D.data()[k] / top : 0.0) : 1.0f;
   return out;
+}
+
+GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F) : heat_(V, F), n_vertices_(V.rows()) {
+  // Farthest-point sweeps: each solve starts from the vertex farthest from the previous source.
+  int source = 0;
+  for (int sweep = 0; sweep < 8; ++sweep) {
+    const Eigen::VectorXd d = heat_.from(source);
+    int far = source;
+    double best = 0;
+    for (Eigen::Index i = 0; i < d.size(); ++i)
+      if (std::isfinite(d[i]) && d[i] > best) best = d[i], far = static_cast<int>(i);
+    if (best <= diameter_ * (1 + 1e-9)) break;
+    diameter_ = best;
+    source = far;
+  }
+  if (!(diameter_ > 0)) throw InvalidInput("the template has no extent: geodesic distances are all zero");
+}
+
+GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F, double diameter)
+    : heat_(V, F), n_vertices_(V.rows()), diameter_(diameter) {
+  if (!(diameter_ > 0)) throw InvalidInput("geodesic diameter must be positive");
+}
+
+Eigen::VectorXf GeodesicRows::normalized(const Eigen::VectorXd& d) const {
+  Eigen::VectorXf out(d.size());
+  for (Eigen::Index i = 0; i < d.size(); ++i)
+    out[i] = std::isfinite(d[i]) ? static_cast<float>(std::min(1.0, d[i] / diameter_)) : 1.0f;
+  return out;
+}
+
+void GeodesicRows::prepare(const std::vector<int>& sources) {
+  std::vector<int> missing;
+  for (int s : sources)
+    if (!rows_.count(s) && std::find(missing.begin(), missing.end(), s) == missing.end()) missing.push_back(s);
+  if (missing.empty()) return;
+  constexpr std::size_t kBudget = std::size_t{256} << 20;
+  if ((rows_.size() + missing.size()) * static_cast<std::size_t>(n_vertices_) * sizeof(float) > kBudget)
+    rows_.clear();
+  std::vector<Eigen::VectorXf> solved(missing.size());
+  tbb::parallel_for(std::size_t{0}, missing.size(),
+                    [&](std::size_t k) { solved[k] = normalized(heat_.from(missing[k])); });
+  for (std::size_t k = 0; k < missing.size(); ++k) rows_[missing[k]] = std::move(solved[k]);
+}
+
+const Eigen::VectorXf& GeodesicRows::row(int source) {
+  auto it = rows_.find(source);
+  if (it == rows_.end()) it = rows_.emplace(source, normalized(heat_.from(source))).first;
+  return it->second;
 }
 
 }  // namespace df::geometry

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -41,5 +42,36 @@ class HeatMethodDistance {
 /// by their largest finite value, so they lie in [0, 1] (SPEC §7's normalized distance); pairs on
 /// different connected parts get 1. #V by #V, rows solved in parallel.
 Eigen::MatrixXf normalized_geodesic_distances(const io::Vertices& V, const io::Faces& F);
+
+/// Normalized geodesic distances from chosen sources, solved on demand and kept: MSAE's sparsity
+/// masks need d(i, c_k) only from the current component centres c_k, and the all-pairs matrix of
+/// a 12,500-vertex mesh would take 600 MB. Rows are divided by the mesh's diameter, estimated by
+/// farthest-point sweeps (from vertex 0 to its farthest vertex a, from a to its farthest b, ...
+/// until the distance stops growing; exact on a plane or a sphere up to the heat method's error);
+/// vertices on other connected parts read 1. Deterministic: a row does not depend on the thread
+/// count or on which rows were solved before.
+class GeodesicRows {
+ public:
+  GeodesicRows(const io::Vertices& V, const io::Faces& F);
+  /// Restores a provider whose diameter is known (from a model file) without the sweeps.
+  GeodesicRows(const io::Vertices& V, const io::Faces& F, double diameter);
+
+  double diameter() const { return diameter_; }
+  /// Solves the rows of `sources` not yet kept (in parallel); afterwards row(s) is cheap. Drops
+  /// every kept row first when keeping them all would pass ~256 MB.
+  void prepare(const std::vector<int>& sources);
+  /// The normalized distances from `source` (#V, in [0, 1]); solved now when not prepared.
+  const Eigen::VectorXf& row(int source);
+  /// Adds a row solved elsewhere (e.g. read back from a model file).
+  void keep(int source, Eigen::VectorXf row) { rows_[source] = std::move(row); }
+
+ private:
+  Eigen::VectorXf normalized(const Eigen::VectorXd& d) const;
+
+  HeatMethodDistance heat_;
+  Eigen::Index n_vertices_;
+  double diameter_ = 0;
+  std::map<int, Eigen::VectorXf> rows_;
+};
 
 }  // namespace df::geometry

@@ -148,3 +148,21 @@ TEST_CASE("geodesics: the normalized matrix is symmetric in [0, 1]; other parts 
   CHECK_THROWS_AS(heat.from(-1), df::InvalidInput);
   CHECK_THROWS_AS(HeatMethodDistance(two.vertices, df::io::Faces(0, 3)), df::InvalidInput);
 }
+
+TEST_CASE("geodesics: rows on demand are normalized by the swept diameter", "[geometry][geodesic]") {
+  const auto m = grid(41);
+  df::geometry::GeodesicRows rows(m.vertices, m.faces);
+  // The plane [−1, 1]²: the diameter is the diagonal 2√2 (up to the heat method's error).
+  CHECK(rows.diameter() == Approx(2 * std::sqrt(2.0)).epsilon(0.04));
+  const int centre = 20 * 41 + 20;
+  rows.prepare({centre, 0, centre});
+  const Eigen::VectorXf& d = rows.row(centre);
+  CHECK(d[centre] == 0);
+  CHECK(d.maxCoeff() <= 1);
+  // The corners are half the diameter away from the centre.
+  CHECK(d[0] == Approx(0.5).epsilon(0.05));
+  // Solving the same row again (another provider, no sweeps) gives the same numbers.
+  df::geometry::GeodesicRows again(m.vertices, m.faces, rows.diameter());
+  CHECK((again.row(centre) - d).cwiseAbs().maxCoeff() == 0);
+  CHECK_THROWS_AS(df::geometry::GeodesicRows(m.vertices, m.faces, 0.0), df::InvalidInput);
+}

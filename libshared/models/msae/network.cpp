@@ -1,0 +1,273 @@
+#include "models/msae/network.h"
+
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "nn/ops.h"
+
+namespace df::models {
+
+using Eigen::Index;
+
+template <class T>
+MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices, const std::vector<std::array<int, 2>>& edges,
+                    std::uint64_t seed)
+    : config_(config), n_vertices_(n_vertices) {
+  if (config_.kz.empty() || config_.kz.size() != config_.d.size())
+    throw UsageError("--kz and --d need one value per level");
+  for (int k : config_.kz)
+    if (k < 1) throw UsageError("--kz values must be positive");
+  adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
+  Rng rng(seed, 0);
+  // The tree, level by level: with attention every block has kz children; without, one block
+  // per level with as many components as the attention tree has there.
+  int width = 1;  // blocks of the attention tree at this level
+  for (int l = 0; l < config_.levels(); ++l) {
+    level_begin_.push_back(static_cast<int>(blocks_.size()));
+    const int kz = config_.kz[static_cast<std::size_t>(l)];
+    const int n_blocks = config_.attention ? width : 1;
+    for (int k = 0; k < n_blocks; ++k) {
+      Block b;
+      b.level = l;
+      b.kz = config_.attention ? kz : kz * width;
+      if (l > 0) {
+        const int first_parent = level_begin_[static_cast<std::size_t>(l - 1)];
+        b.parent = config_.attention ? first_parent + k / config_.kz[static_cast<std::size_t>(l - 1)] : first_parent;
+        b.slot = config_.attention ? k % config_.kz[static_cast<std::size_t>(l - 1)] : 0;
+        blocks_[static_cast<std::size_t>(b.parent)].children.push_back(static_cast<int>(blocks_.size()));
+      }
+      const std::string name = fmt::format("ae{}.{}", l, k);
+      b.conv = nn::MeshConv<T>(store_, name + ".conv", 9, 9, adjacency_, rng);
+      b.c = store_.add(name + ".C", b.kz, 9 * Index{n_vertices});
+      store_.glorot_uniform(b.c, rng);
+      b.b_dec = store_.add(name + ".decoder_bias", 1, 9);
+      blocks_.push_back(std::move(b));
+    }
+    width *= kz;
+  }
+  level_begin_.push_back(static_cast<int>(blocks_.size()));
+}
+
+template <class T>
+std::vector<std::vector<int>> MsaeNet<T>::centres() const {
+  std::vector<std::vector<int>> out;
+  for (const Block& b : blocks_) {
+    auto C = store_.value(b.c);
+    std::vector<int> c(static_cast<std::size_t>(b.kz));
+    for (int k = 0; k < b.kz; ++k) {
+      T best = -1;
+      for (int i = 0; i < n_vertices_; ++i) {
+        const T norm = C.row(k).segment(9 * Index{i}, 9).squaredNorm();
+        if (norm > best) best = norm, c[static_cast<std::size_t>(k)] = i;
+      }
+    }
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+template <class T>
+nn::Var<T> MsaeNet<T>::masks_of(const nn::Bound<T>& p, int b) const {
+  nn::Var<T> am = nn::square(nn::group_norm(p[blocks_[static_cast<std::size_t>(b)].c], Index{9}));
+  // A vertex no component touches would divide 0 by 0; the tiny floor keeps it finite.
+  return nn::div(am, nn::add_scalar(nn::sum_rows(am), T(1e-20)));
+}
+
+template <class T>
+typename MsaeNet<T>::Matrix MsaeNet<T>::attention_masks(int block) const {
+  nn::Tape<T> tape;
+  nn::Bound<T> p;
+  p.vars.resize(store_.views().size());
+  const int c = blocks_[static_cast<std::size_t>(block)].c;
+  p.vars[static_cast<std::size_t>(c)] = tape.constant(store_.value(c));
+  return masks_of(p, block).value();
+}
+
+template <class T>
+typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p, int b, Var x, const Matrix* lambda,
+                                                          Var* loss, MsaeLossTerms* terms) const {
+  const Block& bl = blocks_[static_cast<std::size_t>(b)];
+  Var C = p[bl.c];
+  Var h = nn::tanh(bl.conv(p, x));
+  Var z = nn::tanh(nn::matmul_transposed(h, C));
+  Var y = nn::tanh(nn::matmul(z, C));
+  BlockOutput out;
+  out.z = z;
+  out.xhat = nn::tanh(bl.conv.tied_transpose(p, y, p[bl.b_dec]));
+  out.residual = nn::sub(x, out.xhat);
+  if (config_.attention && !bl.children.empty()) out.masks = masks_of(p, b);
+  if (loss) {
+    nn::Tape<T>& tape = *x.tape;
+    const T inv_batch = T(1) / static_cast<T>(x.rows()), inv_kz = T(1) / static_cast<T>(bl.kz);
+    Var recon = nn::scale(nn::sum(nn::square(out.residual)), inv_batch);
+    Var omega = nn::scale(nn::sum(nn::mul(nn::group_norm(C, Index{9}), tape.constant(*lambda))), inv_kz);
+    Var vz = nn::mean(nn::relu(nn::add_scalar(nn::max_rows(nn::abs(z)), static_cast<T>(-config_.theta))));
+    Var l = nn::add(nn::add(nn::scale(recon, static_cast<T>(config_.lambda_recon)),
+                            nn::scale(omega, static_cast<T>(config_.lambda_sparse))),
+                    vz);
+    *loss = loss->id < 0 ? l : nn::add(*loss, l);
+    if (terms) {
+      terms->total += static_cast<double>(l.value()(0, 0));
+      terms->recon += static_cast<double>(recon.value()(0, 0));
+      terms->sparsity += static_cast<double>(omega.value()(0, 0));
+      terms->latent += static_cast<double>(vz.value()(0, 0));
+    }
+  }
+  return out;
+}
+
+template <class T>
+typename MsaeNet<T>::Matrix MsaeNet<T>::child_input(const Block& child, const Matrix& residual,
+                                                   const Matrix* masks) const {
+  if (!masks) return residual;
+  Matrix in(residual.rows(), residual.cols());
+  for (Index r = 0; r < residual.rows(); ++r)
+    for (Index i = 0; i < n_vertices_; ++i)
+      in.row(r).segment(9 * i, 9) = residual.row(r).segment(9 * i, 9) * (*masks)(child.slot, i);
+  return in;
+}
+
+namespace {
+// Which levels contribute to the loss (all when `levels` is empty) and the deepest one.
+std::vector<char> training_levels(int n_levels, const std::vector<int>& levels, int& deepest) {
+  std::vector<char> trains(static_cast<std::size_t>(n_levels), levels.empty() ? 1 : 0);
+  for (int l : levels) {
+    if (l < 0 || l >= n_levels) throw Error(fmt::format("internal: no level {}", l));
+    trains[static_cast<std::size_t>(l)] = 1;
+  }
+  deepest = -1;
+  for (int l = 0; l < n_levels; ++l)
+    if (trains[static_cast<std::size_t>(l)]) deepest = l;
+  return trains;
+}
+}  // namespace
+
+template <class T>
+nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matrix& x,
+                            const std::vector<Matrix>& lambda, MsaeLossTerms* terms,
+                            const std::vector<int>& levels) const {
+  int deepest = 0;
+  const auto trains = training_levels(config_.levels(), levels, deepest);
+  std::vector<Var> input(blocks_.size()), residual(blocks_.size()), masks(blocks_.size());
+  input[0] = tape.constant(x);
+  Var total;
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    const Block& bl = blocks_[b];
+    if (bl.level > deepest) break;
+    if (bl.parent >= 0) {
+      const auto pb = static_cast<std::size_t>(bl.parent);
+      if (config_.attention) {  // diag(AM_slot) · residual: each vertex's 9 values times its weight
+        Var w = nn::transpose(nn::slice_rows(masks[pb], Index{bl.slot}, Index{1}));                 // [V, 1]
+        w = nn::reshape(nn::mul(w, tape.constant(Matrix::Ones(n_vertices_, 9))), 1, 9 * Index{n_vertices_});
+        input[b] = nn::mul(residual[pb], w);
+      } else {
+        input[b] = residual[pb];
+      }
+    }
+    BlockOutput out = forward_block(p, static_cast<int>(b), input[b], &lambda[b],
+                                    trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, terms);
+    residual[b] = out.residual;
+    masks[b] = out.masks;
+  }
+  return total;
+}
+
+template <class T>
+typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x, const std::vector<Matrix>& lambda,
+                                               const std::vector<char>& trains, bool want_input_gradient,
+                                               MsaeLossTerms& terms) {
+  const Block& bl = blocks_[static_cast<std::size_t>(b)];
+  nn::Tape<T> tape;
+  const nn::Bound<T> p = store_.bind(tape);
+  Var in = want_input_gradient ? tape.variable(x) : tape.constant(x);
+  Var total;
+  BlockOutput out = forward_block(p, b, in, &lambda[static_cast<std::size_t>(b)],
+                                  trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, &terms);
+  // Children, one at a time; their gradients w.r.t. their inputs become G_r and G_AM.
+  bool children_train = false;
+  for (std::size_t l = static_cast<std::size_t>(bl.level) + 1; l < trains.size(); ++l) children_train |= trains[l] != 0;
+  if (children_train && !bl.children.empty()) {
+    const Matrix& r = out.residual.value();
+    const Matrix* am = config_.attention ? &out.masks.value() : nullptr;
+    Matrix g_r = Matrix::Zero(r.rows(), r.cols());
+    Matrix g_am = am ? Matrix::Zero(am->rows(), am->cols()) : Matrix();
+    for (int child : bl.children) {
+      const Block& cb = blocks_[static_cast<std::size_t>(child)];
+      const Matrix g = subtree(child, child_input(cb, r, am), lambda, trains, true, terms);
+      if (!am) {
+        g_r += g;
+        continue;
+      }
+      for (Index row = 0; row < r.rows(); ++row)
+        for (Index i = 0; i < n_vertices_; ++i) {
+          const auto gi = g.row(row).segment(9 * i, 9);
+          g_r.row(row).segment(9 * i, 9) += gi * (*am)(cb.slot, i);
+          g_am(cb.slot, i) += gi.dot(r.row(row).segment(9 * i, 9));
+        }
+    }
+    Var surrogate = nn::sum(nn::mul(out.residual, tape.constant(std::move(g_r))));
+    if (am) surrogate = nn::add(surrogate, nn::sum(nn::mul(out.masks, tape.constant(std::move(g_am)))));
+    total = total.id < 0 ? surrogate : nn::add(total, surrogate);
+  }
+  if (total.id < 0) return want_input_gradient ? Matrix::Zero(x.rows(), x.cols()) : Matrix();
+  tape.backward(total);
+  store_.collect(p);
+  if (!want_input_gradient) return Matrix();
+  return in.tape->has_grad(in.id) ? Matrix(in.grad()) : Matrix(Matrix::Zero(x.rows(), x.cols()));
+}
+
+template <class T>
+MsaeLossTerms MsaeNet<T>::loss_and_gradient(const Matrix& x, const std::vector<Matrix>& lambda,
+                                            const std::vector<int>& levels) {
+  int deepest = 0;
+  const auto trains = training_levels(config_.levels(), levels, deepest);
+  MsaeLossTerms terms;
+  subtree(0, x, lambda, trains, false, terms);
+  return terms;
+}
+
+template <class T>
+typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels, std::vector<Matrix>* codes) const {
+  if (levels < 1 || levels > config_.levels())
+    throw UsageError(fmt::format("the model has levels 1..{}, not {}", config_.levels(), levels));
+  Matrix sum = Matrix::Zero(x.rows(), x.cols());
+  if (codes) codes->assign(blocks_.size(), Matrix());
+  // Depth first, each block on its own small tape (constants only: no gradients are kept).
+  std::vector<std::pair<int, Matrix>> todo = {{0, x}};
+  while (!todo.empty()) {
+    auto [b, input] = std::move(todo.back());
+    todo.pop_back();
+    const Block& bl = blocks_[static_cast<std::size_t>(b)];
+    nn::Tape<T> tape;
+    nn::Bound<T> p;
+    for (std::size_t k = 0; k < store_.views().size(); ++k)
+      p.vars.push_back(tape.constant(store_.value(static_cast<int>(k))));
+    Var in = tape.constant(std::move(input));
+    BlockOutput out = forward_block(p, b, in, nullptr, nullptr, nullptr);
+    sum += out.xhat.value();
+    if (codes) (*codes)[static_cast<std::size_t>(b)] = out.z.value();
+    if (bl.level + 1 >= levels) continue;
+    const Matrix* am = config_.attention ? &out.masks.value() : nullptr;
+    for (auto it = bl.children.rbegin(); it != bl.children.rend(); ++it)
+      todo.emplace_back(*it, child_input(blocks_[static_cast<std::size_t>(*it)], out.residual.value(), am));
+  }
+  return sum;
+}
+
+template <class T>
+typename MsaeNet<T>::Matrix MsaeNet<T>::decode(int block, const Matrix& z) const {
+  const Block& bl = blocks_[static_cast<std::size_t>(block)];
+  nn::Tape<T> tape;
+  nn::Bound<T> p;
+  p.vars.resize(store_.views().size());
+  for (int k : {bl.c, bl.conv.w_point, bl.conv.w_nb, bl.b_dec})
+    p.vars[static_cast<std::size_t>(k)] = tape.constant(store_.value(k));
+  Var y = nn::tanh(nn::matmul(tape.constant(z), p[bl.c]));
+  return nn::tanh(bl.conv.tied_transpose(p, y, p[bl.b_dec])).value();
+}
+
+template class MsaeNet<float>;
+template class MsaeNet<double>;
+
+}  // namespace df::models

@@ -1,0 +1,148 @@
+// The multiscale attention autoencoder of paper 2 (Yang, Gao, Lai, Gao, Xia: "Multiscale Mesh
+// Deformation Component Analysis with Attention-based Autoencoders"), SPEC §7, on the network
+// engine. Shapes are rows of normalized ACAP features [B, 9V].
+//
+// An AE block with K_z components (§4.1):
+//   h = tanh(conv(x))   z = tanh(h Cᵀ)   y = tanh(z C)   x̂ = tanh(conv'(y))
+// C [K_z, 9V] has no bias and is shared by encoder and decoder; conv' is the mesh convolution
+// with the encoder's weights transposed (tied, as in the convMesh code the paper builds on) and
+// its own bias. Loss of a block: λ₁ L_recon + λ₂ Ω(C) + V(Z), with
+//   L_recon = mean over the batch of ‖x − x̂‖²,
+//   Ω(C) = (1/K_z) Σ_k Σ_i Λ_ik ‖C_{k,i}‖ (Λ_ik = 1 where d(i, c_k) ≥ d, c_k = argmax_i ‖C_{k,i}‖),
+//   V(Z) = (1/K_z) Σ_j max(max_batch |z_j| − θ, 0).
+// Levels (§4.2): level 0 is one block; with attention every block of level l has K_z(l) children
+// at level l + 1, child k fed diag(AM_k)·(x − x̂) of its parent, AM the parent's attention masks
+// (am_{k,i} = ‖C_{k,i}‖², AM_{k,i} = am_{k,i} / Σ_k am_{k,i}: they sum to 1 per vertex, so the
+// children's inputs sum to the parent's residual). Without attention level l is one block with as
+// many components as the attention tree has at that level, fed the whole residual. The
+// reconstruction through the first L levels is the sum of their blocks' outputs.
+//
+// Training memory: a block's activations are ~10 matrices of B × 9V floats (115 MB each for a
+// 12,500-vertex mesh and B = 256). loss_and_gradient therefore works block by block, depth first,
+// each block on its own tape: a child's input is passed as a value, and the gradient it returns
+// reaches the parent's residual and attention masks through a surrogate term
+// ⟨residual, G_r⟩ + ⟨AM, G_AM⟩, so at most one tape per level is alive. loss() builds the same
+// loss on one tape (small problems, gradient checks); tests check that both agree.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nn/layers.h"
+
+namespace df::models {
+
+/// Every hyper-parameter of the network and of its loss (stored in the model file's /config).
+struct MsaeConfig {
+  std::vector<int> kz = {10, 5};         ///< components of each block, per level
+  std::vector<double> d = {0.4, 0.2};    ///< Ω's normalized geodesic radius, per level
+  bool attention = true;                 ///< false: one block per level on the whole residual
+  double lambda_recon = 10, lambda_sparse = 1, theta = 5;
+  int levels() const { return static_cast<int>(kz.size()); }
+};
+
+/// Loss terms summed over the blocks of a batch (the first is what is minimised).
+struct MsaeLossTerms {
+  double total = 0, recon = 0, sparsity = 0, latent = 0;
+};
+
+template <class T>
+class MsaeNet {
+ public:
+  using Matrix = nn::Matrix<T>;
+  using Var = nn::Var<T>;
+
+  struct Block {
+    int level = 0;
+    int parent = -1;  ///< block index, -1 for level 0
+    int slot = 0;     ///< with attention: which of the parent's masks weights its input
+    int kz = 0;
+    nn::MeshConv<T> conv;
+    int c = -1;      ///< C [kz, 9V]
+    int b_dec = -1;  ///< bias of the decoder's convolution [1, 9]
+    std::vector<int> children;
+  };
+
+  /// @param edges  undirected edges of the template (the mesh-conv neighbourhoods)
+  /// @param seed   initial weights come from Rng(seed, 0)
+  MsaeNet(const MsaeConfig& config, int n_vertices, const std::vector<std::array<int, 2>>& edges,
+          std::uint64_t seed);
+
+  const MsaeConfig& config() const { return config_; }
+  int n_vertices() const { return n_vertices_; }
+  int frame_size() const { return 9 * n_vertices_; }
+  nn::ParameterStore<T>& store() { return store_; }
+  const nn::ParameterStore<T>& store() const { return store_; }
+  const std::vector<Block>& blocks() const { return blocks_; }
+  /// Index of the first block of each level, and one past the last block ([levels + 1]).
+  const std::vector<int>& level_begin() const { return level_begin_; }
+
+  /// Per block, its centres c_k = argmax_i ‖C_{k,i}‖ from the current weights ([kz] each).
+  std::vector<std::vector<int>> centres() const;
+  /// Per block, Ω's mask Λ [kz, V] (1 where the normalized distance to the centre is ≥ d).
+  /// @param distance  distance(c) = the normalized geodesic distances from vertex c (#V)
+  template <class Distance>
+  std::vector<Matrix> sparsity_masks(const std::vector<std::vector<int>>& centres, Distance&& distance) const {
+    std::vector<Matrix> masks;
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+      const double d = config_.d[static_cast<std::size_t>(blocks_[b].level)];
+      Matrix lam(blocks_[b].kz, n_vertices_);
+      for (int k = 0; k < blocks_[b].kz; ++k) {
+        const auto& row = distance(centres[b][static_cast<std::size_t>(k)]);
+        for (int i = 0; i < n_vertices_; ++i) lam(k, i) = row[i] >= d ? T(1) : T(0);
+      }
+      masks.push_back(std::move(lam));
+    }
+    return masks;
+  }
+  /// The attention masks AM [kz, V] of a block from its C (eq. 5-6): each column sums to 1.
+  Matrix attention_masks(int block) const;
+
+  /// The training loss of a batch x [B, 9V] on one tape (every block's activations alive at once).
+  /// @param lambda  Ω's masks, one per block (sparsity_masks)
+  /// @param levels  train only these levels' losses (separate training: {l}); empty = all
+  Var loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matrix& x, const std::vector<Matrix>& lambda,
+           MsaeLossTerms* terms = nullptr, const std::vector<int>& levels = {}) const;
+  /// The same loss with its gradient added into store().grads(), block by block (see above).
+  MsaeLossTerms loss_and_gradient(const Matrix& x, const std::vector<Matrix>& lambda,
+                                  const std::vector<int>& levels = {});
+
+  /// The reconstruction of x [B, 9V] through the first `levels` levels (1..levels()) and the
+  /// latent codes of every block ([B, kz] each; blocks beyond `levels` are left empty).
+  Matrix reconstruct(const Matrix& x, int levels, std::vector<Matrix>* codes = nullptr) const;
+  /// The decoder of one block applied to latent codes z [rows, kz] → [rows, 9V].
+  Matrix decode(int block, const Matrix& z) const;
+
+ private:
+  struct BlockOutput {
+    Var z;         ///< latent codes [B, kz]
+    Var xhat;
+    Var residual;  ///< x − x̂
+    Var masks;     ///< attention masks [kz, V] (with attention and children)
+  };
+  /// One block's forward pass on x; adds its loss terms (when its level trains) into *loss.
+  BlockOutput forward_block(const nn::Bound<T>& p, int b, Var x, const Matrix* lambda, Var* loss,
+                            MsaeLossTerms* terms) const;
+  Var masks_of(const nn::Bound<T>& p, int b) const;
+  /// Input of `child` from its parent's residual (and masks), as a value.
+  Matrix child_input(const Block& child, const Matrix& residual, const Matrix* masks) const;
+  /// loss_and_gradient's recursion: processes block b and its subtree on input x; returns
+  /// ∂(subtree loss)/∂x when `want_input_gradient`.
+  Matrix subtree(int b, const Matrix& x, const std::vector<Matrix>& lambda, const std::vector<char>& trains,
+                 bool want_input_gradient, MsaeLossTerms& terms);
+
+  MsaeConfig config_;
+  int n_vertices_;
+  nn::ParameterStore<T> store_;
+  std::shared_ptr<const nn::SparseMatrix<T>> adjacency_;
+  std::vector<Block> blocks_;
+  std::vector<int> level_begin_;
+};
+
+extern template class MsaeNet<float>;
+extern template class MsaeNet<double>;
+
+}  // namespace df::models
