@@ -117,6 +117,10 @@ class Validator {
         if (!std::isfinite(v)) fail("attribute '" + name + "' is not finite", object);
       } else if (type == "integer") {
         f_.attr_int(object, name);
+      } else if (type == "numbers") {  // a non-empty array of finite numbers
+        const auto v = f_.attr_doubles(object, name);
+        if (v.empty() || !std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }))
+          fail("attribute '" + name + "' is not a non-empty array of finite numbers", object);
       }
     }
   }

@@ -14,7 +14,9 @@ namespace df::models {
 void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>& names,
                        std::int64_t& iteration, std::vector<double>& log,
                        const std::function<LossTerms(std::int64_t)>& step,
-                       const std::function<void()>& checkpoint) {
+                       const std::function<void()>& checkpoint,
+                       const std::vector<std::string>& evaluate_names,
+                       const std::function<LossTerms()>& evaluate) {
   std::vector<double> sum(names.size(), 0.0);
   int in_interval = 0;
   const auto t0 = std::chrono::steady_clock::now();
@@ -37,6 +39,13 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
       const double mean = sum[k] / in_interval;
       log.push_back(mean);
       if (k) detail += fmt::format("{}{} {:.4g}", k > 1 ? ", " : "", names[k], mean);
+    }
+    if (evaluate) {
+      const LossTerms extra = evaluate();
+      for (std::size_t k = 0; k < evaluate_names.size(); ++k) {
+        log.push_back(extra.at(k));
+        detail += fmt::format("; {} {:.4g}", evaluate_names[k], extra[k]);
+      }
     }
     const double secs =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

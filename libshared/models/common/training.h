@@ -28,10 +28,14 @@ using LossTerms = std::vector<double>;
 /// holds; checkpoints fall on printing boundaries where a multiple of checkpoint_every was passed
 /// (the interval averages restart there, so a resumed run logs what an uninterrupted one does).
 /// @param names  the terms' names, as printed ("loss", "recon", ...)
+/// @param evaluate  when set, called at every printing boundary; its values (named by
+///                  `evaluate_names`, e.g. a validation error) follow the means in the log row
 void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>& names,
                        std::int64_t& iteration, std::vector<double>& log,
                        const std::function<LossTerms(std::int64_t)>& step,
-                       const std::function<void()>& checkpoint);
+                       const std::function<void()>& checkpoint,
+                       const std::vector<std::string>& evaluate_names = {},
+                       const std::function<LossTerms()>& evaluate = {});
 
 /// Fails now rather than after hours of training: IOError if `output` exists without `force`, or
 /// is `input`.

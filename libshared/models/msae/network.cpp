@@ -50,6 +50,14 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices, const std::vector<
 }
 
 template <class T>
+std::vector<int> MsaeNet<T>::level_parameters(int level) const {
+  std::vector<int> out;
+  for (const Block& b : blocks_)
+    if (b.level == level) out.insert(out.end(), {b.conv.w_point, b.conv.w_nb, b.conv.b, b.c, b.b_dec});
+  return out;
+}
+
+template <class T>
 std::vector<std::vector<int>> MsaeNet<T>::centres() const {
   std::vector<std::vector<int>> out;
   for (const Block& b : blocks_) {

@@ -80,6 +80,8 @@ class MsaeNet {
   /// Index of the first block of each level, and one past the last block ([levels + 1]).
   const std::vector<int>& level_begin() const { return level_begin_; }
 
+  /// Indices (into store()) of the parameters of the blocks of one level.
+  std::vector<int> level_parameters(int level) const;
   /// Per block, its centres c_k = argmax_i ‖C_{k,i}‖ from the current weights ([kz] each).
   std::vector<std::vector<int>> centres() const;
   /// Per block, Ω's mask Λ [kz, V] (1 where the normalized distance to the centre is ≥ d).

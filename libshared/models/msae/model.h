@@ -1,0 +1,79 @@
+// The msae-model file kind (schemas/msae-model.json): the network's configuration, weights, Adam
+// and RNG state (enough to resume training bit-exactly), the template and normalization of the
+// training data, the shapes trained on / validated on / held out, the geodesic distances from the
+// final component centres and the training log. Written by train-msae (final model and periodic
+// checkpoints), read by recon-msae and extract-components.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geometry/acap_features.h"
+#include "io/mesh_io.h"
+#include "models/msae/network.h"
+#include "nn/adam.h"
+
+namespace df::models {
+
+/// How the model was trained (recorded in /config; checked on --resume).
+struct MsaeTraining {
+  std::int64_t iterations = 2000;
+  int batch = 256;  ///< shapes per iteration, drawn with replacement from the training shapes
+  double lr = 1e-3;
+  /// Exponential decay: lr · decay^(step / decay_steps) (the paper: "exponential decay").
+  double lr_decay = 0.5;
+  double lr_decay_steps = 1000;
+  /// sequence: every `every`-th shape of each sequence trains, the rest is held out (paper 1:9);
+  /// collection: a random `train_fraction` of the shapes trains (paper 1:1); lists: given files.
+  std::string split = "sequence";
+  int every = 10;
+  double train_fraction = 0.5;
+  /// This fraction of the held-out shapes (placed by the seed) validates instead of testing:
+  /// iteration counts and options are chosen on it, never on the test shapes.
+  double validation_fraction = 0;
+  /// Train the levels one after another (iterations shared equally, earlier levels frozen)
+  /// instead of jointly (paper Table 4).
+  bool separate = false;
+  std::uint64_t seed = 0;
+};
+
+/// Global frame indices of the data file, in increasing order.
+struct MsaeSplit {
+  std::string data;  ///< the data file's name as given
+  std::vector<std::int64_t> train, validation, test;
+};
+
+struct MsaeModel {
+  MsaeConfig config;
+  MsaeTraining training;
+  io::Mesh tmpl;
+  geometry::Normalization normalization;
+  MsaeSplit split;
+  /// The template's geodesic diameter (mesh units) and the normalized distances from the
+  /// centres of the last iteration (sources [n], rows [n, V]).
+  double geodesic_diameter = 0;
+  std::vector<int> geodesic_sources;
+  std::vector<Eigen::VectorXf> geodesic_rows;
+  std::vector<std::string> log_columns;  ///< iteration total recon sparsity latent [validation]
+  std::vector<double> log;               ///< rows of log_columns, flat
+  std::unique_ptr<MsaeNet<float>> net;
+  std::unique_ptr<nn::Adam<float>> adam;
+  Rng rng;  ///< batches
+  std::int64_t iteration = 0;
+  std::string history;  ///< inherited provenance (the data file's)
+
+  /// A new, untrained model (weights from the seed) for a template.
+  void initialize();
+  /// A fresh Adam with the configured learning rate and decay (separate training starts one per
+  /// level).
+  std::unique_ptr<nn::Adam<float>> make_adam() const;
+};
+
+/// Writes the whole model (header included) to `path` atomically.
+void save_msae_model(const std::string& path, const MsaeModel& m, const std::vector<std::string>& inputs, bool force);
+/// Reads and validates a model file.
+MsaeModel load_msae_model(const std::string& path);
+
+}  // namespace df::models

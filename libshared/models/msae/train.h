@@ -1,0 +1,42 @@
+// train-msae: trains the multiscale attention autoencoder (SPEC §7) on the normalized ACAP
+// features of an acap file: batches of shapes drawn from the training split, every block's loss
+// summed (joint training) or one level after another (separate), the centres of Ω's masks and
+// their geodesic distances recomputed every iteration.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/tool.h"
+#include "models/msae/model.h"
+
+namespace df::models {
+
+struct MsaeTrainOptions {
+  std::string input, output;
+  std::string train_list, test_list;  ///< explicit split: files of frame names or indices
+  std::string checkpoint;             ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
+  int checkpoint_every = 500;         ///< iterations between checkpoints (0 = none)
+  bool resume = false;
+  int print_every = 100;
+  MsaeConfig net;
+  MsaeTraining training;
+};
+
+/// The paper's split of the frames of an acap file (offsets as in its /sequences/offsets):
+/// "sequence" trains on every `every`-th frame of each sequence (its first frame included),
+/// "collection" on a random round(train_fraction × N) frames drawn from the seed; the rest is
+/// held out. Then round(validation_fraction × held out) of the held-out frames, drawn from the
+/// seed, validate instead of testing.
+MsaeSplit split_shapes(const std::vector<std::int64_t>& offsets, const MsaeTraining& t);
+
+/// An explicit split from list files (one frame name of /frames/names, or a frame index, per
+/// line; blank lines and # comments skipped). Without a test list every frame not trained on is
+/// held out. InvalidInput names the file and line of an unknown or repeated entry.
+MsaeSplit split_from_lists(const std::vector<std::string>& frame_names, const std::string& train_list,
+                           const std::string& test_list);
+
+void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common);
+
+}  // namespace df::models
