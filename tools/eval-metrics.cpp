@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
                  "Write two tables for plots to FILE: per-step errors (gnuplot: index 'step') and\n"
                  "the feature change per time index (index 'feature_change')");
   app.add_option("--steps", opt.steps, "Steps shown in the table, e.g. 5,10,15 (default: all, or every 5th)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--change-span", opt.change_span, "Feature change between frames K apart (1 = consecutive)")
       ->default_val(opt.change_span);
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);

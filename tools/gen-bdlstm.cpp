@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
   app.add_option("--method", opt.method, "bdlstm, linear (feature-space baseline), or static (predict: the last given\nframe repeated, the zero-motion reference)")->default_val(opt.method);
   app.add_option("--from", opt.from, "predict: last given frame of a case (repeatable)");
   app.add_option("--keyframes", opt.keyframes, "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--test-every", opt.test_every,
                  "Cases at every K-th frame of the model's held-out test parts (instead of\n"
                  "--from / --keyframes)")

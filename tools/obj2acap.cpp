@@ -29,7 +29,9 @@ int main(int argc, char** argv) {
                  "authors' code); per-dim: each of the 9 dimensions separately")
       ->default_val(normalize)
       ->check(CLI::IsMember({"group", "per-dim"}));
-  app.add_option("--labels", opt.labels, "One class label per sequence (comma-separated), e.g. walk,run")->delimiter(',');
+  app.add_option("--labels", opt.labels, "One class label per sequence (comma-separated), e.g. walk,run")
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_flag("--no-consistency", no_consistency,
                "Store each vertex's principal rotation log (no ACAP consistency; for comparison)");
   app.add_option("--max-sweeps", opt.consistency_options.max_sweeps,

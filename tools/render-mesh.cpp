@@ -45,11 +45,13 @@ int main(int argc, char** argv) {
   app.add_option("--sequence", opt.sequences,
                  "Sequences (names or indices) to draw, one row each, frames counted from each\n"
                  "sequence's start (repeatable). Skeleton files: default all sequences")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--steps", opt.steps,
                  "Only generated frames this many steps after the last given one\n"
                  "(gen-bdlstm's /frames/step), e.g. 5,10,15")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--error-vs", opt.error_vs, "Ground truth (acap .h5 or meshes) for --color error");
   app.add_flag("--show-truth", opt.show_truth,
                "First row: the ground-truth frames paired with the first row's");
@@ -60,7 +62,8 @@ int main(int argc, char** argv) {
       ->default_val(opt.color);
   app.add_option("--colormap", opt.colormap, "viridis or jet")->default_val(opt.colormap);
   app.add_option("--range", opt.range, "Colour range LO,HI (default 0 .. the largest value shown)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--view", opt.view, "front, side, top, back, or AZIMUTH,ELEVATION in degrees")
       ->default_val(opt.view);
   app.add_option("--up", opt.up, "The data's up axis: y or z")->default_val(opt.up);
@@ -84,10 +87,12 @@ int main(int argc, char** argv) {
       ->default_val(opt.supersample);
   app.add_option("--row-labels", opt.row_labels,
                  "Row captions, comma-separated (default: file / sequence names)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--column-labels", opt.column_labels,
                  "Column captions, comma-separated (default: 'frame I', or 'future frame S')")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--title", opt.title, "Title above the sheet");
   tool.footer(
       "Examples:\n"

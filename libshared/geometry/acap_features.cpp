@@ -118,4 +118,11 @@ Normalization read_normalization(const h5::File& f) {
   return nz;
 }
 
+std::array<double, kFeatureDims> identity_features(const Normalization* nz) {
+  std::array<double, kFeatureDims> id = {0, 0, 0, 1, 0, 0, 1, 0, 1};
+  if (nz)
+    for (int d = 0; d < kFeatureDims; ++d) id[static_cast<std::size_t>(d)] = nz->normalize(d, id[static_cast<std::size_t>(d)]);
+  return id;
+}
+
 }  // namespace df::geometry

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -73,6 +74,10 @@ struct Normalization {
   double normalize(int d, double x) const { return -0.95 + 1.9 * (x - min[d]) / (max[d] - min[d]); }
   double denormalize(int d, double y) const { return min[d] + (y + 0.95) * (max[d] - min[d]) / 1.9; }
 };
+
+/// The reference's own features (r = 0, S = I), normalized by `nz` when given: X_r of the MSAE
+/// paper, the zero of "deformation".
+std::array<double, kFeatureDims> identity_features(const Normalization* nz = nullptr);
 
 /// Running minima/maxima of features, merged into a Normalization at the end.
 class NormalizationBuilder {

@@ -239,12 +239,10 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
     if (col.mode == "deformation") {
       if (s.raw.rows() == 0)
         throw InvalidInput("has no ACAP features for --color deformation", s.path);
-      const double id[geometry::kFeatureDims] = {0, 0, 0, 1, 0, 0, 1, 0, 1};  // r = 0, S = I
+      const auto id = geometry::identity_features(s.normalization ? &*s.normalization : nullptr);
       identity[k].resize(s.raw.cols());
-      for (Eigen::Index j = 0; j < identity[k].size(); ++j) {
-        const int d = static_cast<int>(j % geometry::kFeatureDims);
-        identity[k][j] = s.normalization ? s.normalization->normalize(d, id[d]) : id[d];
-      }
+      for (Eigen::Index j = 0; j < identity[k].size(); ++j)
+        identity[k][j] = id[static_cast<std::size_t>(j % geometry::kFeatureDims)];
     }
   }
   const double truth_diag = truth ? truth->diagonal() : 0.0;

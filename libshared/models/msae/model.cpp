@@ -16,7 +16,8 @@ namespace df::models {
 
 void MsaeModel::initialize() {
   auto topo = geometry::mesh_topology(tmpl.faces, static_cast<int>(tmpl.vertices.rows()));
-  net = std::make_unique<MsaeNet<float>>(config, static_cast<int>(tmpl.vertices.rows()), topo.edges, training.seed);
+  net = std::make_unique<MsaeNet<float>>(config, static_cast<int>(tmpl.vertices.rows()), topo.edges,
+                                         training.seed);
   adam = make_adam();
   rng = Rng(training.seed, 1);
   iteration = 0;
@@ -44,7 +45,8 @@ void write_frames(h5::File& f, const std::string& path, const std::vector<std::i
 }
 }  // namespace
 
-void save_msae_model(const std::string& path, const MsaeModel& m, const std::vector<std::string>& inputs, bool force) {
+void save_msae_model(const std::string& path, const MsaeModel& m,
+                     const std::vector<std::string>& inputs, bool force) {
   std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
   AtomicOutput out(path, AtomicOutput::Kind::file, force, in);
   {
@@ -122,18 +124,21 @@ MsaeModel load_msae_model(const std::string& path) {
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   std::vector<double> log;
   read_mesh_model_common(f, m.tmpl, m.normalization, log);
-  if (f.exists("/training/log")) m.log_columns = split_words(f.attr_string("/training/log", "columns"));
+  if (f.exists("/training/log"))
+    m.log_columns = split_words(f.attr_string("/training/log", "columns"));
   m.split.data = f.attr_string("/split", "data");
   m.split.train = f.read<std::int64_t>("/split/train").data;
   m.split.validation = f.read<std::int64_t>("/split/validation").data;
   m.split.test = f.read<std::int64_t>("/split/test").data;
   m.geodesic_diameter = f.attr_double("/geodesic", "diameter");
   if (f.exists("/geodesic/sources")) {
-    for (auto s : f.read<std::int64_t>("/geodesic/sources").data) m.geodesic_sources.push_back(static_cast<int>(s));
+    for (auto s : f.read<std::int64_t>("/geodesic/sources").data)
+      m.geodesic_sources.push_back(static_cast<int>(s));
     const auto d = f.read<float>("/geodesic/distances").data;
     const auto V = static_cast<std::size_t>(m.tmpl.vertices.rows());
     for (std::size_t k = 0; k < m.geodesic_sources.size(); ++k)
-      m.geodesic_rows.push_back(Eigen::Map<const Eigen::VectorXf>(d.data() + k * V, static_cast<Eigen::Index>(V)));
+      m.geodesic_rows.push_back(
+          Eigen::Map<const Eigen::VectorXf>(d.data() + k * V, static_cast<Eigen::Index>(V)));
   }
   try {
     m.initialize();  // the network's shapes; weights, Adam and RNG state come from the file

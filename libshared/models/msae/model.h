@@ -72,7 +72,8 @@ struct MsaeModel {
 };
 
 /// Writes the whole model (header included) to `path` atomically.
-void save_msae_model(const std::string& path, const MsaeModel& m, const std::vector<std::string>& inputs, bool force);
+void save_msae_model(const std::string& path, const MsaeModel& m,
+                     const std::vector<std::string>& inputs, bool force);
 /// Reads and validates a model file.
 MsaeModel load_msae_model(const std::string& path);
 

@@ -11,8 +11,8 @@ namespace df::models {
 using Eigen::Index;
 
 template <class T>
-MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices, const std::vector<std::array<int, 2>>& edges,
-                    std::uint64_t seed)
+MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
+                    const std::vector<std::array<int, 2>>& edges, std::uint64_t seed)
     : config_(config), n_vertices_(n_vertices) {
   if (config_.kz.empty() || config_.kz.size() != config_.d.size())
     throw UsageError("--kz and --d need one value per level");
@@ -33,9 +33,12 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices, const std::vector<
       b.kz = config_.attention ? kz : kz * width;
       if (l > 0) {
         const int first_parent = level_begin_[static_cast<std::size_t>(l - 1)];
-        b.parent = config_.attention ? first_parent + k / config_.kz[static_cast<std::size_t>(l - 1)] : first_parent;
+        b.parent = config_.attention
+                       ? first_parent + k / config_.kz[static_cast<std::size_t>(l - 1)]
+                       : first_parent;
         b.slot = config_.attention ? k % config_.kz[static_cast<std::size_t>(l - 1)] : 0;
-        blocks_[static_cast<std::size_t>(b.parent)].children.push_back(static_cast<int>(blocks_.size()));
+        blocks_[static_cast<std::size_t>(b.parent)].children.push_back(
+            static_cast<int>(blocks_.size()));
       }
       const std::string name = fmt::format("ae{}.{}", l, k);
       b.conv = nn::MeshConv<T>(store_, name + ".conv", 9, 9, adjacency_, rng);
@@ -53,7 +56,8 @@ template <class T>
 std::vector<int> MsaeNet<T>::level_parameters(int level) const {
   std::vector<int> out;
   for (const Block& b : blocks_)
-    if (b.level == level) out.insert(out.end(), {b.conv.w_point, b.conv.w_nb, b.conv.b, b.c, b.b_dec});
+    if (b.level == level)
+      out.insert(out.end(), {b.conv.w_point, b.conv.w_nb, b.conv.b, b.c, b.b_dec});
   return out;
 }
 
@@ -93,8 +97,9 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::attention_masks(int block) const {
 }
 
 template <class T>
-typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p, int b, Var x, const Matrix* lambda,
-                                                          Var* loss, MsaeLossTerms* terms) const {
+typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p, int b, Var x,
+                                                           const Matrix* lambda, Var* loss,
+                                                           MsaeLossTerms* terms) const {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   Var C = p[bl.c];
   Var h = nn::tanh(bl.conv(p, x));
@@ -109,8 +114,10 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
     nn::Tape<T>& tape = *x.tape;
     const T inv_batch = T(1) / static_cast<T>(x.rows()), inv_kz = T(1) / static_cast<T>(bl.kz);
     Var recon = nn::scale(nn::sum(nn::square(out.residual)), inv_batch);
-    Var omega = nn::scale(nn::sum(nn::mul(nn::group_norm(C, Index{9}), tape.constant(*lambda))), inv_kz);
-    Var vz = nn::mean(nn::relu(nn::add_scalar(nn::max_rows(nn::abs(z)), static_cast<T>(-config_.theta))));
+    Var omega =
+        nn::scale(nn::sum(nn::mul(nn::group_norm(C, Index{9}), tape.constant(*lambda))), inv_kz);
+    Var vz = nn::mean(
+        nn::relu(nn::add_scalar(nn::max_rows(nn::abs(z)), static_cast<T>(-config_.theta))));
     Var l = nn::add(nn::add(nn::scale(recon, static_cast<T>(config_.lambda_recon)),
                             nn::scale(omega, static_cast<T>(config_.lambda_sparse))),
                     vz);
@@ -127,7 +134,7 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
 
 template <class T>
 typename MsaeNet<T>::Matrix MsaeNet<T>::child_input(const Block& child, const Matrix& residual,
-                                                   const Matrix* masks) const {
+                                                    const Matrix* masks) const {
   if (!masks) return residual;
   Matrix in(residual.rows(), residual.cols());
   for (Index r = 0; r < residual.rows(); ++r)
@@ -166,15 +173,17 @@ nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matr
     if (bl.parent >= 0) {
       const auto pb = static_cast<std::size_t>(bl.parent);
       if (config_.attention) {  // diag(AM_slot) · residual: each vertex's 9 values times its weight
-        Var w = nn::transpose(nn::slice_rows(masks[pb], Index{bl.slot}, Index{1}));                 // [V, 1]
-        w = nn::reshape(nn::mul(w, tape.constant(Matrix::Ones(n_vertices_, 9))), 1, 9 * Index{n_vertices_});
+        Var w = nn::transpose(nn::slice_rows(masks[pb], Index{bl.slot}, Index{1}));  // [V, 1]
+        w = nn::reshape(nn::mul(w, tape.constant(Matrix::Ones(n_vertices_, 9))), 1,
+                        9 * Index{n_vertices_});
         input[b] = nn::mul(residual[pb], w);
       } else {
         input[b] = residual[pb];
       }
     }
-    BlockOutput out = forward_block(p, static_cast<int>(b), input[b], &lambda[b],
-                                    trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, terms);
+    BlockOutput out =
+        forward_block(p, static_cast<int>(b), input[b], &lambda[b],
+                      trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, terms);
     residual[b] = out.residual;
     masks[b] = out.masks;
   }
@@ -182,19 +191,22 @@ nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matr
 }
 
 template <class T>
-typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x, const std::vector<Matrix>& lambda,
-                                               const std::vector<char>& trains, bool want_input_gradient,
-                                               MsaeLossTerms& terms) {
+typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
+                                                const std::vector<Matrix>& lambda,
+                                                const std::vector<char>& trains,
+                                                bool want_input_gradient, MsaeLossTerms& terms) {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   nn::Tape<T> tape;
   const nn::Bound<T> p = store_.bind(tape);
   Var in = want_input_gradient ? tape.variable(x) : tape.constant(x);
   Var total;
-  BlockOutput out = forward_block(p, b, in, &lambda[static_cast<std::size_t>(b)],
-                                  trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, &terms);
+  BlockOutput out =
+      forward_block(p, b, in, &lambda[static_cast<std::size_t>(b)],
+                    trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, &terms);
   // Children, one at a time; their gradients w.r.t. their inputs become G_r and G_AM.
   bool children_train = false;
-  for (std::size_t l = static_cast<std::size_t>(bl.level) + 1; l < trains.size(); ++l) children_train |= trains[l] != 0;
+  for (std::size_t l = static_cast<std::size_t>(bl.level) + 1; l < trains.size(); ++l)
+    children_train |= trains[l] != 0;
   if (children_train && !bl.children.empty()) {
     const Matrix& r = out.residual.value();
     const Matrix* am = config_.attention ? &out.masks.value() : nullptr;
@@ -215,7 +227,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x, const st
         }
     }
     Var surrogate = nn::sum(nn::mul(out.residual, tape.constant(std::move(g_r))));
-    if (am) surrogate = nn::add(surrogate, nn::sum(nn::mul(out.masks, tape.constant(std::move(g_am)))));
+    if (am)
+      surrogate = nn::add(surrogate, nn::sum(nn::mul(out.masks, tape.constant(std::move(g_am)))));
     total = total.id < 0 ? surrogate : nn::add(total, surrogate);
   }
   if (total.id < 0) return want_input_gradient ? Matrix::Zero(x.rows(), x.cols()) : Matrix();
@@ -236,7 +249,8 @@ MsaeLossTerms MsaeNet<T>::loss_and_gradient(const Matrix& x, const std::vector<M
 }
 
 template <class T>
-typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels, std::vector<Matrix>* codes) const {
+typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels,
+                                                    std::vector<Matrix>* codes) const {
   if (levels < 1 || levels > config_.levels())
     throw UsageError(fmt::format("the model has levels 1..{}, not {}", config_.levels(), levels));
   Matrix sum = Matrix::Zero(x.rows(), x.cols());
@@ -258,7 +272,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels,
     if (bl.level + 1 >= levels) continue;
     const Matrix* am = config_.attention ? &out.masks.value() : nullptr;
     for (auto it = bl.children.rbegin(); it != bl.children.rend(); ++it)
-      todo.emplace_back(*it, child_input(blocks_[static_cast<std::size_t>(*it)], out.residual.value(), am));
+      todo.emplace_back(
+          *it, child_input(blocks_[static_cast<std::size_t>(*it)], out.residual.value(), am));
   }
   return sum;
 }

@@ -37,9 +37,9 @@ namespace df::models {
 
 /// Every hyper-parameter of the network and of its loss (stored in the model file's /config).
 struct MsaeConfig {
-  std::vector<int> kz = {10, 5};         ///< components of each block, per level
-  std::vector<double> d = {0.4, 0.2};    ///< Ω's normalized geodesic radius, per level
-  bool attention = true;                 ///< false: one block per level on the whole residual
+  std::vector<int> kz = {10, 5};       ///< components of each block, per level
+  std::vector<double> d = {0.4, 0.2};  ///< Ω's normalized geodesic radius, per level
+  bool attention = true;               ///< false: one block per level on the whole residual
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
   int levels() const { return static_cast<int>(kz.size()); }
 };
@@ -87,7 +87,8 @@ class MsaeNet {
   /// Per block, Ω's mask Λ [kz, V] (1 where the normalized distance to the centre is ≥ d).
   /// @param distance  distance(c) = the normalized geodesic distances from vertex c (#V)
   template <class Distance>
-  std::vector<Matrix> sparsity_masks(const std::vector<std::vector<int>>& centres, Distance&& distance) const {
+  std::vector<Matrix> sparsity_masks(const std::vector<std::vector<int>>& centres,
+                                     Distance&& distance) const {
     std::vector<Matrix> masks;
     for (std::size_t b = 0; b < blocks_.size(); ++b) {
       const double d = config_.d[static_cast<std::size_t>(blocks_[b].level)];
@@ -106,8 +107,9 @@ class MsaeNet {
   /// The training loss of a batch x [B, 9V] on one tape (every block's activations alive at once).
   /// @param lambda  Ω's masks, one per block (sparsity_masks)
   /// @param levels  train only these levels' losses (separate training: {l}); empty = all
-  Var loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matrix& x, const std::vector<Matrix>& lambda,
-           MsaeLossTerms* terms = nullptr, const std::vector<int>& levels = {}) const;
+  Var loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matrix& x,
+           const std::vector<Matrix>& lambda, MsaeLossTerms* terms = nullptr,
+           const std::vector<int>& levels = {}) const;
   /// The same loss with its gradient added into store().grads(), block by block (see above).
   MsaeLossTerms loss_and_gradient(const Matrix& x, const std::vector<Matrix>& lambda,
                                   const std::vector<int>& levels = {});
@@ -120,7 +122,7 @@ class MsaeNet {
 
  private:
   struct BlockOutput {
-    Var z;         ///< latent codes [B, kz]
+    Var z;  ///< latent codes [B, kz]
     Var xhat;
     Var residual;  ///< x − x̂
     Var masks;     ///< attention masks [kz, V] (with attention and children)
@@ -133,8 +135,8 @@ class MsaeNet {
   Matrix child_input(const Block& child, const Matrix& residual, const Matrix* masks) const;
   /// loss_and_gradient's recursion: processes block b and its subtree on input x; returns
   /// ∂(subtree loss)/∂x when `want_input_gradient`.
-  Matrix subtree(int b, const Matrix& x, const std::vector<Matrix>& lambda, const std::vector<char>& trains,
-                 bool want_input_gradient, MsaeLossTerms& terms);
+  Matrix subtree(int b, const Matrix& x, const std::vector<Matrix>& lambda,
+                 const std::vector<char>& trains, bool want_input_gradient, MsaeLossTerms& terms);
 
   MsaeConfig config_;
   int n_vertices_;

@@ -21,16 +21,19 @@ namespace {
 
 void check_options(const MsaeTrainOptions& opt) {
   const auto& t = opt.training;
-  if (t.batch < 1 || t.iterations < 0) throw UsageError("--batch must be positive, --iterations not negative");
+  if (t.batch < 1 || t.iterations < 0)
+    throw UsageError("--batch must be positive, --iterations not negative");
   if (!(t.lr > 0) || !(t.lr_decay > 0 && t.lr_decay <= 1) || !(t.lr_decay_steps > 0))
     throw UsageError("--lr must be positive, --lr-decay in (0, 1], --lr-decay-steps positive");
   if (t.every < 2) throw UsageError("--every must be at least 2");
-  if (!(t.train_fraction > 0 && t.train_fraction < 1)) throw UsageError("--train-fraction must be in (0, 1)");
+  if (!(t.train_fraction > 0 && t.train_fraction < 1))
+    throw UsageError("--train-fraction must be in (0, 1)");
   if (!(t.validation_fraction >= 0 && t.validation_fraction < 1))
     throw UsageError("--validation-fraction must be in [0, 1)");
   if (opt.print_every < 1 || opt.checkpoint_every < 0)
     throw UsageError("--print-every must be positive, --checkpoint-every not negative");
-  if (opt.net.kz.size() != opt.net.d.size()) throw UsageError("--kz and --d need one value per level");
+  if (opt.net.kz.size() != opt.net.d.size())
+    throw UsageError("--kz and --d need one value per level");
   for (double d : opt.net.d)
     if (!(d > 0 && d <= 1)) throw UsageError("--d values are normalized geodesic radii in (0, 1]");
   if (t.separate && t.iterations < static_cast<std::int64_t>(opt.net.kz.size()))
@@ -42,10 +45,10 @@ void check_options(const MsaeTrainOptions& opt) {
 void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::string& path) {
   auto differs = [&](const char* what, auto a, auto b) {
     if (a != b)
-      throw InvalidInput(
-          fmt::format("checkpoint was made with {} = {}, this run has {}; remove it or use the same settings", what,
-                      a, b),
-          path);
+      throw InvalidInput(fmt::format("checkpoint was made with {} = {}, this run has {}; remove it "
+                                     "or use the same settings",
+                                     what, a, b),
+                         path);
   };
   const auto &a = ck.config, &b = want.config;
   differs("kz", fmt::format("{}", fmt::join(a.kz, ",")), fmt::format("{}", fmt::join(b.kz, ",")));
@@ -61,7 +64,9 @@ void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::stri
   differs("lr-decay-steps", s.lr_decay_steps, t.lr_decay_steps);
   differs("separate", s.separate, t.separate);
   differs("seed", s.seed, t.seed);
-  if (s.separate) differs("iterations (separate training divides them among the levels)", s.iterations, t.iterations);
+  if (s.separate)
+    differs("iterations (separate training divides them among the levels)", s.iterations,
+            t.iterations);
   differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
   if (ck.split.train != want.split.train || ck.split.validation != want.split.validation ||
       ck.split.test != want.split.test)
@@ -69,7 +74,8 @@ void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::stri
 }
 
 // Frames of a list file: names of /frames/names or indices.
-std::vector<std::int64_t> read_list(const std::string& path, const std::map<std::string, std::int64_t>& by_name,
+std::vector<std::int64_t> read_list(const std::string& path,
+                                    const std::map<std::string, std::int64_t>& by_name,
                                     std::int64_t n_frames) {
   std::ifstream in(path);
   if (!in) throw IOError("cannot read the list", path);
@@ -87,7 +93,11 @@ std::vector<std::int64_t> read_list(const std::string& path, const std::map<std:
       if (f >= n_frames) f = -1;
     }
     const std::string where = fmt::format("{}:{}", path, number);
-    if (f < 0) throw InvalidInput(fmt::format("'{}' is neither a frame name of the data nor a frame index below {}", entry, n_frames), where);
+    if (f < 0)
+      throw InvalidInput(
+          fmt::format("'{}' is neither a frame name of the data nor a frame index below {}", entry,
+                      n_frames),
+          where);
     if (std::find(frames.begin(), frames.end(), f) != frames.end())
       throw InvalidInput(fmt::format("frame '{}' is listed twice", entry), where);
     frames.push_back(f);
@@ -98,7 +108,8 @@ std::vector<std::int64_t> read_list(const std::string& path, const std::map<std:
 
 // A random round(fraction × n) of `held` (by the seed) moves to `validation`.
 void carve_validation(MsaeSplit& s, double fraction, std::uint64_t seed) {
-  const auto n = static_cast<std::size_t>(std::llround(fraction * static_cast<double>(s.test.size())));
+  const auto n =
+      static_cast<std::size_t>(std::llround(fraction * static_cast<double>(s.test.size())));
   if (n == 0) return;
   std::vector<std::int64_t> held = s.test;
   Rng rng(seed, 0x7a1);
@@ -112,7 +123,8 @@ void carve_validation(MsaeSplit& s, double fraction, std::uint64_t seed) {
 // Rows of `data` as one matrix.
 nn::Matrix<float> gather(const nn::Matrix<float>& data, const std::vector<std::int64_t>& frames) {
   nn::Matrix<float> out(static_cast<Eigen::Index>(frames.size()), data.cols());
-  for (std::size_t k = 0; k < frames.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = data.row(frames[k]);
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    out.row(static_cast<Eigen::Index>(k)) = data.row(frames[k]);
   return out;
 }
 
@@ -148,10 +160,14 @@ MsaeSplit split_shapes(const std::vector<std::int64_t>& offsets, const MsaeTrain
     std::vector<std::int64_t> all(static_cast<std::size_t>(n));
     std::iota(all.begin(), all.end(), std::int64_t{0});
     Rng rng(t.seed, 0x5e9117);
-    const auto n_train = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(t.train_fraction * static_cast<double>(n))));
-    for (std::size_t k = 0; k < n_train && k < all.size(); ++k) std::swap(all[k], all[k + rng.below(all.size() - k)]);
-    s.train.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(std::min(n_train, all.size())));
-    s.test.assign(all.begin() + static_cast<std::ptrdiff_t>(std::min(n_train, all.size())), all.end());
+    const auto n_train = std::max<std::size_t>(
+        1, static_cast<std::size_t>(std::llround(t.train_fraction * static_cast<double>(n))));
+    for (std::size_t k = 0; k < n_train && k < all.size(); ++k)
+      std::swap(all[k], all[k + rng.below(all.size() - k)]);
+    s.train.assign(all.begin(),
+                   all.begin() + static_cast<std::ptrdiff_t>(std::min(n_train, all.size())));
+    s.test.assign(all.begin() + static_cast<std::ptrdiff_t>(std::min(n_train, all.size())),
+                  all.end());
     std::sort(s.train.begin(), s.train.end());
     std::sort(s.test.begin(), s.test.end());
   } else {
@@ -161,10 +177,11 @@ MsaeSplit split_shapes(const std::vector<std::int64_t>& offsets, const MsaeTrain
   return s;
 }
 
-MsaeSplit split_from_lists(const std::vector<std::string>& frame_names, const std::string& train_list,
-                           const std::string& test_list) {
+MsaeSplit split_from_lists(const std::vector<std::string>& frame_names,
+                           const std::string& train_list, const std::string& test_list) {
   std::map<std::string, std::int64_t> by_name;
-  for (std::size_t k = 0; k < frame_names.size(); ++k) by_name.emplace(frame_names[k], static_cast<std::int64_t>(k));
+  for (std::size_t k = 0; k < frame_names.size(); ++k)
+    by_name.emplace(frame_names[k], static_cast<std::int64_t>(k));
   const auto n = static_cast<std::int64_t>(frame_names.size());
   MsaeSplit s;
   s.train = read_list(train_list, by_name, n);
@@ -172,7 +189,8 @@ MsaeSplit split_from_lists(const std::vector<std::string>& frame_names, const st
     s.test = read_list(test_list, by_name, n);
     for (auto f : s.test)
       if (std::binary_search(s.train.begin(), s.train.end(), f))
-        throw InvalidInput(fmt::format("frame '{}' is in both the training and the test list", frame_names[static_cast<std::size_t>(f)]),
+        throw InvalidInput(fmt::format("frame '{}' is in both the training and the test list",
+                                       frame_names[static_cast<std::size_t>(f)]),
                            test_list);
   } else {
     for (std::int64_t f = 0; f < n; ++f)
@@ -200,13 +218,15 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   m.split = opt.train_list.empty()
                 ? split_shapes(in.read<std::int64_t>("/sequences/offsets").data, m.training)
                 : split_from_lists(in.read_strings("/frames/names"), opt.train_list, opt.test_list);
-  if (!opt.train_list.empty()) carve_validation(m.split, m.training.validation_fraction, m.training.seed);
+  if (!opt.train_list.empty())
+    carve_validation(m.split, m.training.validation_fraction, m.training.seed);
   m.split.data = opt.input;
   if (m.split.train.size() < 2)
-    throw InvalidInput(fmt::format("{} training shape(s): the autoencoders need at least 2 to learn deformations "
-                                   "(use a smaller --every, a larger --train-fraction or a longer --train list)",
-                                   m.split.train.size()),
-                       opt.input);
+    throw InvalidInput(
+        fmt::format("{} training shape(s): the autoencoders need at least 2 to learn deformations "
+                    "(use a smaller --every, a larger --train-fraction or a longer --train list)",
+                    m.split.train.size()),
+        opt.input);
   m.log_columns = {"iteration", "total", "recon", "sparsity", "latent"};
   if (!m.split.validation.empty()) m.log_columns.push_back("validation");
 
@@ -221,31 +241,37 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
     m.geodesic_diameter = ck.geodesic_diameter;
-    geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces, m.geodesic_diameter);
+    geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
+                                                        m.geodesic_diameter);
     for (std::size_t k = 0; k < ck.geodesic_sources.size(); ++k)
       geodesic->keep(ck.geodesic_sources[k], ck.geodesic_rows[k]);
     log::info("resuming from {} at iteration {}", ckpt, m.iteration);
   } else {
     m.initialize();
-    log::info("geodesic distances on the template (heat method; {} vertices)", m.tmpl.vertices.rows());
+    log::info("geodesic distances on the template (heat method; {} vertices)",
+              m.tmpl.vertices.rows());
     geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces);
     m.geodesic_diameter = geodesic->diameter();
   }
   if (m.iteration > m.training.iterations)
-    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}", m.iteration,
-                                 m.training.iterations));
+    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}",
+                                 m.iteration, m.training.iterations));
 
   const Eigen::Index v9 = m.net->frame_size();
   nn::Matrix<float> data(static_cast<Eigen::Index>(dims.at("N")), v9);
-  in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(data.rows()), data.data());
-  io::check_finite_rows(data.data(), 0, static_cast<std::size_t>(data.rows()), static_cast<std::size_t>(v9),
-                        in.where("/features/normalized"));
+  in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(data.rows()),
+                      data.data());
+  io::check_finite_rows(data.data(), 0, static_cast<std::size_t>(data.rows()),
+                        static_cast<std::size_t>(v9), in.where("/features/normalized"));
   const nn::Matrix<float> validation = gather(data, m.split.validation);
-  log::info("{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} blocks "
-            "in {} levels (K_z {}), {} parameters, {} training",
-            opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.train.size(), m.split.validation.size(),
-            m.split.test.size(), m.net->blocks().size(), m.config.levels(), fmt::join(m.config.kz, ","),
-            m.net->store().size(), m.training.separate ? "separate" : "joint");
+  log::info(
+      "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "
+      "blocks "
+      "in {} levels (K_z {}), {} parameters, {} training",
+      opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.train.size(),
+      m.split.validation.size(), m.split.test.size(), m.net->blocks().size(), m.config.levels(),
+      fmt::join(m.config.kz, ","), m.net->store().size(),
+      m.training.separate ? "separate" : "joint");
 
   nn::Matrix<float> batch(m.training.batch, v9);
   std::vector<std::vector<int>> centres;
@@ -253,19 +279,23 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   // current centres, the gradient block by block, one Adam step (of the level in training when
   // separate: a new Adam at each level's start, the other levels' gradients dropped).
   auto step = [&](std::int64_t done) -> LossTerms {
-    for (int b = 0; b < m.training.batch; ++b) batch.row(b) = data.row(m.split.train[m.rng.below(m.split.train.size())]);
+    for (int b = 0; b < m.training.batch; ++b)
+      batch.row(b) = data.row(m.split.train[m.rng.below(m.split.train.size())]);
     centres = m.net->centres();
     std::vector<int> sources;
     for (const auto& c : centres) sources.insert(sources.end(), c.begin(), c.end());
     geodesic->prepare(sources);
-    const auto lambda = m.net->sparsity_masks(centres, [&](int c) -> const Eigen::VectorXf& { return geodesic->row(c); });
+    const auto lambda = m.net->sparsity_masks(
+        centres, [&](int c) -> const Eigen::VectorXf& { return geodesic->row(c); });
     const int stage = stage_of(m, done);
     if (stage > 0 && stage_of(m, done - 1) != stage) {
       m.adam = m.make_adam();
-      log::info("separate training: level {} from iteration {} (levels below it frozen)", stage, done);
+      log::info("separate training: level {} from iteration {} (levels below it frozen)", stage,
+                done);
     }
     m.net->store().zero_grad();
-    const MsaeLossTerms terms = m.net->loss_and_gradient(batch, lambda, stage < 0 ? std::vector<int>{} : std::vector<int>{stage});
+    const MsaeLossTerms terms = m.net->loss_and_gradient(
+        batch, lambda, stage < 0 ? std::vector<int>{} : std::vector<int>{stage});
     if (stage > 0)
       for (int l = 0; l < stage; ++l)
         for (int p : m.net->level_parameters(l)) m.net->store().grad(p).setZero();
@@ -277,7 +307,8 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     m.geodesic_rows.clear();
     for (const auto& c : m.net->centres())
       for (int s : c)
-        if (std::find(m.geodesic_sources.begin(), m.geodesic_sources.end(), s) == m.geodesic_sources.end()) {
+        if (std::find(m.geodesic_sources.begin(), m.geodesic_sources.end(), s) ==
+            m.geodesic_sources.end()) {
           m.geodesic_sources.push_back(s);
           m.geodesic_rows.push_back(geodesic->row(s));
         }
@@ -288,10 +319,11 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
   std::function<LossTerms()> evaluate;
-  if (validation.rows() > 0) evaluate = [&]() -> LossTerms { return {reconstruction_error(*m.net, validation)}; };
+  if (validation.rows() > 0)
+    evaluate = [&]() -> LossTerms { return {reconstruction_error(*m.net, validation)}; };
   run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every},
-                    {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, step, checkpoint, {"validation"},
-                    evaluate);
+                    {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, step, checkpoint,
+                    {"validation"}, evaluate);
   remember_geodesics();
   save_msae_model(opt.output, m, {opt.input}, common.force);
   if (opt.checkpoint.empty()) {

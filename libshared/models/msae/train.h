@@ -16,8 +16,8 @@ namespace df::models {
 struct MsaeTrainOptions {
   std::string input, output;
   std::string train_list, test_list;  ///< explicit split: files of frame names or indices
-  std::string checkpoint;             ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
-  int checkpoint_every = 500;         ///< iterations between checkpoints (0 = none)
+  std::string checkpoint;      ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
+  int checkpoint_every = 500;  ///< iterations between checkpoints (0 = none)
   bool resume = false;
   int print_every = 100;
   MsaeConfig net;
@@ -34,8 +34,8 @@ MsaeSplit split_shapes(const std::vector<std::int64_t>& offsets, const MsaeTrain
 /// An explicit split from list files (one frame name of /frames/names, or a frame index, per
 /// line; blank lines and # comments skipped). Without a test list every frame not trained on is
 /// held out. InvalidInput names the file and line of an unknown or repeated entry.
-MsaeSplit split_from_lists(const std::vector<std::string>& frame_names, const std::string& train_list,
-                           const std::string& test_list);
+MsaeSplit split_from_lists(const std::vector<std::string>& frame_names,
+                           const std::string& train_list, const std::string& test_list);
 
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common);
 

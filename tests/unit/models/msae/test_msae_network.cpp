@@ -58,9 +58,11 @@ TEST_CASE("MSAE: the tree of blocks", "[models][msae]") {
   CHECK_THROWS(MsaeNet<float>(MsaeConfig{{10, 5}, {0.4}}, 9, grid_edges(), 1));
 }
 
-TEST_CASE("MSAE loss: gradients of every parameter (attention, none, three levels)", "[models][msae]") {
-  for (auto [kz, attention] : {std::pair{std::vector<int>{3, 2}, true}, std::pair{std::vector<int>{2, 2}, false},
-                               std::pair{std::vector<int>{2, 2, 2}, true}}) {
+TEST_CASE("MSAE loss: gradients of every parameter (attention, none, three levels)",
+          "[models][msae]") {
+  for (auto [kz, attention] :
+       {std::pair{std::vector<int>{3, 2}, true}, std::pair{std::vector<int>{2, 2}, false},
+        std::pair{std::vector<int>{2, 2, 2}, true}}) {
     MsaeNet<double> net(tiny(kz, attention), 9, grid_edges(), 3);
     const auto x = random_shapes(4, 1);
     const auto lambda = random_lambda(net, 2);
@@ -105,11 +107,13 @@ TEST_CASE("MSAE: the block-by-block gradient equals the one-tape gradient", "[mo
       CHECK(staged.recon == Approx(one.recon).epsilon(1e-12));
       CHECK(staged.sparsity == Approx(one.sparsity).epsilon(1e-12));
       CHECK(staged.latent == Approx(one.latent).margin(1e-12));
-      REQUIRE((net.store().grads() - expected).cwiseAbs().maxCoeff() <= 1e-10 * (1 + expected.cwiseAbs().maxCoeff()));
+      REQUIRE((net.store().grads() - expected).cwiseAbs().maxCoeff() <=
+              1e-10 * (1 + expected.cwiseAbs().maxCoeff()));
     }
 }
 
-TEST_CASE("MSAE: attention masks sum to 1 per vertex; reconstruction sums the levels", "[models][msae]") {
+TEST_CASE("MSAE: attention masks sum to 1 per vertex; reconstruction sums the levels",
+          "[models][msae]") {
   MsaeNet<double> net(tiny({3, 2}, true), 9, grid_edges(), 5);
   const auto am = net.attention_masks(0);
   REQUIRE(am.rows() == 3);

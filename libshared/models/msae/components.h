@@ -1,0 +1,78 @@
+// Deformation components of a trained MSAE (paper 2, §4.2-4.3) and the `components` file kind
+// (schemas/components.json): extract-components decodes them, prune-components drops the weak
+// ones, and either writes the kept ones as an acap file for acap2obj, render-mesh and eval-metrics.
+//
+// Component k of block b: the decoder applied to the one-hot code s·e_k, with s the largest
+// positive or the most negative value of z_k over the training shapes (both signs are decoded and
+// the one with the larger strength is kept), as the deformation that code adds to the block's
+// zero code, applied to the reference: X = X_r + Dec_b(s·e_k) − Dec_b(0). Second-level blocks
+// reconstruct residuals, so this is the one definition that makes every level's components
+// shapes; for AE₀ it removes the constant background Dec₀(0) that would otherwise count towards
+// every component's strength. Strength (eq. 7): the mean of ‖(X − X_r)_i‖ over the vertices where
+// it exceeds ε₁; a component is kept when its strength is at least ε₂.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/tool.h"
+#include "geometry/acap_features.h"
+#include "io/mesh_io.h"
+#include "models/msae/model.h"
+
+namespace df::models {
+
+struct ComponentLevel {
+  nn::Matrix<float> features;  ///< [K, 9V] normalized ACAP features of each component
+  std::vector<double> strength;
+  std::vector<int> center;   ///< vertex index (argmax of the block's ‖C_{k,i}‖)
+  std::vector<int> block;    ///< the block it comes from (model order)
+  std::vector<double> code;  ///< s: the code value decoded (signed)
+  std::vector<std::uint8_t> kept;
+};
+
+struct Components {
+  io::Mesh tmpl;
+  geometry::Normalization normalization;
+  std::string history;
+  std::string model;  ///< the model file's name as given
+  std::vector<ComponentLevel> levels;
+  nn::Matrix<float> attention;    ///< AE₀'s attention masks [K₀, V] (eq. 6)
+  nn::Matrix<double> similarity;  ///< |cosine| between level-0 components' X − X_r [K₀, K₀]
+  double eps1 = 1e-6, eps2 = 0.01;
+};
+
+/// Eq. 7 for a component's features x [9V] and the reference's X_r.
+double component_strength(const float* x, int n_vertices, const std::array<double, 9>& reference,
+                          double eps1);
+
+/// The components of every block; `training` are the training shapes ([N, 9V] normalized), whose
+/// codes give the scale of each one-hot code. All components start kept.
+Components extract_components(const MsaeModel& m, const nn::Matrix<float>& training);
+
+/// Recomputes strengths with eps1 and keeps those with strength ≥ eps2.
+void prune_components(Components& c, double eps1, double eps2);
+
+void write_components(const std::string& path, const Components& c,
+                      const std::vector<std::string>& inputs, bool force);
+Components read_components(const std::string& path);
+
+/// The components (only the kept ones when `kept_only`) as an acap file: one sequence per level
+/// ("level0", ...), frames named "L<level>.<block>.<k>" — for acap2obj, render-mesh --color
+/// deformation, eval-metrics.
+void write_components_acap(const std::string& path, const Components& c, bool kept_only,
+                           const std::vector<std::string>& inputs, bool force);
+
+struct ExtractOptions {
+  std::string model, data, output, acap;
+};
+void extract_components_tool(const ExtractOptions& opt, const CommonOptions& common);
+
+struct PruneOptions {
+  std::string input, output, acap, json;
+  double eps1 = 1e-6, eps2 = 0.01;
+};
+void prune_components_tool(const PruneOptions& opt, const CommonOptions& common);
+
+}  // namespace df::models

@@ -1,0 +1,29 @@
+// The shapes an MSAE model works on, read from an acap file and checked against the model: the
+// same template connectivity, the frames of a split part, features in the model's normalization.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "models/msae/model.h"
+
+namespace df::models {
+
+struct MsaeShapes {
+  nn::Matrix<float> x;                 ///< [n, 9V] normalized as the model's training data
+  std::vector<std::int64_t> frames;    ///< their frame indices in the file
+  std::vector<std::string> names;      ///< their frame names
+  std::vector<std::string> sequence;   ///< the name of each one's sequence
+  std::vector<std::int64_t> offsets;   ///< the file's sequence offsets
+  std::vector<std::string> sequences;  ///< the file's sequence names
+  std::string history;
+};
+
+/// The frames of `part` (train, validation, test: the model's split, which needs the training
+/// data file; all: every frame). InvalidInput when the file's template has another vertex count
+/// or connectivity than the model's, when a split frame lies beyond the file, or when it has no
+/// normalized features; features normalized with other bounds are brought to the model's.
+MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const std::string& part);
+
+}  // namespace df::models

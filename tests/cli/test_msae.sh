@@ -1,0 +1,111 @@
+# MSAE end to end on a tiny synthetic bumps surface: train-msae (threads, resume, separate,
+# splits), recon-msae + eval-metrics, extract-components, prune-components, bad input. Golden
+# numbers (tests/cli/golden/msae.txt) are float network results, compared to 2e-3 relative.
+source "$(dirname "$0")/lib.sh"
+: "${DF_PLUGIN_DIR:?}"
+export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
+GOLDEN=msae.txt
+
+synth-meshseq -q --kind bumps --frames 40 --resolution 8 --seed 2 -o bumps.h5
+obj2acap -q bumps.h5 -o data.h5
+tiny=(--kz 3,2 --batch 16 --print-every 10 --seed 3)
+
+# --- training: model file, log, thread independence, golden losses
+train-msae -q "${tiny[@]}" --iterations 30 --threads 1 data.h5 -o m.h5
+h5check -q --kind msae-model m.h5
+train-msae -q "${tiny[@]}" --iterations 30 --threads 2 data.h5 -o m2.h5
+for obj in /params /optimizer/m /training/log /geodesic/distances; do
+  run h5diff m.h5 m2.h5 $obj; expect_rc 0
+done
+log=$(h5dump -d /training/log -y -w 0 -m %.9g m.h5 | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9.e+-' ' ')
+read -r -a v <<<"$log"
+[ "${#v[@]}" = 15 ] || fail "training log has ${#v[@]} numbers, expected 3 rows x 5"
+expect_close "loss at 10" "${v[1]}" "$(golden loss10)" 2e-3
+expect_close "loss at 30" "${v[11]}" "$(golden loss30)" 2e-3
+awk -v a="${v[1]}" -v b="${v[11]}" 'BEGIN { exit !(b < a) }' || fail "loss did not fall: ${v[1]} -> ${v[11]}"
+# the paper's sequence split: every 10th of 40 frames trains (4), 36 are held out
+[ "$(h5dump -H -d /split/train m.h5 | grep -o 'DATASPACE  SIMPLE { ( [0-9]* )' | grep -o '[0-9]*')" = 4 ] ||
+  fail "expected 4 training shapes"
+echo "ok (train, threads, golden: loss ${v[1]} -> ${v[11]})"
+
+# --- resume: any model file is a checkpoint; the result equals an uninterrupted run
+train-msae -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
+train-msae -q "${tiny[@]}" --iterations 30 --resume --checkpoint m20.h5 data.h5 -o resumed.h5
+for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
+  run h5diff m.h5 resumed.h5 $obj; expect_rc 0
+done
+run train-msae "${tiny[@]}" --kz 3,3 --iterations 30 --resume --checkpoint m20.h5 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-msae; expect_err "kz = 3,2"
+echo "ok (resume)"
+
+# --- separate training, no attention, three levels, a validation part, a collection split
+train-msae "${tiny[@]}" --iterations 20 --separate data.h5 -o sep.h5 2>sep.err
+grep -q "level 1 from iteration 11" sep.err || fail "separate training did not switch levels: $(cat sep.err)"
+train-msae -q "${tiny[@]}" --iterations 10 --no-attention data.h5 -o plain.h5
+[ "$(h5dump -H -d '/params/ae1.0.C' plain.h5 | grep -o 'SIMPLE { ( [0-9, ]* )' | tr -dc '0-9,')" = "6,729" ] ||
+  fail "no attention: one level-1 block with 3 x 2 components expected"
+train-msae -q --levels 3 --kz 2,2,2 --batch 8 --iterations 10 --validation-fraction 0.25 data.h5 -o three.h5
+h5dump -a /training/log/columns three.h5 | grep -q "validation" || fail "validation column missing"
+[ "$(h5dump -H -d /split/validation three.h5 | grep -o 'SIMPLE { ( [0-9]* )' | grep -o '[0-9]*')" = 9 ] ||
+  fail "25% of 36 held-out shapes should validate"
+train-msae -q "${tiny[@]}" --iterations 10 --split collection data.h5 -o coll.h5
+[ "$(h5dump -H -d /split/train coll.h5 | grep -o 'SIMPLE { ( [0-9]* )' | grep -o '[0-9]*')" = 20 ] ||
+  fail "collection split: half of 40 should train"
+names=$(h5dump -d /frames/names -y -w 0 data.h5 | sed -n '/DATA {/,/}/p' | grep -o '"[^"]*"' | tr -d '"')
+printf '%s\n# a comment\n\n5\n%s\n' "$(sed -n 1p <<<"$names")" "$(sed -n 8p <<<"$names")" > train.txt
+train-msae -q "${tiny[@]}" --iterations 10 --train train.txt data.h5 -o lists.h5
+[ "$(h5dump -d /split/train -y -w 0 lists.h5 | sed -n '/DATA {/,/}/p' | tr -dc '0-9 ,' | tr -s ' ,' ' ' | xargs)" = "0 5 7" ] ||
+  fail "list split: $(h5dump -d /split/train lists.h5)"
+echo "ok (separate, no attention, levels, validation, splits)"
+
+# --- recon-msae and eval-metrics: one frame per held-out shape, paired by /frames/source
+recon-msae -q m.h5 data.h5 -o recon.h5
+h5check -q --kind acap recon.h5
+eval-metrics -q recon.h5 data.h5 --json recon.json > /dev/null
+grep -q '"frame_pairs": 36,' recon.json || fail "36 frame pairs expected: $(head -c 300 recon.json)"
+erms=$(sed -n 's/^ *"erms": \([0-9.e+-]*\).*/\1/p' recon.json)
+awk -v e="$erms" 'BEGIN { exit !(e > 0 && e < 1000) }' || fail "E_rms '$erms'"
+recon-msae -q --levels 1 m.h5 data.h5 -o recon1.h5
+recon-msae -q --part train m.h5 data.h5 -o recon-train.h5
+[ "$(h5dump -H -d /frames/source recon-train.h5 | grep -o 'SIMPLE { ( [0-9]* )' | grep -o '[0-9]*')" = 4 ] ||
+  fail "--part train: 4 shapes"
+echo "ok (recon)"
+
+# --- components: extract, prune, decodable by acap2obj
+extract-components -q m.h5 data.h5 -o comps.h5 --acap comps-acap.h5
+h5check -q --kind components comps.h5
+h5check -q --kind acap comps-acap.h5
+[ "$(h5dump -H -d /level1/features comps.h5 | grep -o 'SIMPLE { ( [0-9, ]* )' | tr -dc '0-9,')" = "6,81,9" ] ||
+  fail "level 1: 3 blocks x 2 components"
+acap2obj -q comps-acap.h5 -o comps-obj
+[ "$(ls comps-obj | wc -l)" = 9 ] || fail "9 component meshes expected: $(ls comps-obj)"
+prune-components comps.h5 -o kept.h5 --eps2 0 --json all.json > all.txt
+grep -q "level 1: 6 kept, 0 dropped" all.txt || fail "eps2 0 keeps everything: $(cat all.txt)"
+prune-components comps.h5 -o none.h5 --eps2 1e9 > none.txt
+grep -q "level 0: 0 kept, 3 dropped" none.txt || fail "a huge eps2 drops everything: $(cat none.txt)"
+run prune-components comps.h5 -o x.h5 --eps2 1e9 --acap x-acap.h5
+expect_rc 1; expect_one_error_line prune-components; expect_err "nothing to write"
+[ ! -e x.h5 ] && [ ! -e x-acap.h5 ] || fail "files written after an error"
+echo "ok (components)"
+
+# --- bad input: one line, nothing written
+synth-meshseq -q --kind bumps --frames 12 --resolution 6 --seed 2 -o other.h5
+obj2acap -q other.h5 -o other-acap.h5
+run recon-msae m.h5 other-acap.h5 --part all -o x.h5
+expect_rc 1; expect_one_error_line recon-msae; expect_err "another template"
+run extract-components m.h5 other-acap.h5 -o x.h5
+expect_rc 1; expect_one_error_line extract-components; expect_err "another template"
+run train-msae "${tiny[@]}" --every 40 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-msae; expect_err "1 training shape"
+printf 'no-such-frame\n' > bad.txt
+run train-msae "${tiny[@]}" --train bad.txt data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-msae; expect_err "bad.txt:1"
+run train-msae --kz 10,5 --d 0.4 data.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-msae; expect_err "one value per level"
+run recon-msae --levels 3 m.h5 data.h5 -o x.h5
+expect_rc 2; expect_one_error_line recon-msae; expect_err "levels must be in 1..2"
+run recon-msae comps.h5 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line recon-msae; expect_err "msae-model"
+[ ! -e x.h5 ] || fail "x.h5 written after an error"
+expect_no_temporaries .
+echo "ok (bad input)"
