@@ -99,7 +99,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::attention_masks(int block) const {
 template <class T>
 typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p, int b, Var x,
                                                            const Matrix* lambda, Var* loss,
-                                                           MsaeLossTerms* terms) const {
+                                                           MsaeLossTerms* terms,
+                                                           const Matrix* weights) const {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   Var C = p[bl.c];
   Var h = nn::tanh(bl.conv(p, x));
@@ -112,8 +113,11 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
   if (config_.attention && !bl.children.empty()) out.masks = masks_of(p, b);
   if (loss) {
     nn::Tape<T>& tape = *x.tape;
-    const T inv_batch = T(1) / static_cast<T>(x.rows()), inv_kz = T(1) / static_cast<T>(bl.kz);
-    Var recon = nn::scale(nn::sum(nn::square(out.residual)), inv_batch);
+    const T inv_kz = T(1) / static_cast<T>(bl.kz);
+    Var sq = nn::square(out.residual);
+    Var recon =
+        weights ? nn::scale(nn::sum(nn::mul(sq, tape.constant(*weights))), T(1) / weights->sum())
+                : nn::scale(nn::sum(sq), T(1) / static_cast<T>(x.rows()));
     Var omega =
         nn::scale(nn::sum(nn::mul(nn::group_norm(C, Index{9}), tape.constant(*lambda))), inv_kz);
     Var vz = nn::mean(
@@ -161,7 +165,7 @@ std::vector<char> training_levels(int n_levels, const std::vector<int>& levels, 
 template <class T>
 nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matrix& x,
                             const std::vector<Matrix>& lambda, MsaeLossTerms* terms,
-                            const std::vector<int>& levels) const {
+                            const std::vector<int>& levels, const Matrix* weights) const {
   int deepest = 0;
   const auto trains = training_levels(config_.levels(), levels, deepest);
   std::vector<Var> input(blocks_.size()), residual(blocks_.size()), masks(blocks_.size());
@@ -181,9 +185,9 @@ nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matr
         input[b] = residual[pb];
       }
     }
-    BlockOutput out =
-        forward_block(p, static_cast<int>(b), input[b], &lambda[b],
-                      trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, terms);
+    BlockOutput out = forward_block(p, static_cast<int>(b), input[b], &lambda[b],
+                                    trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr,
+                                    terms, weights);
     residual[b] = out.residual;
     masks[b] = out.masks;
   }
@@ -194,7 +198,8 @@ template <class T>
 typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
                                                 const std::vector<Matrix>& lambda,
                                                 const std::vector<char>& trains,
-                                                bool want_input_gradient, MsaeLossTerms& terms) {
+                                                bool want_input_gradient, MsaeLossTerms& terms,
+                                                const Matrix* weights) {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   nn::Tape<T> tape;
   const nn::Bound<T> p = store_.bind(tape);
@@ -202,7 +207,7 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
   Var total;
   BlockOutput out =
       forward_block(p, b, in, &lambda[static_cast<std::size_t>(b)],
-                    trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, &terms);
+                    trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, &terms, weights);
   // Children, one at a time; their gradients w.r.t. their inputs become G_r and G_AM.
   bool children_train = false;
   for (std::size_t l = static_cast<std::size_t>(bl.level) + 1; l < trains.size(); ++l)
@@ -214,7 +219,7 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
     Matrix g_am = am ? Matrix::Zero(am->rows(), am->cols()) : Matrix();
     for (int child : bl.children) {
       const Block& cb = blocks_[static_cast<std::size_t>(child)];
-      const Matrix g = subtree(child, child_input(cb, r, am), lambda, trains, true, terms);
+      const Matrix g = subtree(child, child_input(cb, r, am), lambda, trains, true, terms, weights);
       if (!am) {
         g_r += g;
         continue;
@@ -240,11 +245,11 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
 
 template <class T>
 MsaeLossTerms MsaeNet<T>::loss_and_gradient(const Matrix& x, const std::vector<Matrix>& lambda,
-                                            const std::vector<int>& levels) {
+                                            const std::vector<int>& levels, const Matrix* weights) {
   int deepest = 0;
   const auto trains = training_levels(config_.levels(), levels, deepest);
   MsaeLossTerms terms;
-  subtree(0, x, lambda, trains, false, terms);
+  subtree(0, x, lambda, trains, false, terms, weights);
   return terms;
 }
 

@@ -105,14 +105,19 @@ class MsaeNet {
   Matrix attention_masks(int block) const;
 
   /// The training loss of a batch x [B, 9V] on one tape (every block's activations alive at once).
-  /// @param lambda  Ω's masks, one per block (sparsity_masks)
-  /// @param levels  train only these levels' losses (separate training: {l}); empty = all
+  /// @param lambda   Ω's masks, one per block (sparsity_masks)
+  /// @param levels   train only these levels' losses (separate training: {l}); empty = all
+  /// @param weights  [B, 1] how many times each row stands in the batch (null = once each): a
+  ///                 batch drawn with replacement from a few shapes is computed once per distinct
+  ///                 shape with the same loss and gradient (L_recon divides by Σ weights; V(Z)'s
+  ///                 maximum does not depend on repeats)
   Var loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matrix& x,
            const std::vector<Matrix>& lambda, MsaeLossTerms* terms = nullptr,
-           const std::vector<int>& levels = {}) const;
+           const std::vector<int>& levels = {}, const Matrix* weights = nullptr) const;
   /// The same loss with its gradient added into store().grads(), block by block (see above).
   MsaeLossTerms loss_and_gradient(const Matrix& x, const std::vector<Matrix>& lambda,
-                                  const std::vector<int>& levels = {});
+                                  const std::vector<int>& levels = {},
+                                  const Matrix* weights = nullptr);
 
   /// The reconstruction of x [B, 9V] through the first `levels` levels (1..levels()) and the
   /// latent codes of every block ([B, kz] each; blocks beyond `levels` are left empty).
@@ -129,14 +134,15 @@ class MsaeNet {
   };
   /// One block's forward pass on x; adds its loss terms (when its level trains) into *loss.
   BlockOutput forward_block(const nn::Bound<T>& p, int b, Var x, const Matrix* lambda, Var* loss,
-                            MsaeLossTerms* terms) const;
+                            MsaeLossTerms* terms, const Matrix* weights = nullptr) const;
   Var masks_of(const nn::Bound<T>& p, int b) const;
   /// Input of `child` from its parent's residual (and masks), as a value.
   Matrix child_input(const Block& child, const Matrix& residual, const Matrix* masks) const;
   /// loss_and_gradient's recursion: processes block b and its subtree on input x; returns
   /// ∂(subtree loss)/∂x when `want_input_gradient`.
   Matrix subtree(int b, const Matrix& x, const std::vector<Matrix>& lambda,
-                 const std::vector<char>& trains, bool want_input_gradient, MsaeLossTerms& terms);
+                 const std::vector<char>& trains, bool want_input_gradient, MsaeLossTerms& terms,
+                 const Matrix* weights);
 
   MsaeConfig config_;
   int n_vertices_;

@@ -156,3 +156,25 @@ TEST_CASE("MSAE: centres are the strongest vertex of each component", "[models][
   CHECK(lam[0](1, 7) == 0);
   CHECK(lam[0](1, 0) == 1);
 }
+
+TEST_CASE("MSAE: a batch with repeated shapes equals its distinct shapes weighted by count",
+          "[models][msae]") {
+  MsaeNet<double> net(tiny({3, 2}, true), 9, grid_edges(), 8);
+  const auto shapes = random_shapes(3, 4);
+  const auto lambda = random_lambda(net, 5);
+  // rows 0, 1, 0, 2, 0, 1 → distinct 0, 1, 2 with counts 3, 2, 1
+  nn::Matrix<double> full(6, 81);
+  const int pick[] = {0, 1, 0, 2, 0, 1};
+  for (int r = 0; r < 6; ++r) full.row(r) = shapes.row(pick[r]);
+  nn::Matrix<double> w(3, 1);
+  w << 3, 2, 1;
+  net.store().zero_grad();
+  const auto a = net.loss_and_gradient(full, lambda);
+  const Eigen::VectorXd ga = net.store().grads();
+  net.store().zero_grad();
+  const auto b = net.loss_and_gradient(shapes, lambda, {}, &w);
+  CHECK(b.total == Approx(a.total).epsilon(1e-12));
+  CHECK(b.latent == Approx(a.latent).margin(1e-12));
+  REQUIRE((net.store().grads() - ga).cwiseAbs().maxCoeff() <=
+          1e-10 * (1 + ga.cwiseAbs().maxCoeff()));
+}
