@@ -22,6 +22,11 @@ int main(int argc, char** argv) {
                 "                             ~0 means frozen, spikes mean jerks; --change-span K\n"
                 "                             compares frames K apart instead (sustained motion grows\n"
                 "                             with K, frame-to-frame jitter does not);\n"
+                "  localization               PRED a components file (extract-components), TRUTH with\n"
+                "                             planted regions (synth-meshseq --kind bumps): per region\n"
+                "                             the kept component at its level (coarse 0, fine 1) whose\n"
+                "                             support (deformation >= --support-threshold x its max)\n"
+                "                             has the largest IoU with the region's disc;\n"
                 "  spread of samples          mean vertex distance between the samples NAME~k of one\n"
                 "                             case (gen-bdlstm --samples) at the same frame.\n"
                 "Frames pair through PRED's /frames/source (gen-bdlstm output) or by index. Positions\n"
@@ -41,6 +46,10 @@ int main(int argc, char** argv) {
   app.add_option("--steps", opt.steps, "Steps shown in the table, e.g. 5,10,15 (default: all, or every 5th)")
       ->delimiter(',')
       ->allow_extra_args(false);
+  app.add_option("--support-threshold", opt.support_threshold,
+                 "Components: a vertex is in a component's support when its deformation reaches this\n"
+                 "fraction of the component's maximum")
+      ->default_val(opt.support_threshold);
   app.add_option("--change-span", opt.change_span, "Feature change between frames K apart (1 = consecutive)")
       ->default_val(opt.change_span);
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);

@@ -1,4 +1,5 @@
 #include "eval/eval_metrics.h"
+#include "eval/component_metrics.h"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -41,6 +42,11 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
   if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
   if (opt.change_span < 1) throw UsageError("--change-span must be at least 1");
+  if (io::is_hdf5_path(opt.pred) && io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred)) == "components") {
+    if (opt.truth.empty()) throw UsageError("a components file is measured against TRUTH's planted regions");
+    eval_components(opt.pred, opt.truth, opt.json, opt.support_threshold);
+    return;
+  }
   FrameSet pred = read_frame_set(opt.pred);
   // The template's topology and parts (TRUTH must have the same template, checked below).
   const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));

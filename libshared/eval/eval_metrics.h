@@ -7,6 +7,9 @@
 //     reconstruction's freedom), raw and / bounding-box diagonal of TRUTH's template, per frame
 //     and per /frames/step; E_rms; STED spatial, temporal and combined; relative squared error
 //     of normalized ACAP features; feature change between consecutive frames of each sequence;
+//   * PRED a components file (extract-components / prune-components) and TRUTH with planted
+//     regions (synth-meshseq --kind bumps): how well the kept components localize them
+//     (component_metrics.h);
 //   * the spread of diverse samples (gen-bdlstm --samples: sequences NAME~k): mean per-vertex
 //     distance between every two samples of a case at the same frame.
 #pragma once
@@ -29,6 +32,9 @@ struct EvalOptions {
   /// Feature change between frames this far apart (1 = consecutive, the paper's Fig. 2). Wider
   /// spans tell sustained motion (grows with the span) from frame-to-frame jitter (does not).
   int change_span = 1;
+  /// PRED a components file: a component's support is where its deformation reaches this
+  /// fraction of its maximum (localization against TRUTH's planted regions)
+  double support_threshold = 0.1;
 };
 
 void eval_metrics(const EvalOptions& opt, const CommonOptions& common);

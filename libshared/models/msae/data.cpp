@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/file_header.h"
 #include "io/schema.h"
@@ -70,6 +71,47 @@ MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const s
     s.sequence.push_back(s.sequences[seq]);
   }
   return s;
+}
+
+void write_shapes(const std::string& path, const MsaeModel& m, const MsaeShapes& shapes,
+                  const nn::Matrix<float>* features, const nn::Matrix<float>* positions,
+                  const std::string& data, const std::vector<std::string>& inputs, bool force,
+                  const std::string& method) {
+  std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
+  AtomicOutput dest(path, AtomicOutput::Kind::file, force, in);
+  {
+    h5::File f(dest.temp_path(), h5::File::Mode::create, path);
+    io::write_header(f, "acap",
+                     {m.history == shapes.history ? m.history : m.history + "\n" + shapes.history});
+    f.write_matrix("/template/vertices", m.tmpl.vertices);
+    f.write_matrix("/template/faces", m.tmpl.faces);
+    geometry::write_normalization(f, m.normalization);
+    // One sequence per data sequence that has frames here, in file order.
+    std::vector<std::string> seqs;
+    std::vector<std::int64_t> offsets{0};
+    for (std::size_t k = 0; k < shapes.sequence.size(); ++k) {
+      if (seqs.empty() || seqs.back() != shapes.sequence[k]) {
+        if (!seqs.empty()) offsets.push_back(static_cast<std::int64_t>(k));
+        seqs.push_back(shapes.sequence[k]);
+      }
+    }
+    offsets.push_back(static_cast<std::int64_t>(shapes.sequence.size()));
+    const auto n = shapes.frames.size(), V = static_cast<std::size_t>(m.tmpl.vertices.rows());
+    f.write_strings("/frames/names", shapes.names);
+    f.write<std::int64_t>("/frames/source", shapes.frames, {n});
+    f.set_attr("/frames/source", "data", data);
+    f.set_attr("/frames/source", "method", method);
+    f.write<std::int64_t>("/sequences/offsets", offsets, {offsets.size()});
+    f.write_strings("/sequences/names", seqs);
+    if (features)
+      f.write<float>("/features/normalized", std::span<const float>(features->data(), n * V * 9),
+                     {n, V, 9});
+    if (positions)
+      f.write<float>("/frames/positions", std::span<const float>(positions->data(), n * V * 3),
+                     {n, V, 3});
+    f.close();
+  }
+  dest.commit();
 }
 
 }  // namespace df::models

@@ -202,7 +202,12 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
                                                 const Matrix* weights) {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   nn::Tape<T> tape;
-  const nn::Bound<T> p = store_.bind(tape);
+  // Only this block's parameters become leaves of this tape (binding the whole store per block
+  // would copy every block's weights once per block).
+  const std::vector<int> params = {bl.conv.w_point, bl.conv.w_nb, bl.conv.b, bl.c, bl.b_dec};
+  nn::Bound<T> p;
+  p.vars.resize(store_.views().size());
+  for (int k : params) p.vars[static_cast<std::size_t>(k)] = tape.variable(store_.value(k));
   Var in = want_input_gradient ? tape.variable(x) : tape.constant(x);
   Var total;
   BlockOutput out =
@@ -238,7 +243,10 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
   }
   if (total.id < 0) return want_input_gradient ? Matrix::Zero(x.rows(), x.cols()) : Matrix();
   tape.backward(total);
-  store_.collect(p);
+  for (int k : params) {
+    const Var& v = p.vars[static_cast<std::size_t>(k)];
+    if (tape.has_grad(v.id)) store_.grad(k) += v.grad();
+  }
   if (!want_input_gradient) return Matrix();
   return in.tape->has_grad(in.id) ? Matrix(in.grad()) : Matrix(Matrix::Zero(x.rows(), x.cols()));
 }

@@ -1,0 +1,212 @@
+#include "models/baselines/baselines.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "geometry/geodesic_distance.h"
+#include "io/schema.h"
+#include "models/msae/data.h"
+
+namespace df::models {
+
+using Eigen::Index;
+using Mat = nn::Matrix<double>;
+
+Pca fit_pca(const Mat& x, int k) {
+  Pca p;
+  p.mean = x.colwise().mean();
+  const Mat y = x.rowwise() - p.mean.row(0);
+  // Few shapes, many features: the eigenvectors of the n × n Gram matrix give the directions.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(y * y.transpose());
+  const Eigen::VectorXd values = eig.eigenvalues();  // ascending
+  const double top = values.size() ? values.maxCoeff() : 0.0;
+  std::vector<Mat> rows;
+  for (Index j = values.size() - 1; j >= 0 && static_cast<int>(rows.size()) < k; --j) {
+    if (!(values[j] > 1e-12 * top)) break;
+    rows.push_back((eig.eigenvectors().col(j).transpose() * y) / std::sqrt(values[j]));
+  }
+  p.directions.resize(static_cast<Index>(rows.size()), x.cols());
+  for (std::size_t r = 0; r < rows.size(); ++r) p.directions.row(static_cast<Index>(r)) = rows[r];
+  return p;
+}
+
+namespace {
+
+// The reference code's weight projection: non-negative, largest 1.
+Eigen::VectorXd project_weight(Eigen::VectorXd w) {
+  w = w.cwiseMax(0.0);
+  const double top = w.size() ? w.maxCoeff() : 0.0;
+  return top > 0 ? Eigen::VectorXd(w / top) : w;
+}
+
+// 0 up to d_min, 1 from d_max, linear between.
+Eigen::VectorXd support_map(const Eigen::VectorXf& d, const SplocsOptions& o) {
+  Eigen::VectorXd s(d.size());
+  for (Index i = 0; i < d.size(); ++i)
+    s[i] =
+        (std::clamp(static_cast<double>(d[i]), o.d_min, o.d_max) - o.d_min) / (o.d_max - o.d_min);
+  return s;
+}
+
+Index strongest_vertex(const Eigen::RowVectorXd& c) {
+  Index best = 0;
+  double top = -1;
+  for (Index i = 0; i < c.size() / 3; ++i)
+    if (const double n = c.segment(3 * i, 3).squaredNorm(); n > top) top = n, best = i;
+  return best;
+}
+
+}  // namespace
+
+Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
+                  const std::function<Eigen::VectorXf(int)>& distance) {
+  const Index F = x.rows(), D = x.cols(), V = D / 3, K = o.components;
+  Splocs s;
+  s.mean = x.colwise().mean();
+  Mat X = x.rowwise() - s.mean.row(0);
+  s.scale = std::sqrt(X.squaredNorm() / static_cast<double>(X.size()));
+  if (!(s.scale > 0))
+    throw InvalidInput("the training shapes do not deform: nothing for SPLOCS to explain");
+  X /= s.scale;
+
+  // Greedy initialisation: each component explains the vertex of largest residual motion.
+  Mat R = X, W = Mat::Zero(F, K), C = Mat::Zero(K, D);
+  for (Index k = 0; k < K; ++k) {
+    Index idx = 0;
+    double top = -1;
+    for (Index i = 0; i < V; ++i)
+      if (const double m = R.middleCols(3 * i, 3).squaredNorm(); m > top) top = m, idx = i;
+    const Mat Ri = R.middleCols(3 * idx, 3);  // [F, 3]
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(Ri.transpose() * Ri);
+    const Eigen::VectorXd w = Ri * e.eigenvectors().col(2);
+    const Eigen::VectorXd wp = project_weight(w), wn = project_weight(-w);
+    const Eigen::VectorXd wk = wp.norm() > wn.norm() ? wp : wn;
+    const double ww = wk.squaredNorm();
+    if (ww > 0) {
+      const Eigen::VectorXd keep =
+          Eigen::VectorXd::Ones(V) - support_map(distance(static_cast<int>(idx)), o);
+      Eigen::RowVectorXd ck = (wk.transpose() * R) / ww;
+      for (Index i = 0; i < V; ++i) ck.segment(3 * i, 3) *= keep[i];
+      C.row(k) = ck;
+    }
+    W.col(k) = wk;
+    R -= wk * C.row(k);
+  }
+
+  Mat lambda(K, V), U(K, D);
+  for (int it = 0; it < o.iterations; ++it) {
+    // Weights, one component at a time against the residual.
+    Mat Rf = X - W * C;
+    for (Index k = 0; k < K; ++k) {
+      const double cc = C.row(k).squaredNorm();
+      if (cc <= 1e-8) {
+        Rf += W.col(k) * C.row(k);
+        W.col(k).setZero();
+        continue;
+      }
+      Rf += W.col(k) * C.row(k);
+      W.col(k) = project_weight(Rf * C.row(k).transpose() / cc);
+      Rf -= W.col(k) * C.row(k);
+    }
+    // Where each component may live: its support map around its strongest vertex.
+    for (Index k = 0; k < K; ++k)
+      lambda.row(k) =
+          o.lambda *
+          support_map(distance(static_cast<int>(strongest_vertex(C.row(k)))), o).transpose();
+    // Components by ADMM: a least-squares step and the group-ℓ1/ℓ2 shrinkage.
+    const Eigen::LLT<Eigen::MatrixXd> solve(W.transpose() * W +
+                                            o.rho * Eigen::MatrixXd::Identity(K, K));
+    const Mat c = W.transpose() * X;
+    Mat Z = C;
+    U.setZero();
+    for (int a = 0; a < o.admm_iterations; ++a) {
+      C = solve.solve(c + o.rho * (Z - U));
+      Z = C + U;
+      for (Index k = 0; k < K; ++k)
+        for (Index i = 0; i < V; ++i) {
+          auto z = Z.row(k).segment(3 * i, 3);
+          const double len = z.norm();
+          z *= len > 0 ? std::max(0.0, 1 - lambda(k, i) / o.rho / len) : 0.0;
+        }
+      U += C - Z;
+    }
+    C = Z;
+    log::debug("splocs iteration {}: residual {:.6g}", it + 1, (X - W * C).squaredNorm());
+  }
+  s.components = C * s.scale;
+  return s;
+}
+
+Mat project_onto(const Mat& y, const Mat& mean, const Mat& basis) {
+  const Mat centred = y.rowwise() - mean.row(0);
+  if (basis.rows() == 0) return mean.replicate(y.rows(), 1);
+  Eigen::MatrixXd G = basis * basis.transpose();
+  G.diagonal().array() += 1e-10 * std::max(G.trace(), 1e-300);
+  const Mat coefficients =
+      Eigen::LDLT<Eigen::MatrixXd>(G).solve(basis * centred.transpose()).transpose();
+  return (coefficients * basis).rowwise() + mean.row(0);
+}
+
+namespace {
+
+// Stored positions of some frames as rows [n, 3V].
+Mat read_positions(const std::string& data, const std::vector<std::int64_t>& frames, Index V) {
+  h5::File in = io::open_input(data, "acap");
+  if (!in.exists("/frames/positions"))
+    throw InvalidInput(
+        "has no /frames/positions: SPLOCS works on vertex positions (obj2acap keeps them)", data);
+  Mat out(static_cast<Index>(frames.size()), 3 * V);
+  std::vector<float> row(static_cast<std::size_t>(3 * V));
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    in.read_rows<float>("/frames/positions", static_cast<std::size_t>(frames[k]), 1, row.data());
+    for (Index j = 0; j < 3 * V; ++j)
+      out(static_cast<Index>(k), j) = row[static_cast<std::size_t>(j)];
+  }
+  return out;
+}
+
+}  // namespace
+
+void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
+  const MsaeModel m = load_msae_model(opt.model);
+  int k = opt.components;
+  if (k == 0)
+    for (const auto& b : m.net->blocks()) k += b.kz;
+  if (k < 1) throw UsageError("--components must be positive");
+  const MsaeShapes train = read_msae_shapes(m, opt.data, "train");
+  const MsaeShapes held = read_msae_shapes(m, opt.data, opt.part);
+  if (held.frames.empty())
+    throw InvalidInput(fmt::format("the model's {} part is empty", opt.part), opt.model);
+  const Index V = m.tmpl.vertices.rows();
+  if (opt.method == "pca") {
+    const Pca p = fit_pca(train.x.cast<double>(), k);
+    if (p.directions.rows() < k)
+      log::warn("PCA of {} training shapes has {} components, not {}", train.frames.size(),
+                p.directions.rows(), k);
+    const nn::Matrix<float> recon =
+        project_onto(held.x.cast<double>(), p.mean, p.directions).cast<float>();
+    write_shapes(opt.output, m, held, &recon, nullptr, opt.data, {opt.model, opt.data},
+                 common.force, fmt::format("pca: {} components", p.directions.rows()));
+  } else if (opt.method == "splocs") {
+    SplocsOptions so = opt.splocs;
+    so.components = k;
+    geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
+    const Splocs s = fit_splocs(read_positions(opt.data, train.frames, V), so,
+                                [&](int i) { return geodesic.row(i); });
+    const nn::Matrix<float> recon =
+        project_onto(read_positions(opt.data, held.frames, V), s.mean, s.components).cast<float>();
+    write_shapes(opt.output, m, held, nullptr, &recon, opt.data, {opt.model, opt.data},
+                 common.force, fmt::format("splocs: {} components", k));
+  } else {
+    throw UsageError("--method must be pca or splocs");
+  }
+  log::info("wrote {} {} reconstructions ({} components fitted on {} training shapes) to {}",
+            held.frames.size(), opt.method, k, train.frames.size(), opt.output);
+}
+
+}  // namespace df::models

@@ -1,0 +1,60 @@
+// Baselines for MSAE's tables (paper 2, Table 2), fitted on the training shapes of an MSAE model's
+// split and evaluated on the same held-out shapes, with the same number of components:
+//   pca     principal components of the normalized ACAP features (the mean plus the top K
+//           directions; at most #training − 1 exist);
+//   splocs  sparse localized deformation components on vertex positions (Neumann, Richardson,
+//           Rhodin, Theobalt, Magnor, "Sparse Localized Deformation Components", SIGGRAPH Asia
+//           2013, following the authors' reference code): positions minus their mean, divided by
+//           their standard deviation; greedy initialisation at the vertex of largest residual;
+//           alternating weights (projected to [0, 1]) and components (ADMM with the group-ℓ1/ℓ2
+//           proximal step, support maps from normalized geodesic distances between d_min and
+//           d_max).
+// A held-out shape is reconstructed by least squares on the components (its mean removed).
+#pragma once
+
+#include <string>
+
+#include "core/tool.h"
+#include "nn/tape.h"
+
+namespace df::models {
+
+/// Principal components: `mean` [1, D] and the top `k` orthonormal directions as rows [k, D].
+struct Pca {
+  nn::Matrix<double> mean, directions;
+};
+Pca fit_pca(const nn::Matrix<double>& x, int k);
+
+struct SplocsOptions {
+  int components = 50;
+  int iterations = 10;  ///< outer iterations (the reference code's default)
+  int admm_iterations = 10;
+  double lambda = 2.0, rho = 10.0;
+  double d_min = 0.1, d_max = 0.7;  ///< support map ramps over these normalized geodesic distances
+};
+/// Components [K, 3V] of positions x [n, 3V] (mean removed, scaled by their standard deviation:
+/// `mean` [1, 3V] and `scale` come back); `distance(i)` gives vertex i's normalized geodesic row.
+struct Splocs {
+  nn::Matrix<double> mean, components;
+  double scale = 1;
+};
+Splocs fit_splocs(const nn::Matrix<double>& x, const SplocsOptions& opt,
+                  const std::function<Eigen::VectorXf(int)>& distance);
+
+/// Least-squares coefficients of rows y [m, D] (mean removed) on `basis` [k, D] and the
+/// reconstruction mean + coefficients · basis.
+nn::Matrix<double> project_onto(const nn::Matrix<double>& y, const nn::Matrix<double>& mean,
+                                const nn::Matrix<double>& basis);
+
+struct BaselineOptions {
+  std::string model, data, output;
+  std::string method = "pca";  ///< pca | splocs
+  int components = 0;          ///< 0 = as many as the MSAE model has
+  std::string part = "test";
+  SplocsOptions splocs;
+};
+/// fit-baseline: fits on the model's training shapes, writes the reconstructions of `part` as
+/// an acap file (pca: normalized features; splocs: positions), paired with DATA like recon-msae.
+void fit_baseline(const BaselineOptions& opt, const CommonOptions& common);
+
+}  // namespace df::models
