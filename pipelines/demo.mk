@@ -6,7 +6,8 @@ FAERIE ?= /usr/share/assimp/models/MD2/faerie.md2
 demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
       $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
       $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt \
-      $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png
+      $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png \
+      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.txt
 	@echo
 	@echo "== h5check: file kinds, shapes, compression, history"
 	$(BIN)/h5check --no-history $(DEMO)/faerie.h5
@@ -21,9 +22,19 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@sed -n 's/^  per-vertex position error *\(.*\)/     linear extrapolation: \1/p' $(DEMO)/bdlstm-linear.txt
 	@echo "   (a short demo run; pipelines/bdlstm.mk trains longer and reproduces the paper's tables)"
 	@echo
+	@echo "== MSAE (train-msae, 1,000 iterations on the bumps surface: 2 coarse + 4 fine planted regions)"
+	@echo "   reconstruction of the 162 held-out shapes (recon-msae; eval-metrics):"
+	@sed -n 's/^  E_rms *\(.*\)/     E_rms \1/p; s/^  relative squared error *\(.*\)/     relative squared error \1/p' $(DEMO)/msae-recon.txt
+	@echo "   components kept by prune-components (strength >= 0.01):"
+	@sed -n 's/^level \([0-9]\): /     level \1: /p' $(DEMO)/msae-pruning.txt
+	@echo "   where they are: per planted region the best kept component at its level (IoU of supports):"
+	@sed -n '2,$$p' $(DEMO)/msae-localization.txt | sed 's/^/     /'
+	@echo "   (pipelines/msae.mk trains longer, adds the baselines and reproduces the paper's tables)"
+	@echo
 	@echo "== pictures (render-mesh)"
 	@echo "  $(DEMO)/bdlstm-prediction.png   truth / BD-LSTM / linear at future frames 5, 10, 15, coloured by error"
 	@echo "  $(DEMO)/faerie.png              MD2 frames above their ACAP round trip, coloured by error"
+	@echo "  $(DEMO)/msae-components.png     the kept MSAE components (rows: levels), coloured by deformation"
 	@echo
 	@echo "== outputs in $(DEMO)/"
 	@echo "  finger.h5, bumps.h5     synthetic sequences (acap kind, positions; bumps with ground truth)"
@@ -98,3 +109,21 @@ $(DEMO)/bdlstm-prediction.png: $(DEMO)/bdlstm-pred.h5 $(DEMO)/bdlstm-linear.h5 $
 
 $(DEMO)/bdlstm-%.txt: $(DEMO)/bdlstm-%.h5 $(DEMO)/bdlstm-finger.h5
 	$(BIN)/eval-metrics -q $^ > $@.tmp && mv $@.tmp $@
+
+# MSAE: a short training run on the bumps surface, its components (extracted, pruned, drawn),
+# how well they find the planted regions, and the reconstruction of the held-out shapes.
+$(DEMO)/bumps-acap.h5: $(DEMO)/bumps.h5
+	$(BIN)/obj2acap -q -f $< -o $@
+$(DEMO)/msae-model.h5: $(DEMO)/bumps-acap.h5
+	$(BIN)/train-msae -f --iterations 1000 --print-every 250 $< -o $@
+$(DEMO)/msae-kept.h5: $(DEMO)/msae-model.h5
+	$(BIN)/extract-components -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-components.h5
+	$(BIN)/prune-components -f $(DEMO)/msae-components.h5 -o $@ --acap $(DEMO)/msae-kept-acap.h5 > $(DEMO)/msae-pruning.txt
+$(DEMO)/msae-components.png: $(DEMO)/msae-kept.h5
+	$(BIN)/render-mesh -q -f $(DEMO)/msae-kept-acap.h5 --color deformation --view 30,50 --size 160 \
+	  --title "MSAE components of the bumps surface (rows: levels), colour |X - X_r| per vertex" -o $@
+$(DEMO)/msae-localization.txt: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
+	$(BIN)/eval-metrics $< $(DEMO)/bumps.h5 > $@
+$(DEMO)/msae-recon.txt: $(DEMO)/msae-model.h5
+	$(BIN)/recon-msae -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-recon.h5
+	$(BIN)/eval-metrics $(DEMO)/msae-recon.h5 $(DEMO)/bumps-acap.h5 > $@

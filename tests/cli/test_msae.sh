@@ -86,6 +86,12 @@ grep -q "level 0: 0 kept, 3 dropped" none.txt || fail "a huge eps2 drops everyth
 run prune-components comps.h5 -o x.h5 --eps2 1e9 --acap x-acap.h5
 expect_rc 1; expect_one_error_line prune-components; expect_err "nothing to write"
 [ ! -e x.h5 ] && [ ! -e x-acap.h5 ] || fail "files written after an error"
+# where the components are: one row per planted region (2 coarse, 4 fine), IoU in [0, 1]
+eval-metrics kept.h5 bumps.h5 > loc.txt
+[ "$(awk '$2 == "coarse" || $2 == "fine" { if ($NF < 0 || $NF > 1) bad = 1; n++ } END { print bad ? -1 : n }' loc.txt)" = 6 ] ||
+  fail "localization table: $(cat loc.txt)"
+eval-metrics kept.h5 bumps.h5 --json loc.json > /dev/null
+grep -q '"iou"' loc.json || fail "localization JSON: $(cat loc.json)"
 echo "ok (components)"
 
 # --- bad input: one line, nothing written
@@ -93,6 +99,10 @@ synth-meshseq -q --kind bumps --frames 12 --resolution 6 --seed 2 -o other.h5
 obj2acap -q other.h5 -o other-acap.h5
 run recon-msae m.h5 other-acap.h5 --part all -o x.h5
 expect_rc 1; expect_one_error_line recon-msae; expect_err "another template"
+run eval-metrics kept.h5 other.h5
+expect_rc 1; expect_one_error_line eval-metrics; expect_err "vertices"
+run eval-metrics kept.h5 data.h5
+expect_rc 1; expect_one_error_line eval-metrics; expect_err "planted regions"
 run extract-components m.h5 other-acap.h5 -o x.h5
 expect_rc 1; expect_one_error_line extract-components; expect_err "another template"
 run train-msae "${tiny[@]}" --every 40 data.h5 -o x.h5

@@ -1,0 +1,160 @@
+# MSAE experiments (paper 2: Yang et al., "Multiscale Mesh Deformation Component Analysis with
+# Attention-based Autoencoders"), reproduced on the data we have:
+#   make -f Makefile.data msae [DATA=../shared/data] [OUT=out] [MS_SETS="bumps pcow"] [-j2]
+# Per data set S (bumps: synthetic with planted regions; pcow, chickenCrossing: sequences, split
+# 1:9; cactus, cat-poses, lion-poses: collections, split 1:1 by the seed):
+#   $(MS)/S/table2.md     E_rms and STED on the test shapes: MSAE vs PCA vs the one-level sparse AE
+#                         of Tan et al. vs SPLOCS, each with the same number of components (Table 2)
+#   $(MS)/S/table4.md     E_rms of joint / separate training with / without attention (Table 4)
+#   $(MS)/S/table5.md     maximum relative squared error (eq. 8) through 1, 2 (and 3) levels (Table 5)
+#   $(MS)/S/fig3.png      cosine similarity of the level-0 components (Fig. 3)
+#   $(MS)/S/components.png  the kept components (prune-components), coloured by deformation
+#   $(MS)/S/curve.png     training loss and validation error over iterations (where it stops
+#                         improving chose the iteration count)
+# and on bumps $(MS)/bumps/localization.md: per planted region the IoU of the best kept component
+# at its level. Validation shapes (10% of the held-out ones, 25% for the 9-pose collections) are
+# excluded from every test number.
+MS := $(OUT)/msae
+MS_SETS ?= bumps $(if $(HAVE_DATA),pcow chickenCrossing cactus cat-poses lion-poses)
+MS_LEVEL3_SETS ?= bumps
+MS_VARIANTS := tan separate noatt separate-noatt
+TRAIN_THREADS ?= 0
+
+# --- per-set settings (iteration counts: where the validation error stops improving, README)
+MS_SEQUENCE := --split sequence --validation-fraction 0.1
+MS_COLLECTION := --split collection --validation-fraction 0.25
+bumps_MSAE := $(MS_SEQUENCE) --iterations 3000
+pcow_MSAE := $(MS_SEQUENCE) --iterations 3000
+chickenCrossing_MSAE := $(MS_SEQUENCE) --iterations 3000
+cactus_MSAE := $(MS_COLLECTION) --iterations 2000
+cat-poses_MSAE := $(MS_COLLECTION) --iterations 2000
+lion-poses_MSAE := $(MS_COLLECTION) --iterations 2000
+bumps_VIEW := --view 30,50
+pcow_VIEW := --view side
+chickenCrossing_VIEW := --view side
+cactus_VIEW :=
+cat-poses_VIEW := --view side
+lion-poses_VIEW := --view side
+
+# Variants (paper Tables 2, 4, 5): the one-level AE of Tan et al. with as many components as MSAE
+# (10 + 10 x 5), separate training, no attention, both, and a third level (K_z 10,5,2).
+tan_FLAGS := --levels 1 --kz 60 --no-attention
+separate_FLAGS := --separate
+noatt_FLAGS := --no-attention
+separate-noatt_FLAGS := --separate --no-attention
+level3_FLAGS := --levels 3 --kz 10,5,2 --d 0.4,0.2,0.1
+
+.PHONY: msae
+msae: $(foreach s,$(MS_SETS),$(MS)/$(s)/table2.md $(MS)/$(s)/table4.md $(MS)/$(s)/table5.md \
+        $(MS)/$(s)/fig3.png $(MS)/$(s)/components.png $(MS)/$(s)/curve.png) \
+      $(if $(filter bumps,$(MS_SETS)),$(MS)/bumps/localization.md)
+	@for s in $(MS_SETS); do \
+	  echo; echo "=== $$s"; cat $(MS)/$$s/table2.md; echo; cat $(MS)/$$s/table4.md; echo; cat $(MS)/$$s/table5.md; \
+	  [ -f $(MS)/$$s/localization.md ] && { echo; cat $(MS)/$$s/localization.md; }; \
+	  echo; echo "pictures: $(MS)/$$s/components.png, fig3.png, curve.png"; \
+	done
+
+# --- data: ACAP features of each set (real sets unpacked as in bdlstm.mk)
+$(MS)/bumps/frames.h5:
+	@mkdir -p $(@D)
+	$(BIN)/synth-meshseq -q --kind bumps --frames 200 --resolution 40 --seed 1 -f -o $@
+$(MS)/bumps/data.h5: $(MS)/bumps/frames.h5
+	$(BIN)/obj2acap -q -f $< -o $@
+$(MS)/%/src/.sha256: $(DATA)/meshseq/%.tar.zst
+	@mkdir -p $(@D)
+	@sha256sum < $< $(write_if_changed)
+$(MS)/%/src/.unpacked: $(MS)/%/src/.sha256
+	tar --zstd -xf $(DATA)/meshseq/$*.tar.zst -C $(@D)
+	touch $@
+$(foreach s,pcow chickenCrossing cactus cat-poses lion-poses,$(MS)/$(s)/data.h5): $(MS)/%/data.h5: $(MS)/%/src/.unpacked
+	$(BIN)/obj2acap -q -f $$(find $(<D) -mindepth 1 -maxdepth 1 -type d | head -1) -o $@
+
+# --- training: MSAE (paper defaults) and the variants; logs beside the models
+ms_args = $($(1)_MSAE) $(if $(2),$($(2)_FLAGS))
+$(MS)/%/msae.args: FORCE
+	@mkdir -p $(@D)
+	@echo '$(call ms_args,$*)' $(write_if_changed)
+$(MS)/%/msae.h5: $(MS)/%/data.h5 $(MS)/%/msae.args
+	$(BIN)/train-msae -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 500 --resume \
+	  $(call ms_args,$*) $< -o $@ 2>&1 | tee $(@:.h5=.log)
+define MS_VARIANT_RULES
+$(MS)/%/msae-$(1).args: FORCE
+	@mkdir -p $$(@D)
+	@echo '$$(call ms_args,$$*,$(1))' $$(write_if_changed)
+$(MS)/%/msae-$(1).h5: $(MS)/%/data.h5 $(MS)/%/msae-$(1).args
+	$$(BIN)/train-msae -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 500 --resume \
+	  $$(call ms_args,$$*,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+endef
+$(foreach v,$(MS_VARIANTS) level3,$(eval $(call MS_VARIANT_RULES,$(v))))
+
+# --- reconstructions of the test shapes and their measures
+$(MS)/%/recon.h5: $(MS)/%/msae.h5
+	$(BIN)/recon-msae -q -f $< $(MS)/$*/data.h5 -o $@
+$(MS)/%/recon-L1.h5: $(MS)/%/msae.h5
+	$(BIN)/recon-msae -q -f --levels 1 $< $(MS)/$*/data.h5 -o $@
+$(MS)/%/recon-level3-L3.h5: $(MS)/%/msae-level3.h5
+	$(BIN)/recon-msae -q -f $< $(MS)/$*/data.h5 -o $@
+$(MS)/%/recon-pca.h5: $(MS)/%/msae.h5
+	$(BIN)/fit-baseline -q -f --method pca $< $(MS)/$*/data.h5 -o $@
+$(MS)/%/recon-splocs.h5: $(MS)/%/msae.h5
+	$(BIN)/fit-baseline -q -f --method splocs $< $(MS)/$*/data.h5 -o $@
+define MS_RECON_RULES
+$(MS)/%/recon-$(1).h5: $(MS)/%/msae-$(1).h5
+	$$(BIN)/recon-msae -q -f $$< $(MS)/$$*/data.h5 -o $$@
+endef
+$(foreach v,$(MS_VARIANTS),$(eval $(call MS_RECON_RULES,$(v))))
+$(MS)/%.eval: $(MS)/%.h5
+	$(BIN)/eval-metrics $< $(dir $<)data.h5 $(write_if_changed)
+
+# Numbers out of an eval-metrics table.
+ms_erms = sed -n 's/^ *E_rms *\([0-9.e+-]*\).*/\1/p' $(1) | awk '{ printf "%.3f", $$1 }'
+ms_sted = sed -n 's/^ *STED *spatial \([0-9.e+-]*\).*/\1/p' $(1) | awk '{ printf "%.4f", $$1 }'
+ms_rse_max = sed -n 's/^ *relative squared error *max \([0-9.e+-]*\).*/\1/p' $(1) | awk '{ printf "%.4g", $$1 }'
+ms_pairs = sed -n 's/.*(\([0-9]*\) frame pairs).*/\1/p' $(1)
+
+$(MS)/%/table2.md: $(MS)/%/recon.eval $(MS)/%/recon-pca.eval $(MS)/%/recon-tan.eval $(MS)/%/recon-splocs.eval
+	{ echo "$* — reconstruction of the $$($(call ms_pairs,$<)) test shapes (paper Table 2): E_rms (x1000, unit ball) and STED (spatial)"; echo; \
+	  echo "| method | components | E_rms | STED |"; echo "|---|---:|---:|---:|"; \
+	  echo "| MSAE (2 levels, attention, joint) | 10 + 50 | $$($(call ms_erms,$<)) | $$($(call ms_sted,$<)) |"; \
+	  echo "| PCA on ACAP features | $$(h5dump -a /frames/source/method $(MS)/$*/recon-pca.h5 | sed -n 's/.*"pca: \([0-9]*\) comp.*/\1/p') | $$($(call ms_erms,$(MS)/$*/recon-pca.eval)) | $$($(call ms_sted,$(MS)/$*/recon-pca.eval)) |"; \
+	  echo "| one-level sparse AE (Tan et al.) | 60 | $$($(call ms_erms,$(MS)/$*/recon-tan.eval)) | $$($(call ms_sted,$(MS)/$*/recon-tan.eval)) |"; \
+	  echo "| SPLOCS (positions) | 60 | $$($(call ms_erms,$(MS)/$*/recon-splocs.eval)) | $$($(call ms_sted,$(MS)/$*/recon-splocs.eval)) |"; \
+	} $(write_if_changed)
+$(MS)/%/table4.md: $(MS)/%/recon.eval $(MS)/%/recon-noatt.eval $(MS)/%/recon-separate.eval $(MS)/%/recon-separate-noatt.eval
+	{ echo "$* — E_rms of the test shapes by training strategy (paper Table 4)"; echo; \
+	  echo "| | with attention | without attention |"; echo "|---|---:|---:|"; \
+	  echo "| joint | $$($(call ms_erms,$<)) | $$($(call ms_erms,$(MS)/$*/recon-noatt.eval)) |"; \
+	  echo "| separate | $$($(call ms_erms,$(MS)/$*/recon-separate.eval)) | $$($(call ms_erms,$(MS)/$*/recon-separate-noatt.eval)) |"; \
+	} $(write_if_changed)
+$(foreach s,$(MS_LEVEL3_SETS),$(eval $(MS)/$(s)/table5.md: $(MS)/$(s)/recon-level3-L3.eval))
+$(MS)/%/table5.md: $(MS)/%/recon-L1.eval $(MS)/%/recon.eval
+	{ echo "$* — maximum relative squared error (eq. 8, normalized features) over the test shapes (paper Table 5)"; echo; \
+	  echo "| levels | max relative squared error |"; echo "|---|---:|"; \
+	  echo "| 1 (the two-level model through level 0) | $$($(call ms_rse_max,$<)) |"; \
+	  echo "| 2 | $$($(call ms_rse_max,$(MS)/$*/recon.eval)) |"; \
+	  if [ -f $(MS)/$*/recon-level3-L3.eval ]; then echo "| 3 (a three-level model, K_z 10,5,2) | $$($(call ms_rse_max,$(MS)/$*/recon-level3-L3.eval)) |"; fi; \
+	} $(write_if_changed)
+
+# --- components: extract, prune, draw; similarity heat map; training curve
+$(MS)/%/components.h5: $(MS)/%/msae.h5
+	$(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
+$(MS)/%/kept.h5: $(MS)/%/components.h5
+	$(BIN)/prune-components -f $< -o $@ --acap $(MS)/$*/kept-acap.h5 --json $(MS)/$*/pruning.json > $(MS)/$*/pruning.txt
+$(MS)/%/components.png: $(MS)/%/kept.h5
+	$(BIN)/render-mesh -q -f $(MS)/$*/kept-acap.h5 --color deformation $($*_VIEW) --size 200 \
+	  --title "$*: kept MSAE components (rows: levels), colour |X - X_r| per vertex" -o $@
+$(MS)/%/fig3.png: $(MS)/%/components.h5
+	h5dump -d /similarity -y -w 0 -m %.5f $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
+	gnuplot -e "set terminal pngcairo size 560,500; set output '$@'; \
+	  set title '$*: |cosine similarity| of the level-0 components'; set xrange [-0.5:9.5]; set yrange [9.5:-0.5]; \
+	  set cbrange [0:1]; set palette defined (0 '#440154', 0.5 '#21918c', 1 '#fde725'); \
+	  plot '$(@:.png=.txt)' matrix with image notitle"
+$(MS)/%/curve.png: $(MS)/%/msae.h5
+	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+\n-' ' ' | xargs -n 6 > $(@:.png=.txt)
+	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; set logscale y; \
+	  set title '$*: MSAE training (validation shapes are held out, not test shapes)'; set xlabel 'iteration'; \
+	  plot '$(@:.png=.txt)' using 1:2 with lines title 'training loss (all blocks)', \
+	       '' using 1:6 with linespoints title 'validation: mean |X - X^|^2 per shape'"
+$(MS)/bumps/localization.md: $(MS)/bumps/kept.h5 $(MS)/bumps/frames.h5
+	{ echo "bumps — localization of the planted regions by the kept components (support: deformation >= 10% of the component's peak; IoU with the region's disc)"; echo; \
+	  $(BIN)/eval-metrics $< $(MS)/bumps/frames.h5 | sed -n '2,$$p' | sed 's/^/    /'; } $(write_if_changed)
