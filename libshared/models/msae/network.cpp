@@ -115,9 +115,10 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
     nn::Tape<T>& tape = *x.tape;
     const T inv_kz = T(1) / static_cast<T>(bl.kz);
     Var sq = nn::square(out.residual);
-    Var recon =
-        weights ? nn::scale(nn::sum(nn::mul(sq, tape.constant(*weights))), T(1) / weights->sum())
-                : nn::scale(nn::sum(sq), T(1) / static_cast<T>(x.rows()));
+    // Weighted: each row's squared error (a column) times its count, no [B, 9V] broadcast.
+    Var recon = weights ? nn::scale(nn::sum(nn::mul(nn::sum_cols(sq), tape.constant(*weights))),
+                                    T(1) / weights->sum())
+                        : nn::scale(nn::sum(sq), T(1) / static_cast<T>(x.rows()));
     Var omega =
         nn::scale(nn::sum(nn::mul(nn::group_norm(C, Index{9}), tape.constant(*lambda))), inv_kz);
     Var vz = nn::mean(
