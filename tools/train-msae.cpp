@@ -46,12 +46,18 @@ int main(int argc, char** argv) {
       "One autoencoder per level on the whole residual, with as many components as the\n"
       "attention tree has there (paper Table 4; --levels 1 --no-attention is the one-level\n"
       "sparse autoencoder of Tan et al.)");
+  n->add_option("--latent", opt.net.latent,
+                "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: the\n"
+                "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real meshes\n"
+                "and V(Z) never acts; see the README)")
+      ->default_val(opt.net.latent)
+      ->check(CLI::IsMember({"tanh", "linear"}));
   n->add_option("--lambda-recon", opt.net.lambda_recon, "Weight of the reconstruction MSE")
       ->default_val(opt.net.lambda_recon);
   n->add_option("--lambda-sparse", opt.net.lambda_sparse, "Weight of Omega(C)")
       ->default_val(opt.net.lambda_sparse);
   n->add_option("--theta", opt.net.theta,
-                "V(Z)'s bound on the codes (tanh codes stay below 1: inactive at 5)")
+                "V(Z)'s bound on the codes (tanh codes stay below 1: inactive)")
       ->default_val(opt.net.theta);
   auto* g = app.add_option_group("Training");
   g->add_option("--iterations", opt.training.iterations,

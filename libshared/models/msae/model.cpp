@@ -61,6 +61,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     f.set_attr("/config", "lambda_recon", c.lambda_recon);
     f.set_attr("/config", "lambda_sparse", c.lambda_sparse);
     f.set_attr("/config", "theta", c.theta);
+    f.set_attr("/config", "latent", c.latent);
     const auto& t = m.training;
     f.set_attr("/config", "iterations", t.iterations);
     f.set_attr("/config", "batch", t.batch);
@@ -110,6 +111,7 @@ MsaeModel load_msae_model(const std::string& path) {
   c.lambda_recon = f.attr_double("/config", "lambda_recon");
   c.lambda_sparse = f.attr_double("/config", "lambda_sparse");
   c.theta = f.attr_double("/config", "theta");
+  c.latent = f.attr_string("/config", "latent");
   auto& t = m.training;
   t.iterations = f.attr_int("/config", "iterations");
   t.batch = static_cast<int>(f.attr_int("/config", "batch"));

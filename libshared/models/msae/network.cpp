@@ -18,6 +18,8 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--kz and --d need one value per level");
   for (int k : config_.kz)
     if (k < 1) throw UsageError("--kz values must be positive");
+  if (config_.latent != "tanh" && config_.latent != "linear")
+    throw UsageError("--latent must be tanh or linear");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
   Rng rng(seed, 0);
   // The tree, level by level: with attention every block has kz children; without, one block
@@ -104,7 +106,8 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   Var C = p[bl.c];
   Var h = nn::tanh(bl.conv(p, x));
-  Var z = nn::tanh(nn::matmul_transposed(h, C));
+  Var z = nn::matmul_transposed(h, C);
+  if (config_.latent == "tanh") z = nn::tanh(z);
   Var y = nn::tanh(nn::matmul(z, C));
   BlockOutput out;
   out.z = z;

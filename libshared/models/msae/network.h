@@ -3,7 +3,8 @@
 // engine. Shapes are rows of normalized ACAP features [B, 9V].
 //
 // An AE block with K_z components (§4.1):
-//   h = tanh(conv(x))   z = tanh(h Cᵀ)   y = tanh(z C)   x̂ = tanh(conv'(y))
+//   h = tanh(conv(x))   z = h Cᵀ   y = tanh(z C)   x̂ = tanh(conv'(y))
+// (z = tanh(h Cᵀ) with --latent tanh, the paper's "tanh everywhere" taken literally)
 // C [K_z, 9V] has no bias and is shared by encoder and decoder; conv' is the mesh convolution
 // with the encoder's weights transposed (tied, as in the convMesh code the paper builds on) and
 // its own bias. Loss of a block: λ₁ L_recon + λ₂ Ω(C) + V(Z), with
@@ -40,6 +41,10 @@ struct MsaeConfig {
   std::vector<int> kz = {10, 5};       ///< components of each block, per level
   std::vector<double> d = {0.4, 0.2};  ///< Ω's normalized geodesic radius, per level
   bool attention = true;               ///< false: one block per level on the whole residual
+  /// The codes z = act(h Cᵀ): "linear" (unbounded codes, which V(Z)'s θ = 5 bounds) or "tanh"
+  /// (the paper's "tanh everywhere" taken literally: V(Z) can never act, and on real meshes AE₀'s
+  /// codes saturate at ±1 and stop learning — chosen on validation parts, README)
+  std::string latent = "linear";
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
   int levels() const { return static_cast<int>(kz.size()); }
 };

@@ -58,6 +58,7 @@ void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::stri
   differs("lambda-recon", a.lambda_recon, b.lambda_recon);
   differs("lambda-sparse", a.lambda_sparse, b.lambda_sparse);
   differs("theta", a.theta, b.theta);
+  differs("latent", a.latent, b.latent);
   const auto &s = ck.training, &t = want.training;
   differs("batch", s.batch, t.batch);
   differs("lr", s.lr, t.lr);
