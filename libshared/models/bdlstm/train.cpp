@@ -19,13 +19,8 @@ namespace {
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
 void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::string& path) {
-  auto differs = [&](const char* what, auto a, auto b) {
-    if (a != b)
-      throw InvalidInput(
-          fmt::format("checkpoint was made with {} = {}, this run has {}; remove it or use the "
-                      "same settings",
-                      what, a, b),
-          path);
+  auto differs = [&](const char* what, const auto& a, const auto& b) {
+    require_same_setting(what, a, b, path);
   };
   const auto &a = ck.config, &b = want.config;
   differs("conv-layers", a.conv_layers, b.conv_layers);

@@ -4,10 +4,14 @@
 // model's RNG, take an optimizer step, return the loss terms) and one checkpoint writer.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "core/error.h"
 
 namespace df::models {
 
@@ -36,6 +40,19 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
                        const std::function<void()>& checkpoint,
                        const std::vector<std::string>& evaluate_names = {},
                        const std::function<LossTerms()>& evaluate = {});
+
+/// --resume's guard: InvalidInput naming the checkpoint when a setting it was made with differs
+/// from this run's (the result would be neither run).
+template <class A, class B>
+void require_same_setting(const char* what, const A& checkpoint, const B& now,
+                          const std::string& path) {
+  if (checkpoint != now)
+    throw InvalidInput(
+        fmt::format("checkpoint was made with {} = {}, this run has {}; remove it or use the "
+                    "same settings",
+                    what, checkpoint, now),
+        path);
+}
 
 /// Fails now rather than after hours of training: IOError if `output` exists without `force`, or
 /// is `input`.

@@ -44,12 +44,8 @@ void check_options(const MsaeTrainOptions& opt) {
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
 void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::string& path) {
-  auto differs = [&](const char* what, auto a, auto b) {
-    if (a != b)
-      throw InvalidInput(fmt::format("checkpoint was made with {} = {}, this run has {}; remove it "
-                                     "or use the same settings",
-                                     what, a, b),
-                         path);
+  auto differs = [&](const char* what, const auto& a, const auto& b) {
+    require_same_setting(what, a, b, path);
   };
   const auto &a = ck.config, &b = want.config;
   differs("kz", fmt::format("{}", fmt::join(a.kz, ",")), fmt::format("{}", fmt::join(b.kz, ",")));
