@@ -1,6 +1,7 @@
 # The demo: what `make demo` runs. Data from synth-meshseq and Debian's assimp-testmodels only.
 DEMO := $(OUT)/demo
 FAERIE ?= /usr/share/assimp/models/MD2/faerie.md2
+DEMO_MSAE_ITERATIONS ?= 1000
 
 .PHONY: demo
 demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
@@ -22,7 +23,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@sed -n 's/^  per-vertex position error *\(.*\)/     linear extrapolation: \1/p' $(DEMO)/bdlstm-linear.txt
 	@echo "   (a short demo run; pipelines/bdlstm.mk trains longer and reproduces the paper's tables)"
 	@echo
-	@echo "== MSAE (train-msae, 1,000 iterations on the bumps surface: 2 coarse + 4 fine planted regions)"
+	@echo "== MSAE (train-msae, $(DEMO_MSAE_ITERATIONS) iterations on the bumps surface: 2 coarse + 4 fine planted regions)"
 	@echo "   reconstruction of the 162 held-out shapes (recon-msae; eval-metrics):"
 	@sed -n 's/^  E_rms *\(.*\)/     E_rms \1/p; s/^  relative squared error *\(.*\)/     relative squared error \1/p' $(DEMO)/msae-recon.txt
 	@echo "   components kept by prune-components (strength >= 0.01):"
@@ -115,7 +116,7 @@ $(DEMO)/bdlstm-%.txt: $(DEMO)/bdlstm-%.h5 $(DEMO)/bdlstm-finger.h5
 $(DEMO)/bumps-acap.h5: $(DEMO)/bumps.h5
 	$(BIN)/obj2acap -q -f $< -o $@
 $(DEMO)/msae-model.h5: $(DEMO)/bumps-acap.h5
-	$(BIN)/train-msae -f --iterations 1000 --print-every 250 $< -o $@
+	$(BIN)/train-msae -f --iterations $(DEMO_MSAE_ITERATIONS) --print-every 250 $< -o $@
 $(DEMO)/msae-kept.h5: $(DEMO)/msae-model.h5
 	$(BIN)/extract-components -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-components.h5
 	$(BIN)/prune-components -f $(DEMO)/msae-components.h5 -o $@ --acap $(DEMO)/msae-kept-acap.h5 > $(DEMO)/msae-pruning.txt

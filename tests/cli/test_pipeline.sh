@@ -2,7 +2,8 @@
 # re-runs when its inputs are unchanged).
 source "$(dirname "$0")/lib.sh"
 : "${DF_SOURCE:?}"
-run make -C "$DF_SOURCE" -f Makefile.data demo BIN="$DF_BIN" OUT="$DF_TMP/out"
+# (a short MSAE run: the demo's 1,000 iterations take about 2 minutes)
+run make -C "$DF_SOURCE" -f Makefile.data demo BIN="$DF_BIN" OUT="$DF_TMP/out" DEMO_MSAE_ITERATIONS=40
 expect_rc 0
 expect_out "faerie.h5: OK, acap"
 expect_out "finger \(400 deg twist\): max [0-9.e-]+ x bbox diagonal"
@@ -10,6 +11,11 @@ expect_out "faerie \(MD2, 16 animations\): max"
 [ -f out/demo/flag/0000.obj ] || fail "flag frames missing"
 [ "$(ls out/demo/faerie-meshes | wc -l)" = 198 ] || fail "faerie meshes missing"
 h5check -q out/demo/finger.h5 out/demo/bumps.h5 out/demo/finger-acap.h5
+expect_out "level 0: [0-9]+ kept, [0-9]+ dropped"
+expect_out "coarse +0 "
+h5check -q --kind msae-model out/demo/msae-model.h5
+h5check -q --kind components out/demo/msae-kept.h5
+[ -s out/demo/msae-components.png ] || fail "no MSAE picture"
 run make -C "$DF_SOURCE" -q -f Makefile.data "$DF_TMP/out/demo/faerie-meshes/stand01.obj" \
   "$DF_TMP/out/demo/finger-meshes/finger-0000.obj" "$DF_TMP/out/demo/bumps.h5" BIN="$DF_BIN" OUT="$DF_TMP/out"
 expect_rc 0
