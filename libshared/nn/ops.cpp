@@ -321,6 +321,39 @@ Var<T> sum(Var<T> a) {
 }
 
 template <class T>
+Var<T> sum_squares(Var<T> a, const Matrix<T>* row_weights) {
+  Tape<T>& t = *a.tape;
+  if (row_weights && (row_weights->rows() != a.rows() || row_weights->cols() != 1))
+    throw Error("internal: sum_squares row weights must be [rows, 1]");
+  const int ia = a.id, io = next_id(t);
+  auto w = row_weights ? std::make_shared<const Matrix<T>>(*row_weights) : nullptr;
+  T value = 0;
+  if (w)
+    for (Index r = 0; r < a.rows(); ++r) value += (*w)(r, 0) * a.value().row(r).squaredNorm();
+  else
+    value = a.value().squaredNorm();
+  return t.record(Matrix<T>::Constant(1, 1, value), a.requires_grad(), [&t, ia, io, w] {
+    const T g = 2 * t.grad(io)(0, 0);
+    if (!w) {
+      t.grad(ia) += g * t.value(ia);
+      return;
+    }
+    for (Index r = 0; r < t.value(ia).rows(); ++r) t.grad(ia).row(r) += (g * (*w)(r, 0)) * t.value(ia).row(r);
+  });
+}
+
+template <class T>
+Var<T> dot_constant(Var<T> a, Matrix<T> c) {
+  Tape<T>& t = *a.tape;
+  if (c.rows() != a.rows() || c.cols() != a.cols()) throw Error("internal: dot_constant of different shapes");
+  const int ia = a.id, io = next_id(t);
+  auto cc = std::make_shared<const Matrix<T>>(std::move(c));
+  const T value = (a.value().array() * cc->array()).sum();
+  return t.record(Matrix<T>::Constant(1, 1, value), a.requires_grad(),
+                  [&t, ia, io, cc] { t.grad(ia) += t.grad(io)(0, 0) * *cc; });
+}
+
+template <class T>
 Var<T> mean(Var<T> a) {
   return scale(sum(a), T(1) / static_cast<T>(a.value().size()));
 }
@@ -604,6 +637,8 @@ Var<T> reparameterize(Var<T> mu, Var<T> logvar, const Matrix<T>& eps) {
   template Var<T> sqrt(Var<T>);                                                               \
   template Var<T> clamp(Var<T>, T, T);                                                        \
   template Var<T> sum(Var<T>);                                                                \
+  template Var<T> sum_squares(Var<T>, const Matrix<T>*);                                      \
+  template Var<T> dot_constant(Var<T>, Matrix<T>);                                            \
   template Var<T> mean(Var<T>);                                                               \
   template Var<T> sum_rows(Var<T>);                                                           \
   template Var<T> sum_cols(Var<T>);                                                           \

@@ -53,6 +53,12 @@ template <class T> Var<T> sum_cols(Var<T> a);   ///< [rows, 1]: sum over the col
 template <class T> Var<T> mean_rows(Var<T> a);  ///< [1, cols]
 template <class T> Var<T> mean_cols(Var<T> a);  ///< [rows, 1]
 template <class T> Var<T> max_rows(Var<T> a);   ///< [1, cols]: max over rows (gradient to the first argmax)
+/// Σ w_r Σ_c a_rc² (1×1; w = 1 without row weights [rows, 1]), keeping nothing but a: sum(square(a))
+/// without a second matrix of a's size on the tape.
+template <class T> Var<T> sum_squares(Var<T> a, const Matrix<T>* row_weights = nullptr);
+/// Σ a ⊙ c (1×1) for a constant c of a's shape: injects the gradient c into a (a gradient
+/// computed elsewhere, e.g. a later stage's), without a product matrix on the tape.
+template <class T> Var<T> dot_constant(Var<T> a, Matrix<T> c);
 template <class T> Var<T> max_cols(Var<T> a);   ///< [rows, 1]
 
 // --- structure

@@ -117,11 +117,8 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
   if (loss) {
     nn::Tape<T>& tape = *x.tape;
     const T inv_kz = T(1) / static_cast<T>(bl.kz);
-    Var sq = nn::square(out.residual);
-    // Weighted: each row's squared error (a column) times its count, no [B, 9V] broadcast.
-    Var recon = weights ? nn::scale(nn::sum(nn::mul(nn::sum_cols(sq), tape.constant(*weights))),
-                                    T(1) / weights->sum())
-                        : nn::scale(nn::sum(sq), T(1) / static_cast<T>(x.rows()));
+    Var recon = weights ? nn::scale(nn::sum_squares(out.residual, weights), T(1) / weights->sum())
+                        : nn::scale(nn::sum_squares(out.residual), T(1) / static_cast<T>(x.rows()));
     Var omega =
         nn::scale(nn::sum(nn::mul(nn::group_norm(C, Index{9}), tape.constant(*lambda))), inv_kz);
     Var vz = nn::mean(
@@ -240,9 +237,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
           g_am(cb.slot, i) += gi.dot(r.row(row).segment(9 * i, 9));
         }
     }
-    Var surrogate = nn::sum(nn::mul(out.residual, tape.constant(std::move(g_r))));
-    if (am)
-      surrogate = nn::add(surrogate, nn::sum(nn::mul(out.masks, tape.constant(std::move(g_am)))));
+    Var surrogate = nn::dot_constant(out.residual, std::move(g_r));
+    if (am) surrogate = nn::add(surrogate, nn::dot_constant(out.masks, std::move(g_am)));
     total = total.id < 0 ? surrogate : nn::add(total, surrogate);
   }
   if (total.id < 0) return want_input_gradient ? Matrix::Zero(x.rows(), x.cols()) : Matrix();

@@ -112,7 +112,16 @@ TEST_CASE("nn ops: slicing, concatenation, reshape, gather/scatter, group norm",
   require_gradients([](Tape<double>&, const Vars& x) { return gather_rows(x[0], {2, 0, 2, 1}); }, {rnd(3, 4, 1)});
   require_gradients([](Tape<double>&, const Vars& x) { return scatter_rows(x[0], {2, 0, 2}, 4); }, {rnd(3, 4, 1)});
   require_gradients([](Tape<double>&, const Vars& x) { return group_norm(x[0], 3); }, {rnd(4, 9, 1)});
+  const M w = (M(4, 1) << 3, 0, 1, 2).finished(), c = rnd(4, 5, 3);
+  require_gradients([](Tape<double>&, const Vars& x) { return sum_squares(x[0]); }, {rnd(4, 5, 1)});
+  require_gradients([w](Tape<double>&, const Vars& x) { return sum_squares(x[0], &w); }, {rnd(4, 5, 1)});
+  require_gradients([c](Tape<double>&, const Vars& x) { return dot_constant(x[0], c); }, {rnd(4, 5, 1)});
   Tape<double> t;
+  const M s = rnd(4, 5, 4);
+  CHECK(sum_squares(t.constant(s)).value()(0, 0) == Approx(s.squaredNorm()));
+  CHECK(sum_squares(t.constant(s), &w).value()(0, 0) ==
+        Approx((s.rowwise().squaredNorm().array() * w.col(0).array()).sum()));
+  CHECK(dot_constant(t.constant(s), c).value()(0, 0) == Approx((s.array() * c.array()).sum()));
   M a(1, 6);
   a << 3, 4, 0, 0, 0, 0;
   CHECK(group_norm(t.constant(a), 3).value() == (M(1, 2) << 5, 0).finished());
