@@ -1,6 +1,7 @@
 #include "models/msae/network.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "core/rng.h"
@@ -142,9 +143,10 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::child_input(const Block& child, const Ma
                                                     const Matrix* masks) const {
   if (!masks) return residual;
   Matrix in(residual.rows(), residual.cols());
-  for (Index r = 0; r < residual.rows(); ++r)
+  tbb::parallel_for(Index{0}, residual.rows(), [&](Index r) {
     for (Index i = 0; i < n_vertices_; ++i)
       in.row(r).segment(9 * i, 9) = residual.row(r).segment(9 * i, 9) * (*masks)(child.slot, i);
+  });
   return in;
 }
 
@@ -230,12 +232,14 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
         g_r += g;
         continue;
       }
-      for (Index row = 0; row < r.rows(); ++row)
-        for (Index i = 0; i < n_vertices_; ++i) {
+      // Vertices in parallel: each owns its 9 columns of g_r and its entry of g_am.
+      tbb::parallel_for(Index{0}, Index{n_vertices_}, [&](Index i) {
+        for (Index row = 0; row < r.rows(); ++row) {
           const auto gi = g.row(row).segment(9 * i, 9);
           g_r.row(row).segment(9 * i, 9) += gi * (*am)(cb.slot, i);
           g_am(cb.slot, i) += gi.dot(r.row(row).segment(9 * i, 9));
         }
+      });
     }
     Var surrogate = nn::dot_constant(out.residual, std::move(g_r));
     if (am) surrogate = nn::add(surrogate, nn::dot_constant(out.masks, std::move(g_am)));
