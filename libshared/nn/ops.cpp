@@ -320,6 +320,17 @@ Var<T> sum(Var<T> a) {
                   [&t, ia, io] { t.grad(ia).array() += t.grad(io)(0, 0); });
 }
 
+// Row sums of f(row r) into a vector (rows in parallel), then their sum in row order: the same
+// value at any thread count.
+template <class T, class F>
+T ordered_row_sum(Index rows, F&& f) {
+  std::vector<T> part(static_cast<std::size_t>(rows));
+  tbb::parallel_for(Index{0}, rows, [&](Index r) { part[static_cast<std::size_t>(r)] = f(r); });
+  T total = 0;
+  for (T v : part) total += v;
+  return total;
+}
+
 template <class T>
 Var<T> sum_squares(Var<T> a, const Matrix<T>* row_weights) {
   Tape<T>& t = *a.tape;
@@ -327,30 +338,32 @@ Var<T> sum_squares(Var<T> a, const Matrix<T>* row_weights) {
     throw Error("internal: sum_squares row weights must be [rows, 1]");
   const int ia = a.id, io = next_id(t);
   auto w = row_weights ? std::make_shared<const Matrix<T>>(*row_weights) : nullptr;
-  T value = 0;
-  if (w)
-    for (Index r = 0; r < a.rows(); ++r) value += (*w)(r, 0) * a.value().row(r).squaredNorm();
-  else
-    value = a.value().squaredNorm();
+  const Matrix<T>& A = a.value();
+  const T value = ordered_row_sum<T>(
+      A.rows(), [&](Index r) { return (w ? (*w)(r, 0) : T(1)) * A.row(r).squaredNorm(); });
   return t.record(Matrix<T>::Constant(1, 1, value), a.requires_grad(), [&t, ia, io, w] {
     const T g = 2 * t.grad(io)(0, 0);
-    if (!w) {
-      t.grad(ia) += g * t.value(ia);
-      return;
-    }
-    for (Index r = 0; r < t.value(ia).rows(); ++r) t.grad(ia).row(r) += (g * (*w)(r, 0)) * t.value(ia).row(r);
+    Matrix<T>& G = t.grad(ia);
+    const Matrix<T>& X = t.value(ia);
+    tbb::parallel_for(Index{0}, X.rows(),
+                      [&](Index r) { G.row(r) += (g * (w ? (*w)(r, 0) : T(1))) * X.row(r); });
   });
 }
 
 template <class T>
 Var<T> dot_constant(Var<T> a, Matrix<T> c) {
   Tape<T>& t = *a.tape;
-  if (c.rows() != a.rows() || c.cols() != a.cols()) throw Error("internal: dot_constant of different shapes");
+  if (c.rows() != a.rows() || c.cols() != a.cols())
+    throw Error("internal: dot_constant of different shapes");
   const int ia = a.id, io = next_id(t);
   auto cc = std::make_shared<const Matrix<T>>(std::move(c));
-  const T value = (a.value().array() * cc->array()).sum();
-  return t.record(Matrix<T>::Constant(1, 1, value), a.requires_grad(),
-                  [&t, ia, io, cc] { t.grad(ia) += t.grad(io)(0, 0) * *cc; });
+  const Matrix<T>& A = a.value();
+  const T value = ordered_row_sum<T>(A.rows(), [&](Index r) { return A.row(r).dot(cc->row(r)); });
+  return t.record(Matrix<T>::Constant(1, 1, value), a.requires_grad(), [&t, ia, io, cc] {
+    const T g = t.grad(io)(0, 0);
+    Matrix<T>& G = t.grad(ia);
+    tbb::parallel_for(Index{0}, G.rows(), [&](Index r) { G.row(r) += g * cc->row(r); });
+  });
 }
 
 template <class T>
