@@ -144,6 +144,33 @@ fi
     fi
   fi
   echo
+  echo "### MSAE training iteration (paper 2; shapes of ../shared/peers/torch/msae.py: AE0 + 10 attention AEs, B = 256 drawn from 64 shapes)"
+  echo
+  echo "full: all 256 rows computed, as the peer does; distinct: the batch's distinct shapes weighted by their count (what train-msae does; same loss and gradient)"
+  echo
+  echo "| model | parameters | threads | median ms | min ms | peak MiB |"
+  echo "|---|---|---|---|---|---|"
+  msae_cases=()
+  [ -n "${dirs[pcow]:-}" ] && msae_cases+=("--mesh ${dirs[pcow]}/1.obj --mode full" "--mesh ${dirs[pcow]}/1.obj --mode distinct")
+  msae_cases+=("--grid 112 --mode full")
+  for threads in 1 2; do
+    for c in "${msae_cases[@]}"; do
+      # shellcheck disable=SC2086
+      /usr/bin/time -f "%M" -o "$out/time.log" "$bin/bench_msae" --threads $threads --iters 3 $c > "$out/ms.txt"
+      awk -v t=$threads -v m="$(awk '{printf "%.0f", $1/1024}' "$out/time.log")" -F'|' \
+        '{gsub(/^ +| +$/, "", $2); printf "| %s | %s | %s | %s | %s | %s |\n", $2, $3 + 0, t, $4 + 0, $5 + 0, m}' "$out/ms.txt"
+    done
+  done
+  if [ -f "$peer/msae.py" ] && /usr/bin/python3 -c "import torch" 2>/dev/null; then
+    echo
+    echo "PyTorch peer (msae.py, nb=sparse):"
+    echo
+    for threads in 1 2; do
+      (cd "$peer" && /usr/bin/time -f "    peak %M KiB" /usr/bin/python3 msae.py --mesh pcow grid --threads $threads --iters 5 2>&1 |
+        grep -E "threads=|peak") | sed 's/^/    /'
+    done
+  fi
+  echo
   echo "### Synthetic data"
   echo
   echo "| benchmark | threads | seconds | vertex-frames/s | peak MiB |"
