@@ -217,13 +217,11 @@ MsaeSplit split_from_lists(const std::vector<std::string>& frame_names,
   return s;
 }
 
-void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
-  check_options(opt);
-  check_training_output(opt.output, opt.input, common.force);
-  io::Dimensions dims;
-  h5::File in = io::open_input(opt.input, "acap", &dims);
-  if (!in.exists("/features/normalized"))
-    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
+namespace {
+
+// The model's configuration, template, normalization and split, from the options and the data.
+MsaeModel describe_model(const MsaeTrainOptions& opt, const CommonOptions& common,
+                         const h5::File& in) {
   MsaeModel m;
   m.config = opt.net;
   m.training = opt.training;
@@ -247,10 +245,14 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
         opt.input);
   m.log_columns = {"iteration", "total", "recon", "sparsity", "latent"};
   if (!m.split.validation.empty()) m.log_columns.push_back("validation");
+  return m;
+}
 
-  const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
-  std::unique_ptr<geometry::GeodesicRows> geodesic;
-  if (opt.resume && std::filesystem::exists(ckpt)) {
+// Continues the checkpoint (weights, Adam, RNG, log, geodesic rows) when resuming and one exists,
+// else starts afresh; returns the geodesic distances on the template either way.
+std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool resume,
+                                                              const std::string& ckpt) {
+  if (resume && std::filesystem::exists(ckpt)) {
     MsaeModel ck = load_msae_model(ckpt);
     check_resumable(ck, m, ckpt);
     m.net = std::move(ck.net);
@@ -259,18 +261,57 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
     m.geodesic_diameter = ck.geodesic_diameter;
-    geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
-                                                        m.geodesic_diameter);
+    auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
+                                                             m.geodesic_diameter);
     for (std::size_t k = 0; k < ck.geodesic_sources.size(); ++k)
       geodesic->keep(ck.geodesic_sources[k], ck.geodesic_rows[k]);
     log::info("resuming from {} at iteration {}", ckpt, m.iteration);
-  } else {
-    m.initialize();
-    log::info("geodesic distances on the template (heat method; {} vertices)",
-              m.tmpl.vertices.rows());
-    geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces);
-    m.geodesic_diameter = geodesic->diameter();
+    return geodesic;
   }
+  m.initialize();
+  log::info("geodesic distances on the template (heat method; {} vertices)",
+            m.tmpl.vertices.rows());
+  auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces);
+  m.geodesic_diameter = geodesic->diameter();
+  return geodesic;
+}
+
+// Ω's masks around the current centres (their geodesic rows solved first, in parallel).
+std::vector<nn::Matrix<float>> current_sparsity_masks(const MsaeModel& m,
+                                                      geometry::GeodesicRows& geodesic) {
+  const auto centres = m.net->centres();
+  std::vector<int> sources;
+  for (const auto& c : centres) sources.insert(sources.end(), c.begin(), c.end());
+  geodesic.prepare(sources);
+  return m.net->sparsity_masks(centres,
+                               [&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); });
+}
+
+// The geodesic rows of the final centres, for the model file.
+void remember_geodesics(MsaeModel& m, geometry::GeodesicRows& geodesic) {
+  m.geodesic_sources.clear();
+  m.geodesic_rows.clear();
+  for (const auto& c : m.net->centres())
+    for (int s : c)
+      if (std::find(m.geodesic_sources.begin(), m.geodesic_sources.end(), s) ==
+          m.geodesic_sources.end()) {
+        m.geodesic_sources.push_back(s);
+        m.geodesic_rows.push_back(geodesic.row(s));
+      }
+}
+
+}  // namespace
+
+void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
+  check_options(opt);
+  check_training_output(opt.output, opt.input, common.force);
+  io::Dimensions dims;
+  h5::File in = io::open_input(opt.input, "acap", &dims);
+  if (!in.exists("/features/normalized"))
+    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
+  MsaeModel m = describe_model(opt, common, in);
+  const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
+  const auto geodesic = restore_or_initialize(m, opt.resume, ckpt);
   if (m.iteration > m.training.iterations)
     throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}",
                                  m.iteration, m.training.iterations));
@@ -292,18 +333,12 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
       m.training.separate ? "separate" : "joint");
 
   nn::Matrix<float> batch, weights;
-  std::vector<std::vector<int>> centres;
   // One iteration: a batch of training shapes drawn with the model's RNG, Ω's masks around the
   // current centres, the gradient block by block, one Adam step (of the level in training when
   // separate: a new Adam at each level's start, the other levels' gradients dropped).
   auto step = [&](std::int64_t done) -> LossTerms {
     draw_batch(data, m.split.train, m.training.batch, m.rng, batch, weights);
-    centres = m.net->centres();
-    std::vector<int> sources;
-    for (const auto& c : centres) sources.insert(sources.end(), c.begin(), c.end());
-    geodesic->prepare(sources);
-    const auto lambda = m.net->sparsity_masks(
-        centres, [&](int c) -> const Eigen::VectorXf& { return geodesic->row(c); });
+    const auto lambda = current_sparsity_masks(m, *geodesic);
     const int stage = stage_of(m, done);
     if (stage > 0 && stage_of(m, done - 1) != stage) {
       m.adam = m.make_adam();
@@ -319,19 +354,8 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     m.adam->step(m.net->store().values(), m.net->store().grads());
     return {terms.total, terms.recon, terms.sparsity, terms.latent};
   };
-  auto remember_geodesics = [&] {
-    m.geodesic_sources.clear();
-    m.geodesic_rows.clear();
-    for (const auto& c : m.net->centres())
-      for (int s : c)
-        if (std::find(m.geodesic_sources.begin(), m.geodesic_sources.end(), s) ==
-            m.geodesic_sources.end()) {
-          m.geodesic_sources.push_back(s);
-          m.geodesic_rows.push_back(geodesic->row(s));
-        }
-  };
   auto checkpoint = [&] {
-    remember_geodesics();
+    remember_geodesics(m, *geodesic);
     save_msae_model(ckpt, m, {opt.input}, true);
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
@@ -341,7 +365,7 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every},
                     {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, step, checkpoint,
                     {"validation"}, evaluate);
-  remember_geodesics();
+  remember_geodesics(m, *geodesic);
   save_msae_model(opt.output, m, {opt.input}, common.force);
   if (opt.checkpoint.empty()) {
     std::error_code ec;
