@@ -39,7 +39,8 @@ namespace {
 
 // The strength-maximising sign of each component of a block, decoded.
 void decode_block(const MsaeNet<float>& net, int b, const nn::Matrix<float>& codes,
-                  const std::array<double, 9>& ref, double eps1, ComponentLevel& out) {
+                  const std::vector<int>& centres, const std::array<double, 9>& ref, double eps1,
+                  ComponentLevel& out) {
   const int kz = net.blocks()[static_cast<std::size_t>(b)].kz, V = net.n_vertices();
   const nn::Matrix<float> zero = net.decode(b, nn::Matrix<float>::Zero(1, kz));
   nn::Matrix<float> z = nn::Matrix<float>::Zero(2 * kz, kz);
@@ -51,7 +52,6 @@ void decode_block(const MsaeNet<float>& net, int b, const nn::Matrix<float>& cod
   for (Index r = 0; r < x.rows(); ++r)
     for (Index j = 0; j < x.cols(); ++j)
       x(r, j) += static_cast<float>(ref[static_cast<std::size_t>(j % 9)]) - zero(0, j);
-  const auto centres = net.centres()[static_cast<std::size_t>(b)];
   for (int k = 0; k < kz; ++k) {
     const double plus = component_strength(x.row(2 * k).data(), V, ref, eps1);
     const double minus = component_strength(x.row(2 * k + 1).data(), V, ref, eps1);
@@ -102,8 +102,9 @@ Components extract_components(const MsaeModel& m, const nn::Matrix<float>& train
     }
   }
   c.levels.resize(static_cast<std::size_t>(net.config().levels()));
+  const auto centres = net.centres();
   for (std::size_t b = 0; b < net.blocks().size(); ++b)
-    decode_block(net, static_cast<int>(b), codes[b], ref, c.eps1,
+    decode_block(net, static_cast<int>(b), codes[b], centres[b], ref, c.eps1,
                  c.levels[static_cast<std::size_t>(net.blocks()[b].level)]);
   c.attention = net.attention_masks(0);
   c.similarity = level0_similarity(c.levels[0], ref);
