@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/file_header.h"
@@ -46,13 +48,12 @@ MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const s
             path);
   }
   s.history = io::read_history(in);
-  s.offsets = in.read<std::int64_t>("/sequences/offsets").data;
-  s.sequences = in.read_strings("/sequences/names");
+  const auto offsets = in.read<std::int64_t>("/sequences/offsets").data;
+  const auto sequences = in.read_strings("/sequences/names");
   const auto names = in.read_strings("/frames/names");
   const geometry::Normalization nz = geometry::read_normalization(in);
   const bool renormalize = nz.min != m.normalization.min || nz.max != m.normalization.max;
   s.x.resize(static_cast<Eigen::Index>(s.frames.size()), 9 * static_cast<Eigen::Index>(V));
-  std::size_t seq = 0;
   for (std::size_t k = 0; k < s.frames.size(); ++k) {
     const auto f = s.frames[k];
     in.read_rows<float>("/features/normalized", static_cast<std::size_t>(f), 1,
@@ -66,9 +67,9 @@ MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const s
         v = static_cast<float>(m.normalization.normalize(d, nz.denormalize(d, v)));
       }
     s.names.push_back(names[static_cast<std::size_t>(f)]);
-    if (f < s.offsets[seq]) seq = 0;  // frames come in increasing order; this only guards
-    while (seq + 1 < s.offsets.size() && f >= s.offsets[seq + 1]) ++seq;
-    s.sequence.push_back(s.sequences[seq]);
+    // The sequence whose [offsets[q], offsets[q + 1]) holds frame f.
+    const auto q = std::upper_bound(offsets.begin(), offsets.end(), f) - offsets.begin() - 1;
+    s.sequence.push_back(sequences[static_cast<std::size_t>(q)]);
   }
   return s;
 }

@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <sstream>
-
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "geometry/mesh_topology.h"
@@ -13,6 +11,12 @@
 #include "nn/checkpoint.h"
 
 namespace df::models {
+
+std::vector<std::string> MsaeModel::log_columns() const {
+  std::vector<std::string> c = {"iteration", "total", "recon", "sparsity", "latent"};
+  if (!split.validation.empty()) c.push_back("validation");
+  return c;
+}
 
 void MsaeModel::initialize() {
   auto topo = geometry::mesh_topology(tmpl.faces, static_cast<int>(tmpl.vertices.rows()));
@@ -34,12 +38,6 @@ std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam() const {
 }
 
 namespace {
-std::vector<std::string> split_words(const std::string& s) {
-  std::vector<std::string> out;
-  std::istringstream in(s);
-  for (std::string w; in >> w;) out.push_back(w);
-  return out;
-}
 void write_frames(h5::File& f, const std::string& path, const std::vector<std::int64_t>& frames) {
   f.write<std::int64_t>(path, frames, {frames.size()});
 }
@@ -74,7 +72,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     f.set_attr("/config", "validation_fraction", t.validation_fraction);
     f.set_attr("/config", "separate", static_cast<int>(t.separate));
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
-    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns);
+    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns());
     f.create_groups("/split");
     f.set_attr("/split", "data", m.split.data);
     write_frames(f, "/split/train", m.split.train);
@@ -126,8 +124,6 @@ MsaeModel load_msae_model(const std::string& path) {
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   std::vector<double> log;
   read_mesh_model_common(f, m.tmpl, m.normalization, log);
-  if (f.exists("/training/log"))
-    m.log_columns = split_words(f.attr_string("/training/log", "columns"));
   m.split.data = f.attr_string("/split", "data");
   m.split.train = f.read<std::int64_t>("/split/train").data;
   m.split.validation = f.read<std::int64_t>("/split/validation").data;

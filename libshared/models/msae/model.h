@@ -56,14 +56,16 @@ struct MsaeModel {
   double geodesic_diameter = 0;
   std::vector<int> geodesic_sources;
   std::vector<Eigen::VectorXf> geodesic_rows;
-  std::vector<std::string> log_columns;  ///< iteration total recon sparsity latent [validation]
-  std::vector<double> log;               ///< rows of log_columns, flat
+  std::vector<double> log;  ///< rows of log_columns(), flat
   std::unique_ptr<MsaeNet<float>> net;
   std::unique_ptr<nn::Adam<float>> adam;
   Rng rng;  ///< batches
   std::int64_t iteration = 0;
   std::string history;  ///< inherited provenance (the data file's)
 
+  /// The training log's columns: iteration total recon sparsity latent, and validation when the
+  /// split has a validation part.
+  std::vector<std::string> log_columns() const;
   /// A new, untrained model (weights from the seed) for a template.
   void initialize();
   /// A fresh Adam with the configured learning rate and decay (separate training starts one per

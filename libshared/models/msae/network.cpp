@@ -59,9 +59,28 @@ template <class T>
 std::vector<int> MsaeNet<T>::level_parameters(int level) const {
   std::vector<int> out;
   for (const Block& b : blocks_)
-    if (b.level == level)
-      out.insert(out.end(), {b.conv.w_point, b.conv.w_nb, b.conv.b, b.c, b.b_dec});
+    if (b.level == level) {
+      const auto p = b.parameters();
+      out.insert(out.end(), p.begin(), p.end());
+    }
   return out;
+}
+
+template <class T>
+nn::Bound<T> MsaeNet<T>::bind_block(nn::Tape<T>& tape, int b, bool variables) const {
+  nn::Bound<T> p;
+  p.vars.resize(store_.views().size());
+  for (int k : blocks_[static_cast<std::size_t>(b)].parameters())
+    p.vars[static_cast<std::size_t>(k)] =
+        variables ? tape.variable(store_.value(k)) : tape.constant(store_.value(k));
+  return p;
+}
+
+template <class T>
+nn::Var<T> MsaeNet<T>::decoder(const nn::Bound<T>& p, int b, Var z) const {
+  const Block& bl = blocks_[static_cast<std::size_t>(b)];
+  Var y = nn::tanh(nn::matmul(z, p[bl.c]));
+  return nn::tanh(bl.conv.tied_transpose(p, y, p[bl.b_dec]));
 }
 
 template <class T>
@@ -92,11 +111,7 @@ nn::Var<T> MsaeNet<T>::masks_of(const nn::Bound<T>& p, int b) const {
 template <class T>
 typename MsaeNet<T>::Matrix MsaeNet<T>::attention_masks(int block) const {
   nn::Tape<T> tape;
-  nn::Bound<T> p;
-  p.vars.resize(store_.views().size());
-  const int c = blocks_[static_cast<std::size_t>(block)].c;
-  p.vars[static_cast<std::size_t>(c)] = tape.constant(store_.value(c));
-  return masks_of(p, block).value();
+  return masks_of(bind_block(tape, block, false), block).value();
 }
 
 template <class T>
@@ -109,10 +124,9 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
   Var h = nn::tanh(bl.conv(p, x));
   Var z = nn::matmul_transposed(h, C);
   if (config_.latent == "tanh") z = nn::tanh(z);
-  Var y = nn::tanh(nn::matmul(z, C));
   BlockOutput out;
   out.z = z;
-  out.xhat = nn::tanh(bl.conv.tied_transpose(p, y, p[bl.b_dec]));
+  out.xhat = decoder(p, b, z);
   out.residual = nn::sub(x, out.xhat);
   if (config_.attention && !bl.children.empty()) out.masks = masks_of(p, b);
   if (loss) {
@@ -205,12 +219,7 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
                                                 const Matrix* weights) {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   nn::Tape<T> tape;
-  // Only this block's parameters become leaves of this tape (binding the whole store per block
-  // would copy every block's weights once per block).
-  const std::vector<int> params = {bl.conv.w_point, bl.conv.w_nb, bl.conv.b, bl.c, bl.b_dec};
-  nn::Bound<T> p;
-  p.vars.resize(store_.views().size());
-  for (int k : params) p.vars[static_cast<std::size_t>(k)] = tape.variable(store_.value(k));
+  const nn::Bound<T> p = bind_block(tape, b, true);
   Var in = want_input_gradient ? tape.variable(x) : tape.constant(x);
   Var total;
   BlockOutput out =
@@ -247,7 +256,7 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
   }
   if (total.id < 0) return want_input_gradient ? Matrix::Zero(x.rows(), x.cols()) : Matrix();
   tape.backward(total);
-  for (int k : params) {
+  for (int k : bl.parameters()) {
     const Var& v = p.vars[static_cast<std::size_t>(k)];
     if (tape.has_grad(v.id)) store_.grad(k) += v.grad();
   }
@@ -279,9 +288,7 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels,
     todo.pop_back();
     const Block& bl = blocks_[static_cast<std::size_t>(b)];
     nn::Tape<T> tape;
-    nn::Bound<T> p;
-    for (std::size_t k = 0; k < store_.views().size(); ++k)
-      p.vars.push_back(tape.constant(store_.value(static_cast<int>(k))));
+    const nn::Bound<T> p = bind_block(tape, b, false);
     Var in = tape.constant(std::move(input));
     BlockOutput out = forward_block(p, b, in, nullptr, nullptr, nullptr);
     sum += out.xhat.value();
@@ -297,14 +304,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels,
 
 template <class T>
 typename MsaeNet<T>::Matrix MsaeNet<T>::decode(int block, const Matrix& z) const {
-  const Block& bl = blocks_[static_cast<std::size_t>(block)];
   nn::Tape<T> tape;
-  nn::Bound<T> p;
-  p.vars.resize(store_.views().size());
-  for (int k : {bl.c, bl.conv.w_point, bl.conv.w_nb, bl.b_dec})
-    p.vars[static_cast<std::size_t>(k)] = tape.constant(store_.value(k));
-  Var y = nn::tanh(nn::matmul(tape.constant(z), p[bl.c]));
-  return nn::tanh(bl.conv.tied_transpose(p, y, p[bl.b_dec])).value();
+  return decoder(bind_block(tape, block, false), block, tape.constant(z)).value();
 }
 
 template class MsaeNet<float>;

@@ -69,6 +69,8 @@ class MsaeNet {
     int c = -1;      ///< C [kz, 9V]
     int b_dec = -1;  ///< bias of the decoder's convolution [1, 9]
     std::vector<int> children;
+    /// Its parameters' indices in the store.
+    std::vector<int> parameters() const { return {conv.w_point, conv.w_nb, conv.b, c, b_dec}; }
   };
 
   /// @param edges  undirected edges of the template (the mesh-conv neighbourhoods)
@@ -141,6 +143,12 @@ class MsaeNet {
   BlockOutput forward_block(const nn::Bound<T>& p, int b, Var x, const Matrix* lambda, Var* loss,
                             MsaeLossTerms* terms, const Matrix* weights = nullptr) const;
   Var masks_of(const nn::Bound<T>& p, int b) const;
+  /// The decoder of block b on codes z: tanh(conv'(tanh(z C))).
+  Var decoder(const nn::Bound<T>& p, int b, Var z) const;
+  /// Only block b's parameters as leaves of `tape` (variables when gradients are wanted, else
+  /// constants); the other entries stay empty — binding the whole store would copy every block's
+  /// weights once per block.
+  nn::Bound<T> bind_block(nn::Tape<T>& tape, int b, bool variables) const;
   /// Input of `child` from its parent's residual (and masks), as a value.
   Matrix child_input(const Block& child, const Matrix& residual, const Matrix* masks) const;
   /// loss_and_gradient's recursion: processes block b and its subtree on input x; returns

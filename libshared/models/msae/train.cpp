@@ -243,8 +243,6 @@ MsaeModel describe_model(const MsaeTrainOptions& opt, const CommonOptions& commo
                     "(use a smaller --every, a larger --train-fraction or a longer --train list)",
                     m.split.train.size()),
         opt.input);
-  m.log_columns = {"iteration", "total", "recon", "sparsity", "latent"};
-  if (!m.split.validation.empty()) m.log_columns.push_back("validation");
   return m;
 }
 
