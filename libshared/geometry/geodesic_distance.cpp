@@ -197,22 +197,6 @@ Eigen::VectorXd HeatMethodDistance::from(int source) const {
   return phi;
 }
 
-Eigen::MatrixXf normalized_geodesic_distances(const io::Vertices& V, const io::Faces& F) {
-  const HeatMethodDistance heat(V, F);
-  const auto n = V.rows();
-  Eigen::MatrixXd D(n, n);
-  tbb::parallel_for(Eigen::Index{0}, n,
-                    [&](Eigen::Index i) { D.col(i) = heat.from(static_cast<int>(i)); });
-  D = (0.5 * (D + D.transpose())).eval();  // symmetrise once (inf stays inf)
-  double top = 0;
-  for (Eigen::Index k = 0; k < D.size(); ++k)
-    if (std::isfinite(D.data()[k])) top = std::max(top, D.data()[k]);
-  Eigen::MatrixXf out(n, n);
-  for (Eigen::Index k = 0; k < D.size(); ++k)
-    out.data()[k] = std::isfinite(D.data()[k]) ? static_cast<float>(top > 0 ? D.data()[k] / top : 0.0) : 1.0f;
-  return out;
-}
-
 GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F) : heat_(V, F), n_vertices_(V.rows()) {
   // Farthest-point sweeps: each solve starts from the vertex farthest from the previous source.
   int source = 0;

@@ -38,11 +38,6 @@ class HeatMethodDistance {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Geodesic distances between all pairs of vertices, symmetrised ((d_ij + d_ji) / 2) and divided
-/// by their largest finite value, so they lie in [0, 1] (SPEC §7's normalized distance); pairs on
-/// different connected parts get 1. #V by #V, rows solved in parallel.
-Eigen::MatrixXf normalized_geodesic_distances(const io::Vertices& V, const io::Faces& F);
-
 /// Normalized geodesic distances from chosen sources, solved on demand and kept: MSAE's sparsity
 /// masks need d(i, c_k) only from the current component centres c_k, and the all-pairs matrix of
 /// a 12,500-vertex mesh would take 600 MB. Rows are divided by the mesh's diameter, estimated by

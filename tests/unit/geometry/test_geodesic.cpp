@@ -125,7 +125,7 @@ TEST_CASE("geodesics: distances on a sphere follow great circles", "[geometry][g
   }
 }
 
-TEST_CASE("geodesics: the normalized matrix is symmetric in [0, 1]; other parts are at 1",
+TEST_CASE("geodesics: normalized rows lie in [0, 1], nearly symmetric; other parts are at 1",
           "[geometry][geodesic]") {
   auto m = grid(9);
   // A second, disconnected copy shifted away.
@@ -134,15 +134,21 @@ TEST_CASE("geodesics: the normalized matrix is symmetric in [0, 1]; other parts 
   two.vertices << m.vertices, m.vertices.rowwise() + Eigen::RowVector3d(5, 0, 0);
   two.faces.resize(2 * m.faces.rows(), 3);
   two.faces << m.faces, m.faces.array() + static_cast<int>(m.vertices.rows());
-  const Eigen::MatrixXf D = df::geometry::normalized_geodesic_distances(two.vertices, two.faces);
+  df::geometry::GeodesicRows rows(two.vertices, two.faces);
   const auto n = m.vertices.rows();
-  CHECK((D - D.transpose()).cwiseAbs().maxCoeff() == 0);
+  Eigen::MatrixXf D(2 * n, 2 * n);
+  for (Eigen::Index i = 0; i < D.rows(); ++i) D.row(i) = rows.row(static_cast<int>(i)).transpose();
+  // Rows are solved from each source, not symmetrised: d_ij and d_ji agree up to the heat
+  // method's error (measured 0.067 of the diameter at worst on this coarse 9 × 9 grid, near its
+  // boundary; the plane test above bounds the error per source at 0.1).
+  CHECK((D - D.transpose()).cwiseAbs().maxCoeff() < 0.1);
   CHECK(D.diagonal().cwiseAbs().maxCoeff() < 1e-6);
   CHECK(D.maxCoeff() == 1);
   CHECK(D.minCoeff() >= 0);
   CHECK(D(0, n) == 1);  // different parts
-  // Opposite corners of one grid are the farthest pair within a part (2√2 on a plane).
-  CHECK(std::max(D(0, n - 1), D(8, n - 9)) == Approx(1).epsilon(1e-6));
+  // Opposite corners of one grid are the farthest pair within a part (2√2 on a plane): the
+  // farthest-point sweeps from vertex 0 find them.
+  CHECK(std::max({D(0, n - 1), D(n - 1, 0), D(8, n - 9), D(n - 9, 8)}) == Approx(1).epsilon(1e-6));
   HeatMethodDistance heat(two.vertices, two.faces);
   CHECK(std::isinf(heat.from(0)[n]));
   CHECK_THROWS_AS(heat.from(-1), df::InvalidInput);
