@@ -122,7 +122,8 @@ $(DEMO)/msae-kept.h5: $(DEMO)/msae-model.h5
 	$(BIN)/prune-components -f $(DEMO)/msae-components.h5 -o $@ --acap $(DEMO)/msae-kept-acap.h5 > $(DEMO)/msae-pruning.txt
 $(DEMO)/msae-components.png: $(DEMO)/msae-kept.h5
 	$(BIN)/render-mesh -q -f $(DEMO)/msae-kept-acap.h5 --color deformation --view 30,50 --size 160 \
-	  --title "MSAE components of the bumps surface (rows: levels), colour |X - X_r| per vertex" -o $@
+	  --column-labels "$$($(call frame_names,$(DEMO)/msae-kept-acap.h5))" --row-labels "kept" \
+	  --title "MSAE components of the bumps surface, L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
 $(DEMO)/msae-localization.txt: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
 	$(BIN)/eval-metrics $< $(DEMO)/bumps.h5 > $@
 $(DEMO)/msae-recon.txt: $(DEMO)/msae-model.h5

@@ -142,7 +142,8 @@ $(MS)/%/kept.h5: $(MS)/%/components.h5
 	$(BIN)/prune-components -f $< -o $@ --acap $(MS)/$*/kept-acap.h5 --json $(MS)/$*/pruning.json > $(MS)/$*/pruning.txt
 $(MS)/%/components.png: $(MS)/%/kept.h5
 	$(BIN)/render-mesh -q -f $(MS)/$*/kept-acap.h5 --color deformation $($*_VIEW) --size 200 \
-	  --title "$*: kept MSAE components (rows: levels), colour |X - X_r| per vertex" -o $@
+	  --column-labels "$$($(call frame_names,$(MS)/$*/kept-acap.h5))" --row-labels "kept" \
+	  --title "$*: kept MSAE components L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
 $(MS)/%/fig3.png: $(MS)/%/components.h5
 	h5dump -d /similarity -y -w 0 -m %.5f $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 560,500; set output '$@'; \
