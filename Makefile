@@ -2,6 +2,8 @@
 #   make demo    install what is missing, build, run the demo pipeline, show where results are
 #   make test    install what is missing, build, run the test suite (ctest)
 #   make bench   benchmarks (bench/), results under $(BUILD)/bench
+#   make golden-update [CASE=tool/case]  rewrites the expected files of the golden-file cases
+#                tests/golden/<tool>/<case>/expected (all, or one; only on purpose, then review)
 #   make update-golden  rewrites tests/unit/render/golden/*.png (only on purpose, then review)
 BUILD ?= build
 JOBS ?= 2
@@ -13,7 +15,7 @@ ifeq ($(CI),true)
   CMAKE_FLAGS += -DDEFORMFLOW_WERROR=ON
 endif
 
-.PHONY: all deps configure build test demo bench clean update-golden
+.PHONY: all deps configure build test demo bench clean update-golden golden-update
 all: build
 
 deps:
@@ -38,6 +40,13 @@ bench: build
 # Rewrites the golden picture of the renderer's unit test (review the PNG before committing).
 update-golden: build
 	DF_UPDATE_GOLDEN=1 $(BUILD)/tests/unit_tests "[golden]"
+
+# Rewrites the expected outputs of the golden-file cases from this build (review `git diff`).
+CASE ?= */*
+golden-update: build
+	@for c in tests/golden/$(CASE); do [ -f $$c/cmd ] || continue; \
+	  DF_BIN=$(abspath $(BUILD))/bin DF_TEST_BIN=$(abspath $(BUILD))/tests \
+	  DF_TMP=$(abspath $(BUILD))/tests/golden-tmp bash tests/golden/run.sh --update $$c || exit 1; done
 
 clean:
 	rm -rf $(BUILD)

@@ -18,7 +18,9 @@ int main(int argc, char** argv) {
   app.add_option("INPUT", opt.input, "acap .h5 file with features")->required();
   app.add_option("-o,--output", opt.output, "Output directory, or .h5 file")->required();
   app.add_option("--frames", opt.frames, "Frames to reconstruct, global indices: 0-9,20,30- (default all)");
-  app.add_option("--sequence", opt.sequences, "Only frames of these sequences (repeatable)");
+  app.add_option("--sequence", opt.sequences, "Only frames of these sequences (repeatable, or comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--name", opt.name_pattern,
                  "File name pattern with {name} {index} {sequence} (fmt syntax, e.g.\n"
                  "'{index:04d}.ply'); default {name}.obj, or {sequence}-{name}.obj when names repeat");

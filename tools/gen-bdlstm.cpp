@@ -34,7 +34,9 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
   app.add_option("--mode", opt.mode, "predict or complete")->default_val(opt.mode);
   app.add_option("--method", opt.method, "bdlstm, linear (feature-space baseline), or static (predict: the last given\nframe repeated, the zero-motion reference)")->default_val(opt.method);
-  app.add_option("--from", opt.from, "predict: last given frame of a case (repeatable)");
+  app.add_option("--from", opt.from, "predict: last given frame of a case (repeatable, or comma-separated: 5,walk:12)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--keyframes", opt.keyframes, "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
       ->delimiter(',')
       ->allow_extra_args(false);

@@ -28,9 +28,6 @@ expect_no_temporaries() {
 expect_close() {
   awk -v n="$1" -v g="$2" -v w="$3" -v t="$4" 'BEGIN {
     d = g - w; if (d < 0) d = -d; s = w < 0 ? -w : w; if (s < 1e-12) s = 1e-12;
-    if (d > t * s) { printf "FAIL: %s = %s, golden %s (relative tolerance %s)\n", n, g, w, t > "/dev/stderr"; exit 1 } }' ||
+    if (d > t * s) { printf "FAIL: %s = %s, expected %s (relative tolerance %s)\n", n, g, w, t > "/dev/stderr"; exit 1 } }' ||
     exit 1
 }
-# golden KEY: the value of KEY in tests/cli/golden/$GOLDEN (lines "key value")
-golden() { awk -v k="$1" '$1 == k { print $2; found = 1 } END { if (!found) exit 1 }' "$DF_SOURCE/tests/cli/golden/$GOLDEN" ||
-  fail "no golden value '$1' in tests/cli/golden/$GOLDEN"; }

@@ -1,13 +1,9 @@
 # BD-LSTM end to end on a tiny synthetic finger: train-bdlstm (resume, threads), gen-bdlstm
-# (predict, samples, complete, linear baselines), eval-metrics, bad input. Golden numbers are in
-# tests/cli/golden/bdlstm.txt: evaluation of deterministic double-precision results (linear
-# baselines) to 1e-5 relative; anything computed by the float network to 2e-3 relative (the
-# same code gives the same bits on one machine; -march=native kernels may round differently
-# elsewhere).
+# (predict, samples, complete, linear baselines), eval-metrics, bad input: the properties of the
+# results. Their stored expected numbers are the golden-file cases under tests/golden/.
 source "$(dirname "$0")/lib.sh"
 : "${DF_PLUGIN_DIR:?}"
 export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
-GOLDEN=bdlstm.txt
 
 synth-meshseq -q --frames 60 --resolution 4 --periods 2 -o finger.h5
 obj2acap -q finger.h5 -o data.h5
@@ -24,9 +20,7 @@ echo "ok (train, threads)"
 log=$(h5dump -d /training/log -y -w 0 -m %.9g m.h5 | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9.e+-' ' ')
 read -r -a v <<<"$log"
 [ "${#v[@]}" = 24 ] || fail "training log has ${#v[@]} numbers, expected 4 rows x 6"
-expect_close "loss at 10" "${v[1]}" "$(golden loss10)" 2e-3
-expect_close "loss at 40" "${v[19]}" "$(golden loss40)" 2e-3
-echo "ok (train golden: loss ${v[1]} -> ${v[19]})"
+echo "ok (train log: loss ${v[1]} -> ${v[19]})"
 
 # --- resume: a 20-iteration model is a checkpoint; resuming to 40 equals the straight run
 train-bdlstm -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
@@ -93,15 +87,15 @@ run h5diff -q s5.h5 s6.h5 /features/normalized; expect_rc 1
 h5check -q --kind acap s5.h5
 echo "ok (gen: deterministic, diverse)"
 
-# --- predictions on the held-out part vs ground truth, and the linear baseline (golden)
+# --- predictions on the held-out part vs ground truth, and the linear baseline
 gen-bdlstm -q m.h5 data.h5 --test-every 3 --initial 3 --length 6 -o pred.h5
 gen-bdlstm -q m.h5 data.h5 --test-every 3 --initial 3 --length 6 --method linear -o lin.h5
 eval-metrics pred.h5 data.h5 --steps 3,6 >pred.txt
 eval-metrics lin.h5 data.h5 --steps 3,6 >lin.txt
 step_error() { awk -v s="$1" '$1 == s && NF == 4 { print $3 }' "$2"; }
-expect_close "linear error at step 3" "$(step_error 3 lin.txt)" "$(golden linear3)" 1e-5
-expect_close "linear error at step 6" "$(step_error 6 lin.txt)" "$(golden linear6)" 1e-5
-expect_close "bdlstm error at step 6" "$(step_error 6 pred.txt)" "$(golden bdlstm6)" 2e-3
+# linear extrapolation drifts: its error grows with the step; both tables have the steps
+awk -v a="$(step_error 3 lin.txt)" -v b="$(step_error 6 lin.txt)" -v c="$(step_error 6 pred.txt)" \
+  'BEGIN { exit !(a > 0 && b > a && c > 0) }' || fail "step errors: $(cat lin.txt pred.txt)"
 grep -q "E_rms" lin.txt || fail "no E_rms in the table"
 eval-metrics data.h5 data.h5 --json same.json >/dev/null
 awk '/"vertex_error"/ { getline; if ($2 + 0 == 0) ok1 = 1 } /"erms":/ { if ($2 + 0 == 0) ok2 = 1 }

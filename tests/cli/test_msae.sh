@@ -1,16 +1,16 @@
 # MSAE end to end on a tiny synthetic bumps surface: train-msae (threads, resume, separate,
-# splits), recon-msae + eval-metrics, extract-components, prune-components, bad input. Golden
-# numbers (tests/cli/golden/msae.txt) are float network results, compared to 2e-3 relative.
+# splits), recon-msae + eval-metrics, extract-components, prune-components, bad input: the
+# properties of the results. Their stored expected numbers are the golden-file cases under
+# tests/golden/.
 source "$(dirname "$0")/lib.sh"
 : "${DF_PLUGIN_DIR:?}"
 export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
-GOLDEN=msae.txt
 
 synth-meshseq -q --kind bumps --frames 40 --resolution 8 --seed 2 -o bumps.h5
 obj2acap -q bumps.h5 -o data.h5
 tiny=(--kz 3,2 --batch 16 --print-every 10 --seed 3)
 
-# --- training: model file, log, thread independence, golden losses
+# --- training: model file, log, thread independence
 train-msae -q "${tiny[@]}" --iterations 30 --threads 1 data.h5 -o m.h5
 h5check -q --kind msae-model m.h5
 train-msae -q "${tiny[@]}" --iterations 30 --threads 2 data.h5 -o m2.h5
@@ -20,13 +20,11 @@ done
 log=$(h5dump -d /training/log -y -w 0 -m %.9g m.h5 | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9.e+-' ' ')
 read -r -a v <<<"$log"
 [ "${#v[@]}" = 15 ] || fail "training log has ${#v[@]} numbers, expected 3 rows x 5"
-expect_close "loss at 10" "${v[1]}" "$(golden loss10)" 2e-3
-expect_close "loss at 30" "${v[11]}" "$(golden loss30)" 2e-3
 awk -v a="${v[1]}" -v b="${v[11]}" 'BEGIN { exit !(b < a) }' || fail "loss did not fall: ${v[1]} -> ${v[11]}"
 # the paper's sequence split: every 10th of 40 frames trains (4), 36 are held out
 [ "$(h5dump -H -d /split/train m.h5 | grep -o 'DATASPACE  SIMPLE { ( [0-9]* )' | grep -o '[0-9]*')" = 4 ] ||
   fail "expected 4 training shapes"
-echo "ok (train, threads, golden: loss ${v[1]} -> ${v[11]})"
+echo "ok (train, threads: loss ${v[1]} -> ${v[11]})"
 
 # --- resume: any model file is a checkpoint; the result equals an uninterrupted run
 train-msae -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
