@@ -269,6 +269,27 @@ void File::create_groups(const std::string& path) {
   }
 }
 
+// Whether every element of a dataset has storage: all chunks written (H5Dget_space_status
+// cannot tell: HDF5 1.10 compares compressed bytes with the full size), or contiguous storage.
+static bool stores_all_data(hid_t ds, hid_t dcpl, const std::vector<std::size_t>& dims) {
+  if (std::find(dims.begin(), dims.end(), 0) != dims.end()) return true;
+  switch (H5Pget_layout(dcpl)) {
+    case H5D_CHUNKED: {
+      std::vector<hsize_t> chunk(dims.size());
+      if (H5Pget_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data()) < 0) return false;
+      long double expected = 1;  // the count of chunks may exceed 64 bits for absurd shapes
+      for (std::size_t i = 0; i < dims.size(); ++i)
+        expected *= static_cast<long double>((dims[i] + chunk[i] - 1) / chunk[i]);
+      hsize_t written = 0;
+      Handle space(H5Dget_space(ds), H5Sclose);  // HDF5 1.10 refuses H5S_ALL here
+      if (H5Dget_num_chunks(ds, space.get(), &written) < 0) return false;
+      return static_cast<long double>(written) == expected;
+    }
+    case H5D_CONTIGUOUS: return H5Dget_storage_size(ds) > 0;
+    default: return true;  // compact: stored in the header
+  }
+}
+
 DatasetInfo File::info(const std::string& path) const {
   Handle ds = open_dataset(path);
   Handle type(H5Dget_type(ds.get()), H5Tclose);
@@ -277,6 +298,7 @@ DatasetInfo File::info(const std::string& path) const {
   DatasetInfo info;
   info.dtype = dtype_of(type.get());
   info.dims = space_dims(space.get());
+  info.fully_stored = stores_all_data(ds.get(), dcpl.get(), info.dims);
   int nf = H5Pget_nfilters(dcpl.get());
   for (int i = 0; i < nf; ++i) {
     unsigned flags = 0;

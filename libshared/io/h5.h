@@ -37,6 +37,9 @@ struct DatasetInfo {
   Dtype dtype = Dtype::other;
   std::vector<std::size_t> dims;
   std::vector<int> filters;  ///< filter ids of the pipeline, in order
+  /// Whether the file stores all of the data (false: a shape declared with chunks never
+  /// written, which reads as fill values; deformflow never writes such datasets).
+  bool fully_stored = true;
 };
 
 /// How a dataset is stored.

@@ -40,13 +40,18 @@ Md2Model read_md2(const std::string& path) {
   std::int32_t h[17];
   std::memcpy(h, d.data(), sizeof h);
   const int version = h[1], frame_size = h[4], n_vertices = h[6], n_tris = h[8], n_frames = h[10];
-  const std::size_t ofs_tris = static_cast<std::size_t>(h[13]), ofs_frames = static_cast<std::size_t>(h[14]);
   if (version != 8) throw InvalidInput(fmt::format("unsupported MD2 version {}", version), path);
-  if (n_vertices <= 0 || n_tris <= 0 || n_frames <= 0 || frame_size < 40 + 4 * n_vertices)
+  // 64-bit arithmetic: the header's counts and offsets are anyone's 32-bit numbers (fuzzing found
+  // 4 * n_vertices overflowing int)
+  if (n_vertices <= 0 || n_tris <= 0 || n_frames <= 0 ||
+      frame_size < 40 + 4 * static_cast<std::int64_t>(n_vertices))
     throw InvalidInput("MD2 header has impossible counts", path);
-  if (ofs_tris + 12u * static_cast<std::size_t>(n_tris) > d.size() ||
-      ofs_frames + static_cast<std::size_t>(frame_size) * static_cast<std::size_t>(n_frames) > d.size())
-    throw InvalidInput("truncated MD2 file", path);
+  auto fits = [&](std::int32_t offset, std::int64_t count, std::int64_t item_size) {
+    const auto size = static_cast<std::int64_t>(d.size());
+    return offset >= 0 && offset <= size && count * item_size <= size - offset;
+  };
+  if (!fits(h[13], n_tris, 12) || !fits(h[14], n_frames, frame_size)) throw InvalidInput("truncated MD2 file", path);
+  const auto ofs_tris = static_cast<std::size_t>(h[13]), ofs_frames = static_cast<std::size_t>(h[14]);
 
   Md2Model m;
   m.faces.resize(n_tris, 3);

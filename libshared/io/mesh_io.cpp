@@ -19,6 +19,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "io/mesh_check.h"
 
 namespace fs = std::filesystem;
 
@@ -26,28 +27,33 @@ namespace df::io {
 namespace {
 
 // OpenMesh prints its complaints on its own streams; route them into a buffer so that they
-// become our messages (and never reach the terminal raw).
+// become our messages (and never reach the terminal raw). Connected once per process and never
+// disconnected: OpenMesh's multiplex_streambuf::disconnect does not free the target that
+// connect allocated (a leak per read, found by fuzzing), and an immortal buffer also outlives
+// OpenMesh's own static streams at exit. Used under g_openmesh_mutex.
 std::mutex g_openmesh_mutex;
-struct OpenMeshMessages {
-  std::ostringstream text;
-  OpenMeshMessages() {
-    omerr().connect(text);
-    omerr().disconnect(std::cerr);
-    omlog().connect(text);
-    omlog().disconnect(std::cerr);
-    omout().connect(text);
-    omout().disconnect(std::cout);
-  }
-  ~OpenMeshMessages() {
-    omerr().disconnect(text);
-    omlog().disconnect(text);
-    omout().disconnect(text);
+class OpenMeshMessages {
+ public:
+  static OpenMeshMessages& instance() {
+    static auto* messages = new OpenMeshMessages;  // intentionally never destroyed
+    return *messages;
   }
   std::string take() {
-    std::string s = text.str();
-    text.str("");
+    std::string s = text_.str();
+    text_.str("");
     return s;
   }
+
+ private:
+  OpenMeshMessages() {
+    omerr().connect(text_);
+    omerr().disconnect(std::cerr);
+    omlog().connect(text_);
+    omlog().disconnect(std::cerr);
+    omout().connect(text_);
+    omout().disconnect(std::cout);
+  }
+  std::ostringstream text_;
 };
 
 // Records what a reader delivers, verbatim: no kernel, no manifold repairs.
@@ -184,13 +190,15 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   if (!is_mesh_file(path))
     throw InvalidInput("unknown mesh format (expected .obj, .off or .ply)", path);
   if (fs::file_size(path, ec) == 0) throw InvalidInput("empty file", path);
+  check_mesh_structure(path, lower_extension(path));  // what OpenMesh's readers cannot survive
 
   VerbatimImporter importer;
   std::string messages;
   bool ok = false;
   {
     std::lock_guard lock(g_openmesh_mutex);  // OpenMesh's streams and IOManager are global
-    OpenMeshMessages capture;
+    OpenMeshMessages& capture = OpenMeshMessages::instance();
+    capture.take();  // nothing left from elsewhere
     OpenMesh::IO::Options opt;
     ok = OpenMesh::IO::IOManager().read(path, importer, opt);
     messages = capture.take();

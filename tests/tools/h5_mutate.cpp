@@ -50,6 +50,12 @@ const std::map<std::string, std::function<void(File&)>>& mutations() {
        }},
       {"missing-dataset", [](File& f) { H5Ldelete(f.id(), "/frames/names", H5P_DEFAULT); }},
       {"missing-attribute", [](File& f) { H5Adelete(f.id(), "history"); }},
+      {"unstored-huge",  // 2^30 frames declared, never written
+       [](File& f) {
+         auto p = f.info("/frames/positions");
+         H5Ldelete(f.id(), "/frames/positions", H5P_DEFAULT);
+         f.create<float>("/frames/positions", {std::size_t(1) << 30, p.dims[1], p.dims[2]});
+       }},
       {"attribute-value",
        [](File& f) {
          f.create_groups("/normalization");

@@ -1,0 +1,24 @@
+// Structure checks of mesh files before OpenMesh reads them. OpenMesh's readers trust their
+// input: an OBJ face naming vertex 0 trips an assertion (the process aborts), a PLY header
+// with a second `format` line crashes its header parser, an OFF header promising 400 million
+// vertices keeps it busy for minutes (all found by fuzzing, tests/fuzz). These checks walk the
+// file once and refuse such input with an InvalidInput naming the file and line, so that the
+// readers only ever see files whose counts, indices and record sizes add up:
+//   OBJ  every face has >= 3 corners whose vertex (and texture / normal) indices name an
+//        element defined before it (1-based, or negative = relative);
+//   OFF  the counts fit the file; ASCII: one vertex per line (>= 3 numbers), one face per line
+//        (n >= 3, then n indices below the vertex count);
+//   PLY  a well-formed header (one format line, known property types, end_header), and every
+//        record of every element inside the file (ASCII: one record per line with exactly the
+//        tokens its properties and list counts call for; binary: list counts within the file).
+#pragma once
+
+#include <string>
+
+namespace df::io {
+
+/// Throws InvalidInput (file:line) when the file's structure does not add up; `ext` is the
+/// lower-case extension (".obj", ".off" or ".ply").
+void check_mesh_structure(const std::string& path, const std::string& ext);
+
+}  // namespace df::io
