@@ -4,6 +4,8 @@
 #   make bench   benchmarks (bench/), results under $(BUILD)/bench
 #   make golden-update [CASE=tool/case]  rewrites the expected files of the golden-file cases
 #                tests/golden/<tool>/<case>/expected (all, or one; only on purpose, then review)
+#   make test-sanitize  the whole test suite built with ASan + UBSan (build-asan/)
+#   make fuzz [FUZZ_SECONDS=60]  libFuzzer targets of the input parsers (clang; build-fuzz/)
 #   make update-golden  rewrites tests/unit/render/golden/*.png (only on purpose, then review)
 BUILD ?= build
 JOBS ?= 2
@@ -15,7 +17,7 @@ ifeq ($(CI),true)
   CMAKE_FLAGS += -DDEFORMFLOW_WERROR=ON
 endif
 
-.PHONY: all deps configure build test demo bench clean update-golden golden-update
+.PHONY: all deps configure build test demo bench clean update-golden golden-update test-sanitize fuzz
 all: build
 
 deps:
@@ -47,6 +49,23 @@ golden-update: build
 	@for c in tests/golden/$(CASE); do [ -f $$c/cmd ] || continue; \
 	  DF_BIN=$(abspath $(BUILD))/bin DF_TEST_BIN=$(abspath $(BUILD))/tests \
 	  DF_TMP=$(abspath $(BUILD))/tests/golden-tmp bash tests/golden/run.sh --update $$c || exit 1; done
+
+# The test suite under AddressSanitizer + UndefinedBehaviorSanitizer (a separate build tree).
+SANITIZE_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp):print_suppressions=0
+test-sanitize: deps
+	@test -f build-asan/CMakeCache.txt || cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEFORMFLOW_SANITIZE=ON
+	cmake --build build-asan -j$(JOBS)
+	cd build-asan && $(SANITIZE_ENV) ctest --output-on-failure -j$(JOBS) -LE shared-data $(CTEST_ARGS)
+
+# Fuzz every parser of outside input for FUZZ_SECONDS each (clang + libFuzzer; build-fuzz/).
+FUZZ_SECONDS ?= 60
+fuzz:
+	@bash scripts/install-deps.sh --with-fuzz
+	@CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DDEFORMFLOW_FUZZ=ON -DDEFORMFLOW_FUZZ_SECONDS=$(FUZZ_SECONDS) >/dev/null
+	cmake --build build-fuzz -j$(JOBS) --target fuzzers
+	cd build-fuzz && ctest --output-on-failure -j$(JOBS) -L fuzz
 
 clean:
 	rm -rf $(BUILD)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages deformflow needs to build, test and run its demo.
 # Idempotent and fast when everything is present (a dpkg query, no apt-get update).
-# Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench]
+# Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz]
 set -euo pipefail
 
 packages=(
@@ -11,9 +11,13 @@ packages=(
   libcairo2-dev fonts-dejavu-core
   assimp-testmodels zstd gnuplot-nox
 )
-if [[ "${1:-}" == "--with-bench" ]]; then
-  packages+=(time python3-torch libjemalloc2)  # GNU time (peak memory); the PyTorch timing peer
-fi
+for option in "$@"; do
+  case $option in
+    --with-bench) packages+=(time python3-torch libjemalloc2) ;;  # GNU time (peak memory); the PyTorch timing peer
+    --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;         # libFuzzer + sanitizer runtimes of clang 14
+    *) echo "install-deps: unknown option $option" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

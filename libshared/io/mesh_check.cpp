@@ -22,13 +22,18 @@ std::string read_all(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
+// What std::istream >> (the readers' tokenizer) treats as white space.
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v' || c == '\n';
+}
+
 std::vector<std::string_view> split(std::string_view line) {
   std::vector<std::string_view> tokens;
   std::size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    while (i < line.size() && is_space(line[i])) ++i;
     std::size_t j = i;
-    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    while (j < line.size() && !is_space(line[j])) ++j;
     if (j > i) tokens.push_back(line.substr(i, j - i));
     i = j;
   }
@@ -208,7 +213,8 @@ void check_ply(const std::string& path, const std::string& text) {
     if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
     if (t[0] == "format") {
       if (!format.empty() || t.size() != 3 ||
-          (t[1] != "ascii" && t[1] != "binary_little_endian" && t[1] != "binary_big_endian"))
+          (t[1] != "ascii" && t[1] != "binary_little_endian" && t[1] != "binary_big_endian") ||
+          t[2] != "1.0")
         throw InvalidInput(
             "PLY needs one 'format ascii|binary_little_endian|binary_big_endian 1.0' line", where);
       format = t[1];
@@ -242,6 +248,14 @@ void check_ply(const std::string& path, const std::string& text) {
     }
   }
   if (!ended) throw InvalidInput("PLY header without end_header", path);
+  // OpenMesh's header parser loops forever when a token does not parse (a NUL byte, a form
+  // feed inside a name, a version other than 1.0): the header must be plain text
+  const std::size_t header_size = text.find("end_header");
+  for (std::size_t i = 0; i < header_size; ++i) {
+    auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r')
+      throw InvalidInput(fmt::format("PLY header with control character 0x{:02x}", c), path);
+  }
   if (format.empty()) throw InvalidInput("PLY header without a format line", path);
   for (const auto& e : elements)
     if (e.count > 0 && e.properties.empty())

@@ -9,7 +9,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work/new" "$work/tmp"
 cd "$work"
 export TMPDIR=$work/tmp ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/lsan.supp}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/../lsan.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # 1. the corpus as regression inputs (each must pass)
 if ! "$target" -runs=0 "$corpus" >regression.log 2>&1; then
