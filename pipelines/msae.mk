@@ -23,7 +23,7 @@ TRAIN_THREADS ?= 0
 # --- per-set settings (iteration counts: where the validation error stops improving, README)
 MS_SEQUENCE := --split sequence --validation-fraction 0.1
 MS_COLLECTION := --split collection --validation-fraction 0.25
-bumps_MSAE := $(MS_SEQUENCE) --iterations 3000
+bumps_MSAE := $(MS_SEQUENCE) --iterations 9000 --lr-decay-steps 3000
 pcow_MSAE := $(MS_SEQUENCE) --iterations 3000
 chickenCrossing_MSAE := $(MS_SEQUENCE) --iterations 3000
 cactus_MSAE := $(MS_COLLECTION) --iterations 2000
