@@ -100,6 +100,8 @@ TEST_CASE("read_mesh: structure checks refuse what OpenMesh's readers cannot sur
   CHECK_THAT(error("huge.off", "OFF\n410719722 1 0\n0 0 0\n"), Catch::Contains("more than the file's"));
   CHECK_THAT(error("corners.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n1000000 0 1 2\n"),
              Catch::Contains("corner count") && Catch::Contains("corners.off:6)"));
+  CHECK_THAT(error("drift.off", "OFF\n3 1 0\n0 0 0 7\n1 0 0\n0 1 0\n3 0 1 2\n"), Catch::Contains("exactly 3 coordinates") && Catch::Contains("drift.off:3)"));
+  CHECK_THAT(error("color.off", "COFF\n3 1 0\n"), Catch::Contains("only plain OFF"));
   CHECK_THAT(error("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), Catch::Contains("not a vertex index below 3"));
   const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
