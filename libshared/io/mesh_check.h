@@ -6,8 +6,9 @@
 // readers only ever see files whose counts, indices and record sizes add up:
 //   OBJ  every face has >= 3 corners whose vertex (and texture / normal) indices name an
 //        element defined before it (1-based, or negative = relative);
-//   OFF  the counts fit the file; ASCII: one vertex per line (>= 3 numbers), one face per line
-//        (n >= 3, then n indices below the vertex count);
+//   OFF  plain OFF (the keyword alone on its line) whose counts fit the file; ASCII: exactly
+//        x y z per vertex line and n >= 3 plus n indices below the vertex count per face line
+//        (OpenMesh reads a token stream: one token too many shifts every later record);
 //   PLY  a well-formed header (one format line, known property types, end_header), and every
 //        record of every element inside the file (ASCII: one record per line with exactly the
 //        tokens its properties and list counts call for; binary: list counts within the file).
