@@ -20,6 +20,23 @@ measure() {
   awk '{printf "%.2f %.0f\n", $1, $2/1024}' "$log"
 }
 rate() { awk -v n="$1" -v s="$2" 'BEGIN{printf "%.2f M", n/s/1e6}'; }
+# A network benchmark (bench_nn_blocks, bench_bdlstm, bench_msae print lines
+# "| label | parameters | median ms | min ms |"): each line as
+# "label<TAB>parameters<TAB>median<TAB>min<TAB>peak MiB" with GNU time's peak of the run.
+net_bench() {
+  /usr/bin/time -f "%M" -o "$out/time.log" "$@" >"$out/net.txt"
+  awk -v m="$(awk '{printf "%.0f", $1/1024}' "$out/time.log")" -F'|' \
+    '{gsub(/^ +| +$/, "", $2); printf "%s\t%s\t%s\t%s\t%s\n", $2, $3 + 0, $4 + 0, $5 + 0, m}' "$out/net.txt"
+}
+# The PyTorch peer's timing lines and peak memory at 1 and 2 threads: peer SCRIPT ARGS...
+peer=$(dirname "$0")/../../shared/peers/torch
+have_peer() { [ -f "$peer/$1" ] && /usr/bin/python3 -c "import torch" 2>/dev/null; }
+peer_timings() {
+  for threads in 1 2; do
+    (cd "$peer" && /usr/bin/time -f "    peak %M KiB" /usr/bin/python3 "$@" --threads $threads 2>&1 |
+      grep -E "threads=|peak") | sed 's/^/    /'
+  done
+}
 
 # Inputs: a 12,602-vertex finger (bend + 400 deg twist), 1,000 frames, as acap positions.
 [ -f "$out/finger12k.h5" ] || "$bin/synth-meshseq" -q --kind finger --resolution 56 --frames 1000 \
@@ -108,19 +125,15 @@ fi
   [ -n "${dirs[pcow]:-}" ] && mesh_arg=(--mesh "${dirs[pcow]}/1.obj")
   for threads in 1 2; do
     for block in 1 2 3 4; do
-      /usr/bin/time -f "%M" -o "$out/time.log" "$bin/bench_nn_blocks" --threads $threads --only $block "${mesh_arg[@]}" > "$out/block.txt"
-      awk -v t=$threads -v m="$(awk '{printf "%.0f", $1/1024}' "$out/time.log")" -F'|' \
-        '{gsub(/^ +| +$/, "", $2); printf "| %s | %s | %s | %s | %s |\n", $2, t, $4 + 0, $5 + 0, m}' "$out/block.txt"
+      net_bench "$bin/bench_nn_blocks" --threads $threads --only $block "${mesh_arg[@]}" |
+        while IFS=$'\t' read -r label _ median min mib; do echo "| $label | $threads | $median | $min | $mib |"; done
     done
   done
-  peer=$(dirname "$0")/../../shared/peers/torch
-  if [ -f "$peer/blocks.py" ] && /usr/bin/python3 -c "import torch" 2>/dev/null; then
+  if have_peer blocks.py; then
     echo
     echo "PyTorch peer (same machine; \`install-deps.sh --with-bench\` installs python3-torch):"
     echo
-    for threads in 1 2; do
-      (cd "$peer" && /usr/bin/python3 blocks.py --threads $threads 2>/dev/null | grep "threads=") | sed 's/^/    /'
-    done
+    peer_timings blocks.py
   fi
   if [ -n "${dirs[pcow]:-}" ]; then
     echo
@@ -129,18 +142,16 @@ fi
     echo "| model | parameters | threads | median ms | min ms | peak MiB |"
     echo "|---|---|---|---|---|---|"
     for threads in 1 2; do
-      /usr/bin/time -f "%M" -o "$out/time.log" "$bin/bench_bdlstm" --threads $threads --iters 10 --mesh "${dirs[pcow]}/1.obj" > "$out/bd.txt"
-      awk -v t=$threads -v m="$(awk '{printf "%.0f", $1/1024}' "$out/time.log")" -F'|' \
-        '{printf "| BD-LSTM pcow | %s | %s | %s | %s | %s |\n", $3 + 0, t, $4 + 0, $5 + 0, m}' "$out/bd.txt"
+      net_bench "$bin/bench_bdlstm" --threads $threads --iters 10 --mesh "${dirs[pcow]}/1.obj" |
+        while IFS=$'\t' read -r _ params median min mib; do
+          echo "| BD-LSTM pcow | $params | $threads | $median | $min | $mib |"
+        done
     done
-    if [ -f "$peer/bdlstm.py" ] && /usr/bin/python3 -c "import torch" 2>/dev/null; then
+    if have_peer bdlstm.py; then
       echo
       echo "PyTorch peer (bdlstm.py, nb=sparse, 10 timed iterations):"
       echo
-      for threads in 1 2; do
-        (cd "$peer" && /usr/bin/time -f "    peak %M KiB" /usr/bin/python3 bdlstm.py --mesh pcow --threads $threads --iters 10 2>&1 |
-          grep -E "threads=|peak") | sed 's/^/    /'
-      done
+      peer_timings bdlstm.py --mesh pcow --iters 10
     fi
   fi
   echo
@@ -156,19 +167,17 @@ fi
   for threads in 1 2; do
     for c in "${msae_cases[@]}"; do
       # shellcheck disable=SC2086
-      /usr/bin/time -f "%M" -o "$out/time.log" "$bin/bench_msae" --threads $threads --iters 3 $c > "$out/ms.txt"
-      awk -v t=$threads -v m="$(awk '{printf "%.0f", $1/1024}' "$out/time.log")" -F'|' \
-        '{gsub(/^ +| +$/, "", $2); printf "| %s | %s | %s | %s | %s | %s |\n", $2, $3 + 0, t, $4 + 0, $5 + 0, m}' "$out/ms.txt"
+      net_bench "$bin/bench_msae" --threads $threads --iters 3 $c |
+        while IFS=$'\t' read -r label params median min mib; do
+          echo "| $label | $params | $threads | $median | $min | $mib |"
+        done
     done
   done
-  if [ -f "$peer/msae.py" ] && /usr/bin/python3 -c "import torch" 2>/dev/null; then
+  if have_peer msae.py; then
     echo
     echo "PyTorch peer (msae.py, nb=sparse):"
     echo
-    for threads in 1 2; do
-      (cd "$peer" && /usr/bin/time -f "    peak %M KiB" /usr/bin/python3 msae.py --mesh pcow grid --threads $threads --iters 5 2>&1 |
-        grep -E "threads=|peak") | sed 's/^/    /'
-    done
+    peer_timings msae.py --mesh pcow grid --iters 5
   fi
   echo
   echo "### Synthetic data"

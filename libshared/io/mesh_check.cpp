@@ -3,12 +3,11 @@
 #include <fmt/format.h>
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <sstream>
 #include <vector>
 
 #include "core/error.h"
@@ -46,18 +45,10 @@ bool parse_int(std::string_view s, std::int64_t& v) {
   return r.ec == std::errc() && r.ptr == s.data() + s.size();
 }
 
-bool is_number(std::string_view s) {
-  double v = 0;
-  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
-  auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  return r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
-
 /// Lines of a text body with their 1-based numbers.
 class Lines {
  public:
-  Lines(const std::string& text, std::size_t from = 0, std::size_t first_line = 1)
-      : text_(text), pos_(from), number_(first_line - 1) {}
+  explicit Lines(const std::string& text) : text_(text) {}
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
     std::size_t end = text_.find('\n', pos_);
@@ -68,27 +59,61 @@ class Lines {
     return true;
   }
   std::size_t number() const { return number_; }
+  /// "path:line" of the current line, for messages (built only when one is thrown).
+  std::string where(const std::string& path) const { return path + ":" + std::to_string(number_); }
 
  private:
   const std::string& text_;
-  std::size_t pos_, number_;
+  std::size_t pos_ = 0, number_ = 0;
 };
+
+// A number as strtod reads it, nan and inf included.
+bool parse_number(std::string_view s, double& v) {
+  if (!s.empty() && s[0] == '+') s.remove_prefix(1);
+  auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  return r.ec == std::errc() && r.ptr == s.data() + s.size();
+}
+
+/// Whether `s` is a number; a NaN/Inf is an InvalidInput at the current line (OpenMesh's OBJ
+/// reader drops such a vertex, its OFF reader then reads garbage indices).
+bool is_coordinate(std::string_view s, const Lines& lines, const std::string& path) {
+  double v = 0;
+  if (!parse_number(s, v)) return false;
+  if (!std::isfinite(v))
+    throw InvalidInput("non-finite coordinate (NaN or Inf)", lines.where(path));
+  return true;
+}
+
+/// Text formats must not hold control characters in [begin, end): OpenMesh's tokenizer and
+/// ours would split them differently (found by fuzzing: endless loops, a 20 GB allocation).
+void refuse_control_characters(const std::string& text, std::size_t end, const std::string& what,
+                               const std::string& path) {
+  for (std::size_t i = 0; i < std::min(end, text.size()); ++i) {
+    auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r')
+      throw InvalidInput(fmt::format("control character 0x{:02x} in {}", c, what), path);
+  }
+}
 
 // --- OBJ
 
-void check_obj(const std::string& path, const std::string& text) {
+MeshTextScan check_obj(const std::string& path, const std::string& text) {
+  MeshTextScan scan;
   std::int64_t counts[3] = {0, 0, 0};  // v, vt, vn defined so far
   const char* kinds[3] = {"vertex", "texture coordinate", "normal"};
   Lines lines(text);
   for (std::string_view line; lines.next(line);) {
     auto tokens = split(line);
     if (tokens.empty()) continue;
-    const std::string where = path + ":" + std::to_string(lines.number());
-    if (tokens[0] == "v") ++counts[0];
+    if (tokens[0] == "v") {
+      ++counts[0];
+      for (std::size_t k = 1; k < tokens.size(); ++k) is_coordinate(tokens[k], lines, path);
+    }
     if (tokens[0] == "vt") ++counts[1];
     if (tokens[0] == "vn") ++counts[2];
     if (tokens[0] != "f") continue;
-    if (tokens.size() < 4) throw InvalidInput("face with fewer than 3 corners", where);
+    ++scan.obj_face_lines;
+    if (tokens.size() < 4) throw InvalidInput("face with fewer than 3 corners", lines.where(path));
     for (std::size_t c = 1; c < tokens.size(); ++c) {
       std::string_view corner = tokens[c];
       for (int k = 0; k < 3 && !corner.empty(); ++k) {  // v[/vt[/vn]]
@@ -101,10 +126,12 @@ void check_obj(const std::string& path, const std::string& text) {
           throw InvalidInput(
               fmt::format("face corner '{}' names {} {}, but {} are defined before it", tokens[c],
                           kinds[k], part, counts[k]),
-              where);
+              lines.where(path));
       }
     }
   }
+  scan.obj_vertex_lines = static_cast<std::size_t>(counts[0]);
+  return scan;
 }
 
 // --- OFF
@@ -139,19 +166,13 @@ void check_off(const std::string& path, const std::string& text) {
   const bool binary = tokens.size() == 2 && tokens[1] == "BINARY";
   if (tokens.size() != (binary ? 2u : 1u))
     throw InvalidInput("the OFF keyword (or OFF BINARY) stands alone on its line", path);
-  if (!binary)  // OpenMesh tokenizes differently around control bytes (a vertical tab: 20 GB)
-    for (char c : text)
-      if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r')
-        throw InvalidInput(fmt::format("control character 0x{:02x} in a text OFF file", c), path);
+  if (!binary) refuse_control_characters(text, text.size(), "a text OFF file", path);
   if (!next_content(tokens)) throw InvalidInput("OFF header without counts", path);
-  const std::size_t first = 0;
-  std::int64_t nv = -1, nf = -1;
-  std::int64_t ne = 0;
-  if (tokens.size() < first + 2 || tokens.size() > first + 3 || !parse_int(tokens[first], nv) ||
-      !parse_int(tokens[first + 1], nf) || nv < 0 || nf < 0 ||
-      (tokens.size() == first + 3 && !parse_int(tokens[first + 2], ne)))
-    throw InvalidInput("OFF header needs vertex and face counts",
-                       path + ":" + std::to_string(lines.number()));
+  std::int64_t nv = -1, nf = -1, ne = 0;
+  if (tokens.size() < 2 || tokens.size() > 3 || !parse_int(tokens[0], nv) ||
+      !parse_int(tokens[1], nf) || nv < 0 || nf < 0 ||
+      (tokens.size() == 3 && !parse_int(tokens[2], ne)))
+    throw InvalidInput("OFF header needs vertex and face counts", lines.where(path));
   // the least a record takes: ASCII "0 0 0\n" and "3 0 1 2\n", binary 3 floats and 4 ints
   const auto size = static_cast<std::int64_t>(text.size());
   if (nv > size || nf > size || nv * (binary ? 12 : 6) + nf * (binary ? 16 : 8) > size)
@@ -164,24 +185,23 @@ void check_off(const std::string& path, const std::string& text) {
   for (std::int64_t v = 0; v < nv; ++v) {
     if (!next_body(tokens))
       throw InvalidInput(fmt::format("file ends after {} of {} vertices", v, nv), path);
-    if (tokens.size() != 3 || !is_number(tokens[0]) || !is_number(tokens[1]) ||
-        !is_number(tokens[2]))
-      throw InvalidInput("a vertex line needs exactly 3 coordinates",
-                         path + ":" + std::to_string(lines.number()));
+    if (tokens.size() != 3 || !is_coordinate(tokens[0], lines, path) ||
+        !is_coordinate(tokens[1], lines, path) || !is_coordinate(tokens[2], lines, path))
+      throw InvalidInput("a vertex line needs exactly 3 coordinates", lines.where(path));
   }
   for (std::int64_t f = 0; f < nf; ++f) {
     if (!next_body(tokens))
       throw InvalidInput(fmt::format("file ends after {} of {} faces", f, nf), path);
-    const std::string where = path + ":" + std::to_string(lines.number());
     std::int64_t n = 0;
     if (!parse_int(tokens[0], n) || n < 3 || n + 1 != static_cast<std::int64_t>(tokens.size()))
       throw InvalidInput("a face line needs a corner count n >= 3 and exactly n vertex indices",
-                         where);
+                         lines.where(path));
     for (std::int64_t k = 1; k <= n; ++k) {
       std::int64_t index = 0;
       if (!parse_int(tokens[k], index) || index < 0 || index >= nv)
         throw InvalidInput(
-            fmt::format("face corner '{}' is not a vertex index below {}", tokens[k], nv), where);
+            fmt::format("face corner '{}' is not a vertex index below {}", tokens[k], nv),
+            lines.where(path));
     }
   }
 }
@@ -191,7 +211,6 @@ void check_off(const std::string& path, const std::string& text) {
 struct PlyProperty {
   int size = 0;        // bytes of the value (binary)
   int count_size = 0;  // lists: bytes of the count, else 0
-  bool is_int_count = true;
 };
 struct PlyElement {
   std::string name;
@@ -229,53 +248,52 @@ void check_ply(const std::string& path, const std::string& text) {
   bool ended = false;
   while (!ended && lines.next(line)) {
     auto t = split(line);
-    const std::string where = path + ":" + std::to_string(lines.number());
     if (t.empty() || t[0] == "comment" || t[0] == "obj_info") continue;
     if (t[0] == "format") {
       if (!format.empty() || t.size() != 3 ||
           (t[1] != "ascii" && t[1] != "binary_little_endian" && t[1] != "binary_big_endian") ||
           t[2] != "1.0")
         throw InvalidInput(
-            "PLY needs one 'format ascii|binary_little_endian|binary_big_endian 1.0' line", where);
+            "PLY needs one 'format ascii|binary_little_endian|binary_big_endian 1.0' line",
+            lines.where(path));
       format = t[1];
     } else if (t[0] == "element") {
       PlyElement e;
       if (t.size() != 3 || !parse_int(t[2], e.count) || e.count < 0)
-        throw InvalidInput("PLY element line needs a name and a count", where);
+        throw InvalidInput("PLY element line needs a name and a count", lines.where(path));
       e.name = t[1];
       elements.push_back(e);
     } else if (t[0] == "property") {
-      if (elements.empty()) throw InvalidInput("PLY property before any element", where);
+      if (elements.empty())
+        throw InvalidInput("PLY property before any element", lines.where(path));
       PlyProperty p;
       if (t.size() == 5 && t[1] == "list") {
         p.count_size = ply_type_size(t[2]);
         p.size = ply_type_size(t[3]);
-        p.is_int_count = t[2].find("float") == std::string_view::npos && t[2] != "double";
-        if (!p.count_size || !p.size || !p.is_int_count)
-          throw InvalidInput("PLY list property with unknown or non-integer types", where);
+        const bool int_count = t[2].find("float") == std::string_view::npos && t[2] != "double";
+        if (!p.count_size || !p.size || !int_count)
+          throw InvalidInput("PLY list property with unknown or non-integer types",
+                             lines.where(path));
       } else if (t.size() == 3) {
         p.size = ply_type_size(t[1]);
         if (!p.size)
-          throw InvalidInput(fmt::format("PLY property of unknown type '{}'", t[1]), where);
+          throw InvalidInput(fmt::format("PLY property of unknown type '{}'", t[1]),
+                             lines.where(path));
       } else {
-        throw InvalidInput("malformed PLY property line", where);
+        throw InvalidInput("malformed PLY property line", lines.where(path));
       }
       elements.back().properties.push_back(p);
     } else if (t[0] == "end_header") {
       ended = true;
     } else {
-      throw InvalidInput(fmt::format("unknown PLY header line '{}'", t[0]), where);
+      throw InvalidInput(fmt::format("unknown PLY header line '{}'", t[0]), lines.where(path));
     }
   }
   if (!ended) throw InvalidInput("PLY header without end_header", path);
   // OpenMesh's header parser loops forever when a token does not parse (a NUL byte, a form
   // feed inside a name, a version other than 1.0): the header must be plain text
-  const std::size_t header_size = text.find("end_header");
-  for (std::size_t i = 0; i < header_size; ++i) {
-    auto c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r')
-      throw InvalidInput(fmt::format("PLY header with control character 0x{:02x}", c), path);
-  }
+  const std::size_t header_end = text.find("end_header");
+  refuse_control_characters(text, header_end, "a PLY header", path);
   if (format.empty()) throw InvalidInput("PLY header without a format line", path);
   for (const auto& e : elements)
     if (e.count > 0 && e.properties.empty())
@@ -291,34 +309,32 @@ void check_ply(const std::string& path, const std::string& text) {
                 fmt::format("file ends after {} of {} '{}' records", r, e.count, e.name), path);
           t = split(line);
         } while (t.empty());
-        const std::string where = path + ":" + std::to_string(lines.number());
         std::size_t k = 0;
         for (const auto& p : e.properties) {
           std::int64_t n = 1;
           if (p.count_size) {
             if (k >= t.size() || !parse_int(t[k], n) || n < 0)
-              throw InvalidInput("PLY list without a count", where);
+              throw InvalidInput("PLY list without a count", lines.where(path));
             ++k;
           }
           if (n > static_cast<std::int64_t>(t.size() - k))
             throw InvalidInput(
                 fmt::format("PLY '{}' record has fewer values than its properties call for",
                             e.name),
-                where);
+                lines.where(path));
           for (std::int64_t i = 0; i < n; ++i, ++k)
-            if (!is_number(t[k]))
-              throw InvalidInput(fmt::format("'{}' is not a number", t[k]), where);
+            if (!is_coordinate(t[k], lines, path))
+              throw InvalidInput(fmt::format("'{}' is not a number", t[k]), lines.where(path));
         }
         if (k != t.size())
           throw InvalidInput(
               fmt::format("PLY '{}' record has more values than its properties call for", e.name),
-              where);
+              lines.where(path));
       }
     return;
   }
   // binary: walk every record within the file
   const bool big = format == "binary_big_endian";
-  std::size_t header_end = text.find("end_header");
   std::size_t pos = text.find('\n', header_end) + 1;
   for (const auto& e : elements)
     for (std::int64_t r = 0; r < e.count; ++r)
@@ -343,11 +359,12 @@ void check_ply(const std::string& path, const std::string& text) {
 
 }  // namespace
 
-void check_mesh_structure(const std::string& path, const std::string& ext) {
+MeshTextScan check_mesh_structure(const std::string& path, const std::string& ext) {
   const std::string text = read_all(path);
-  if (ext == ".obj") check_obj(path, text);
+  if (ext == ".obj") return check_obj(path, text);
   if (ext == ".off") check_off(path, text);
   if (ext == ".ply") check_ply(path, text);
+  return {};
 }
 
 }  // namespace df::io

@@ -11,15 +11,23 @@
 //        (OpenMesh reads a token stream: one token too many shifts every later record);
 //   PLY  a well-formed header (one format line, known property types, end_header), and every
 //        record of every element inside the file (ASCII: one record per line with exactly the
-//        tokens its properties and list counts call for; binary: list counts within the file).
+//        tokens its properties and list counts call for; binary: list counts within the file);
+//   and in every text coordinate: no NaN/Inf.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace df::io {
 
-/// Throws InvalidInput (file:line) when the file's structure does not add up; `ext` is the
-/// lower-case extension (".obj", ".off" or ".ply").
-void check_mesh_structure(const std::string& path, const std::string& ext);
+/// What the pass sees that OpenMesh's OBJ reader hides: how many vertex and face lines there
+/// are (it drops unreadable vertices and faces with repeated corners).
+struct MeshTextScan {
+  std::size_t obj_vertex_lines = 0, obj_face_lines = 0;
+};
+
+/// Throws InvalidInput (file:line) when the file's structure does not add up or a coordinate is
+/// NaN/Inf; `ext` is the lower-case extension (".obj", ".off" or ".ply").
+MeshTextScan check_mesh_structure(const std::string& path, const std::string& ext);
 
 }  // namespace df::io

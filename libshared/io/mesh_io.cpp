@@ -122,49 +122,6 @@ class VerbatimImporter : public OpenMesh::IO::BaseImporter {
   std::size_t n_edges() const override { return 0; }
 };
 
-// What a text pass over an ASCII mesh file sees that OpenMesh's readers hide: a NaN/Inf
-// coordinate (the OBJ reader drops such a vertex, the OFF reader then reads garbage indices)
-// and, for OBJ, how many vertex and face lines there are (faces with repeated corners are
-// dropped by the reader).
-struct TextScan {
-  std::size_t obj_vertex_lines = 0, obj_face_lines = 0;
-  std::size_t nonfinite_line = 0;  // first line with a nan/inf token, 0 = none
-};
-
-bool is_nonfinite_token(std::string t) {
-  std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (!t.empty() && (t[0] == '-' || t[0] == '+')) t.erase(0, 1);
-  return t == "nan" || t == "inf" || t == "infinity" || t.rfind("nan(", 0) == 0;
-}
-
-TextScan scan_text(const std::string& path, const std::string& ext) {
-  TextScan scan;
-  std::ifstream in(path, std::ios::binary);
-  bool in_data = ext != ".ply";  // PLY: only after end_header; OFF: header tokens are not numbers
-  std::size_t lineno = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++lineno;
-    if (ext == ".ply" && !in_data) {
-      if (line.rfind("format binary", 0) == 0) return scan;  // binary PLY: checked after reading
-      if (line.rfind("end_header", 0) == 0) in_data = true;
-      continue;
-    }
-    std::istringstream tokens(line);
-    std::string first;
-    if (!(tokens >> first) || first[0] == '#') continue;
-    if (ext == ".obj") {
-      if (first == "f") ++scan.obj_face_lines;
-      if (first != "v") continue;
-      ++scan.obj_vertex_lines;
-    } else if (is_nonfinite_token(first) && !scan.nonfinite_line) {
-      scan.nonfinite_line = lineno;
-    }
-    for (std::string t; tokens >> t;)
-      if (is_nonfinite_token(t) && !scan.nonfinite_line) scan.nonfinite_line = lineno;
-  }
-  return scan;
-}
-
 }  // namespace
 
 std::string lower_extension(const std::string& path) {
@@ -190,7 +147,9 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   if (!is_mesh_file(path))
     throw InvalidInput("unknown mesh format (expected .obj, .off or .ply)", path);
   if (fs::file_size(path, ec) == 0) throw InvalidInput("empty file", path);
-  check_mesh_structure(path, lower_extension(path));  // what OpenMesh's readers cannot survive
+  const std::string ext = lower_extension(path);
+  // what OpenMesh's readers cannot survive, and the OBJ line counts they hide
+  const MeshTextScan scan = check_mesh_structure(path, ext);
 
   VerbatimImporter importer;
   std::string messages;
@@ -210,10 +169,6 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   if (importer.polygons.empty()) throw InvalidInput("no faces found (a point cloud is not a mesh)", path);
 
   const auto nv = importer.points.size();
-  const std::string ext = lower_extension(path);
-  const TextScan scan = scan_text(path, ext);
-  if (scan.nonfinite_line)
-    throw InvalidInput("non-finite coordinate (NaN or Inf)", path + ":" + std::to_string(scan.nonfinite_line));
   if (ext == ".obj" && scan.obj_vertex_lines != nv)
     throw InvalidInput(fmt::format("{} of {} vertex lines could not be read (non-numeric coordinates?)",
                                    scan.obj_vertex_lines - std::min(scan.obj_vertex_lines, nv),
