@@ -234,6 +234,18 @@ bool File::is_dataset(const std::string& path) const {
   return H5Iget_type(o.get()) == H5I_DATASET;
 }
 
+std::vector<std::string> File::descendants(const std::string& group) const {
+  std::vector<std::string> out;
+  for (const std::string& name : children(group)) {
+    out.push_back((group == "/" ? "" : group) + "/" + name);
+    if (is_group(out.back())) {
+      auto below = descendants(out.back());
+      out.insert(out.end(), below.begin(), below.end());
+    }
+  }
+  return out;
+}
+
 std::vector<std::string> File::children(const std::string& group) const {
   Handle g = checked(H5Gopen2(file_.get(), group.c_str(), H5P_DEFAULT), H5Gclose,
                      "cannot open group", where(group));

@@ -108,6 +108,8 @@ class File {
   bool is_dataset(const std::string& path) const;
   /// Names of the children of a group, sorted.
   std::vector<std::string> children(const std::string& group) const;
+  /// Absolute paths of every group and dataset below `group`, depth first, children sorted.
+  std::vector<std::string> descendants(const std::string& group = "/") const;
   void create_groups(const std::string& path);  ///< like mkdir -p
   DatasetInfo info(const std::string& dataset) const;
 

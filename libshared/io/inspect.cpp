@@ -21,19 +21,14 @@ std::string shape(const std::vector<std::size_t>& d) {
   return s + "]";
 }
 
-void list_datasets(const h5::File& f, const std::string& group, std::string& out) {
-  for (const auto& name : f.children(group)) {
-    std::string path = (group == "/" ? "" : group) + "/" + name;
-    if (f.is_group(path)) {
-      list_datasets(f, path, out);
-    } else if (f.is_dataset(path)) {
-      h5::DatasetInfo info = f.info(path);
-      std::string filters;
-      for (int id : info.filters)
-        filters += id == h5::kZstdFilterId ? " zstd" : id == H5Z_FILTER_SHUFFLE ? " shuffle" : fmt::format(" filter{}", id);
-      out += fmt::format("  {:<28} {:<8} {}{}\n", path, h5::dtype_name(info.dtype), shape(info.dims),
-                         filters);
-    }
+void list_datasets(const h5::File& f, std::string& out) {
+  for (const std::string& path : f.descendants()) {
+    if (!f.is_dataset(path)) continue;
+    h5::DatasetInfo info = f.info(path);
+    std::string filters;
+    for (int id : info.filters)
+      filters += id == h5::kZstdFilterId ? " zstd" : id == H5Z_FILTER_SHUFFLE ? " shuffle" : fmt::format(" filter{}", id);
+    out += fmt::format("  {:<28} {:<8} {}{}\n", path, h5::dtype_name(info.dtype), shape(info.dims), filters);
   }
 }
 
@@ -58,7 +53,7 @@ int inspect_files(const std::vector<std::string>& files, const InspectOptions& o
         d += fmt::format("  {} = {}{}\n", name, size, meaning.empty() ? "" : "  (" + meaning + ")");
       }
       out += d;
-      list_datasets(f, "/", out);
+      list_datasets(f, out);
       if (opt.show_history) {
         out += "  history:\n";
         for (const auto& line : provenance::history_lines(read_history(f))) out += "    " + line + "\n";

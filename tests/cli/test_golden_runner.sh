@@ -26,6 +26,11 @@ cp -r cases/t/c cases/t/h5
 synth-meshseq -q -f --kind finger --frames 3 --resolution 3 --twist 201 -o cases/t/h5/expected/f.h5
 expect_runner_fails cases/t/h5 "f.h5/frames/positions\[1,[0-9]+,[0-9]\]: expected .* got .*tolerance"
 
+# ... and a root attribute (the file's schema version)
+cp -r cases/t/c cases/t/root
+"$DF_TEST_BIN/h5_mutate" cases/t/c/expected/f.h5 cases/t/root/expected/f.h5 version
+expect_runner_fails cases/t/root "f.h5/@schema_version: expected 99, got 1"
+
 # 2. a mesh coordinate moved by 1e-3 (beyond the default tolerance), then within a stated one
 cp -r cases/t/c cases/t/obj
 awk '!done && /^v / { $2 = $2 + 0.001; done = 1 } { print }' cases/t/c/expected/objs/0001.obj >cases/t/obj/expected/objs/0001.obj

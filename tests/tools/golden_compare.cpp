@@ -101,20 +101,6 @@ bool is_provenance(const std::string& object, const std::string& name) {
   return object == "/" && (name == "history" || name == "tool_version");
 }
 
-std::vector<std::string> walk(const df::h5::File& f, const std::string& group) {
-  std::vector<std::string> objects{group};
-  for (const std::string& child : f.children(group)) {
-    std::string path = group == "/" ? "/" + child : group + "/" + child;
-    if (f.is_group(path)) {
-      auto sub = walk(f, path);
-      objects.insert(objects.end(), sub.begin(), sub.end());
-    } else {
-      objects.push_back(path);
-    }
-  }
-  return objects;
-}
-
 std::string index_name(const std::vector<std::size_t>& dims, std::size_t flat) {
   if (flat == std::size_t(-1)) return "";
   std::vector<std::size_t> idx(dims.size());
@@ -177,8 +163,8 @@ void compare_dataset(const df::h5::File& got, const df::h5::File& want, const st
 
 void compare_h5(const std::string& got_path, const std::string& want_path, Report& report) {
   df::h5::File want(want_path, df::h5::File::Mode::read), got(got_path, df::h5::File::Mode::read);
-  auto want_objects = walk(want, "/");
-  for (const std::string& object : want_objects) {
+  compare_attributes(got, want, "/", report);
+  for (const std::string& object : want.descendants()) {
     if (!got.exists(object)) {
       report.differ(object, "missing");
       continue;
@@ -186,7 +172,7 @@ void compare_h5(const std::string& got_path, const std::string& want_path, Repor
     if (want.is_dataset(object)) compare_dataset(got, want, object, report);
     compare_attributes(got, want, object, report);
   }
-  for (const std::string& object : walk(got, "/"))
+  for (const std::string& object : got.descendants())
     if (!want.exists(object)) report.differ(object, "unexpected object");
 }
 
