@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
                 "normalization, train/test split, loss log), for gen-bdlstm. A contiguous --test-fraction\n"
                 "of every sequence is held out (not trained on): at its end by default; --test-part\n"
                 "random places it by the seed, as the paper does (no window crosses it).");
-  tool.with_threads().with_seed(1).with_force();
+  tool.with_threads().with_seed(1).with_force().with_stop_requests();
   df::models::BdlstmTrainOptions opt;
   std::string directions = "shared";
   bool no_kl = false, no_l2 = false;
@@ -61,7 +61,9 @@ int main(int argc, char** argv) {
       ->default_val(opt.checkpoint_every);
   g->add_flag("--resume", opt.resume,
               "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
-              "uninterrupted run with the same options");
+              "uninterrupted run with the same options. SIGTERM or SIGUSR1 (preemption,\n"
+              "Slurm's time-limit warning) stops after the iteration in progress with a\n"
+              "checkpoint and exit status 75; a second SIGTERM kills at once");
   auto* n = app.add_option_group("Network (ablations: paper Table 2)");
   n->add_option("--directions", directions,
                 "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"

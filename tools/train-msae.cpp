@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
       "split, geodesic distances from the centres, loss log) for recon-msae and\n"
       "extract-components. Split as in the paper: sequences train on every 10th shape (1:9),\n"
       "collections (--split collection) on a random half; or explicit --train/--test lists.");
-  tool.with_threads().with_seed(1).with_force();
+  tool.with_threads().with_seed(1).with_force().with_stop_requests();
   df::models::MsaeTrainOptions opt;
   int levels = 0;
   bool no_attention = false;
@@ -107,7 +107,9 @@ int main(int argc, char** argv) {
       ->default_val(opt.checkpoint_every);
   g->add_flag("--resume", opt.resume,
               "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
-              "uninterrupted run with the same options");
+              "uninterrupted run with the same options. SIGTERM or SIGUSR1 (preemption,\n"
+              "Slurm's time-limit warning) stops after the iteration in progress with a\n"
+              "checkpoint and exit status 75; a second SIGTERM kills at once");
   tool.footer(
       "Examples:\n"
       "  train-msae bumps.h5 -o bumps-msae.h5\n"

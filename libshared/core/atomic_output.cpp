@@ -98,6 +98,13 @@ extern "C" void cleanup_and_die(int sig) {
   raise(sig);
 }
 
+std::atomic<int> g_stop_signal{0};
+
+extern "C" void request_stop(int sig) {
+  int none = 0;
+  if (!g_stop_signal.compare_exchange_strong(none, sig) && sig == SIGTERM) cleanup_and_die(sig);
+}
+
 fs::path temp_name_for(const fs::path& final_path) {
   unsigned n = g_counter.fetch_add(1);
   std::string name(".");
@@ -114,6 +121,15 @@ void install_cleanup_handlers() {
   sigemptyset(&sa.sa_mask);
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
 }
+
+void install_stop_request_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = request_stop;
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGTERM, SIGUSR1}) sigaction(sig, &sa, nullptr);
+}
+
+int stop_requested() { return g_stop_signal.load(); }
 
 void check_not_an_input(const fs::path& output, const std::vector<fs::path>& inputs) {
   std::error_code ec;

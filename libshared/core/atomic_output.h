@@ -40,6 +40,15 @@ class AtomicOutput {
 /// then die of the same signal (exit status 128+signal). Called once by the tool wrapper.
 void install_cleanup_handlers();
 
+/// For tools that can stop at a checkpoint (the trainers): SIGTERM and SIGUSR1 (a scheduler's
+/// preemption and Slurm's warning before a time limit) no longer kill at once but ask for a stop
+/// at the next safe point, which stop_requested() reports; a second SIGTERM kills as
+/// install_cleanup_handlers does. Call after it.
+void install_stop_request_handlers();
+
+/// The signal that asked for a stop (SIGTERM or SIGUSR1), or 0.
+int stop_requested();
+
 /// Throws IOError if `output` is the same file as any of `inputs` (paths that exist).
 void check_not_an_input(const std::filesystem::path& output,
                         const std::vector<std::filesystem::path>& inputs);

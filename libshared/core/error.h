@@ -46,4 +46,13 @@ class Interrupted : public Error {
   using Error::Error;
 };
 
+/// Thrown when a requested stop (SIGTERM, SIGUSR1) was honoured: the work so far is saved where
+/// the message says and a rerun with --resume continues it. The tool exits with kExitStopped.
+class Stopped : public Error {
+  using Error::Error;
+};
+
+/// Exit status after a Stopped (EX_TEMPFAIL of sysexits.h: "try again later").
+inline constexpr int kExitStopped = 75;
+
 }  // namespace df

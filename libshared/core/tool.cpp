@@ -3,6 +3,7 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <cstdlib>
 #include <exception>
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -16,6 +17,16 @@
 #include "core/provenance.h"
 
 namespace df {
+namespace {
+
+// All cores, or the CPUs a Slurm job was given (its processes see every core of the node).
+int default_threads() {
+  if (const char* s = std::getenv("SLURM_CPUS_PER_TASK"))
+    if (const int n = std::atoi(s); n > 0) return n;
+  return tbb::info::default_concurrency();
+}
+
+}  // namespace
 
 Tool::Tool(std::string name, std::string description) : name_(std::move(name)), app_(description, name_) {
   app_.set_version_flag("--version", name_ + " (deformflow) " DEFORMFLOW_VERSION);
@@ -26,7 +37,8 @@ Tool::Tool(std::string name, std::string description) : name_(std::move(name)), 
 
 Tool& Tool::with_threads() {
   app_.add_option("--threads", common_.threads,
-                  "Worker threads (0 = all cores); results do not depend on it")
+                  "Worker threads (0 = all cores, or $SLURM_CPUS_PER_TASK in a Slurm job); results\n"
+                  "do not depend on it")
       ->default_val(0)
       ->check(CLI::NonNegativeNumber);
   return *this;
@@ -41,6 +53,11 @@ Tool& Tool::with_seed(std::uint64_t default_seed) {
 
 Tool& Tool::with_force() {
   app_.add_flag("-f,--force", common_.force, "Overwrite the output if it exists");
+  return *this;
+}
+
+Tool& Tool::with_stop_requests() {
+  stop_requests_ = true;
   return *this;
 }
 
@@ -67,10 +84,11 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   log::set_level(common_.quiet     ? log::Level::warning
                  : common_.verbose ? log::Level::debug
                                    : log::Level::info);
-  int threads = common_.threads > 0 ? common_.threads : tbb::info::default_concurrency();
+  int threads = common_.threads > 0 ? common_.threads : default_threads();
   tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
                                   static_cast<std::size_t>(threads));
   install_cleanup_handlers();
+  if (stop_requests_) install_stop_request_handlers();
 #if defined(__GLIBC__)
   // Per-frame buffers of 0.1-10 MB and training activations of 10-120 MB would otherwise each be
   // a fresh mmap (page faults and zeroing every time: ~25% of acap2obj's time, ~35% of an MSAE
@@ -85,6 +103,9 @@ int Tool::run(int argc, char** argv, const std::function<void()>& body) {
   try {
     body();
     return 0;
+  } catch (const Stopped& e) {
+    log::warn("{}", e.message());
+    return kExitStopped;
   } catch (const UsageError& e) {
     log::error("{}", e.message());
     return 2;

@@ -2,7 +2,8 @@
 // declares its options on a Tool and passes one function to run(); run() parses the command
 // line, applies the common options, installs the temporary-file cleanup on signals, and turns
 // every exception into one line `TOOL: error: WHAT (WHERE)`:
-//   exit 0 success, 2 usage error (bad/missing option), 1 any other failure.
+//   exit 0 success, 2 usage error (bad/missing option), 1 any other failure,
+//   75 stopped on request (SIGTERM/SIGUSR1) with the work saved for --resume (trainers).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -38,6 +39,9 @@ class Tool {
   Tool& with_seed(std::uint64_t default_seed = 0);
   /// Adds -f/--force (tools that write an output).
   Tool& with_force();
+  /// For trainers: SIGTERM and SIGUSR1 ask for a stop at the next checkpoint (exit status
+  /// kExitStopped, 75) instead of killing; see install_stop_request_handlers.
+  Tool& with_stop_requests();
   /// Text after the options in --help: references, examples.
   Tool& footer(const std::string& text);
 
@@ -48,6 +52,7 @@ class Tool {
   std::string name_;
   CLI::App app_;
   CommonOptions common_;
+  bool stop_requests_ = false;
 };
 
 }  // namespace df

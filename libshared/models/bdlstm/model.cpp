@@ -22,6 +22,7 @@ void BdlstmModel::initialize() {
   rng = Rng(training.seed, 1);
   iteration = 0;
   log.clear();
+  unprinted.clear();
 }
 
 void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
@@ -58,7 +59,8 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     f.set_attr("/config", "teacher_frames", t.teacher_frames);
     f.set_attr("/config", "kl_warmup", t.kl_warmup);
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
-    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, BdlstmModel::kLogColumns);
+    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, BdlstmModel::kLogColumns,
+                            m.unprinted);
     const std::size_t s = m.split.sequences.size();
     f.create_groups("/split");
     f.set_attr("/split", "data", m.split.data);
@@ -120,8 +122,8 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   t.teacher_frames = f.has_attr("/config", "teacher_frames") ? i("teacher_frames") : 1;
   t.kl_warmup = f.has_attr("/config", "kl_warmup") ? f.attr_int("/config", "kl_warmup") : 0;
   t.seed = std::stoull(f.attr_string("/config", "seed"));
-  std::vector<double> log;
-  read_mesh_model_common(f, m.tmpl, m.normalization, log);
+  std::vector<double> log, unprinted;
+  read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
   m.split.data = f.attr_string("/split", "data");
   m.split.sequences = f.read_strings("/split/sequences");
   auto train = f.read<std::int64_t>("/split/train").data,
@@ -144,6 +146,7 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   }
   m.initialize();          // the network's shapes; weights, Adam and RNG state come from the file
   m.log = std::move(log);  // after initialize(), which clears it
+  m.unprinted = std::move(unprinted);
   m.iteration = nn::read_training_state(f, m.net->store(), *m.adam, m.rng);
   return m;
 }

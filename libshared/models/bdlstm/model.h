@@ -60,6 +60,7 @@ struct BdlstmModel {
   static inline const std::vector<std::string> kLogColumns = {"iteration", "total", "recon",
                                                               "bidir",     "kl",    "l2"};
   std::vector<double> log;  ///< rows of kLogColumns, flat
+  std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   std::unique_ptr<BdlstmNet<float>> net;
   std::unique_ptr<nn::Adam<float>> adam;
   Rng rng;  ///< windows and reparameterisation noise

@@ -180,6 +180,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     m.rng = ck.rng;
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
+    m.unprinted = std::move(ck.unprinted);
     log::info("resuming from {} at iteration {}", ckpt, m.iteration);
   } else {
     m.initialize();
@@ -234,8 +235,9 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     save_bdlstm_model(ckpt, m, {opt.input}, true);
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
-  run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every},
-                    {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, step, checkpoint);
+  run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every, ckpt},
+                    {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, m.unprinted, step,
+                    checkpoint);
   save_bdlstm_model(opt.output, m, {opt.input}, common.force);
   if (opt.checkpoint.empty()) {  // our own OUTPUT.ckpt; a checkpoint the user named is theirs
     std::error_code ec;

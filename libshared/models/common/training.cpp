@@ -2,23 +2,74 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <filesystem>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
 
 namespace df::models {
+namespace {
+
+// The loss terms summed since the last log row.
+struct Interval {
+  std::vector<double> sum;
+  std::int64_t iterations = 0;
+
+  // Restored from a checkpoint's [count, sums...] (empty: at a row).
+  Interval(std::size_t terms, const std::vector<double>& unprinted) : sum(terms, 0.0) {
+    if (unprinted.empty()) return;
+    if (unprinted.size() != terms + 1)
+      throw Error(fmt::format("the checkpoint's unprinted loss terms have {} values, not {}",
+                              unprinted.size(), terms + 1));
+    iterations = static_cast<std::int64_t>(unprinted[0]);
+    std::copy(unprinted.begin() + 1, unprinted.end(), sum.begin());
+  }
+  std::vector<double> saved() const {
+    if (iterations == 0) return {};
+    std::vector<double> v{static_cast<double>(iterations)};
+    v.insert(v.end(), sum.begin(), sum.end());
+    return v;
+  }
+};
+
+// Appends the row [done, means..., evaluated...] to `log`; returns the printed detail.
+std::string append_log_row(std::int64_t done, const Interval& interval,
+                           const std::vector<std::string>& names,
+                           const std::vector<std::string>& evaluate_names,
+                           const std::function<LossTerms()>& evaluate, std::vector<double>& log) {
+  log.push_back(static_cast<double>(done));
+  std::string detail;
+  for (std::size_t k = 0; k < interval.sum.size(); ++k) {
+    const double mean = interval.sum[k] / static_cast<double>(interval.iterations);
+    log.push_back(mean);
+    if (k) detail += fmt::format("{}{} {:.4g}", k > 1 ? ", " : "", names[k], mean);
+  }
+  if (evaluate) {
+    const LossTerms extra = evaluate();
+    for (std::size_t k = 0; k < evaluate_names.size(); ++k) {
+      log.push_back(extra.at(k));
+      detail += fmt::format("; {} {:.4g}", evaluate_names[k], extra[k]);
+    }
+  }
+  return detail;
+}
+
+}  // namespace
 
 void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>& names,
                        std::int64_t& iteration, std::vector<double>& log,
+                       std::vector<double>& unprinted,
                        const std::function<LossTerms(std::int64_t)>& step,
                        const std::function<void()>& checkpoint,
                        const std::vector<std::string>& evaluate_names,
                        const std::function<LossTerms()>& evaluate) {
-  std::vector<double> sum(names.size(), 0.0);
-  int in_interval = 0;
+  Interval interval(names.size(), unprinted);
+  unprinted.clear();
   const auto t0 = std::chrono::steady_clock::now();
   const std::int64_t first_iteration = iteration;
   std::int64_t last_checkpoint = iteration;
@@ -28,38 +79,32 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
     if (!std::isfinite(terms.at(0)))
       throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr",
                               done, terms[0]));
-    for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += terms.at(k);
-    ++in_interval;
-    iteration =
-        done;  // before any checkpoint: the file must say how many iterations its state holds
-    if (done % loop.print_every != 0 && done != loop.iterations) continue;
-    log.push_back(static_cast<double>(done));
-    std::string detail;
-    for (std::size_t k = 0; k < sum.size(); ++k) {
-      const double mean = sum[k] / in_interval;
-      log.push_back(mean);
-      if (k) detail += fmt::format("{}{} {:.4g}", k > 1 ? ", " : "", names[k], mean);
-    }
-    if (evaluate) {
-      const LossTerms extra = evaluate();
-      for (std::size_t k = 0; k < evaluate_names.size(); ++k) {
-        log.push_back(extra.at(k));
-        detail += fmt::format("; {} {:.4g}", evaluate_names[k], extra[k]);
+    for (std::size_t k = 0; k < interval.sum.size(); ++k) interval.sum[k] += terms.at(k);
+    ++interval.iterations;
+    iteration = done;  // before any checkpoint: the file must say how many iterations it holds
+    if (done % loop.print_every == 0 || done == loop.iterations) {
+      const std::string detail =
+          append_log_row(done, interval, names, evaluate_names, evaluate, log);
+      const double secs =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double per = secs / static_cast<double>(done - first_iteration);
+      log::info("iteration {}/{}: {} {:.4g} ({}); {:.3f} s/iteration, {:.0f} s left", done,
+                loop.iterations, names[0], interval.sum[0] / static_cast<double>(interval.iterations),
+                detail, per, per * static_cast<double>(loop.iterations - done));
+      interval = Interval(names.size(), {});
+      if (loop.checkpoint_every &&
+          done / loop.checkpoint_every > last_checkpoint / loop.checkpoint_every &&
+          done < loop.iterations) {
+        last_checkpoint = done;
+        checkpoint();
       }
     }
-    const double secs =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const double per = secs / static_cast<double>(done - first_iteration);
-    log::info("iteration {}/{}: {} {:.4g} ({}); {:.3f} s/iteration, {:.0f} s left", done,
-              loop.iterations, names[0], sum[0] / in_interval, detail, per,
-              per * static_cast<double>(loop.iterations - done));
-    std::fill(sum.begin(), sum.end(), 0.0);
-    in_interval = 0;
-    if (loop.checkpoint_every &&
-        done / loop.checkpoint_every > last_checkpoint / loop.checkpoint_every &&
-        done < loop.iterations) {
-      last_checkpoint = done;
+    if (const int sig = stop_requested(); sig && done < loop.iterations) {
+      unprinted = interval.saved();
       checkpoint();
+      throw Stopped(fmt::format("stopped by SIG{} after iteration {} of {}; checkpoint {} holds "
+                                "it: run the same command with --resume to continue",
+                                sigabbrev_np(sig), done, loop.iterations, loop.checkpoint_path));
     }
   }
 }

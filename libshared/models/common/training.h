@@ -19,6 +19,7 @@ struct TrainingLoop {
   std::int64_t iterations = 0;  ///< train until the model has done this many
   int print_every = 100;        ///< average and print the loss terms every K iterations
   int checkpoint_every = 0;     ///< 0 = no checkpoints during the run
+  std::string checkpoint_path;  ///< where checkpoint() writes (for messages)
 };
 
 /// Loss terms of one iteration; the first is the total that was minimised.
@@ -29,13 +30,17 @@ using LossTerms = std::vector<double>;
 /// print_every iterations (and at the last) the mean terms since the last print are appended to
 /// `log` as one row [k, means...] and printed ("iteration k/K: loss ... (recon ..., ...)").
 /// `iteration` is updated before any checkpoint, so a checkpoint records the iterations its state
-/// holds; checkpoints fall on printing boundaries where a multiple of checkpoint_every was passed
-/// (the interval averages restart there, so a resumed run logs what an uninterrupted one does).
+/// holds; checkpoints fall on printing boundaries where a multiple of checkpoint_every was passed.
+/// A stop request (SIGTERM, SIGUSR1: core/atomic_output.h) is honoured after the iteration in
+/// progress: checkpoint, then Stopped. `unprinted` carries the iterations since the last log row
+/// ([count, sums...]; empty at a row) into such a checkpoint and back, so a resumed run logs what
+/// an uninterrupted one does.
 /// @param names  the terms' names, as printed ("loss", "recon", ...)
 /// @param evaluate  when set, called at every printing boundary; its values (named by
 ///                  `evaluate_names`, e.g. a validation error) follow the means in the log row
 void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>& names,
                        std::int64_t& iteration, std::vector<double>& log,
+                       std::vector<double>& unprinted,
                        const std::function<LossTerms(std::int64_t)>& step,
                        const std::function<void()>& checkpoint,
                        const std::vector<std::string>& evaluate_names = {},

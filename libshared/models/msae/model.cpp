@@ -26,6 +26,7 @@ void MsaeModel::initialize() {
   rng = Rng(training.seed, 1);
   iteration = 0;
   log.clear();
+  unprinted.clear();
 }
 
 std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam() const {
@@ -72,7 +73,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     f.set_attr("/config", "validation_fraction", t.validation_fraction);
     f.set_attr("/config", "separate", static_cast<int>(t.separate));
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
-    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns());
+    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
     f.create_groups("/split");
     f.set_attr("/split", "data", m.split.data);
     write_frames(f, "/split/train", m.split.train);
@@ -122,8 +123,8 @@ MsaeModel load_msae_model(const std::string& path) {
   t.validation_fraction = f.attr_double("/config", "validation_fraction");
   t.separate = f.attr_int("/config", "separate") != 0;
   t.seed = std::stoull(f.attr_string("/config", "seed"));
-  std::vector<double> log;
-  read_mesh_model_common(f, m.tmpl, m.normalization, log);
+  std::vector<double> log, unprinted;
+  read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
   m.split.data = f.attr_string("/split", "data");
   m.split.train = f.read<std::int64_t>("/split/train").data;
   m.split.validation = f.read<std::int64_t>("/split/validation").data;
@@ -144,6 +145,7 @@ MsaeModel load_msae_model(const std::string& path) {
     throw InvalidInput(e.what(), f.where("/config"));
   }
   m.log = std::move(log);
+  m.unprinted = std::move(unprinted);
   m.iteration = nn::read_training_state(f, m.net->store(), *m.adam, m.rng);
   return m;
 }

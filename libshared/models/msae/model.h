@@ -57,6 +57,7 @@ struct MsaeModel {
   std::vector<int> geodesic_sources;
   std::vector<Eigen::VectorXf> geodesic_rows;
   std::vector<double> log;  ///< rows of log_columns(), flat
+  std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   std::unique_ptr<MsaeNet<float>> net;
   std::unique_ptr<nn::Adam<float>> adam;
   Rng rng;  ///< batches

@@ -258,6 +258,7 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
     m.rng = ck.rng;
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
+    m.unprinted = std::move(ck.unprinted);
     m.geodesic_diameter = ck.geodesic_diameter;
     auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
                                                              m.geodesic_diameter);
@@ -360,8 +361,9 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   std::function<LossTerms()> evaluate;
   if (validation.rows() > 0)
     evaluate = [&]() -> LossTerms { return {reconstruction_error(*m.net, validation)}; };
-  run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every},
-                    {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, step, checkpoint,
+  run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every, ckpt},
+                    {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, m.unprinted, step,
+                    checkpoint,
                     {"validation"}, evaluate);
   remember_geodesics(m, *geodesic);
   save_msae_model(opt.output, m, {opt.input}, common.force);
