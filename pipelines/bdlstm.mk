@@ -105,11 +105,11 @@ $(BD)/%.args: FORCE
 	@mkdir -p $(@D)
 	@echo '$(call model_args,$*)' $(write_if_changed)
 $(BD)/%/model.h5: $(BD)/%/data.h5 $(BD)/%/model.args
-	$(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
+	$(call launch,train) $(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
 	  $(call model_args,$*/model) $< -o $@ 2>&1 | tee $(@:.h5=.log)
 define VARIANT_RULES
 $(BD)/%/model-$(1).h5: $(BD)/%/data.h5 $(BD)/%/model-$(1).args
-	$(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
+	$$(call launch,train) $(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
 	  $$(call model_args,$$*/model-$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
 endef
 $(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_RULES,$(v))))
@@ -118,26 +118,26 @@ $(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_RULES,$(v))))
 # every method predicts the same frames (--test-context 3).
 GEN_TEST = --test-every $($*_EVERY) --test-context 3 --length $($*_LENGTH)
 $(BD)/%/pred1.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 1 -o $@
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 1 -o $@
 $(BD)/%/pred3.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 3 -o $@
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 3 -o $@
 $(BD)/%/linear.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 2 --method linear -o $@
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 2 --method linear -o $@
 $(BD)/%/static.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 1 --method static -o $@
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $^ $(GEN_TEST) --initial 1 --method static -o $@
 define VARIANT_PRED
 $(BD)/%/pred3-$(1).h5: $(BD)/%/model-$(1).h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $$^ $$(GEN_TEST) --initial 3 -o $$@
+	$$(call launch,generate) $(BIN)/gen-bdlstm -q -f $$^ $$(GEN_TEST) --initial 3 -o $$@
 endef
 $(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_PRED,$(v))))
 
 # Evaluation of any generated file against its data: table on stdout, TSV for the plots.
 $(BD)/%.eval: $(BD)/%.h5
-	$(BIN)/eval-metrics -q $< $(dir $<)data.h5 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q $< $(dir $<)data.h5 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 $(BD)/%.change: $(BD)/%.h5
-	$(BIN)/eval-metrics -q $< --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q $< --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 $(BD)/%.change10: $(BD)/%.h5
-	$(BIN)/eval-metrics -q $< --change-span 10 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q $< --change-span 10 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 
 # Error at future frame k of an evaluation's TSV, / bounding-box diagonal x 1000.
 step_err = awk -v k=$(2) '/^\#/ { next } NF == 0 { exit } $$1 == k { printf "%.2f", 1000 * $$4; f = 1 } END { if (!f) printf "-" }' $(1).tsv
@@ -164,17 +164,17 @@ $(BD)/%/table1.md: $(BD)/%/pred1.eval $(BD)/%/pred3.eval $(BD)/%/linear.eval $(B
 
 # --- (c) Fig. 2: 300 generated frames from the first held-out frame (and from each ablation)
 $(BD)/%/long.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $^ --from 0 --length 300 -o $@
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $^ --from 0 --length 300 -o $@
 define VARIANT_LONG
 $(BD)/%/long-$(1).h5: $(BD)/%/model-$(1).h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $$^ --from 0 --length 300 -o $$@
+	$$(call launch,generate) $(BIN)/gen-bdlstm -q -f $$^ --from 0 --length 300 -o $$@
 endef
 $(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_LONG,$(v))))
 # The data's change over the frames one generated step spans (the model's --stride), and over 10 steps.
 $(BD)/%/data.change: $(BD)/%/data.h5
-	$(BIN)/eval-metrics -q $< --change-span $(or $($*_STRIDE),1) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q $< --change-span $(or $($*_STRIDE),1) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 $(BD)/%/data.change10: $(BD)/%/data.h5
-	$(BIN)/eval-metrics -q $< --change-span $$(( 10 * $(or $($*_STRIDE),1) )) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q $< --change-span $$(( 10 * $(or $($*_STRIDE),1) )) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 
 fig2_variants = $(if $(filter $(1),$(BD_ABLATION_SETS)),$(BD_VARIANTS))
 # Mean of the values of a feature-change TSV, or of its last $(2).
@@ -217,10 +217,10 @@ $(BD)/%/table2.md: $(BD)/%/pred3.eval $(foreach v,$(BD_VARIANTS),$(BD)/%/pred3-$
 
 # --- (d) completion of 9-frame gaps in the held-out part: BD-LSTM (8 diverse samples) vs linear
 $(BD)/%/complete.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -f $^ --mode complete --test-every $($*_EVERY) --gap $(if $(filter faerie,$*),4,9) \
+	$(call launch,generate) $(BIN)/gen-bdlstm -f $^ --mode complete --test-every $($*_EVERY) --gap $(if $(filter faerie,$*),4,9) \
 	  --samples 8 --seed 1 -o $@ 2>&1 | tee $(@:.h5=.log)
 $(BD)/%/interp.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/gen-bdlstm -q -f $^ --mode complete --method linear --test-every $($*_EVERY) \
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $^ --mode complete --method linear --test-every $($*_EVERY) \
 	  --gap $(if $(filter faerie,$*),4,9) -o $@
 $(BD)/%/completion.md: $(BD)/%/complete.eval $(BD)/%/interp.eval
 	{ echo "**$*** — completion of gaps between two keyframes (held-out part; paper §4.4)"; echo; \
@@ -251,7 +251,7 @@ $(BD)/%/long.png: $(BD)/%/long.h5
 # --- (f) what the model learned: loss terms over training, KL per latent dimension, and windows
 # of the training part predicted with z = mean / prior draw / 0 beside zero motion.
 $(BD)/%/latent.txt: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(BIN)/inspect-bdlstm -q $^ $($*_INSPECT) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,generate) $(BIN)/inspect-bdlstm -q $^ $($*_INSPECT) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 $(BD)/%/fig-latent.png: $(BD)/%/latent.txt
 	gnuplot -e "set terminal pngcairo size 1500,450; set output '$@'; set multiplot layout 1,3 title '$*: what the model learned'; \
 	  set key top right; set xlabel 'iteration'; set ylabel 'loss term (interval mean)'; set logscale y; \

@@ -17,6 +17,7 @@
 MS := $(OUT)/msae
 MS_SETS ?= bumps $(if $(HAVE_DATA),pcow chickenCrossing cactus cat-poses lion-poses)
 MS_LEVEL3_SETS ?= bumps
+MS_BUMPS ?= --frames 200 --resolution 40
 MS_VARIANTS := tan separate noatt separate-noatt
 TRAIN_THREADS ?= 0
 
@@ -57,7 +58,7 @@ msae: $(foreach s,$(MS_SETS),$(MS)/$(s)/table2.md $(MS)/$(s)/table4.md $(MS)/$(s
 # --- data: ACAP features of each set (real sets unpacked as in bdlstm.mk)
 $(MS)/bumps/frames.h5:
 	@mkdir -p $(@D)
-	$(BIN)/synth-meshseq -q --kind bumps --frames 200 --resolution 40 --seed 1 -f -o $@
+	$(BIN)/synth-meshseq -q --kind bumps $(MS_BUMPS) --seed 1 -f -o $@
 $(MS)/bumps/data.h5: $(MS)/bumps/frames.h5
 	$(BIN)/obj2acap -q -f $< -o $@
 $(MS)/%/src/.sha256: $(DATA)/meshseq/%.tar.zst
@@ -75,36 +76,36 @@ $(MS)/%/msae.args: FORCE
 	@mkdir -p $(@D)
 	@echo '$(call ms_args,$*)' $(write_if_changed)
 $(MS)/%/msae.h5: $(MS)/%/data.h5 $(MS)/%/msae.args
-	$(BIN)/train-msae -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 500 --resume \
+	$(call launch,train) $(BIN)/train-msae -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 500 --resume \
 	  $(call ms_args,$*) $< -o $@ 2>&1 | tee $(@:.h5=.log)
 define MS_VARIANT_RULES
 $(MS)/%/msae-$(1).args: FORCE
 	@mkdir -p $$(@D)
 	@echo '$$(call ms_args,$$*,$(1))' $$(write_if_changed)
 $(MS)/%/msae-$(1).h5: $(MS)/%/data.h5 $(MS)/%/msae-$(1).args
-	$$(BIN)/train-msae -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 500 --resume \
+	$$(call launch,train) $$(BIN)/train-msae -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 500 --resume \
 	  $$(call ms_args,$$*,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
 endef
 $(foreach v,$(MS_VARIANTS) level3,$(eval $(call MS_VARIANT_RULES,$(v))))
 
 # --- reconstructions of the test shapes and their measures
 $(MS)/%/recon.h5: $(MS)/%/msae.h5
-	$(BIN)/recon-msae -q -f $< $(MS)/$*/data.h5 -o $@
+	$(call launch,generate) $(BIN)/recon-msae -q -f $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/recon-L1.h5: $(MS)/%/msae.h5
-	$(BIN)/recon-msae -q -f --levels 1 $< $(MS)/$*/data.h5 -o $@
+	$(call launch,generate) $(BIN)/recon-msae -q -f --levels 1 $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/recon-level3-L3.h5: $(MS)/%/msae-level3.h5
-	$(BIN)/recon-msae -q -f $< $(MS)/$*/data.h5 -o $@
+	$(call launch,generate) $(BIN)/recon-msae -q -f $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/recon-pca.h5: $(MS)/%/msae.h5
-	$(BIN)/fit-baseline -q -f --method pca $< $(MS)/$*/data.h5 -o $@
+	$(call launch,train) $(BIN)/fit-baseline -q -f --method pca $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/recon-splocs.h5: $(MS)/%/msae.h5
-	$(BIN)/fit-baseline -q -f --method splocs $< $(MS)/$*/data.h5 -o $@
+	$(call launch,train) $(BIN)/fit-baseline -q -f --method splocs $< $(MS)/$*/data.h5 -o $@
 define MS_RECON_RULES
 $(MS)/%/recon-$(1).h5: $(MS)/%/msae-$(1).h5
-	$$(BIN)/recon-msae -q -f $$< $(MS)/$$*/data.h5 -o $$@
+	$$(call launch,generate) $$(BIN)/recon-msae -q -f $$< $(MS)/$$*/data.h5 -o $$@
 endef
 $(foreach v,$(MS_VARIANTS),$(eval $(call MS_RECON_RULES,$(v))))
 $(MS)/%.eval: $(MS)/%.h5
-	$(BIN)/eval-metrics $< $(dir $<)data.h5 $(write_if_changed)
+	$(call launch,eval) $(BIN)/eval-metrics $< $(dir $<)data.h5 $(write_if_changed)
 
 # Numbers out of an eval-metrics table.
 ms_erms = sed -n 's/^ *E_rms *\([0-9.e+-]*\).*/\1/p' $(1) | awk '{ printf "%.3f", $$1 }'
@@ -137,7 +138,7 @@ $(MS)/%/table5.md: $(MS)/%/recon-L1.eval $(MS)/%/recon.eval
 
 # --- components: extract, prune, draw; similarity heat map; training curve
 $(MS)/%/components.h5: $(MS)/%/msae.h5
-	$(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
+	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/kept.h5: $(MS)/%/components.h5
 	$(BIN)/prune-components -f $< -o $@ --acap $(MS)/$*/kept-acap.h5 --json $(MS)/$*/pruning.json > $(MS)/$*/pruning.txt
 $(MS)/%/components.png: $(MS)/%/kept.h5

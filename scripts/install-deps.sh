@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages deformflow needs to build, test and run its demo.
 # Idempotent and fast when everything is present (a dpkg query, no apt-get update).
-# Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz]
+# Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm]
 set -euo pipefail
 
 packages=(
@@ -15,6 +15,7 @@ for option in "$@"; do
   case $option in
     --with-bench) packages+=(time python3-torch libjemalloc2) ;;  # GNU time (peak memory); the PyTorch timing peer
     --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;         # libFuzzer + sanitizer runtimes of clang 14
+    --with-slurm) packages+=(slurmctld slurmd slurm-client munge) ;;  # the tests' one-node cluster
     *) echo "install-deps: unknown option $option" >&2; exit 2 ;;
   esac
 done

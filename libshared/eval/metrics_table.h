@@ -1,0 +1,41 @@
+// One table from many metrics files: the JSON that eval-metrics --json (or any tool) wrote for
+// each run of a sweep, one row per file, one column per number found in them.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace df::eval {
+
+struct MetricsTable {
+  std::vector<std::string> columns;            ///< dotted paths: "E_rms", "sted.spatial", ...
+  std::vector<std::string> names;              ///< one per row
+  std::vector<std::vector<std::string>> cells; ///< [row][column]; "" where a file lacks it
+};
+
+/// The numbers of a JSON document as (dotted path, printed value) in document order: members
+/// of objects recursively; arrays (per-step lists) and strings are left out.
+std::vector<std::pair<std::string, std::string>> json_numbers(const std::string& text,
+                                                              const std::string& where);
+
+/// Reads each file; a row is named by names[i], or when names is empty by the file's directory
+/// (sweep/kz10/metrics.json -> kz10). Columns are the union in first-seen order.
+/// @throws IOError for an unreadable file, InvalidInput for one that is not a JSON object
+MetricsTable collect_metrics(const std::vector<std::string>& files,
+                             const std::vector<std::string>& names);
+
+/// Tab-separated: a header "name<TAB>columns...", then one line per row.
+void write_tsv(std::ostream& out, const MetricsTable& table);
+
+struct CollectMetricsOptions {
+  std::vector<std::string> files;
+  std::vector<std::string> names;
+  std::string output;  ///< "" or "-" = stdout
+  bool force = false;
+};
+
+/// collect-metrics: collect_metrics, then the TSV to the output (atomically) or stdout.
+void collect_metrics_tool(const CollectMetricsOptions& opt);
+
+}  // namespace df::eval

@@ -1,0 +1,30 @@
+// collect-metrics: one table from the metrics JSON of many runs (a sweep's tasks).
+#include "core/tool.h"
+#include "eval/metrics_table.h"
+
+int main(int argc, char** argv) {
+  df::Tool tool(
+      "collect-metrics",
+      "Gather the metrics of many runs into one table: each FILE is the JSON that\n"
+      "eval-metrics --json wrote (or any JSON object); its numbers become the columns, named\n"
+      "by their path (E_rms, sted.spatial, ...; lists such as per-step errors are left out),\n"
+      "one row per file, named by the file's directory (sweep/kz10/metrics.json -> kz10) or\n"
+      "by --names. A number one file lacks is an empty cell. scripts/sweep calls it as the\n"
+      "collect step of a parameter sweep.\n\n"
+      "OUTPUT: a tab-separated table (header row 'name' + columns) on stdout or to -o.");
+  tool.with_force();
+  df::eval::CollectMetricsOptions opt;
+  auto& app = tool.app();
+  app.add_option("FILE", opt.files, "Metrics JSON files, one row each")->required();
+  app.add_option("--names", opt.names, "Row names, one per file (comma-separated)")
+      ->delimiter(',');
+  app.add_option("-o,--output", opt.output, "Output table (.tsv); default stdout");
+  tool.footer(
+      "Examples:\n"
+      "  collect-metrics sweep/*/metrics.json -o sweep/table.tsv\n"
+      "  collect-metrics a.json b.json --names joint,separate | column -t");
+  return tool.run(argc, argv, [&] {
+    opt.force = tool.common().force;
+    df::eval::collect_metrics_tool(opt);
+  });
+}
