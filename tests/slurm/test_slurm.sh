@@ -15,6 +15,8 @@ export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
 
 skip() { echo "SKIPPED: $*" >&2; exit 77; }
 if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then
+  [ "$(id -u)" = 0 ] || sudo -n true 2>/dev/null ||
+    skip "Slurm is not installed, and installing it needs root or password-less sudo: run scripts/install-deps.sh --with-slurm"
   echo "installing slurm-wlm and munge (scripts/install-deps.sh --with-slurm)"
   bash "$DF_SOURCE/scripts/install-deps.sh" --with-slurm >install.log 2>&1 ||
     skip "Slurm is not installed and could not be installed: $(tail -n 1 install.log)"
