@@ -8,7 +8,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libopenmesh-dev libhdf5-dev hdf5-tools
   libcli11-dev libfmt-dev libtbb-dev catch2 libzstd-dev nlohmann-json3-dev
-  libcairo2-dev fonts-dejavu-core
+  libcairo2-dev fonts-dejavu-core libassimp-dev
   assimp-testmodels zstd gnuplot-nox
 )
 for option in "$@"; do

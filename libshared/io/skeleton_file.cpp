@@ -29,6 +29,14 @@ SkeletonFile read_skeleton_file(const std::string& path) {
   s.parents = f.read<std::int32_t>("/skeleton/parents").data;
   s.joint_names = f.read_strings("/skeleton/joint_names");
   s.frame_rate = f.attr_double("/", "frame_rate");
+  if (f.exists("/sequences/subjects")) s.subjects = f.read<std::int32_t>("/sequences/subjects").data;
+  if (f.exists("/sequences/test")) s.test = f.read<std::int32_t>("/sequences/test").data;
+  if (f.exists("/normalization")) {
+    s.normalization.root_joint = static_cast<int>(f.attr_int("/normalization", "root_joint"));
+    s.normalization.scale = f.attr_double("/normalization", "scale");
+    s.normalization.mean = f.read<double>("/normalization/mean").data;
+    s.normalization.std = f.read<double>("/normalization/std").data;
+  }
   return s;
 }
 
@@ -41,6 +49,42 @@ void write_skeleton_data(h5::File& f, const SkeletonFile& s) {
   f.write_strings("/classes/names", s.class_names);
   f.write<std::int32_t>("/skeleton/parents", s.parents, {s.parents.size()});
   f.write_strings("/skeleton/joint_names", s.joint_names);
+  if (!s.subjects.empty()) f.write<std::int32_t>("/sequences/subjects", s.subjects, {s.subjects.size()});
+  if (!s.test.empty()) f.write<std::int32_t>("/sequences/test", s.test, {s.test.size()});
+  if (s.normalization.present()) {
+    const auto& n = s.normalization;
+    const std::vector<std::size_t> shape{s.joints, static_cast<std::size_t>(s.dims)};
+    f.write<double>("/normalization/mean", n.mean, shape);
+    f.write<double>("/normalization/std", n.std, shape);
+    f.set_attr("/normalization", "root_joint", n.root_joint);
+    f.set_attr("/normalization", "scale", n.scale);
+  }
+}
+
+std::vector<float> SkeletonFile::raw_poses() const {
+  if (!normalization.present()) return poses;
+  std::vector<float> raw(poses.size());
+  const std::size_t fs = frame_size();
+  for (std::size_t t = 0; t < frames; ++t)
+    for (std::size_t k = 0; k < fs; ++k)
+      raw[t * fs + k] = static_cast<float>(
+          (poses[t * fs + k] * normalization.std[k] + normalization.mean[k]) * normalization.scale);
+  return raw;  // root-centred: the root's trajectory is not kept
+}
+
+const std::vector<std::string>& kinect_joint_names() {
+  static const std::vector<std::string> names{
+      "hip_center", "spine",     "shoulder_center", "head",       "shoulder_left", "elbow_left",
+      "wrist_left", "hand_left", "shoulder_right",  "elbow_right", "wrist_right",  "hand_right",
+      "hip_left",   "knee_left", "ankle_left",      "foot_left",  "hip_right",     "knee_right",
+      "ankle_right", "foot_right"};
+  return names;
+}
+
+const std::vector<std::int32_t>& kinect_joint_parents() {
+  static const std::vector<std::int32_t> parents{-1, 0, 1, 2, 2,  4,  5,  6,  2,  8,
+                                                 9,  10, 0, 12, 13, 14, 0, 16, 17, 18};
+  return parents;
 }
 
 }  // namespace df::io

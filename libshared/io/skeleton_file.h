@@ -11,6 +11,15 @@
 
 namespace df::io {
 
+/// poses = ((raw - raw[root_joint]) / scale - mean) / std, per joint and coordinate; mean and std
+/// come from the training sequences (skel2h5), and every later tool undoes it with them.
+struct SkeletonNormalization {
+  int root_joint = 0;
+  double scale = 1;
+  std::vector<double> mean, std;  ///< [J, D]
+  bool present() const { return !mean.empty(); }
+};
+
 struct SkeletonFile {
   std::size_t frames = 0, joints = 0;
   int dims = 3;                             ///< coordinates per joint (2 or 3)
@@ -22,10 +31,24 @@ struct SkeletonFile {
   std::vector<std::int32_t> parents;        ///< [J] parent joint, −1 for a root
   std::vector<std::string> joint_names;     ///< [J]
   double frame_rate = 30;                   ///< frames per second
+  std::vector<std::int32_t> subjects;       ///< [S] performer of each sequence (optional)
+  std::vector<std::int32_t> test;           ///< [S] 1 = held out for testing (optional)
+  SkeletonNormalization normalization;      ///< absent: poses are raw coordinates
   std::size_t sequences() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   /// Joint j of frame t, as (x, y, z) with z = 0 for 2-D data.
   void joint(std::size_t t, std::size_t j, double out[3]) const;
+  std::size_t frame_size() const { return joints * static_cast<std::size_t>(dims); }
+  std::size_t length(std::size_t s) const {
+    return static_cast<std::size_t>(offsets[s + 1] - offsets[s]);
+  }
+  /// The raw coordinates of the poses (normalization undone; a copy of poses without one).
+  std::vector<float> raw_poses() const;
 };
+
+/// The joint hierarchy of a Kinect v1 skeleton (UTKinect-Action3D, MSR-Action3D after
+/// reordering, synth-actions): 20 joints, hip centre the root.
+const std::vector<std::string>& kinect_joint_names();
+const std::vector<std::int32_t>& kinect_joint_parents();
 
 /// Opens and validates `path` as a skeleton file and reads it whole.
 SkeletonFile read_skeleton_file(const std::string& path);

@@ -399,7 +399,11 @@ Scene load_skeletons(const RenderOptions& opt, const Coloring& col) {
   Scene sc;
   sc.skeleton = true;
   sc.camera = Camera(parse_view(opt.view, opt.up));
-  for (const auto& p : opt.inputs) sc.skels.push_back(io::read_skeleton_file(p));
+  for (const auto& p : opt.inputs) {  // drawn in raw (root-centred) coordinates
+    io::SkeletonFile skel = io::read_skeleton_file(p);
+    skel.poses = skel.raw_poses();
+    sc.skels.push_back(std::move(skel));
+  }
   sc.rows = skeleton_rows(sc.skels, opt.inputs, opt);
   for (const auto& r : fitted_rows(sc.rows, opt))
     for (std::size_t t : r.frames)

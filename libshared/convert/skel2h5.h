@@ -1,0 +1,54 @@
+// skel2h5: labelled skeleton recordings (UTKinect-Action3D, MSR-Action3D, BVH, the project's own
+// skeleton files) -> one skeleton file ready for ActGAN: resampled to one frame rate, split into
+// training and test sequences (by subject or at random per class), cut into fixed-length clips,
+// and normalized with numbers from the training part only (stored; every later tool undoes it).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "convert/skeleton_import.h"
+#include "core/tool.h"
+#include "io/skeleton_file.h"
+
+namespace df::convert {
+
+struct Skel2h5Options {
+  std::vector<std::string> inputs;
+  std::string output;
+  std::string format = "auto";     ///< auto, utkinect, msr, bvh, skeleton
+  std::string label;               ///< bvh: the class of every file ("" = the file's stem)
+  double fps = 0;                  ///< 0 = the source's rate
+  int length = 0;                  ///< frames per clip; 0 = whole sequences
+  int clip_stride = 0;             ///< frames between clip starts; 0 = --length
+  std::vector<int> test_subjects;  ///< sequences of these subjects are held out
+  double test_fraction = 0;        ///< or this fraction of each class, drawn by the seed
+  int root_joint = 0;
+  bool normalize = true;
+};
+
+/// Every sequence at `fps` frames per second from its first to its last time (linear
+/// interpolation of the joints between the two nearest source frames).
+void resample(RawSkeletonCollection& c, double fps);
+
+/// 1 for held-out sequences: those of test_subjects, or round(test_fraction x n) of each class's
+/// n sequences drawn with Rng(seed); 0 for the rest.
+std::vector<std::int32_t> assign_test_split(const RawSkeletonCollection& c,
+                                            const Skel2h5Options& opt, std::uint64_t seed);
+
+/// The skeleton file: sequences (or clips of opt.length frames every opt.clip_stride; shorter
+/// sequences are dropped with a warning) in input order, classes in order of appearance, the
+/// normalization fitted on the training clips (when opt.normalize).
+io::SkeletonFile build_skeleton_file(const RawSkeletonCollection& c,
+                                     const std::vector<std::int32_t>& test,
+                                     const Skel2h5Options& opt);
+
+/// root-centre, then divide by the mean joint distance from the root, then z-score per joint and
+/// coordinate; all fitted on the sequences with test == 0. Applied to s.poses in place.
+void normalize_skeletons(io::SkeletonFile& s, int root_joint);
+
+/// The tool: read, resample, split, clip, normalize, write atomically.
+void skel2h5(const Skel2h5Options& opt, const CommonOptions& common);
+
+}  // namespace df::convert

@@ -1,0 +1,239 @@
+#include "convert/skeleton_import.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "io/skeleton_file.h"
+
+namespace fs = std::filesystem;
+
+namespace df::convert {
+namespace {
+
+constexpr double kUtkinectRate = 30, kMsrRate = 15;
+
+std::string at_line(const std::string& file, std::size_t line) {
+  return fmt::format("{}:{}", file, line);
+}
+
+// The whitespace-separated numbers of a line; InvalidInput (file:line) on anything else.
+std::vector<double> numbers(const std::string& line, const std::string& file, std::size_t lineno) {
+  std::vector<double> v;
+  const char* p = line.data();
+  const char* end = p + line.size();
+  while (p < end) {
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+    if (p == end) break;
+    const char* token = p;
+    while (p < end && *p != ' ' && *p != '\t' && *p != '\r') ++p;
+    double x = 0;
+    const auto [stop, ec] = std::from_chars(token, p, x);
+    if (ec != std::errc() || stop != p || !std::isfinite(x))
+      throw InvalidInput(fmt::format("field {} is not a finite number: '{}'", v.size() + 1,
+                                     std::string(token, p)),
+                         at_line(file, lineno));
+    v.push_back(x);
+  }
+  return v;
+}
+
+// UTKinect marks a segment it could not label with "NaN NaN".
+bool is_nan_token(std::string t) {
+  std::transform(t.begin(), t.end(), t.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  return t == "nan";
+}
+
+std::ifstream open_text(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw IOError("cannot read", path);
+  return in;
+}
+
+RawSkeletonCollection kinect_collection(double rate) {
+  RawSkeletonCollection c;
+  c.joint_names = io::kinect_joint_names();
+  c.parents = io::kinect_joint_parents();
+  c.frame_rate = rate;
+  return c;
+}
+
+// One UTKinect take: frame ids and their 20 joints, in file order (ids increasing; a frame whose
+// id does not increase is dropped).
+struct Take {
+  std::vector<double> ids;
+  std::vector<float> poses;
+};
+
+Take read_utkinect_take(const std::string& path) {
+  auto in = open_text(path);
+  Take take;
+  std::size_t lineno = 0, dropped = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++lineno;
+    const auto v = numbers(line, path, lineno);
+    if (v.empty()) continue;
+    if (v.size() != 61)
+      throw InvalidInput(
+          fmt::format("expected a frame id and 20 joints x (x y z) = 61 numbers, found {}", v.size()),
+          at_line(path, lineno));
+    if (!take.ids.empty() && v[0] <= take.ids.back()) {
+      ++dropped;
+      continue;
+    }
+    take.ids.push_back(v[0]);
+    for (std::size_t k = 1; k < v.size(); ++k) take.poses.push_back(static_cast<float>(v[k]));
+  }
+  if (dropped)
+    log::debug("{}: {} frame(s) whose id repeats an earlier one dropped", path, dropped);
+  return take;
+}
+
+}  // namespace
+
+RawSkeletonCollection read_utkinect(const std::string& labels) {
+  auto in = open_text(labels);
+  const fs::path dir = fs::path(labels).parent_path();
+  RawSkeletonCollection c = kinect_collection(kUtkinectRate);
+  static const std::regex take_re(R"(^\s*s(\d+)_e(\d+)\s*$)");
+  static const std::regex segment_re(R"(^\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s*(\S+)\s+(\S+)\s*$)");
+  std::map<std::string, Take> takes;
+  std::string take_name;
+  std::int32_t subject = 0;
+  bool take_missing = false;
+  std::size_t lineno = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++lineno;
+    std::smatch m;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    if (std::regex_match(line, m, take_re)) {
+      take_name = fmt::format("s{}_e{}", m[1].str(), m[2].str());
+      subject = std::stoi(m[1].str());
+      const fs::path joints = dir / ("joints_" + take_name + ".txt");
+      take_missing = !fs::exists(joints);
+      if (take_missing)
+        log::warn("{}: take {} has no joints file {}; its segments are skipped",
+                  at_line(labels, lineno), take_name, joints.string());
+      else if (!takes.count(take_name))
+        takes.emplace(take_name, read_utkinect_take(joints.string()));
+      continue;
+    }
+    if (!std::regex_match(line, m, segment_re))
+      throw InvalidInput("expected a take 'sXX_eYY' or a segment 'class: start end'",
+                         at_line(labels, lineno));
+    if (take_name.empty())
+      throw InvalidInput("a segment before the first take line", at_line(labels, lineno));
+    if (take_missing) continue;
+    const std::string label = m[1].str();
+    if (is_nan_token(m[2].str()) || is_nan_token(m[3].str())) {
+      log::warn("{}: segment {} of {} has no frame range ({} {}); skipped", at_line(labels, lineno),
+                label, take_name, m[2].str(), m[3].str());
+      continue;
+    }
+    const auto bounds = numbers(m[2].str() + " " + m[3].str(), labels, lineno);
+    if (bounds[0] > bounds[1]) {
+      log::warn("{}: segment {} starts at frame id {} after its end {}; skipped",
+                at_line(labels, lineno), label, bounds[0], bounds[1]);
+      continue;
+    }
+    const Take& take = takes.at(take_name);
+    RawSkeletonSequence s;
+    s.name = take_name + "_" + label;
+    s.label = label;
+    s.subject = subject;
+    for (std::size_t f = 0; f < take.ids.size(); ++f) {
+      if (take.ids[f] < bounds[0] || take.ids[f] > bounds[1]) continue;
+      s.times.push_back(take.ids[f] / kUtkinectRate);
+      s.poses.insert(s.poses.end(), take.poses.begin() + static_cast<std::ptrdiff_t>(f * 60),
+                     take.poses.begin() + static_cast<std::ptrdiff_t>(f * 60 + 60));
+    }
+    if (s.times.size() < 2) {
+      log::warn("{}: segment {} holds {} frame(s) of {}; skipped", at_line(labels, lineno), label,
+                s.times.size(), take_name);
+      continue;
+    }
+    c.sequences.push_back(std::move(s));
+  }
+  if (c.sequences.empty()) throw InvalidInput("no segment with frames", labels);
+  return c;
+}
+
+const std::vector<std::string>& msr_action_names() {
+  static const std::vector<std::string> names{
+      "high_arm_wave", "horizontal_arm_wave", "hammer",       "hand_catch",    "forward_punch",
+      "high_throw",    "draw_x",              "draw_tick",    "draw_circle",   "hand_clap",
+      "two_hand_wave", "side_boxing",         "bend",         "forward_kick",  "side_kick",
+      "jogging",       "tennis_swing",        "tennis_serve", "golf_swing",    "pickup_throw"};
+  return names;
+}
+
+RawSkeletonCollection read_msr_action3d(const std::vector<std::string>& files) {
+  RawSkeletonCollection c = kinect_collection(kMsrRate);
+  static const std::regex name_re(R"(^a(\d+)_s(\d+)_e(\d+)_skeleton3D\.txt$)");
+  for (const auto& path : files) {
+    const std::string base = fs::path(path).filename().string();
+    std::smatch m;
+    if (!std::regex_match(base, m, name_re))
+      throw InvalidInput("not an MSR-Action3D skeleton file name (aXX_sYY_eZZ_skeleton3D.txt)", path);
+    const int action = std::stoi(m[1].str());
+    RawSkeletonSequence s;
+    s.name = fmt::format("a{}_s{}_e{}", m[1].str(), m[2].str(), m[3].str());
+    s.label = action >= 1 && action <= 20 ? msr_action_names()[static_cast<std::size_t>(action - 1)]
+                                          : "a" + m[1].str();
+    s.subject = std::stoi(m[2].str());
+    auto in = open_text(path);
+    std::size_t lineno = 0, joint = 0;
+    for (std::string line; std::getline(in, line);) {
+      ++lineno;
+      const auto v = numbers(line, path, lineno);
+      if (v.empty()) continue;
+      if (v.size() != 4)
+        throw InvalidInput(fmt::format("expected 'x y z confidence', found {} numbers", v.size()),
+                           at_line(path, lineno));
+      for (int k = 0; k < 3; ++k) s.poses.push_back(static_cast<float>(v[static_cast<std::size_t>(k)]));
+      if (++joint == 20) {
+        s.times.push_back(static_cast<double>(s.times.size()) / kMsrRate);
+        joint = 0;
+      }
+    }
+    if (joint != 0)
+      throw InvalidInput(fmt::format("the last frame has {} of 20 joint lines", joint),
+                         at_line(path, lineno));
+    if (s.times.size() < 2) throw InvalidInput(fmt::format("{} frame(s)", s.times.size()), path);
+    c.sequences.push_back(std::move(s));
+  }
+  return c;
+}
+
+RawSkeletonCollection read_skeleton_h5(const std::string& path) {
+  const io::SkeletonFile f = io::read_skeleton_file(path);
+  if (f.dims != 3) throw InvalidInput("2-D skeleton files are not supported here", path);
+  RawSkeletonCollection c;
+  c.joint_names = f.joint_names;
+  c.parents = f.parents;
+  c.frame_rate = f.frame_rate;
+  const std::vector<float> raw = f.raw_poses();
+  for (std::size_t s = 0; s < f.sequences(); ++s) {
+    RawSkeletonSequence q;
+    q.name = f.sequence_names[s].empty() ? fmt::format("sequence_{}", s) : f.sequence_names[s];
+    q.label = f.class_names.at(static_cast<std::size_t>(f.labels[s]));
+    q.subject = f.subjects.empty() ? 0 : f.subjects[s];
+    for (auto t = f.offsets[s]; t < f.offsets[s + 1]; ++t) {
+      q.times.push_back(static_cast<double>(t - f.offsets[s]) / f.frame_rate);
+      const auto* p = raw.data() + static_cast<std::size_t>(t) * f.frame_size();
+      q.poses.insert(q.poses.end(), p, p + f.frame_size());
+    }
+    c.sequences.push_back(std::move(q));
+  }
+  return c;
+}
+
+}  // namespace df::convert

@@ -1,0 +1,58 @@
+// skel2h5: labelled skeleton recordings -> one normalized skeleton file for the ActGAN tools.
+#include "convert/skel2h5.h"
+#include "core/tool.h"
+
+int main(int argc, char** argv) {
+  df::Tool tool(
+      "skel2h5",
+      "Import labelled skeleton action recordings into one skeleton file (paper 3's data):\n"
+      "  UTKinect-Action3D  a directory (or its actionLabel.txt / actionLabel_modified.txt)\n"
+      "                     with joints_sXX_eYY.txt: one sequence per labelled segment, the\n"
+      "                     frames whose id lies in [start, end]; time = id / 30 s\n"
+      "  MSR-Action3D       aXX_sYY_eZZ_skeleton3D.txt files (20 lines 'x y z confidence' per\n"
+      "                     frame, 15 fps; joints taken in the Kinect order of UTKinect): action,\n"
+      "                     subject and take from the name\n"
+      "  BVH                .bvh files (forward kinematics of their channels, through assimp),\n"
+      "                     one sequence each, class --label or the file's stem\n"
+      "  skeleton .h5       the project's files (synth-actions, an earlier skel2h5)\n"
+      "Then: resampling to --fps (linear interpolation in time), a train/test split of whole\n"
+      "sequences (--test-subjects, or --test-fraction of each class by --seed), clips of\n"
+      "--length frames every --clip-stride, and normalization fitted on the training clips\n"
+      "only: root-centred (--root-joint), divided by the mean joint distance from the root,\n"
+      "z-scored per joint and coordinate; the numbers are stored (/normalization) and every\n"
+      "later tool uses them. Malformed input: one-line errors naming file and line; a take\n"
+      "without a joints file or a segment that ends before it starts: a warning.\n\n"
+      "OUTPUT: a skeleton .h5 (/poses, /sequences/{offsets,labels,names,subjects,test},\n"
+      "/classes/names, /skeleton/{parents,joint_names}, /normalization).");
+  tool.with_seed(0).with_force();
+  df::convert::Skel2h5Options opt;
+  auto& app = tool.app();
+  app.add_option("INPUT", opt.inputs, "Directory, label file, skeleton/BVH files or a .h5")->required();
+  app.add_option("-o,--output", opt.output, "Output skeleton file (.h5)")->required();
+  app.add_option("--format", opt.format, "Input format")
+      ->default_val(opt.format)
+      ->check(CLI::IsMember({"auto", "utkinect", "msr", "bvh", "skeleton"}));
+  app.add_option("--label", opt.label, "BVH: the class of every file (default: the file's stem)");
+  app.add_option("--fps", opt.fps, "Frame rate to resample to (default: the source's: UTKinect 30,\n"
+                                   "MSR-Action3D 15, BVH its frame time)")
+      ->default_val(opt.fps);
+  app.add_option("--length", opt.length, "Frames per clip (0: whole sequences)")->default_val(opt.length);
+  app.add_option("--clip-stride", opt.clip_stride, "Frames between clip starts (0: --length)")
+      ->default_val(opt.clip_stride);
+  app.add_option("--test-subjects", opt.test_subjects,
+                 "Hold out the sequences of these subjects, comma-separated (UTKinect: 1-10)")
+      ->delimiter(',');
+  app.add_option("--test-fraction", opt.test_fraction,
+                 "Or hold out this fraction of each class's sequences, drawn by --seed")
+      ->default_val(opt.test_fraction);
+  app.add_option("--root-joint", opt.root_joint, "Joint subtracted from every pose (Kinect: 0 = hip centre)")
+      ->default_val(opt.root_joint);
+  app.add_flag("!--raw", opt.normalize, "Keep raw coordinates (no root-centring, scaling, z-score)");
+  tool.footer(
+      "Examples:\n"
+      "  skel2h5 UTKinect/joints --fps 15 --length 30 --clip-stride 10 --test-subjects 2,4,6,8,10 -o utk.h5\n"
+      "  skel2h5 a*_skeleton3D.txt --test-subjects 1,3,5,7,9 -o msr.h5\n"
+      "  skel2h5 --label boxing Boxing_Toes.bvh --fps 30 --length 60 -o box.h5\n"
+      "  skel2h5 actions.h5 --length 30 --test-fraction 0.2 -o train.h5");
+  return tool.run(argc, argv, [&] { df::convert::skel2h5(opt, tool.common()); });
+}
