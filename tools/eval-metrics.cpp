@@ -28,11 +28,18 @@ int main(int argc, char** argv) {
                 "                             support (deformation >= --support-threshold x its max)\n"
                 "                             has the largest IoU with the region's disc;\n"
                 "  spread of samples          mean vertex distance between the samples NAME~k of one\n"
-                "                             case (gen-bdlstm --samples) at the same frame.\n"
+                "                             case (gen-bdlstm --samples) at the same frame;\n"
+                "  MMD_avg, MMD_seq           PRED and TRUTH skeleton files (ActGAN paper, appendix):\n"
+                "                             unbiased MMD_u^2, Gaussian kernel exp(-|a-b|^2/(2 s^2)),\n"
+                "                             max over s = 1e-4..1e9, of generated vs TRUTH's test\n"
+                "                             sequences of each class: per frame index (avg) and of\n"
+                "                             whole sequences (seq), averaged over classes; and the\n"
+                "                             spread (distance to the class's mean sequence).\n"
                 "Frames pair through PRED's /frames/source (gen-bdlstm output) or by index. Positions\n"
                 "are reconstructed from features (exact solver) when a file stores none; one\n"
                 "translation per connected component is removed before measuring.\n\n"
-                "INPUT: PRED [TRUTH]: acap .h5 files or mesh directories; with PRED alone only the\n"
+                "INPUT: PRED [TRUTH]: acap .h5 files or mesh directories (or two skeleton files, or\n"
+                "a components file and a bumps file); with PRED alone only the\n"
                 "feature change is measured. OUTPUT: the table on stdout; --json FILE (or -).");
   tool.with_threads();
   df::eval::EvalOptions opt;
@@ -50,6 +57,8 @@ int main(int argc, char** argv) {
                  "Components: a vertex is in a component's support when its deformation reaches this\n"
                  "fraction of the component's maximum")
       ->default_val(opt.support_threshold);
+  app.add_flag("--all-truth", opt.all_truth,
+               "Skeleton files: compare with all of TRUTH's sequences, not only its test part");
   app.add_option("--change-span", opt.change_span, "Feature change between frames K apart (1 = consecutive)")
       ->default_val(opt.change_span);
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);

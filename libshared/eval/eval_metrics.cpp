@@ -1,5 +1,6 @@
 #include "eval/eval_metrics.h"
 #include "eval/component_metrics.h"
+#include "eval/skeleton_metrics.h"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -42,7 +43,14 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
   if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
   if (opt.change_span < 1) throw UsageError("--change-span must be at least 1");
-  if (io::is_hdf5_path(opt.pred) && io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred)) == "components") {
+  const std::string kind = io::is_hdf5_path(opt.pred)
+                               ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
+                               : std::string();
+  if (kind == "skeleton") {
+    eval_skeletons(opt.pred, opt.truth, opt.json, opt.all_truth);
+    return;
+  }
+  if (kind == "components") {
     if (opt.truth.empty()) throw UsageError("a components file is measured against TRUTH's planted regions");
     eval_components(opt.pred, opt.truth, opt.json, opt.support_threshold);
     return;

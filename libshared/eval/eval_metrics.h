@@ -10,6 +10,8 @@
 //   * PRED a components file (extract-components / prune-components) and TRUTH with planted
 //     regions (synth-meshseq --kind bumps): how well the kept components localize them
 //     (component_metrics.h);
+//   * PRED and TRUTH skeleton files (gen-actgan, skel2h5): MMD_avg, MMD_seq and the spread of
+//     generated sequences per class (skeleton_metrics.h);
 //   * the spread of diverse samples (gen-bdlstm --samples: sequences NAME~k): mean per-vertex
 //     distance between every two samples of a case at the same frame.
 #pragma once
@@ -35,6 +37,8 @@ struct EvalOptions {
   /// PRED a components file: a component's support is where its deformation reaches this
   /// fraction of its maximum (localization against TRUTH's planted regions)
   double support_threshold = 0.1;
+  /// PRED and TRUTH skeleton files: compare with all of TRUTH's sequences, not only its test part
+  bool all_truth = false;
 };
 
 void eval_metrics(const EvalOptions& opt, const CommonOptions& common);

@@ -1,0 +1,296 @@
+#include "eval/skeleton_metrics.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace df::eval {
+namespace {
+
+constexpr Eigen::Index kBlock = 128;  // rows per parallel task (fixed: results do not depend on threads)
+
+enum Pair { kXX = 0, kYY = 1, kXY = 2 };
+
+// The squared distances between the rows of A and B (only the lower triangle, j < i, when
+// `lower`: A = B), from the product A B^T in D and the rows' squared norms.
+void to_squared_distances(RowMatrixF& D, const Eigen::VectorXf& na, const Eigen::VectorXf& nb,
+                          bool lower, Eigen::Index r0, Eigen::Index rows) {
+  for (Eigen::Index i = r0; i < r0 + rows; ++i) {
+    const Eigen::Index cols = lower ? i : D.cols();
+    for (Eigen::Index j = 0; j < cols; ++j) D(i, j) = std::max(0.0f, na[i] + nb[j] - 2 * D(i, j));
+  }
+}
+
+// The three distance matrices of MMD: X-X and Y-Y (lower triangles) and X-Y.
+struct Distances {
+  RowMatrixF xx, yy, xy;
+};
+
+// Four GEMM tasks of similar size (X X^T and Y Y^T lower triangles, the two halves of X Y^T);
+// each entry is computed by one task, so the result is the same at any thread count.
+Distances squared_distances(const RowMatrixF& X, const RowMatrixF& Y) {
+  Distances d{RowMatrixF(X.rows(), X.rows()), RowMatrixF(Y.rows(), Y.rows()),
+              RowMatrixF(X.rows(), Y.rows())};
+  const Eigen::VectorXf nx = X.rowwise().squaredNorm(), ny = Y.rowwise().squaredNorm();
+  const Eigen::Index half = X.rows() / 2;
+  tbb::parallel_for(0, 4, [&](int task) {
+    if (task == 0) {
+      d.xx.triangularView<Eigen::StrictlyLower>() = X * X.transpose();
+      to_squared_distances(d.xx, nx, nx, true, 0, X.rows());
+    } else if (task == 1) {
+      d.yy.triangularView<Eigen::StrictlyLower>() = Y * Y.transpose();
+      to_squared_distances(d.yy, ny, ny, true, 0, Y.rows());
+    } else {
+      const Eigen::Index r0 = task == 2 ? 0 : half, rows = task == 2 ? half : X.rows() - half;
+      d.xy.middleRows(r0, rows).noalias() = X.middleRows(r0, rows) * Y.transpose();
+      to_squared_distances(d.xy, nx, ny, false, r0, rows);
+    }
+  });
+  return d;
+}
+
+// The sum over D's entries (its strict lower triangle when `lower`) of f(row segment): rows in
+// fixed blocks, the blocks' sums added in order.
+template <class F>
+double sum_rows(const RowMatrixF& D, bool lower, F&& f) {
+  const Eigen::Index N = D.rows(), blocks = (N + kBlock - 1) / kBlock;
+  std::vector<double> partial(static_cast<std::size_t>(blocks), 0.0);
+  tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
+    double s = 0;
+    for (Eigen::Index i = b * kBlock; i < std::min(N, (b + 1) * kBlock); ++i) {
+      const Eigen::Index cols = lower ? i : D.cols();
+      if (cols > 0) s += f(D.row(i).head(cols));
+    }
+    partial[static_cast<std::size_t>(b)] = s;
+  });
+  double total = 0;
+  for (double p : partial) total += p;
+  return total;
+}
+
+void check_samples(Eigen::Index m, Eigen::Index n, Eigen::Index dx, Eigen::Index dy) {
+  if (m < 2 || n < 2)
+    throw InvalidInput(fmt::format("MMD needs at least 2 samples on each side ({} and {})", m, n));
+  if (dx != dy) throw InvalidInput(fmt::format("MMD of samples of {} and {} values", dx, dy));
+}
+
+}  // namespace
+
+const std::vector<double>& mmd_bandwidths() {
+  static const std::vector<double> s{1e-4, 1e-3, 1e-2, 1e-1, 1, 1e1, 1e2,
+                                     1e3,  1e4,  1e5,  1e6,  1e7, 1e8, 1e9};
+  return s;
+}
+
+MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y) {
+  check_samples(X.rows(), Y.rows(), X.cols(), Y.cols());
+  const Distances d = squared_distances(X, Y);
+  const std::array<const RowMatrixF*, 3> D{&d.xx, &d.yy, &d.xy};
+  const std::array<bool, 3> lower{true, true, false};
+  // The range of the distances, and the sums of D and D^2 for bandwidths so wide that
+  // exp(-g D) = 1 - g D + (g D)^2 / 2 to float precision.
+  double dmin = std::numeric_limits<double>::infinity(), dmax = 0;
+  std::array<double, 3> s1{}, s2{};
+  for (std::size_t c = 0; c < 3; ++c) {
+    const RowMatrixF& M = *D[c];
+    for (Eigen::Index i = lower[c] ? 1 : 0; i < M.rows(); ++i) {
+      const auto row = M.row(i).head(lower[c] ? i : M.cols());
+      dmin = std::min(dmin, static_cast<double>(row.minCoeff()));
+      dmax = std::max(dmax, static_cast<double>(row.maxCoeff()));
+    }
+    s1[c] = sum_rows(M, lower[c], [](const auto& r) { return r.template cast<double>().sum(); });
+    s2[c] = sum_rows(M, lower[c], [](const auto& r) { return r.template cast<double>().squaredNorm(); });
+  }
+  const double m = static_cast<double>(X.rows()), n = static_cast<double>(Y.rows());
+  const std::array<double, 3> pairs{m * (m - 1) / 2, n * (n - 1) / 2, m * n};
+  MmdResult best{-std::numeric_limits<double>::infinity(), 0};
+  for (double s : mmd_bandwidths()) {
+    const double g = 1 / (2 * s * s);
+    std::array<double, 3> k{0, 0, 0};
+    if (g * dmin > 700) {
+      // every kernel value below 1e-304: the estimate is 0
+    } else if (g * dmax < 1e-4) {
+      for (std::size_t c = 0; c < 3; ++c) k[c] = pairs[c] - g * s1[c] + g * g / 2 * s2[c];
+    } else {
+      const auto gf = static_cast<float>(g);
+      for (std::size_t c = 0; c < 3; ++c)
+        k[c] = sum_rows(*D[c], lower[c], [gf](const auto& r) {
+          return static_cast<double>((r.array() * -gf).exp().sum());
+        });
+    }
+    // X-X and Y-Y pairs appear once in a lower triangle, twice in sum_{i != j}
+    const double v = 2 * k[kXX] / (m * (m - 1)) + 2 * k[kYY] / (n * (n - 1)) - 2 * k[kXY] / (m * n);
+    if (v > best.mmd2) best = {v, s};
+  }
+  return best;
+}
+
+MmdResult mmd2_max_reference(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y) {
+  check_samples(X.rows(), Y.rows(), X.cols(), Y.cols());
+  const double m = static_cast<double>(X.rows()), n = static_cast<double>(Y.rows());
+  MmdResult best{-std::numeric_limits<double>::infinity(), 0};
+  for (double s : mmd_bandwidths()) {
+    const auto k = [&](const auto& a, const auto& b) {
+      return std::exp(-(a - b).squaredNorm() / (2 * s * s));
+    };
+    double xx = 0, yy = 0, xy = 0;
+    for (Eigen::Index i = 0; i < X.rows(); ++i)
+      for (Eigen::Index j = 0; j < X.rows(); ++j)
+        if (i != j) xx += k(X.row(i), X.row(j));
+    for (Eigen::Index i = 0; i < Y.rows(); ++i)
+      for (Eigen::Index j = 0; j < Y.rows(); ++j)
+        if (i != j) yy += k(Y.row(i), Y.row(j));
+    for (Eigen::Index i = 0; i < X.rows(); ++i)
+      for (Eigen::Index j = 0; j < Y.rows(); ++j) xy += k(X.row(i), Y.row(j));
+    const double v = xx / (m * (m - 1)) + yy / (n * (n - 1)) - 2 * xy / (m * n);
+    if (v > best.mmd2) best = {v, s};
+  }
+  return best;
+}
+
+namespace {
+
+// PRED's poses in TRUTH's coordinates: as stored when both carry the same normalization (or
+// none), else through raw coordinates and TRUTH's normalization.
+std::vector<float> in_truth_space(const io::SkeletonFile& pred, const io::SkeletonFile& truth) {
+  const auto& a = pred.normalization;
+  const auto& b = truth.normalization;
+  const bool same = a.present() == b.present() &&
+                    (!a.present() || (a.root_joint == b.root_joint && a.scale == b.scale &&
+                                      a.mean == b.mean && a.std == b.std));
+  if (same) return pred.poses;
+  std::vector<float> raw = pred.raw_poses();
+  if (!b.present()) return raw;
+  const std::size_t fs = pred.frame_size();
+  for (std::size_t t = 0; t < pred.frames; ++t) {
+    float* p = raw.data() + t * fs;
+    const std::array<float, 3> root{p[b.root_joint * 3], p[b.root_joint * 3 + 1], p[b.root_joint * 3 + 2]};
+    for (std::size_t k = 0; k < fs; ++k)
+      p[k] = static_cast<float>(((p[k] - root[k % 3]) / b.scale - b.mean[k]) / b.std[k]);
+  }
+  return raw;
+}
+
+// The first `frames` frames of the listed sequences, one row per sequence.
+RowMatrixF sequence_rows(const io::SkeletonFile& f, const std::vector<float>& poses,
+                         const std::vector<std::size_t>& seqs, std::size_t frames) {
+  const std::size_t fs = f.frame_size();
+  RowMatrixF M(static_cast<Eigen::Index>(seqs.size()), static_cast<Eigen::Index>(frames * fs));
+  for (std::size_t r = 0; r < seqs.size(); ++r)
+    std::copy_n(poses.data() + static_cast<std::size_t>(f.offsets[seqs[r]]) * fs, frames * fs,
+                M.row(static_cast<Eigen::Index>(r)).data());
+  return M;
+}
+
+void spread(const RowMatrixF& seqs, double& mean, double& sd) {
+  const Eigen::RowVectorXf centre = seqs.colwise().mean();
+  std::vector<double> d(static_cast<std::size_t>(seqs.rows()));
+  for (Eigen::Index r = 0; r < seqs.rows(); ++r) d[static_cast<std::size_t>(r)] = (seqs.row(r) - centre).norm();
+  mean = 0;
+  for (double x : d) mean += x / static_cast<double>(d.size());
+  sd = 0;
+  for (double x : d) sd += (x - mean) * (x - mean) / static_cast<double>(d.size());
+  sd = std::sqrt(sd);
+}
+
+}  // namespace
+
+SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
+                                 bool all_truth) {
+  if (pred.joints != truth.joints || pred.dims != truth.dims)
+    throw InvalidInput(fmt::format("PRED has {} joints x {}, TRUTH {} x {}", pred.joints, pred.dims,
+                                   truth.joints, truth.dims));
+  const bool test_only = !all_truth && std::count(truth.test.begin(), truth.test.end(), 1) > 0;
+  SkeletonMetrics out;
+  out.frames = std::numeric_limits<std::size_t>::max();
+  for (std::size_t s = 0; s < pred.sequences(); ++s) out.frames = std::min(out.frames, pred.length(s));
+  for (std::size_t s = 0; s < truth.sequences(); ++s)
+    if (!test_only || truth.test[s]) out.frames = std::min(out.frames, truth.length(s));
+  const std::vector<float> pred_poses = in_truth_space(pred, truth);
+  const std::size_t fs = pred.frame_size();
+  for (std::size_t c = 0; c < pred.class_names.size(); ++c) {
+    const auto tc = std::find(truth.class_names.begin(), truth.class_names.end(), pred.class_names[c]);
+    if (tc == truth.class_names.end()) continue;
+    std::vector<std::size_t> gen, real;
+    for (std::size_t s = 0; s < pred.sequences(); ++s)
+      if (pred.labels[s] == static_cast<std::int32_t>(c)) gen.push_back(s);
+    for (std::size_t s = 0; s < truth.sequences(); ++s)
+      if (truth.labels[s] == static_cast<std::int32_t>(tc - truth.class_names.begin()) &&
+          (!test_only || truth.test[s]))
+        real.push_back(s);
+    if (gen.size() < 2 || real.size() < 2) {
+      log::warn("class {}: {} generated and {} real sequences; MMD needs 2 of each, skipped",
+                pred.class_names[c], gen.size(), real.size());
+      continue;
+    }
+    ClassSkeletonMetrics m;
+    m.name = pred.class_names[c];
+    m.generated = gen.size();
+    m.real = real.size();
+    const RowMatrixF X = sequence_rows(pred, pred_poses, gen, out.frames);
+    const RowMatrixF Y = sequence_rows(truth, truth.poses, real, out.frames);
+    m.mmd_seq = mmd2_max(X, Y).mmd2;
+    for (std::size_t t = 0; t < out.frames; ++t) {
+      const auto cols = static_cast<Eigen::Index>(fs);
+      m.mmd_avg += mmd2_max(X.middleCols(static_cast<Eigen::Index>(t * fs), cols),
+                            Y.middleCols(static_cast<Eigen::Index>(t * fs), cols))
+                       .mmd2 /
+                   static_cast<double>(out.frames);
+    }
+    spread(X, m.spread_mean, m.spread_sd);
+    out.classes.push_back(m);
+  }
+  if (out.classes.empty()) throw InvalidInput("PRED and TRUTH share no class with 2 sequences each");
+  for (const auto& m : out.classes) {
+    out.mmd_avg += m.mmd_avg / static_cast<double>(out.classes.size());
+    out.mmd_seq += m.mmd_seq / static_cast<double>(out.classes.size());
+  }
+  return out;
+}
+
+void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
+                    const std::string& json, bool all_truth) {
+  if (truth_path.empty()) throw UsageError("skeleton files are measured against TRUTH (real sequences)");
+  const io::SkeletonFile pred = io::read_skeleton_file(pred_path);
+  const io::SkeletonFile truth = io::read_skeleton_file(truth_path);
+  const SkeletonMetrics r = skeleton_metrics(pred, truth, all_truth);
+  nlohmann::ordered_json js;
+  js["pred"] = pred_path;
+  js["truth"] = truth_path;
+  js["frames"] = r.frames;
+  js["mmd_avg"] = r.mmd_avg;
+  js["mmd_seq"] = r.mmd_seq;
+  for (const auto& m : r.classes)
+    js["classes"][m.name] = {{"generated", m.generated}, {"real", m.real},
+                             {"mmd_avg", m.mmd_avg},     {"mmd_seq", m.mmd_seq},
+                             {"spread_mean", m.spread_mean}, {"spread_sd", m.spread_sd}};
+  if (json != "-") {
+    fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
+               pred_path, truth_path, r.frames);
+    fmt::print("{:<16} {:>9} {:>6} {:>11} {:>11} {:>12} {:>10}\n", "class", "generated", "real",
+               "MMD_avg", "MMD_seq", "spread mean", "spread sd");
+    for (const auto& m : r.classes)
+      fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>12.5g} {:>10.5g}\n", m.name,
+                 m.generated, m.real, m.mmd_avg, m.mmd_seq, m.spread_mean, m.spread_sd);
+    fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq);
+  }
+  if (json.empty()) return;
+  if (json == "-") {
+    fmt::print("{}\n", js.dump(2));
+    return;
+  }
+  std::ofstream out(json);
+  out << js.dump(2) << "\n";
+  if (!out) throw IOError("cannot write", json);
+}
+
+}  // namespace df::eval

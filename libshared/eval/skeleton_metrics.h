@@ -1,0 +1,61 @@
+// Metrics of generated skeleton actions against real ones (paper 3, SPEC §9):
+//   MMD_u^2  the unbiased estimator of Gretton et al. with a Gaussian kernel
+//            k(a, b) = exp(-|a - b|^2 / (2 s^2)), maximised over s = 1e-4, 1e-3, ..., 1e9
+//   MMD_avg  per class j and frame index i: MMD_u^2 of the generated frames i against the real
+//            test frames i, averaged over frames and classes
+//   MMD_seq  per class: MMD_u^2 of whole sequences (flattened), averaged over classes
+//   spread   per class: mean and standard deviation of the distance of each generated sequence
+//            to the class's mean sequence (paper Table 4's diversity statistic)
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "io/skeleton_file.h"
+
+namespace df::eval {
+
+using RowMatrixF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// The bandwidths s of the maximum: 1e-4 ... 1e9 (14 values).
+const std::vector<double>& mmd_bandwidths();
+
+struct MmdResult {
+  double mmd2 = 0;       ///< the maximum over the bandwidths
+  double bandwidth = 0;  ///< where it is reached
+};
+
+/// MMD_u^2 between the rows of X (m samples) and of Y (n samples), m, n >= 2, same columns.
+/// Squared distances from one Gram matrix (float GEMM in row blocks, in parallel); exponentials
+/// only where a bandwidth makes them neither all 0 nor all within 1e-7 of 1 (there a second-order
+/// expansion is exact to float precision). Deterministic: the same at any thread count.
+MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y);
+
+/// The same in double with the brute-force double sum over every pair (tests' reference).
+MmdResult mmd2_max_reference(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y);
+
+struct ClassSkeletonMetrics {
+  std::string name;
+  std::size_t generated = 0, real = 0;  ///< sequences compared
+  double mmd_avg = 0, mmd_seq = 0;
+  double spread_mean = 0, spread_sd = 0;  ///< distance of generated sequences to their mean
+};
+
+struct SkeletonMetrics {
+  std::size_t frames = 0;  ///< frames compared per sequence (the shortest of both files)
+  std::vector<ClassSkeletonMetrics> classes;
+  double mmd_avg = 0, mmd_seq = 0;  ///< averages over the classes both files have
+};
+
+/// PRED's sequences against TRUTH's of the same class name (TRUTH's test sequences when it marks
+/// any and !all_truth), both in TRUTH's coordinates (PRED converted through raw coordinates when
+/// its normalization differs), cut to the shortest sequence.
+SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
+                                 bool all_truth);
+
+/// eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
+void eval_skeletons(const std::string& pred, const std::string& truth, const std::string& json,
+                    bool all_truth);
+
+}  // namespace df::eval

@@ -1,0 +1,84 @@
+#include <catch2/catch.hpp>
+#include <tbb/global_control.h>
+
+#include "core/rng.h"
+#include "eval/skeleton_metrics.h"
+#include "synth/actions.h"
+
+using namespace df;
+using eval::RowMatrixF;
+
+namespace {
+RowMatrixF gaussian(int rows, int cols, double mean, double sd, std::uint64_t seed) {
+  RowMatrixF M(rows, cols);
+  Rng rng(seed);
+  for (Eigen::Index i = 0; i < M.size(); ++i) M.data()[i] = static_cast<float>(rng.normal(mean, sd));
+  return M;
+}
+}  // namespace
+
+TEST_CASE("MMD: equal to a brute-force double-precision sum over every pair", "[eval]") {
+  for (auto [m, n, d, shift] : {std::tuple{5, 7, 3, 0.0}, std::tuple{40, 30, 12, 0.5},
+                                std::tuple{150, 170, 60, 0.2}, std::tuple{2, 2, 1, 3.0}}) {
+    const RowMatrixF X = gaussian(m, d, 0, 1, 1), Y = gaussian(n, d, shift, 1.2, 2);
+    const auto fast = eval::mmd2_max(X, Y);
+    const auto ref = eval::mmd2_max_reference(X.cast<double>(), Y.cast<double>());
+    INFO("m " << m << " n " << n << " d " << d);
+    CHECK(fast.mmd2 == Approx(ref.mmd2).margin(1e-5).epsilon(1e-4));
+    CHECK(fast.bandwidth == ref.bandwidth);
+  }
+}
+
+TEST_CASE("MMD: about 0 for two samples of one distribution, larger the further they differ", "[eval]") {
+  const RowMatrixF X = gaussian(300, 20, 0, 1, 3);
+  const double same = eval::mmd2_max(X, gaussian(300, 20, 0, 1, 4)).mmd2;
+  const double near = eval::mmd2_max(X, gaussian(300, 20, 0.3, 1, 5)).mmd2;
+  const double far = eval::mmd2_max(X, gaussian(300, 20, 1.0, 1, 6)).mmd2;
+  CHECK(std::abs(same) < 0.01);
+  CHECK(near > 10 * std::abs(same));
+  CHECK(far > near);
+  // over the bandwidths the maximum is at least the widest one's value (which tends to 0)
+  CHECK(eval::mmd_bandwidths().size() == 14);
+  CHECK(eval::mmd_bandwidths().front() == 1e-4);
+  CHECK(eval::mmd_bandwidths().back() == 1e9);
+}
+
+TEST_CASE("MMD: the same bits at 1 and 2 threads", "[eval]") {
+  const RowMatrixF X = gaussian(700, 90, 0, 1, 7), Y = gaussian(650, 90, 0.1, 1, 8);
+  double one = 0, two = 0;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = eval::mmd2_max(X, Y).mmd2;
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = eval::mmd2_max(X, Y).mmd2;
+  }
+  CHECK(one == two);
+}
+
+TEST_CASE("skeleton metrics: per class against the real test part, in the real file's coordinates", "[eval]") {
+  synth::ActionParams p;
+  p.classes = {"walk", "wave"};
+  p.per_class = 12;
+  p.frames = 20;
+  p.seed = 1;
+  io::SkeletonFile real = synth::make_actions(p);
+  real.test.assign(real.sequences(), 0);
+  for (std::size_t s = 0; s < real.sequences(); s += 2) real.test[s] = 1;
+  p.seed = 2;
+  p.frames = 25;  // longer: compared over the first 20
+  const io::SkeletonFile gen = synth::make_actions(p);
+  const auto r = eval::skeleton_metrics(gen, real, false);
+  CHECK(r.frames == 20);
+  REQUIRE(r.classes.size() == 2);
+  CHECK(r.classes[0].generated == 12);
+  CHECK(r.classes[0].real == 6);
+  // the generated walks against the real waves: much further apart
+  io::SkeletonFile swapped = gen;
+  for (auto& l : swapped.labels) l = 1 - l;
+  const auto w = eval::skeleton_metrics(swapped, real, false);
+  CHECK(w.mmd_seq > 3 * r.mmd_seq);
+  CHECK(w.mmd_avg > 3 * r.mmd_avg);
+  CHECK(r.classes[0].spread_mean > 0);
+}
