@@ -1,0 +1,119 @@
+#include "models/actgan/network.h"
+
+#include "core/error.h"
+#include "nn/ops.h"
+
+namespace df::models {
+
+using nn::Activation;
+
+template <class T>
+ActganGenerator<T>::ActganGenerator(const ActganConfig& c, Rng& rng) : config_(c) {
+  lstm_ = nn::LstmCell<T>(store_, "gen.lstm", c.noise + c.classes, c.hidden, rng);
+  to_latent_ = nn::Linear<T>(store_, "gen.to_latent", c.hidden, c.latent, rng);
+  decoder_ = nn::Mlp<T>(store_, "gen.decoder", {c.latent + c.classes, c.fc, c.pose}, Activation::relu, rng);
+}
+
+template <class T>
+nn::Var<T> ActganGenerator<T>::decode(const nn::Bound<T>& p, Var h, Var y) const {
+  return decoder_(p, nn::concat_cols<T>({h, y}));
+}
+
+template <class T>
+GeneratedSequences<T> ActganGenerator<T>::generate(const nn::Bound<T>& p, Var y, Var h1,
+                                                   const std::vector<Var>& noise) const {
+  nn::Tape<T>& tape = *y.tape;
+  const Eigen::Index batch = y.rows();
+  nn::LstmState<T> s{tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden)),
+                     tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden))};
+  GeneratedSequences<T> g;
+  Var h = h1;
+  g.latents.push_back(h);
+  g.frames.push_back(decode(p, h, y));
+  for (const Var& xi : noise) {
+    s = lstm_(p, nn::concat_cols<T>({xi, y}), s);
+    const Var v = to_latent_(p, s.h);
+    h = config_.residual ? nn::add(h, v) : v;
+    g.latents.push_back(h);
+    g.frames.push_back(decode(p, h, y));
+  }
+  return g;
+}
+
+template <class T>
+SequenceNet<T>::SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index out,
+                            const std::string& name, Rng& rng) {
+  lstm_ = nn::BidirectionalLstm<T>(store_, name + ".lstm", in, c.hidden, 1, rng);
+  head_ = nn::Mlp<T>(store_, name + ".head", {2 * c.hidden, c.fc, out}, Activation::relu, rng);
+}
+
+template <class T>
+nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const {
+  Var last_forward, last_backward;
+  lstm_.run(p, x, &last_forward, &last_backward);
+  return head_(p, nn::concat_cols<T>({last_forward, last_backward}));
+}
+
+template <class T>
+FrameCritic<T>::FrameCritic(const ActganConfig& c, Rng& rng) : pose_(c.pose) {
+  mlp_ = nn::Mlp<T>(store_, "critic", {c.pose + c.classes, c.fc, 1}, Activation::relu, rng);
+}
+
+template <class T>
+nn::Var<T> FrameCritic<T>::operator()(const nn::Bound<T>& p, Var x, Var y) const {
+  return mlp_(p, nn::concat_cols<T>({x, y}));
+}
+
+template <class T>
+nn::Var<T> FrameCritic<T>::gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const {
+  const Var g = nn::slice_cols(mlp_.input_gradient(p, nn::concat_cols<T>({x, y})), 0, pose_);
+  const Var norm = nn::sqrt(nn::add_scalar(nn::sum_cols(nn::square(g)), T(1e-12)));
+  return nn::mean(nn::square(nn::add_scalar(norm, T(-1))));
+}
+
+template <class T>
+std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> y) {
+  std::vector<nn::Var<T>> out;
+  for (const auto& f : x) out.push_back(nn::concat_cols<T>({f, y}));
+  return out;
+}
+
+template <class T>
+nn::Var<T> smoothness(const ActganConfig& c, const GeneratedSequences<T>& g) {
+  nn::Tape<T>& tape = *g.frames.front().tape;
+  const T per_sequence = T(1) / static_cast<T>(g.frames.front().rows());
+  const bool latent = c.smoothness == "both" || c.smoothness == "latent";
+  const bool action = c.smoothness == "both" || c.smoothness == "action";
+  nn::Var<T> total = tape.constant(nn::Matrix<T>::Zero(1, 1));
+  for (std::size_t t = 1; t < g.frames.size(); ++t) {
+    if (latent)
+      total = nn::add(total, nn::scale(nn::sum_squares(nn::sub(g.latents[t], g.latents[t - 1])),
+                                       static_cast<T>(c.sigma1) * per_sequence));
+    if (action)
+      total = nn::add(total, nn::scale(nn::sum_squares(nn::sub(g.frames[t], g.frames[t - 1])),
+                                       static_cast<T>(c.sigma2) * per_sequence));
+  }
+  return total;
+}
+
+template <class T>
+nn::Matrix<T> one_hot(const std::vector<int>& labels, int classes) {
+  nn::Matrix<T> y = nn::Matrix<T>::Zero(static_cast<Eigen::Index>(labels.size()), classes);
+  for (std::size_t r = 0; r < labels.size(); ++r) {
+    if (labels[r] < 0 || labels[r] >= classes) throw Error("internal: label out of range");
+    y(static_cast<Eigen::Index>(r), labels[r]) = T(1);
+  }
+  return y;
+}
+
+#define DF_ACTGAN_NETWORK(T)                                                                 \
+  template class ActganGenerator<T>;                                                         \
+  template class SequenceNet<T>;                                                             \
+  template class FrameCritic<T>;                                                             \
+  template std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>&, nn::Var<T>);   \
+  template nn::Var<T> smoothness(const ActganConfig&, const GeneratedSequences<T>&);         \
+  template nn::Matrix<T> one_hot<T>(const std::vector<int>&, int);
+DF_ACTGAN_NETWORK(float)
+DF_ACTGAN_NETWORK(double)
+
+}  // namespace df::models

@@ -1,0 +1,116 @@
+// The networks of paper 3 (Wang, Chang, Wang, Chen, Zhang, Carin: "Learning Diverse Stochastic
+// Human-Action Generators by Learning Smooth Latent Transitions", AAAI 2020), SPEC §8, on the
+// network engine. Poses are rows [B, P] (P = joints x 3, normalized), labels one-hot [B, C]:
+//   generator      implicit LSTM over (xi_t, y) -> v_t = FC(o_t) [B, Z];
+//                  h_1 ~ U(-1, 1), h_{t+1} = h_t + v_t (residual) or h_{t+1} = v_t (direct);
+//                  shared frame decoder x_t = Dec(h_t, y) = MLP [Z + C, FC, P] (ReLU)
+//   discriminator  bidirectional LSTM over [x_t, y] -> the last forward and backward states
+//                  [B, 2H] -> MLP [2H, FC, 1] (a logit)
+//   classifier     the same over x_t -> MLP [2H, FC, C] (logits)
+//   critic         MLP [P + C, FC, 1] on single frames (the decoder's WGAN-GP pre-training)
+// Each has its own parameter store (and optimizer): a step of one never moves another's weights.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "nn/layers.h"
+
+namespace df::models {
+
+/// Every hyper-parameter of the networks and losses (stored in the model file's /config).
+struct ActganConfig {
+  int pose = 60;      ///< values per frame (joints x 3)
+  int classes = 10;
+  int noise = 64;     ///< xi_t
+  int latent = 12;    ///< h_t
+  int hidden = 256;   ///< LSTM hidden size (generator, discriminator, classifier)
+  int fc = 1024;      ///< hidden layer of the decoder, the heads and the critic
+  bool residual = true;  ///< h_{t+1} = h_t + v_t; false: the direct latent of paper Table 6
+  /// Omega = sigma1 sum |h_t - h_{t-1}|^2 + sigma2 sum |x_t - x_{t-1}|^2 per sequence; which
+  /// terms: "both", "latent", "action" or "none" (paper Table 5)
+  std::string smoothness = "both";
+  double sigma1 = 0.05, sigma2 = 5e-5;
+  double gamma = 0.1;      ///< weight of the classifier's cross-entropy (cycle loss, eq. 6)
+  bool classifier = true;  ///< false: no classifier, no cycle loss (paper Table 2's ablation)
+  double gp_lambda = 10;   ///< WGAN-GP gradient penalty
+};
+
+/// A generated batch: frames x_1..x_T and latents h_1..h_T, each [B, P] / [B, Z].
+template <class T>
+struct GeneratedSequences {
+  std::vector<nn::Var<T>> frames, latents;
+};
+
+template <class T>
+class ActganGenerator {
+ public:
+  using Var = nn::Var<T>;
+  ActganGenerator(const ActganConfig& c, Rng& rng);
+  nn::ParameterStore<T>& store() { return store_; }
+  const nn::ParameterStore<T>& store() const { return store_; }
+  /// x = Dec(h, y): [B, Z], [B, C] -> [B, P].
+  Var decode(const nn::Bound<T>& p, Var h, Var y) const;
+  /// T frames from h_1 [B, Z] and noise xi_1..xi_{T-1} [B, noise] (constants) for labels y.
+  GeneratedSequences<T> generate(const nn::Bound<T>& p, Var y, Var h1,
+                                 const std::vector<Var>& noise) const;
+  /// Parameter indices of the decoder (pre-trained alone).
+  const nn::Mlp<T>& decoder() const { return decoder_; }
+
+ private:
+  ActganConfig config_;
+  nn::ParameterStore<T> store_;
+  nn::LstmCell<T> lstm_;
+  nn::Linear<T> to_latent_;
+  nn::Mlp<T> decoder_;
+};
+
+/// The discriminator (outputs 1, input P + C) or the classifier (outputs C, input P).
+template <class T>
+class SequenceNet {
+ public:
+  using Var = nn::Var<T>;
+  SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index out, const std::string& name, Rng& rng);
+  nn::ParameterStore<T>& store() { return store_; }
+  const nn::ParameterStore<T>& store() const { return store_; }
+  /// Logits [B, out] of the sequence x_1..x_T (rows [B, in]).
+  Var operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const;
+
+ private:
+  nn::ParameterStore<T> store_;
+  nn::BidirectionalLstm<T> lstm_;
+  nn::Mlp<T> head_;
+};
+
+/// The conditional WGAN critic on single frames.
+template <class T>
+class FrameCritic {
+ public:
+  using Var = nn::Var<T>;
+  FrameCritic(const ActganConfig& c, Rng& rng);
+  nn::ParameterStore<T>& store() { return store_; }
+  const nn::ParameterStore<T>& store() const { return store_; }
+  Var operator()(const nn::Bound<T>& p, Var x, Var y) const;  ///< scores [B, 1]
+  /// mean over rows of (|grad_x critic(x, y)| - 1)^2, differentiable w.r.t. the critic's weights.
+  Var gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const;
+
+ private:
+  int pose_ = 0;
+  nn::ParameterStore<T> store_;
+  nn::Mlp<T> mlp_;
+};
+
+/// [x_t, y] per frame (the discriminator's input).
+template <class T>
+std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> y);
+
+/// Omega of a generated batch (mean over sequences of the terms `c.smoothness` selects).
+template <class T>
+nn::Var<T> smoothness(const ActganConfig& c, const GeneratedSequences<T>& g);
+
+/// One-hot rows [B, C] of the labels.
+template <class T>
+nn::Matrix<T> one_hot(const std::vector<int>& labels, int classes);
+
+}  // namespace df::models
