@@ -1,0 +1,223 @@
+#include "models/actgan/model.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "core/provenance.h"
+#include "io/file_header.h"
+#include "io/schema.h"
+
+namespace df::models {
+namespace {
+
+std::vector<const nn::ParameterStore<float>*> stores(const ActganModel& m) {
+  return {&m.gen->store(), &m.disc->store(), &m.cls->store(), &m.critic->store()};
+}
+
+std::unique_ptr<nn::Adam<float>> make_adam(const nn::ParameterStore<float>& s, double lr) {
+  nn::AdamOptions o;
+  o.lr = lr;
+  o.beta1 = 0.5;
+  o.beta2 = 0.9;
+  return std::make_unique<nn::Adam<float>>(s.size(), o);
+}
+
+struct NamedAdam {
+  const char* name;
+  nn::Adam<float>* adam;
+};
+
+std::vector<NamedAdam> optimizers(const ActganModel& m) {
+  return {{"decoder", m.adam.decoder.get()}, {"critic", m.adam.critic.get()}, {"gen", m.adam.gen.get()},
+          {"disc", m.adam.disc.get()},       {"cls", m.adam.cls.get()}};
+}
+
+void write_config(h5::File& f, const ActganModel& m) {
+  f.create_groups("/config");
+  const auto& c = m.config;
+  f.set_attr("/config", "pose", c.pose);
+  f.set_attr("/config", "classes", c.classes);
+  f.set_attr("/config", "noise", c.noise);
+  f.set_attr("/config", "latent", c.latent);
+  f.set_attr("/config", "hidden", c.hidden);
+  f.set_attr("/config", "fc", c.fc);
+  f.set_attr("/config", "residual", static_cast<int>(c.residual));
+  f.set_attr("/config", "smoothness", c.smoothness);
+  f.set_attr("/config", "sigma1", c.sigma1);
+  f.set_attr("/config", "sigma2", c.sigma2);
+  f.set_attr("/config", "gamma", c.gamma);
+  f.set_attr("/config", "classifier", static_cast<int>(c.classifier));
+  f.set_attr("/config", "gp_lambda", c.gp_lambda);
+  const auto& t = m.training;
+  f.set_attr("/config", "pretrain_iterations", t.pretrain_iterations);
+  f.set_attr("/config", "iterations", t.iterations);
+  f.set_attr("/config", "batch", t.batch);
+  f.set_attr("/config", "pretrain_batch", t.pretrain_batch);
+  f.set_attr("/config", "critic_steps", t.critic_steps);
+  f.set_attr("/config", "d_steps", t.d_steps);
+  f.set_attr("/config", "g_steps", t.g_steps);
+  f.set_attr("/config", "lr", t.lr);
+  f.set_attr("/config", "lr_pretrain", t.lr_pretrain);
+  f.set_attr("/config", "seed", fmt::format("{}", t.seed));
+  f.set_attr("/config", "frame_rate", m.frame_rate);
+  f.set_attr("/config", "length", m.length);
+  f.set_attr("/config", "data", m.data);
+}
+
+void read_config(const h5::File& f, ActganModel& m) {
+  auto i = [&](const char* n) { return static_cast<int>(f.attr_int("/config", n)); };
+  auto d = [&](const char* n) { return f.attr_double("/config", n); };
+  auto& c = m.config;
+  c.pose = i("pose");
+  c.classes = i("classes");
+  c.noise = i("noise");
+  c.latent = i("latent");
+  c.hidden = i("hidden");
+  c.fc = i("fc");
+  c.residual = i("residual") != 0;
+  c.smoothness = f.attr_string("/config", "smoothness");
+  c.sigma1 = d("sigma1");
+  c.sigma2 = d("sigma2");
+  c.gamma = d("gamma");
+  c.classifier = i("classifier") != 0;
+  c.gp_lambda = d("gp_lambda");
+  auto& t = m.training;
+  t.pretrain_iterations = f.attr_int("/config", "pretrain_iterations");
+  t.iterations = f.attr_int("/config", "iterations");
+  t.batch = i("batch");
+  t.pretrain_batch = i("pretrain_batch");
+  t.critic_steps = i("critic_steps");
+  t.d_steps = i("d_steps");
+  t.g_steps = i("g_steps");
+  t.lr = d("lr");
+  t.lr_pretrain = d("lr_pretrain");
+  t.seed = std::stoull(f.attr_string("/config", "seed"));
+  m.frame_rate = d("frame_rate");
+  m.length = i("length");
+  m.data = f.attr_string("/config", "data");
+}
+
+}  // namespace
+
+const std::vector<std::string>& ActganModel::log_columns() {
+  static const std::vector<std::string> c{"iteration", "loss", "disc", "adv", "smooth", "cycle", "gp"};
+  return c;
+}
+
+void ActganModel::initialize() {
+  Rng init(training.seed, 0);
+  gen = std::make_unique<ActganGenerator<float>>(config, init);
+  disc = std::make_unique<SequenceNet<float>>(config, config.pose + config.classes, 1, "disc", init);
+  cls = std::make_unique<SequenceNet<float>>(config, config.pose, config.classes, "cls", init);
+  critic = std::make_unique<FrameCritic<float>>(config, init);
+  adam.decoder = make_adam(gen->store(), training.lr_pretrain);
+  adam.critic = make_adam(critic->store(), training.lr_pretrain);
+  adam.gen = make_adam(gen->store(), training.lr);
+  adam.disc = make_adam(disc->store(), training.lr);
+  adam.cls = make_adam(cls->store(), training.lr);
+  rng = Rng(training.seed, 1);
+  iteration = 0;
+  log.clear();
+  unprinted.clear();
+}
+
+void save_actgan_model(const std::string& path, const ActganModel& m,
+                       const std::vector<std::string>& inputs, bool force) {
+  std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
+  AtomicOutput out(path, AtomicOutput::Kind::file, force, in);
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::create, path);
+    io::write_header(f, "actgan-model", {m.history});
+    write_config(f, m);
+    f.set_attr("/", "iteration", m.iteration);
+    std::string order;
+    for (const auto* s : stores(m))
+      for (std::size_t k = 0; k < s->views().size(); ++k) {
+        f.write_matrix("/params/" + s->views()[k].name, s->value(static_cast<int>(k)));
+        order += s->views()[k].name + "\n";
+      }
+    f.set_attr("/params", "order", order);
+    for (const auto& [name, a] : optimizers(m)) {
+      const std::string g = std::string("/optimizers/") + name;
+      const auto n = static_cast<std::size_t>(a->first_moment().size());
+      f.write<float>(g + "/m", std::span<const float>(a->first_moment().data(), n), {n});
+      f.write<float>(g + "/v", std::span<const float>(a->second_moment().data(), n), {n});
+      f.set_attr(g, "step", static_cast<std::int64_t>(a->steps()));
+    }
+    const auto st = m.rng.state();
+    f.write<std::uint64_t>("/rng/state", std::span<const std::uint64_t>(st.data(), st.size()), {4});
+    f.set_attr("/rng", "has_spare", static_cast<std::int64_t>(m.rng.has_spare_normal()));
+    f.set_attr("/rng", "spare", m.rng.spare_normal());
+    f.write_strings("/classes/names", m.class_names);
+    f.write<std::int32_t>("/skeleton/parents", m.parents, {m.parents.size()});
+    f.write_strings("/skeleton/joint_names", m.joint_names);
+    if (m.normalization.present()) {
+      const std::vector<std::size_t> shape{m.joint_names.size(), 3};
+      f.write<double>("/normalization/mean", m.normalization.mean, shape);
+      f.write<double>("/normalization/std", m.normalization.std, shape);
+      f.set_attr("/normalization", "root_joint", m.normalization.root_joint);
+      f.set_attr("/normalization", "scale", m.normalization.scale);
+    }
+    const auto& cols = ActganModel::log_columns();
+    if (!m.log.empty()) {
+      f.write<double>("/training/log", m.log, {m.log.size() / cols.size(), cols.size()});
+      std::string names;
+      for (const auto& c : cols) names += (names.empty() ? "" : " ") + c;
+      f.set_attr("/training/log", "columns", names);
+    }
+    if (!m.unprinted.empty()) f.write<double>("/training/unprinted", m.unprinted, {m.unprinted.size()});
+  }
+  out.commit();
+}
+
+ActganModel load_actgan_model(const std::string& path) {
+  h5::File f = io::open_input(path, "actgan-model");
+  ActganModel m;
+  read_config(f, m);
+  m.initialize();
+  const auto names = provenance::history_lines(f.attr_string("/params", "order"));
+  std::size_t k = 0;
+  for (const auto* cs : stores(m)) {
+    auto* s = const_cast<nn::ParameterStore<float>*>(cs);
+    for (std::size_t i = 0; i < s->views().size(); ++i, ++k) {
+      const auto& v = s->views()[i];
+      if (k >= names.size() || names[k] != v.name)
+        throw InvalidInput(fmt::format("parameter {} is not '{}' (another network configuration?)", k, v.name), path);
+      const auto w = f.read_matrix<float>("/params/" + v.name);
+      if (w.rows() != v.rows || w.cols() != v.cols)
+        throw InvalidInput(fmt::format("parameter '{}' is [{},{}], expected [{},{}]", v.name, w.rows(), w.cols(), v.rows, v.cols),
+                           f.where("/params/" + v.name));
+      s->value(static_cast<int>(i)) = w;
+    }
+  }
+  for (const auto& [name, a] : optimizers(m)) {
+    const std::string g = std::string("/optimizers/") + name;
+    const auto mm = f.read<float>(g + "/m").data, vv = f.read<float>(g + "/v").data;
+    if (static_cast<Eigen::Index>(mm.size()) != a->first_moment().size() || vv.size() != mm.size())
+      throw InvalidInput("optimizer state does not match the parameters", f.where(g));
+    a->first_moment() = Eigen::Map<const nn::Vector<float>>(mm.data(), static_cast<Eigen::Index>(mm.size()));
+    a->second_moment() = Eigen::Map<const nn::Vector<float>>(vv.data(), static_cast<Eigen::Index>(vv.size()));
+    a->set_steps(static_cast<long>(f.attr_int(g, "step")));
+  }
+  const auto s = f.read<std::uint64_t>("/rng/state").data;
+  m.rng.restore({s[0], s[1], s[2], s[3]}, f.attr_int("/rng", "has_spare") != 0, f.attr_double("/rng", "spare"));
+  m.iteration = f.attr_int("/", "iteration");
+  m.class_names = f.read_strings("/classes/names");
+  m.parents = f.read<std::int32_t>("/skeleton/parents").data;
+  m.joint_names = f.read_strings("/skeleton/joint_names");
+  if (f.exists("/normalization")) {
+    m.normalization.root_joint = static_cast<int>(f.attr_int("/normalization", "root_joint"));
+    m.normalization.scale = f.attr_double("/normalization", "scale");
+    m.normalization.mean = f.read<double>("/normalization/mean").data;
+    m.normalization.std = f.read<double>("/normalization/std").data;
+  }
+  m.log = f.exists("/training/log") ? f.read<double>("/training/log").data : std::vector<double>{};
+  m.unprinted = f.exists("/training/unprinted") ? f.read<double>("/training/unprinted").data : std::vector<double>{};
+  m.history = f.attr_string("/", "history");
+  return m;
+}
+
+}  // namespace df::models

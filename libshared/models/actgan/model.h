@@ -1,0 +1,67 @@
+// The actgan-model file kind (schemas/actgan-model.json): the networks' configuration, the weights
+// of the generator, discriminator, classifier and critic, the state of each one's Adam and the
+// RNG (enough to resume training bit-exactly), the training data's classes, skeleton and
+// normalization (to write generated poses in its coordinates), and the training log. Written by
+// train-actgan (final model and checkpoints), read by gen-actgan and classify-actions.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/skeleton_file.h"
+#include "models/actgan/network.h"
+#include "nn/adam.h"
+
+namespace df::models {
+
+/// How the model is trained (recorded in /config; checked on --resume).
+struct ActganTraining {
+  std::int64_t pretrain_iterations = 2000;  ///< WGAN-GP iterations of the frame decoder first
+  std::int64_t iterations = 3000;           ///< then bi-directional GAN iterations (Algorithm 1)
+  int batch = 32;                           ///< sequences per step
+  int pretrain_batch = 64;                  ///< frames per pre-training step
+  int critic_steps = 5;                     ///< critic steps per decoder step (pre-training)
+  int d_steps = 1;                          ///< discriminator steps per iteration (k)
+  int g_steps = 2;                          ///< generator + classifier steps per iteration
+  double lr = 1e-4, lr_pretrain = 1e-3;     ///< Adam, betas 0.5 / 0.9
+  std::uint64_t seed = 1;
+};
+
+/// The optimizers, one per network and phase.
+struct ActganOptimizers {
+  std::unique_ptr<nn::Adam<float>> decoder, critic;  ///< pre-training
+  std::unique_ptr<nn::Adam<float>> gen, disc, cls;   ///< the GAN
+};
+
+struct ActganModel {
+  ActganConfig config;
+  ActganTraining training;
+  std::vector<std::string> class_names;
+  std::vector<std::int32_t> parents;
+  std::vector<std::string> joint_names;
+  io::SkeletonNormalization normalization;
+  double frame_rate = 30;
+  int length = 0;           ///< frames of the training sequences (the default generation length)
+  std::string data;         ///< the training file's name
+  std::unique_ptr<ActganGenerator<float>> gen;
+  std::unique_ptr<SequenceNet<float>> disc, cls;
+  std::unique_ptr<FrameCritic<float>> critic;
+  ActganOptimizers adam;
+  Rng rng;  ///< batches and noise
+  std::int64_t iteration = 0;
+  std::vector<double> log, unprinted;
+  std::string history;
+
+  /// The training log's columns.
+  static const std::vector<std::string>& log_columns();
+  /// Untrained networks (weights from Rng(seed, 0)) and fresh optimizers.
+  void initialize();
+};
+
+void save_actgan_model(const std::string& path, const ActganModel& m,
+                       const std::vector<std::string>& inputs, bool force);
+ActganModel load_actgan_model(const std::string& path);
+
+}  // namespace df::models

@@ -1,0 +1,318 @@
+#include "models/actgan/train.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "io/skeleton_file.h"
+#include "models/common/training.h"
+#include "nn/ops.h"
+
+namespace df::models {
+namespace {
+
+using Matrix = nn::Matrix<float>;
+using Var = nn::Var<float>;
+
+void check_options(const ActganTrainOptions& opt) {
+  const auto& t = opt.training;
+  const auto& c = opt.net;
+  if (t.pretrain_iterations < 0 || t.iterations < 0 || t.batch < 2 || t.pretrain_batch < 2 ||
+      t.critic_steps < 1 || t.d_steps < 1 || t.g_steps < 1 || !(t.lr > 0) || !(t.lr_pretrain > 0))
+    throw UsageError(
+        "--iterations and --pretrain-iterations must not be negative, batches at least 2, steps "
+        "at least 1, learning rates positive");
+  if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
+    throw UsageError("--noise, --latent, --hidden and --fc must be positive");
+  if (opt.print_every < 1 || opt.checkpoint_every < 0)
+    throw UsageError("--print-every must be positive, --checkpoint-every not negative");
+}
+
+void check_resumable(const ActganModel& ck, const ActganModel& want, const std::string& path) {
+  auto differs = [&](const char* what, const auto& a, const auto& b) { require_same_setting(what, a, b, path); };
+  const auto &a = ck.config, &b = want.config;
+  differs("pose values", a.pose, b.pose);
+  differs("classes", a.classes, b.classes);
+  differs("noise", a.noise, b.noise);
+  differs("latent", a.latent, b.latent);
+  differs("hidden", a.hidden, b.hidden);
+  differs("fc", a.fc, b.fc);
+  differs("direct-latent", !a.residual, !b.residual);
+  differs("smoothness", a.smoothness, b.smoothness);
+  differs("sigma1", a.sigma1, b.sigma1);
+  differs("sigma2", a.sigma2, b.sigma2);
+  differs("gamma", a.gamma, b.gamma);
+  differs("no-classifier", !a.classifier, !b.classifier);
+  differs("gp-lambda", a.gp_lambda, b.gp_lambda);
+  const auto &s = ck.training, &t = want.training;
+  differs("pretrain-iterations", s.pretrain_iterations, t.pretrain_iterations);
+  differs("batch", s.batch, t.batch);
+  differs("pretrain-batch", s.pretrain_batch, t.pretrain_batch);
+  differs("critic-steps", s.critic_steps, t.critic_steps);
+  differs("d-steps", s.d_steps, t.d_steps);
+  differs("g-steps", s.g_steps, t.g_steps);
+  differs("lr", s.lr, t.lr);
+  differs("lr-pretrain", s.lr_pretrain, t.lr_pretrain);
+  differs("seed", s.seed, t.seed);
+  differs("length", ck.length, want.length);
+  if (ck.class_names != want.class_names) throw InvalidInput("checkpoint was trained on other classes", path);
+}
+
+// Random training frames (pre-training): rows of x and their labels.
+void draw_frames(const ActionClips& d, int n, Rng& rng, Matrix& x, std::vector<int>& labels) {
+  x.resize(n, d.pose);
+  labels.resize(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) {
+    const std::size_t clip = rng.below(d.size());
+    const std::size_t t = rng.below(static_cast<std::uint64_t>(d.length));
+    x.row(r) = Eigen::Map<const Eigen::RowVectorXf>(
+        d.frames.data() + (clip * static_cast<std::size_t>(d.length) + t) * static_cast<std::size_t>(d.pose), d.pose);
+    labels[static_cast<std::size_t>(r)] = d.labels[clip];
+  }
+}
+
+// Random training clips: frames[t] [n, P] and labels.
+void draw_clips(const ActionClips& d, int n, Rng& rng, std::vector<Matrix>& frames, std::vector<int>& labels) {
+  frames.assign(static_cast<std::size_t>(d.length), Matrix(n, d.pose));
+  labels.resize(static_cast<std::size_t>(n));
+  for (int r = 0; r < n; ++r) {
+    const std::size_t clip = rng.below(d.size());
+    for (int t = 0; t < d.length; ++t)
+      frames[static_cast<std::size_t>(t)].row(r) = Eigen::Map<const Eigen::RowVectorXf>(
+          d.frames.data() + (clip * static_cast<std::size_t>(d.length) + static_cast<std::size_t>(t)) * static_cast<std::size_t>(d.pose),
+          d.pose);
+    labels[static_cast<std::size_t>(r)] = d.labels[clip];
+  }
+}
+
+// The generator's random inputs for n sequences of `length` frames: h_1 ~ U(-1, 1), xi ~ N(0, I).
+struct GeneratorNoise {
+  Matrix h1;
+  std::vector<Matrix> xi;
+};
+GeneratorNoise draw_noise(const ActganConfig& c, int n, int length, Rng& rng) {
+  GeneratorNoise g{Matrix(n, c.latent), {}};
+  for (Eigen::Index k = 0; k < g.h1.size(); ++k) g.h1.data()[k] = static_cast<float>(rng.uniform(-1, 1));
+  for (int t = 1; t < length; ++t) {
+    Matrix m(n, c.noise);
+    for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<float>(rng.normal());
+    g.xi.push_back(std::move(m));
+  }
+  return g;
+}
+
+GeneratedSequences<float> generate(const ActganGenerator<float>& g, const nn::Bound<float>& p, nn::Tape<float>& t,
+                                   const Matrix& y, const GeneratorNoise& noise) {
+  std::vector<Var> xi;
+  for (const auto& m : noise.xi) xi.push_back(t.constant(m));
+  return g.generate(p, t.constant(y), t.constant(noise.h1), xi);
+}
+
+std::vector<Var> constants(nn::Tape<float>& t, const std::vector<Matrix>& m) {
+  std::vector<Var> v;
+  for (const auto& x : m) v.push_back(t.constant(x));
+  return v;
+}
+
+std::vector<Matrix> values(const std::vector<Var>& v) {
+  std::vector<Matrix> m;
+  for (const auto& x : v) m.push_back(x.value());
+  return m;
+}
+
+float mean_value(Var v) { return v.value().mean(); }
+
+// One pre-training iteration: critic_steps critic updates (WGAN-GP), then one decoder update.
+LossTerms pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
+  const auto& tr = m.training;
+  const int n = tr.pretrain_batch;
+  Matrix x, h(n, m.config.latent);
+  std::vector<int> labels;
+  double critic_loss = 0, wasserstein = 0, gp = 0;
+  for (int k = 0; k < tr.critic_steps; ++k) {
+    draw_frames(d, n, m.rng, x, labels);
+    const Matrix y = one_hot<float>(labels, m.config.classes);
+    for (Eigen::Index i = 0; i < h.size(); ++i) h.data()[i] = static_cast<float>(m.rng.normal());
+    Matrix eps(n, 1);
+    for (Eigen::Index i = 0; i < n; ++i) eps(i) = static_cast<float>(m.rng.uniform());
+    tape.clear();
+    const Matrix fake = m.gen->decode(m.gen->store().bind(tape), tape.constant(h), tape.constant(y)).value();
+    const Matrix mixed = (eps.replicate(1, d.pose).array() * x.array() + (1 - eps.replicate(1, d.pose).array()) * fake.array()).matrix();
+    tape.clear();
+    m.critic->store().zero_grad();
+    const auto pc = m.critic->store().bind(tape);
+    const Var yv = tape.constant(y);
+    const Var real_score = nn::mean((*m.critic)(pc, tape.constant(x), yv));
+    const Var fake_score = nn::mean((*m.critic)(pc, tape.constant(fake), yv));
+    const Var penalty = m.critic->gradient_penalty(pc, tape.constant(mixed), yv);
+    const Var loss = nn::add(nn::sub(fake_score, real_score), nn::scale(penalty, static_cast<float>(m.config.gp_lambda)));
+    tape.backward(loss);
+    m.critic->store().collect(pc);
+    m.adam.critic->step(m.critic->store().values(), m.critic->store().grads());
+    critic_loss = mean_value(loss);
+    wasserstein = mean_value(real_score) - mean_value(fake_score);
+    gp = mean_value(penalty);
+  }
+  draw_frames(d, n, m.rng, x, labels);  // labels of real frames: the classes' frequencies
+  const Matrix y = one_hot<float>(labels, m.config.classes);
+  for (Eigen::Index i = 0; i < h.size(); ++i) h.data()[i] = static_cast<float>(m.rng.normal());
+  tape.clear();
+  m.gen->store().zero_grad();
+  const auto pg = m.gen->store().bind(tape);
+  const auto pc = m.critic->store().bind(tape);
+  const Var yv = tape.constant(y);
+  const Var loss = nn::scale(nn::mean((*m.critic)(pc, m.gen->decode(pg, tape.constant(h), yv), yv)), -1.0f);
+  tape.backward(loss);
+  m.gen->store().collect(pg);
+  m.adam.decoder->step(m.gen->store().values(), m.gen->store().grads());
+  return {mean_value(loss), critic_loss, wasserstein, 0, 0, gp};
+}
+
+// One GAN iteration (Algorithm 1): d_steps discriminator updates, g_steps generator + classifier
+// updates.
+LossTerms gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
+  const auto& tr = m.training;
+  const auto& c = m.config;
+  const int n = tr.batch;
+  std::vector<Matrix> real;
+  std::vector<int> labels;
+  double disc_loss = 0;
+  const Matrix ones = Matrix::Ones(n, 1), zeros = Matrix::Zero(n, 1);
+  for (int k = 0; k < tr.d_steps; ++k) {
+    draw_clips(d, n, m.rng, real, labels);
+    const Matrix y = one_hot<float>(labels, c.classes);
+    const GeneratorNoise noise = draw_noise(c, n, d.length, m.rng);
+    tape.clear();
+    const std::vector<Matrix> fake = values(generate(*m.gen, m.gen->store().bind(tape), tape, y, noise).frames);
+    tape.clear();
+    m.disc->store().zero_grad();
+    const auto pd = m.disc->store().bind(tape);
+    const Var yv = tape.constant(y);
+    const Var loss = nn::add(nn::bce_with_logits((*m.disc)(pd, with_label(constants(tape, real), yv)), ones),
+                             nn::bce_with_logits((*m.disc)(pd, with_label(constants(tape, fake), yv)), zeros));
+    tape.backward(loss);
+    m.disc->store().collect(pd);
+    m.adam.disc->step(m.disc->store().values(), m.disc->store().grads());
+    disc_loss = mean_value(loss);
+  }
+  double total = 0, adv = 0, smooth = 0, cycle = 0;
+  for (int k = 0; k < tr.g_steps; ++k) {
+    draw_clips(d, n, m.rng, real, labels);
+    const Matrix y = one_hot<float>(labels, c.classes);
+    const GeneratorNoise noise = draw_noise(c, n, d.length, m.rng);
+    tape.clear();
+    m.gen->store().zero_grad();
+    m.cls->store().zero_grad();
+    const auto pg = m.gen->store().bind(tape);
+    const auto pd = m.disc->store().bind(tape);
+    const auto pc = m.cls->store().bind(tape);
+    const Var yv = tape.constant(y);
+    const GeneratedSequences<float> g = generate(*m.gen, pg, tape, y, noise);
+    const Var a = nn::bce_with_logits((*m.disc)(pd, with_label(g.frames, yv)), ones);
+    const Var o = smoothness(c, g);
+    Var loss = nn::add(a, o);
+    Var cyc = tape.constant(Matrix::Zero(1, 1));
+    if (c.classifier) {
+      cyc = nn::add(nn::softmax_cross_entropy((*m.cls)(pc, constants(tape, real)), labels),
+                    nn::softmax_cross_entropy((*m.cls)(pc, g.frames), labels));
+      loss = nn::add(loss, nn::scale(cyc, static_cast<float>(c.gamma)));
+    }
+    tape.backward(loss);
+    m.gen->store().collect(pg);
+    m.adam.gen->step(m.gen->store().values(), m.gen->store().grads());
+    if (c.classifier) {
+      m.cls->store().collect(pc);
+      m.adam.cls->step(m.cls->store().values(), m.cls->store().grads());
+    }
+    total += mean_value(loss) / tr.g_steps;
+    adv += mean_value(a) / tr.g_steps;
+    smooth += mean_value(o) / tr.g_steps;
+    cycle += mean_value(cyc) / tr.g_steps;
+  }
+  return {total, disc_loss, adv, smooth, cycle, 0};
+}
+
+// The model to train: its configuration from the options and the data file.
+ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile& s, const ActionClips& clips) {
+  ActganModel m;
+  m.config = opt.net;
+  m.config.pose = clips.pose;
+  m.config.classes = static_cast<int>(s.class_names.size());
+  m.training = opt.training;
+  m.class_names = s.class_names;
+  m.parents = s.parents;
+  m.joint_names = s.joint_names;
+  m.normalization = s.normalization;
+  m.frame_rate = s.frame_rate;
+  m.length = clips.length;
+  m.data = opt.input;
+  return m;
+}
+
+}  // namespace
+
+ActionClips training_clips(const io::SkeletonFile& s, const std::string& path) {
+  if (s.dims != 3) throw InvalidInput("ActGAN needs 3-D joints", path);
+  ActionClips c;
+  c.pose = static_cast<int>(s.frame_size());
+  for (std::size_t q = 0; q < s.sequences(); ++q) {
+    if (!s.test.empty() && s.test[q]) continue;
+    const auto length = static_cast<int>(s.length(q));
+    if (c.length == 0) c.length = length;
+    if (length != c.length)
+      throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length", c.length, length),
+                         path);
+    c.frames.insert(c.frames.end(), s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q]) * c.pose,
+                    s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q + 1]) * c.pose);
+    c.labels.push_back(s.labels[q]);
+  }
+  if (c.size() < 2) throw InvalidInput(fmt::format("{} training sequence(s); ActGAN needs at least 2", c.size()), path);
+  if (c.length < 2) throw InvalidInput("sequences of 1 frame: nothing moves", path);
+  if (!s.normalization.present())
+    log::warn("{} is not normalized (skel2h5 without --raw normalizes): training on raw coordinates", path);
+  return c;
+}
+
+void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
+  check_options(opt);
+  check_training_output(opt.output, opt.input, common.force);
+  const io::SkeletonFile s = io::read_skeleton_file(opt.input);
+  const ActionClips clips = training_clips(s, opt.input);
+  ActganModel m = describe_model(opt, s, clips);
+  const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
+  if (opt.resume && std::filesystem::exists(ckpt)) {
+    ActganModel ck = load_actgan_model(ckpt);
+    check_resumable(ck, m, ckpt);
+    m = std::move(ck);
+    log::info("resuming from {} at iteration {}", ckpt, m.iteration);
+  } else {
+    m.initialize();
+  }
+  const std::int64_t total = m.training.pretrain_iterations + m.training.iterations;
+  if (m.iteration > total)
+    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --pretrain-iterations + --iterations {}",
+                                 m.iteration, total));
+  log::info("{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} iterations", opt.input,
+            clips.size(), clips.length, m.class_names.size(), clips.pose, m.training.pretrain_iterations,
+            m.training.iterations);
+  nn::Tape<float> tape;
+  auto step = [&](std::int64_t done) -> LossTerms {
+    if (done == m.training.pretrain_iterations + 1 && m.training.pretrain_iterations > 0)
+      log::info("decoder pre-trained; the GAN from iteration {}", done);
+    return done <= m.training.pretrain_iterations ? pretrain_iteration(m, clips, tape) : gan_iteration(m, clips, tape);
+  };
+  auto checkpoint = [&] { save_actgan_model(ckpt, m, {opt.input}, true); };
+  std::vector<std::string> names(ActganModel::log_columns().begin() + 1, ActganModel::log_columns().end());
+  run_training_loop({total, opt.print_every, opt.checkpoint_every, ckpt}, names, m.iteration, m.log, m.unprinted,
+                    step, checkpoint);
+  save_actgan_model(opt.output, m, {opt.input}, common.force);
+  if (opt.checkpoint.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(ckpt, ec);
+  }
+  log::info("wrote {} ({} iterations)", opt.output, m.iteration);
+}
+
+}  // namespace df::models

@@ -1,0 +1,37 @@
+// train-actgan: the conditional WGAN-GP pre-training of the shared frame decoder, then the
+// bi-directional GAN of paper 3's Algorithm 1 on the training clips of a skeleton file (skel2h5:
+// normalized, equal length): per iteration d_steps discriminator updates, then g_steps joint
+// generator + classifier updates (adversarial loss + smoothness Omega + gamma x the classifier's
+// cross-entropy on real and generated sequences).
+#pragma once
+
+#include <string>
+
+#include "core/tool.h"
+#include "models/actgan/model.h"
+
+namespace df::models {
+
+struct ActganTrainOptions {
+  std::string input, output;
+  std::string checkpoint;      ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
+  int checkpoint_every = 500;  ///< iterations between checkpoints (0 = none)
+  bool resume = false;
+  int print_every = 100;
+  ActganConfig net;
+  ActganTraining training;
+};
+
+/// The training clips of a skeleton file: its sequences with test == 0 (all when it marks
+/// none), each [length, P] row-major in `frames`, and their labels.
+struct ActionClips {
+  int length = 0, pose = 0;
+  std::vector<float> frames;  ///< [clips, length, pose]
+  std::vector<int> labels;
+  std::size_t size() const { return labels.size(); }
+};
+ActionClips training_clips(const io::SkeletonFile& s, const std::string& path);
+
+void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common);
+
+}  // namespace df::models

@@ -1,0 +1,89 @@
+// train-actgan: train the action generator with smooth latent transitions (paper 3).
+#include "core/tool.h"
+#include "models/actgan/train.h"
+
+int main(int argc, char** argv) {
+  df::Tool tool(
+      "train-actgan",
+      "Train the human-action generator of Wang, Chang, Wang, Chen, Zhang, Carin, 'Learning\n"
+      "Diverse Stochastic Human-Action Generators by Learning Smooth Latent Transitions'\n"
+      "(AAAI 2020) on labelled skeleton clips:\n"
+      "  1. pre-training (--pretrain-iterations): the shared frame decoder Dec(h, y) as a\n"
+      "     conditional WGAN-GP generator of single poses, h ~ N(0, I), against a critic MLP;\n"
+      "     --critic-steps critic updates (gradient penalty --gp-lambda) per decoder update;\n"
+      "  2. the bi-directional GAN (--iterations, Algorithm 1): an implicit LSTM over (noise,\n"
+      "     label) gives latent residuals, h_{t+1} = h_t + v_t, each decoded to a pose; a\n"
+      "     bidirectional-LSTM discriminator judges (sequence, label) and a classifier of the\n"
+      "     same form labels real and generated sequences; per iteration --d-steps\n"
+      "     discriminator updates, then --g-steps updates of generator + classifier on\n"
+      "     BCE + Omega (smoothness of latents, sigma1, and poses, sigma2) + gamma x the\n"
+      "     classifier's cross-entropy on real and generated sequences.\n"
+      "Adam with betas 0.5 / 0.9 for every network (as the authors' code).\n\n"
+      "INPUT: a skeleton .h5 of equal-length clips (skel2h5 --length; its test part is not\n"
+      "trained on). OUTPUT: an actgan-model .h5 for gen-actgan (weights, Adam and RNG state,\n"
+      "config, classes, skeleton, normalization, loss log).");
+  tool.with_threads().with_seed(1).with_force().with_stop_requests();
+  df::models::ActganTrainOptions opt;
+  std::string smoothness = opt.net.smoothness;
+  bool direct = false, no_classifier = false;
+  auto& app = tool.app();
+  app.add_option("INPUT", opt.input, "skeleton .h5 of equal-length clips")->required();
+  app.add_option("-o,--output", opt.output, "Output model (.h5)")->required();
+  auto* n = app.add_option_group("Networks (sizes of the authors' code)");
+  n->add_option("--noise", opt.net.noise, "Noise values per step (xi_t)")->default_val(opt.net.noise);
+  n->add_option("--latent", opt.net.latent, "Latent frame size (h_t)")->default_val(opt.net.latent);
+  n->add_option("--hidden", opt.net.hidden, "LSTM hidden size (generator, discriminator, classifier)")
+      ->default_val(opt.net.hidden);
+  n->add_option("--fc", opt.net.fc, "Hidden layer of the decoder, the heads and the critic")
+      ->default_val(opt.net.fc);
+  auto* l = app.add_option_group("Losses (ablations: paper Tables 2, 5, 6)");
+  l->add_option("--smoothness", smoothness, "Omega's terms: both, latent, action or none")
+      ->default_val(smoothness)
+      ->check(CLI::IsMember({"both", "latent", "action", "none"}));
+  l->add_option("--sigma1", opt.net.sigma1, "Omega's weight on |h_t - h_{t-1}|^2")->default_val(opt.net.sigma1);
+  l->add_option("--sigma2", opt.net.sigma2, "Omega's weight on |x_t - x_{t-1}|^2")->default_val(opt.net.sigma2);
+  l->add_option("--gamma", opt.net.gamma, "Weight of the classifier's cross-entropy (cycle loss)")
+      ->default_val(opt.net.gamma);
+  l->add_flag("--direct-latent", direct, "The LSTM gives h_{t+1} itself, not the residual v_t");
+  l->add_flag("--no-classifier", no_classifier, "No classifier and no cycle loss");
+  l->add_option("--gp-lambda", opt.net.gp_lambda, "WGAN-GP gradient penalty")->default_val(opt.net.gp_lambda);
+  auto* g = app.add_option_group("Training");
+  g->add_option("--pretrain-iterations", opt.training.pretrain_iterations, "WGAN-GP iterations of the decoder")
+      ->default_val(opt.training.pretrain_iterations);
+  g->add_option("--iterations", opt.training.iterations, "GAN iterations after the pre-training")
+      ->default_val(opt.training.iterations);
+  g->add_option("--batch", opt.training.batch, "Sequences per GAN step")->default_val(opt.training.batch);
+  g->add_option("--pretrain-batch", opt.training.pretrain_batch, "Poses per pre-training step")
+      ->default_val(opt.training.pretrain_batch);
+  g->add_option("--critic-steps", opt.training.critic_steps, "Critic updates per decoder update")
+      ->default_val(opt.training.critic_steps);
+  g->add_option("--d-steps", opt.training.d_steps, "Discriminator updates per iteration (k)")
+      ->default_val(opt.training.d_steps);
+  g->add_option("--g-steps", opt.training.g_steps, "Generator + classifier updates per iteration")
+      ->default_val(opt.training.g_steps);
+  g->add_option("--lr", opt.training.lr, "Adam learning rate of the GAN")->default_val(opt.training.lr);
+  g->add_option("--lr-pretrain", opt.training.lr_pretrain, "Adam learning rate of the pre-training")
+      ->default_val(opt.training.lr_pretrain);
+  g->add_option("--print-every", opt.print_every, "Iterations per loss line")->default_val(opt.print_every);
+  g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt, removed at the end)");
+  g->add_option("--checkpoint-every", opt.checkpoint_every, "Iterations between checkpoints (0 = none)")
+      ->default_val(opt.checkpoint_every);
+  g->add_flag("--resume", opt.resume,
+              "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
+              "uninterrupted run with the same options. SIGTERM or SIGUSR1 (preemption,\n"
+              "Slurm's time-limit warning) stops after the iteration in progress with a\n"
+              "checkpoint and exit status 75; a second SIGTERM kills at once");
+  tool.footer(
+      "Examples:\n"
+      "  train-actgan actions.h5 -o actgan.h5\n"
+      "  train-actgan --pretrain-iterations 500 --iterations 1000 --batch 16 utk.h5 -o utk-actgan.h5\n"
+      "  train-actgan --smoothness none actions.h5 -o no-smooth.h5          # paper Table 5\n"
+      "  train-actgan --direct-latent actions.h5 -o direct.h5               # paper Table 6");
+  return tool.run(argc, argv, [&] {
+    opt.net.smoothness = smoothness;
+    opt.net.residual = !direct;
+    opt.net.classifier = !no_classifier;
+    opt.training.seed = tool.common().seed;
+    df::models::train_actgan(opt, tool.common());
+  });
+}
