@@ -159,27 +159,6 @@ MmdResult mmd2_max_reference(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y)
 
 namespace {
 
-// PRED's poses in TRUTH's coordinates: as stored when both carry the same normalization (or
-// none), else through raw coordinates and TRUTH's normalization.
-std::vector<float> in_truth_space(const io::SkeletonFile& pred, const io::SkeletonFile& truth) {
-  const auto& a = pred.normalization;
-  const auto& b = truth.normalization;
-  const bool same = a.present() == b.present() &&
-                    (!a.present() || (a.root_joint == b.root_joint && a.scale == b.scale &&
-                                      a.mean == b.mean && a.std == b.std));
-  if (same) return pred.poses;
-  std::vector<float> raw = pred.raw_poses();
-  if (!b.present()) return raw;
-  const std::size_t fs = pred.frame_size();
-  for (std::size_t t = 0; t < pred.frames; ++t) {
-    float* p = raw.data() + t * fs;
-    const std::array<float, 3> root{p[b.root_joint * 3], p[b.root_joint * 3 + 1], p[b.root_joint * 3 + 2]};
-    for (std::size_t k = 0; k < fs; ++k)
-      p[k] = static_cast<float>(((p[k] - root[k % 3]) / b.scale - b.mean[k]) / b.std[k]);
-  }
-  return raw;
-}
-
 // The first `frames` frames of the listed sequences, one row per sequence.
 RowMatrixF sequence_rows(const io::SkeletonFile& f, const std::vector<float>& poses,
                          const std::vector<std::size_t>& seqs, std::size_t frames) {
@@ -215,7 +194,7 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
   for (std::size_t s = 0; s < pred.sequences(); ++s) out.frames = std::min(out.frames, pred.length(s));
   for (std::size_t s = 0; s < truth.sequences(); ++s)
     if (!test_only || truth.test[s]) out.frames = std::min(out.frames, truth.length(s));
-  const std::vector<float> pred_poses = in_truth_space(pred, truth);
+  const std::vector<float> pred_poses = io::poses_normalized_as(pred, truth.normalization);
   const std::size_t fs = pred.frame_size();
   for (std::size_t c = 0; c < pred.class_names.size(); ++c) {
     const auto tc = std::find(truth.class_names.begin(), truth.class_names.end(), pred.class_names[c]);

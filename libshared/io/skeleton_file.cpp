@@ -72,6 +72,25 @@ std::vector<float> SkeletonFile::raw_poses() const {
   return raw;  // root-centred: the root's trajectory is not kept
 }
 
+std::vector<float> poses_normalized_as(const SkeletonFile& s, const SkeletonNormalization& b) {
+  const auto& a = s.normalization;
+  const bool same = a.present() == b.present() &&
+                    (!a.present() || (a.root_joint == b.root_joint && a.scale == b.scale &&
+                                      a.mean == b.mean && a.std == b.std));
+  if (same) return s.poses;
+  std::vector<float> raw = s.raw_poses();
+  if (!b.present()) return raw;
+  const std::size_t fs = s.frame_size(), dims = static_cast<std::size_t>(s.dims);
+  const auto root = static_cast<std::size_t>(b.root_joint) * dims;
+  for (std::size_t t = 0; t < s.frames; ++t) {
+    float* p = raw.data() + t * fs;
+    std::vector<float> r(p + root, p + root + dims);
+    for (std::size_t k = 0; k < fs; ++k)
+      p[k] = static_cast<float>(((p[k] - r[k % dims]) / b.scale - b.mean[k]) / b.std[k]);
+  }
+  return raw;
+}
+
 const std::vector<std::string>& kinect_joint_names() {
   static const std::vector<std::string> names{
       "hip_center", "spine",     "shoulder_center", "head",       "shoulder_left", "elbow_left",

@@ -45,6 +45,11 @@ struct SkeletonFile {
   std::vector<float> raw_poses() const;
 };
 
+/// The poses of `s` in the coordinates of normalization `target`: as stored when s has the same
+/// normalization (or both none), else through raw coordinates (root-centred and normalized with
+/// `target` when it is present).
+std::vector<float> poses_normalized_as(const SkeletonFile& s, const SkeletonNormalization& target);
+
 /// The joint hierarchy of a Kinect v1 skeleton (UTKinect-Action3D, MSR-Action3D after
 /// reordering, synth-actions): 20 joints, hip centre the root.
 const std::vector<std::string>& kinect_joint_names();

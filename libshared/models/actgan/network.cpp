@@ -72,6 +72,26 @@ nn::Var<T> FrameCritic<T>::gradient_penalty(const nn::Bound<T>& p, Var x, Var y)
 }
 
 template <class T>
+GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, int length, Rng& rng) {
+  GeneratorNoise<T> g{nn::Matrix<T>(n, c.latent), {}};
+  for (Eigen::Index k = 0; k < g.h1.size(); ++k) g.h1.data()[k] = static_cast<T>(rng.uniform(-1, 1));
+  for (int t = 1; t < length; ++t) {
+    nn::Matrix<T> m(n, c.noise);
+    for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<T>(rng.normal());
+    g.xi.push_back(std::move(m));
+  }
+  return g;
+}
+
+template <class T>
+GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>& g, const nn::Bound<T>& p, nn::Tape<T>& tape,
+                                          const nn::Matrix<T>& y, const GeneratorNoise<T>& noise) {
+  std::vector<nn::Var<T>> xi;
+  for (const auto& m : noise.xi) xi.push_back(tape.constant(m));
+  return g.generate(p, tape.constant(y), tape.constant(noise.h1), xi);
+}
+
+template <class T>
 std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> y) {
   std::vector<nn::Var<T>> out;
   for (const auto& f : x) out.push_back(nn::concat_cols<T>({f, y}));
@@ -112,7 +132,10 @@ nn::Matrix<T> one_hot(const std::vector<int>& labels, int classes) {
   template class FrameCritic<T>;                                                             \
   template std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>&, nn::Var<T>);   \
   template nn::Var<T> smoothness(const ActganConfig&, const GeneratedSequences<T>&);         \
-  template nn::Matrix<T> one_hot<T>(const std::vector<int>&, int);
+  template nn::Matrix<T> one_hot<T>(const std::vector<int>&, int);                          \
+  template GeneratorNoise<T> draw_generator_noise<T>(const ActganConfig&, Eigen::Index, int, Rng&); \
+  template GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>&, const nn::Bound<T>&, \
+                                                     nn::Tape<T>&, const nn::Matrix<T>&, const GeneratorNoise<T>&);
 DF_ACTGAN_NETWORK(float)
 DF_ACTGAN_NETWORK(double)
 

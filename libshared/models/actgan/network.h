@@ -101,6 +101,21 @@ class FrameCritic {
   nn::Mlp<T> mlp_;
 };
 
+/// The generator's random inputs for n sequences of `length` frames: h_1 ~ U(-1, 1) [n, Z] and
+/// xi_1..xi_{length-1} ~ N(0, I) [n, noise], drawn from rng in this order.
+template <class T>
+struct GeneratorNoise {
+  nn::Matrix<T> h1;
+  std::vector<nn::Matrix<T>> xi;
+};
+template <class T>
+GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, int length, Rng& rng);
+
+/// g.generate on constants y and noise.
+template <class T>
+GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>& g, const nn::Bound<T>& p, nn::Tape<T>& tape,
+                                          const nn::Matrix<T>& y, const GeneratorNoise<T>& noise);
+
 /// [x_t, y] per frame (the discriminator's input).
 template <class T>
 std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> y);

@@ -87,29 +87,6 @@ void draw_clips(const ActionClips& d, int n, Rng& rng, std::vector<Matrix>& fram
   }
 }
 
-// The generator's random inputs for n sequences of `length` frames: h_1 ~ U(-1, 1), xi ~ N(0, I).
-struct GeneratorNoise {
-  Matrix h1;
-  std::vector<Matrix> xi;
-};
-GeneratorNoise draw_noise(const ActganConfig& c, int n, int length, Rng& rng) {
-  GeneratorNoise g{Matrix(n, c.latent), {}};
-  for (Eigen::Index k = 0; k < g.h1.size(); ++k) g.h1.data()[k] = static_cast<float>(rng.uniform(-1, 1));
-  for (int t = 1; t < length; ++t) {
-    Matrix m(n, c.noise);
-    for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<float>(rng.normal());
-    g.xi.push_back(std::move(m));
-  }
-  return g;
-}
-
-GeneratedSequences<float> generate(const ActganGenerator<float>& g, const nn::Bound<float>& p, nn::Tape<float>& t,
-                                   const Matrix& y, const GeneratorNoise& noise) {
-  std::vector<Var> xi;
-  for (const auto& m : noise.xi) xi.push_back(t.constant(m));
-  return g.generate(p, t.constant(y), t.constant(noise.h1), xi);
-}
-
 std::vector<Var> constants(nn::Tape<float>& t, const std::vector<Matrix>& m) {
   std::vector<Var> v;
   for (const auto& x : m) v.push_back(t.constant(x));
@@ -183,9 +160,9 @@ LossTerms gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& t
   for (int k = 0; k < tr.d_steps; ++k) {
     draw_clips(d, n, m.rng, real, labels);
     const Matrix y = one_hot<float>(labels, c.classes);
-    const GeneratorNoise noise = draw_noise(c, n, d.length, m.rng);
+    const auto noise = draw_generator_noise<float>(c, n, d.length, m.rng);
     tape.clear();
-    const std::vector<Matrix> fake = values(generate(*m.gen, m.gen->store().bind(tape), tape, y, noise).frames);
+    const std::vector<Matrix> fake = values(generate_from_noise(*m.gen, m.gen->store().bind(tape), tape, y, noise).frames);
     tape.clear();
     m.disc->store().zero_grad();
     const auto pd = m.disc->store().bind(tape);
@@ -201,7 +178,7 @@ LossTerms gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& t
   for (int k = 0; k < tr.g_steps; ++k) {
     draw_clips(d, n, m.rng, real, labels);
     const Matrix y = one_hot<float>(labels, c.classes);
-    const GeneratorNoise noise = draw_noise(c, n, d.length, m.rng);
+    const auto noise = draw_generator_noise<float>(c, n, d.length, m.rng);
     tape.clear();
     m.gen->store().zero_grad();
     m.cls->store().zero_grad();
@@ -209,7 +186,7 @@ LossTerms gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& t
     const auto pd = m.disc->store().bind(tape);
     const auto pc = m.cls->store().bind(tape);
     const Var yv = tape.constant(y);
-    const GeneratedSequences<float> g = generate(*m.gen, pg, tape, y, noise);
+    const GeneratedSequences<float> g = generate_from_noise(*m.gen, pg, tape, y, noise);
     const Var a = nn::bce_with_logits((*m.disc)(pd, with_label(g.frames, yv)), ones);
     const Var o = smoothness(c, g);
     Var loss = nn::add(a, o);

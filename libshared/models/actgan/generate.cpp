@@ -1,0 +1,261 @@
+#include "models/actgan/generate.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "io/file_header.h"
+#include "nn/ops.h"
+
+namespace df::models {
+namespace {
+
+constexpr Eigen::Index kBatch = 64;  // sequences per forward pass
+
+int class_index(const ActganModel& m, const std::string& name) {
+  const auto it = std::find(m.class_names.begin(), m.class_names.end(), name);
+  if (it == m.class_names.end())
+    throw UsageError(fmt::format("unknown class '{}' (the model knows: {})", name, fmt::join(m.class_names, ", ")));
+  return static_cast<int>(it - m.class_names.begin());
+}
+
+// "walk:0.5,wave:0.5" -> weights per class, normalized to sum 1.
+std::vector<float> parse_mix(const ActganModel& m, const std::string& mix, std::string& name) {
+  std::vector<float> w(m.class_names.size(), 0.0f);
+  std::stringstream in(mix);
+  for (std::string part; std::getline(in, part, ',');) {
+    const auto colon = part.find(':');
+    if (colon == std::string::npos) throw UsageError(fmt::format("--mix part '{}' is not CLASS:WEIGHT", part));
+    const std::string cls = part.substr(0, colon);
+    double weight = 0;
+    try {
+      weight = std::stod(part.substr(colon + 1));
+    } catch (const std::exception&) {
+      throw UsageError(fmt::format("--mix part '{}': the weight is not a number", part));
+    }
+    if (!(weight >= 0)) throw UsageError(fmt::format("--mix part '{}': weights must not be negative", part));
+    w[static_cast<std::size_t>(class_index(m, cls))] += static_cast<float>(weight);
+    name += (name.empty() ? "" : "+") + cls;
+  }
+  float sum = 0;
+  for (float x : w) sum += x;
+  if (!(sum > 0)) throw UsageError("--mix weights sum to 0");
+  for (float& x : w) x /= sum;
+  return w;
+}
+
+void write_latents(const std::string& path, const std::vector<std::string>& names, const std::vector<float>& latents,
+                   int length, int z) {
+  AtomicOutput out(path, AtomicOutput::Kind::file, true);
+  {
+    std::ofstream f(out.temp_path());
+    f << "# sequence\tframe";
+    for (int k = 0; k < z; ++k) f << "\th" << k + 1;
+    f << "\n";
+    for (std::size_t s = 0; s < names.size(); ++s) {
+      for (int t = 0; t < length; ++t) {
+        f << names[s] << '\t' << t;
+        for (int k = 0; k < z; ++k)
+          f << '\t' << latents[(s * static_cast<std::size_t>(length) + static_cast<std::size_t>(t)) * static_cast<std::size_t>(z) + static_cast<std::size_t>(k)];
+        f << "\n";
+      }
+      f << "\n";  // a blank line between sequences (gnuplot: separate curves)
+    }
+    if (!f) throw IOError("cannot write", path);
+  }
+  out.commit();
+}
+
+}  // namespace
+
+nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& opt, std::vector<std::string>& names,
+                             std::vector<int>& dominant) {
+  if (opt.count < 1) throw UsageError("--count must be positive");
+  std::vector<std::vector<float>> rows;
+  if (!opt.mix.empty()) {
+    if (!opt.classes.empty()) throw UsageError("--class and --mix exclude each other");
+    std::string name;
+    const auto w = parse_mix(m, opt.mix, name);
+    const int top = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
+    for (int k = 0; k < opt.count; ++k) {
+      rows.push_back(w);
+      names.push_back(fmt::format("{}~{}", name, k));
+      dominant.push_back(top);
+    }
+  } else {
+    const auto classes = opt.classes.empty() ? m.class_names : opt.classes;
+    for (const auto& cls : classes) {
+      const int c = class_index(m, cls);
+      for (int k = 0; k < opt.count; ++k) {
+        std::vector<float> w(m.class_names.size(), 0.0f);
+        w[static_cast<std::size_t>(c)] = 1;
+        rows.push_back(w);
+        names.push_back(fmt::format("{}~{}", cls, k));
+        dominant.push_back(c);
+      }
+    }
+  }
+  nn::Matrix<float> y(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(m.class_names.size()));
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    y.row(static_cast<Eigen::Index>(r)) = Eigen::Map<const Eigen::RowVectorXf>(rows[r].data(), y.cols());
+  return y;
+}
+
+void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int length, Rng& rng,
+                      std::vector<float>& poses, std::vector<float>& latents) {
+  const auto P = static_cast<std::size_t>(m.config.pose), Z = static_cast<std::size_t>(m.config.latent);
+  const auto L = static_cast<std::size_t>(length);
+  poses.assign(static_cast<std::size_t>(y.rows()) * L * P, 0.0f);
+  latents.assign(static_cast<std::size_t>(y.rows()) * L * Z, 0.0f);
+  nn::Tape<float> tape;
+  for (Eigen::Index r0 = 0; r0 < y.rows(); r0 += kBatch) {
+    const Eigen::Index n = std::min(kBatch, y.rows() - r0);
+    const auto noise = draw_generator_noise<float>(m.config, n, length, rng);
+    tape.clear();
+    const auto g = generate_from_noise(*m.gen, m.gen->store().bind(tape), tape, nn::Matrix<float>(y.middleRows(r0, n)), noise);
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (std::size_t t = 0; t < L; ++t) {
+        const auto s = static_cast<std::size_t>(r0 + i);
+        for (std::size_t k = 0; k < P; ++k) poses[(s * L + t) * P + k] = g.frames[t].value()(i, static_cast<Eigen::Index>(k));
+        for (std::size_t k = 0; k < Z; ++k) latents[(s * L + t) * Z + k] = g.latents[t].value()(i, static_cast<Eigen::Index>(k));
+      }
+  }
+}
+
+void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
+  const ActganModel m = load_actgan_model(opt.model);
+  const int length = opt.length > 0 ? opt.length : m.length;
+  if (length < 1) throw UsageError("--length must be positive");
+  AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, {opt.model});
+  std::vector<std::string> names;
+  std::vector<int> dominant;
+  const auto y = label_rows(m, opt, names, dominant);
+  Rng rng(common.seed, 0);
+  io::SkeletonFile s;
+  std::vector<float> latents;
+  generate_actions(m, y, length, rng, s.poses, latents);
+  s.joints = m.joint_names.size();
+  s.dims = 3;
+  s.frames = names.size() * static_cast<std::size_t>(length);
+  for (std::size_t k = 0; k <= names.size(); ++k) s.offsets.push_back(static_cast<std::int64_t>(k) * length);
+  s.labels.assign(dominant.begin(), dominant.end());
+  s.sequence_names = names;
+  s.class_names = m.class_names;
+  s.parents = m.parents;
+  s.joint_names = m.joint_names;
+  s.frame_rate = m.frame_rate;
+  s.normalization = m.normalization;
+  {
+    h5::File f(out.temp_path(), h5::File::Mode::create, opt.output);
+    io::write_header(f, "skeleton", {m.history});
+    io::write_skeleton_data(f, s);
+  }
+  if (!opt.latents.empty()) write_latents(opt.latents, names, latents, length, m.config.latent);
+  out.commit();
+  log::info("wrote {}: {} sequences of {} frames", opt.output, names.size(), length);
+}
+
+nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s, const std::vector<std::size_t>& seqs) {
+  if (s.joints * 3 != static_cast<std::size_t>(m.config.pose) || s.dims != 3)
+    throw InvalidInput(fmt::format("{} joints x {}: the model was trained on {} values per pose", s.joints, s.dims,
+                                   m.config.pose));
+  const std::vector<float> poses = io::poses_normalized_as(s, m.normalization);
+  const std::size_t P = s.frame_size();
+  nn::Matrix<float> prob(static_cast<Eigen::Index>(seqs.size()), m.config.classes);
+  nn::Tape<float> tape;
+  for (std::size_t r0 = 0; r0 < seqs.size(); r0 += kBatch) {
+    const std::size_t n = std::min<std::size_t>(kBatch, seqs.size() - r0);
+    std::size_t length = s.length(seqs[r0]);
+    for (std::size_t i = 1; i < n; ++i) length = std::min(length, s.length(seqs[r0 + i]));
+    tape.clear();
+    std::vector<nn::Var<float>> frames;
+    for (std::size_t t = 0; t < length; ++t) {
+      nn::Matrix<float> x(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(P));
+      for (std::size_t i = 0; i < n; ++i)
+        x.row(static_cast<Eigen::Index>(i)) = Eigen::Map<const Eigen::RowVectorXf>(
+            poses.data() + (static_cast<std::size_t>(s.offsets[seqs[r0 + i]]) + t) * P, static_cast<Eigen::Index>(P));
+      frames.push_back(tape.constant(x));
+    }
+    prob.middleRows(static_cast<Eigen::Index>(r0), static_cast<Eigen::Index>(n)) =
+        nn::softmax<float>((*m.cls)(m.cls->store().bind(tape), frames).value());
+  }
+  return prob;
+}
+
+void classify_actions(const ClassifyOptions& opt, const CommonOptions&) {
+  const ActganModel m = load_actgan_model(opt.model);
+  if (!m.config.classifier) throw InvalidInput("the model was trained without a classifier (--no-classifier)", opt.model);
+  const io::SkeletonFile s = io::read_skeleton_file(opt.input);
+  const bool test_only = !opt.all && std::count(s.test.begin(), s.test.end(), 1) > 0;
+  std::vector<std::size_t> seqs;
+  for (std::size_t q = 0; q < s.sequences(); ++q)
+    if (!test_only || s.test[q]) seqs.push_back(q);
+  const nn::Matrix<float> prob = classify(m, s, seqs);
+  // per class of the model: sequences of that (file) class name and how many are recognised
+  std::vector<int> total(m.class_names.size(), 0), correct(m.class_names.size(), 0);
+  nlohmann::ordered_json js;
+  js["model"] = opt.model;
+  js["input"] = opt.input;
+  js["sequences"] = seqs.size();
+  for (std::size_t r = 0; r < seqs.size(); ++r) {
+    const std::string& name = s.class_names.at(static_cast<std::size_t>(s.labels[seqs[r]]));
+    const auto it = std::find(m.class_names.begin(), m.class_names.end(), name);
+    Eigen::Index best = 0;
+    prob.row(static_cast<Eigen::Index>(r)).maxCoeff(&best);
+    if (it != m.class_names.end()) {
+      const auto c = static_cast<std::size_t>(it - m.class_names.begin());
+      ++total[c];
+      correct[c] += static_cast<int>(best) == static_cast<int>(c);
+    }
+    if (opt.probabilities || !opt.json.empty()) {
+      nlohmann::ordered_json p;
+      for (std::size_t c = 0; c < m.class_names.size(); ++c) p[m.class_names[c]] = prob(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
+      js["probabilities"][s.sequence_names[seqs[r]].empty() ? std::to_string(seqs[r]) : s.sequence_names[seqs[r]]] = p;
+    }
+  }
+  int all_total = 0, all_correct = 0;
+  for (std::size_t c = 0; c < m.class_names.size(); ++c) {
+    all_total += total[c];
+    all_correct += correct[c];
+    if (total[c]) js["accuracy"][m.class_names[c]] = {{"sequences", total[c]}, {"correct", correct[c]}, {"accuracy", double(correct[c]) / total[c]}};
+  }
+  js["overall"] = all_total ? double(all_correct) / all_total : 0.0;
+  if (opt.json != "-") {
+    fmt::print("{} classified by {} ({} sequences{})\n", opt.input, opt.model, seqs.size(), test_only ? ", the test part" : "");
+    fmt::print("{:<16} {:>9} {:>8} {:>9}\n", "class", "sequences", "correct", "accuracy");
+    for (std::size_t c = 0; c < m.class_names.size(); ++c)
+      if (total[c]) fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", m.class_names[c], total[c], correct[c], double(correct[c]) / total[c]);
+    fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", "all", all_total, all_correct, all_total ? double(all_correct) / all_total : 0.0);
+    if (opt.probabilities) {
+      fmt::print("\n{:<24}", "sequence");
+      for (const auto& c : m.class_names) fmt::print(" {:>9.9}", c);
+      fmt::print("\n");
+      for (std::size_t r = 0; r < seqs.size(); ++r) {
+        fmt::print("{:<24}", s.sequence_names[seqs[r]]);
+        for (Eigen::Index c = 0; c < prob.cols(); ++c) fmt::print(" {:>9.3f}", prob(static_cast<Eigen::Index>(r), c));
+        fmt::print("\n");
+      }
+    }
+  }
+  if (opt.json.empty()) return;
+  if (opt.json == "-") {
+    fmt::print("{}\n", js.dump(2));
+    return;
+  }
+  AtomicOutput out(opt.json, AtomicOutput::Kind::file, true);
+  {
+    std::ofstream f(out.temp_path());
+    f << js.dump(2) << "\n";
+    if (!f) throw IOError("cannot write", opt.json);
+  }
+  out.commit();
+}
+
+}  // namespace df::models

@@ -1,0 +1,48 @@
+// gen-actgan and classify-actions: sequences from a trained ActGAN for a class or a soft mixture
+// of classes (the generator's label input y = (p_1, ..., p_C)), and the trained classifier
+// applied to any skeleton file of the same skeleton.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/tool.h"
+#include "io/skeleton_file.h"
+#include "models/actgan/model.h"
+
+namespace df::models {
+
+struct ActganGenerateOptions {
+  std::string model, output;
+  std::vector<std::string> classes;  ///< classes to generate (empty and no mix: every class)
+  std::string mix;                   ///< "walk:0.5,wave:0.5": one soft mixture instead
+  int count = 10;                    ///< sequences per class (or of the mixture)
+  int length = 0;                    ///< frames per sequence (0: the training clips' length)
+  std::string latents;               ///< "" or a TSV of the latent trajectories
+};
+
+/// The label vectors of the requested sequences: one-hot rows per class, or the mixture's
+/// weights (normalized to sum 1); `names` gets each row's name (class or "a+b").
+nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& opt,
+                             std::vector<std::string>& names, std::vector<int>& dominant);
+
+/// Generates one sequence per row of `y` (h_1 and the noise drawn from rng in a fixed order);
+/// returns poses [rows, length, P] and latents [rows, length, Z].
+void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int length, Rng& rng,
+                      std::vector<float>& poses, std::vector<float>& latents);
+
+void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common);
+
+struct ClassifyOptions {
+  std::string model, input;
+  bool all = false;          ///< every sequence, not only the test part
+  std::string json;          ///< "" or a file (or "-") with per-class accuracy and probabilities
+  bool probabilities = false;  ///< print each sequence's class probabilities
+};
+
+/// Class probabilities [sequences, C] of the sequences of `s` (equal length, same skeleton).
+nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s, const std::vector<std::size_t>& seqs);
+
+void classify_actions(const ClassifyOptions& opt, const CommonOptions& common);
+
+}  // namespace df::models
