@@ -262,7 +262,15 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   if (opt.resume && std::filesystem::exists(ckpt)) {
     ActganModel ck = load_actgan_model(ckpt);
     check_resumable(ck, m, ckpt);
-    m = std::move(ck);
+    m.gen = std::move(ck.gen);  // the state; the settings (and --iterations) are this run's
+    m.disc = std::move(ck.disc);
+    m.cls = std::move(ck.cls);
+    m.critic = std::move(ck.critic);
+    m.adam = std::move(ck.adam);
+    m.rng = ck.rng;
+    m.iteration = ck.iteration;
+    m.log = std::move(ck.log);
+    m.unprinted = std::move(ck.unprinted);
     log::info("resuming from {} at iteration {}", ckpt, m.iteration);
   } else {
     m.initialize();

@@ -1,0 +1,97 @@
+# ActGAN end to end on tiny synthetic actions: skel2h5 clips, train-actgan (pre-training + GAN,
+# thread independence, bit-exact resume, determinism per seed), a short training moves the
+# generated poses towards the data (MMD falls), gen-actgan (classes, mixture, latents),
+# classify-actions, eval-metrics on skeleton files, and bad input. Stored numbers: tests/golden/.
+source "$(dirname "$0")/lib.sh"
+: "${DF_PLUGIN_DIR:?}"
+export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
+
+synth-actions -q --classes walk,wave,squat --per-class 8 --frames 24 --seed 1 -o raw.h5
+skel2h5 -q raw.h5 --length 12 --clip-stride 6 --test-fraction 0.25 --seed 2 -o clips.h5
+tiny=(--noise 4 --latent 3 --hidden 16 --fc 32 --batch 8 --pretrain-batch 16 --print-every 10 --seed 3)
+
+# --- thread independence and resume
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --threads 1 clips.h5 -o m1.h5
+h5check -q --kind actgan-model m1.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --threads 2 clips.h5 -o m2.h5
+for obj in /params /optimizers /rng/state /training/log; do
+  run h5diff m1.h5 m2.h5 $obj; expect_rc 0
+done
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 5 clips.h5 -o m-half.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --resume --checkpoint m-half.h5 clips.h5 -o resumed.h5
+for obj in /params /optimizers /rng/state /training/log; do
+  run h5diff m1.h5 resumed.h5 $obj; expect_rc 0
+done
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --gamma 0.5 --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "gamma = 0.1"
+echo "ok (threads, resume)"
+
+# --- learning: the generated poses move towards the data (MMD of generated vs real falls; the
+# tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.26 and 1.0 -> 0.45)
+train-actgan -q "${tiny[@]}" --pretrain-iterations 0 --iterations 1 clips.h5 -o untrained.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 300 --iterations 300 clips.h5 -o trained.h5
+gen-actgan -q --seed 4 --count 12 untrained.h5 -o gen0.h5
+gen-actgan -q --seed 4 --count 12 trained.h5 -o gen1.h5
+mmd() { eval-metrics "$1" clips.h5 --json - | sed -n "s/^  \"mmd_$2\": \([^,]*\),*\$/\1/p"; }
+for kind in avg seq; do
+  before=$(mmd gen0.h5 $kind) after=$(mmd gen1.h5 $kind)
+  awk -v a="$before" -v b="$after" 'BEGIN { exit !(b < 0.6 * a) }' || fail "MMD_$kind did not fall: $before -> $after"
+  echo "ok (learning: MMD_$kind $before -> $after)"
+done
+
+# --- generation: deterministic per seed, different across seeds; classes, mixtures, latents
+gen-actgan -q --seed 4 --count 12 trained.h5 -o again.h5
+run h5diff gen1.h5 again.h5 /poses; expect_rc 0
+gen-actgan -q --seed 5 --count 12 trained.h5 -o other.h5
+run h5diff -q gen1.h5 other.h5 /poses; expect_rc 1
+gen-actgan -q --class wave --length 30 --count 2 --latents lat.tsv trained.h5 -o wave.h5
+[ "$(h5dump -H -d /poses wave.h5 | grep -o 'SIMPLE { ( [0-9, ]* )' | tr -dc '0-9,')" = "60,20,3" ] ||
+  fail "2 waves of 30 frames expected: $(h5dump -H -d /poses wave.h5)"
+[ "$(grep -c '^wave~1' lat.tsv)" = 30 ] || fail "latents: 30 rows of wave~1 expected"
+gen-actgan -q --mix walk:1,wave:3 --count 3 trained.h5 -o mix.h5
+h5dump -d /sequences/names mix.h5 | grep -q '"walk+wave~2"' || fail "mixture names"
+run classify-actions trained.h5 mix.h5 --probabilities; expect_rc 0
+expect_out "walk\+wave~0 +[0-9.]+ +[0-9.]+ +[0-9.]+"
+h5check -q --kind skeleton mix.h5
+echo "ok (generation)"
+
+# --- the classifier on the real test part and on generated sequences
+run classify-actions trained.h5 clips.h5 --json acc.json; expect_rc 0
+expect_out "clips.h5 classified by trained.h5 \([0-9]+ sequences, the test part\)"
+grep -q '"overall"' acc.json || fail "no overall accuracy in the JSON"
+echo "ok (classify: $(grep -o 'all .*' out.txt))"
+
+# --- other data and bad input: one-line errors, nothing written
+synth-actions -q --classes walk --per-class 2 --frames 10 -o short.h5
+skel2h5 -q short.h5 -o short-norm.h5  # walks of 10 frames, their own normalization
+run classify-actions trained.h5 short-norm.h5  # other lengths and coordinates: converted
+expect_rc 0; expect_out "^walk +2 +[0-2] "
+skel2h5 -q short.h5 --raw -o short-raw.h5
+run train-actgan "${tiny[@]}" --pretrain-iterations 1 --iterations 1 short-raw.h5 -o raw-model.h5
+expect_rc 0; expect_err "not normalized .*training on raw coordinates"
+run train-actgan "${tiny[@]}" --iterations 2 untrained.h5 -o bad.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "is a 'actgan-model' file, expected a 'skeleton' file"
+bvh() {  # bvh FILE FRAMES: a two-joint arm swinging
+  { printf 'HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n'
+    printf ' JOINT Arm\n {\n  OFFSET 1 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n   OFFSET 1 0 0\n  }\n }\n}\n'
+    printf 'MOTION\nFrames: %d\nFrame Time: 0.1\n' "$2"
+    for i in $(seq "$2"); do echo "0 0 0 0 0 0 $((i * 10)) 0 0"; done; } > "$1"
+}
+bvh a.bvh 6 && bvh b.bvh 9
+skel2h5 -q --label swing a.bvh b.bvh -o uneven.h5  # whole sequences of 6 and 9 frames
+run train-actgan "${tiny[@]}" --iterations 2 uneven.h5 -o bad.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "sequences of 6 and 9 frames: cut equal clips with skel2h5 --length"
+[ -f bad.h5 ] && fail "output written after an error"
+run gen-actgan trained.h5 --class run -o bad.h5
+expect_rc 2; expect_one_error_line gen-actgan; expect_err "unknown class 'run' \(the model knows: walk, wave, squat\)"
+run gen-actgan trained.h5 --mix walk:x -o bad.h5
+expect_rc 2; expect_err "the weight is not a number"
+run gen-actgan trained.h5 --class walk --mix walk:1 -o bad.h5
+expect_rc 2; expect_err "--class and --mix exclude each other"
+skel2h5 -q --label swing --length 5 a.bvh b.bvh -o arm.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 1 --iterations 1 arm.h5 -o arm-model.h5
+run classify-actions arm-model.h5 clips.h5
+expect_rc 1; expect_one_error_line classify-actions
+expect_err "20 joints x 3: the model was trained on 9 values per pose"
+[ -f bad.h5 ] && fail "output written after an error"
+echo "ok (errors)"
