@@ -180,6 +180,45 @@ fi
     peer_timings msae.py --mesh pcow grid --iters 5
   fi
   echo
+  echo "### ActGAN training iterations (paper 3; shapes of ../shared/peers/torch/actgan.py: poses of 60, T = 50, 10 classes, B = 32, LSTMs of 256, FC 1024)"
+  echo
+  echo "| case | parameters | threads | median ms | min ms | peak MiB |"
+  echo "|---|---|---|---|---|---|"
+  for threads in 1 2; do
+    for c in gan pretrain; do
+      net_bench "$bin/bench_actgan" --case $c --threads $threads --iters 5 |
+        while IFS=$'\t' read -r label params median min mib; do
+          echo "| $label | $params | $threads | $median | $min | $mib |"
+        done
+    done
+  done
+  if have_peer actgan.py; then
+    echo
+    echo "PyTorch peer (actgan.py):"
+    echo
+    peer_timings actgan.py --iters 6 --warmup 2
+  fi
+  echo
+  echo "### MMD_u^2 of eval-metrics (1000 x 1000 sequences of [50, 60], max over 14 bandwidths)"
+  echo
+  echo "| case | sequences | threads | median ms | min ms | peak MiB |"
+  echo "|---|---|---|---|---|---|"
+  for threads in 1 2; do
+    for c in "" --per-frame; do
+      # shellcheck disable=SC2086
+      net_bench "$bin/bench_mmd" --threads $threads --iters 5 $c |
+        while IFS=$'\t' read -r label params median min mib; do
+          echo "| $label | $params | $threads | $median | $min | $mib |"
+        done
+    done
+  done
+  if have_peer mmd.py; then
+    echo
+    echo "PyTorch peer (mmd.py):"
+    echo
+    peer_timings mmd.py --iters 5 --warmup 1
+  fi
+  echo
   echo "### Synthetic data"
   echo
   echo "| benchmark | threads | seconds | vertex-frames/s | peak MiB |"

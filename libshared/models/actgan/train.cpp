@@ -101,8 +101,9 @@ std::vector<Matrix> values(const std::vector<Var>& v) {
 
 float mean_value(Var v) { return v.value().mean(); }
 
-// One pre-training iteration: critic_steps critic updates (WGAN-GP), then one decoder update.
-LossTerms pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
+}  // namespace
+
+LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
   const auto& tr = m.training;
   const int n = tr.pretrain_batch;
   Matrix x, h(n, m.config.latent);
@@ -147,9 +148,7 @@ LossTerms pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Tape<floa
   return {mean_value(loss), critic_loss, wasserstein, 0, 0, gp};
 }
 
-// One GAN iteration (Algorithm 1): d_steps discriminator updates, g_steps generator + classifier
-// updates.
-LossTerms gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
+LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
   const auto& tr = m.training;
   const auto& c = m.config;
   const int n = tr.batch;
@@ -210,6 +209,8 @@ LossTerms gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& t
   }
   return {total, disc_loss, adv, smooth, cycle, 0};
 }
+
+namespace {
 
 // The model to train: its configuration from the options and the data file.
 ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile& s, const ActionClips& clips) {
@@ -286,7 +287,7 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   auto step = [&](std::int64_t done) -> LossTerms {
     if (done == m.training.pretrain_iterations + 1 && m.training.pretrain_iterations > 0)
       log::info("decoder pre-trained; the GAN from iteration {}", done);
-    return done <= m.training.pretrain_iterations ? pretrain_iteration(m, clips, tape) : gan_iteration(m, clips, tape);
+    return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape) : actgan_gan_iteration(m, clips, tape);
   };
   auto checkpoint = [&] { save_actgan_model(ckpt, m, {opt.input}, true); };
   std::vector<std::string> names(ActganModel::log_columns().begin() + 1, ActganModel::log_columns().end());

@@ -9,6 +9,7 @@
 
 #include "core/tool.h"
 #include "models/actgan/model.h"
+#include "models/common/training.h"
 
 namespace df::models {
 
@@ -31,6 +32,12 @@ struct ActionClips {
   std::size_t size() const { return labels.size(); }
 };
 ActionClips training_clips(const io::SkeletonFile& s, const std::string& path);
+
+/// One pre-training iteration (critic_steps critic updates with the gradient penalty, then one
+/// decoder update) and one GAN iteration (d_steps discriminator updates, then g_steps generator +
+/// classifier updates), drawing from m.rng; each returns the loss terms of the log's columns.
+LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape);
+LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape);
 
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common);
 

@@ -1,0 +1,48 @@
+// Benchmark of ActGAN's training iterations at the shapes of the PyTorch peer
+// ../shared/peers/torch/actgan.py: poses of 60 values, clips of 50 frames, 10 classes, batch 32,
+// noise 64, latent 12, LSTMs of 256, FC 1024;
+//   gan       one iteration of Algorithm 1: 1 discriminator step + 2 generator/classifier steps
+//   pretrain  one WGAN-GP iteration of the frame decoder: 5 critic steps + 1 decoder step (64 poses)
+// on 64 random clips (the peer's inputs are random too).
+//   bench_actgan [--case gan|pretrain] [--threads N] [--iters 5]
+#include <cstdio>
+
+#include "core/tool.h"
+#include "models/actgan/train.h"
+#include "timing.h"
+
+int main(int argc, char** argv) {
+  df::Tool tool("bench_actgan", "Time one ActGAN training iteration (see bench/run.sh).");
+  tool.with_threads();
+  std::string which = "gan";
+  int iters = 5, warmup = 1;
+  tool.app().add_option("--case", which)->check(CLI::IsMember({"gan", "pretrain"}));
+  tool.app().add_option("--iters", iters, "Timed iterations")->default_val(iters);
+  tool.app().add_option("--warmup", warmup, "Untimed iterations first")->default_val(warmup);
+  return tool.run(argc, argv, [&] {
+    df::models::ActganModel m;
+    m.config.pose = 60;
+    m.config.classes = 10;
+    m.initialize();
+    df::models::ActionClips clips;
+    clips.length = 50;
+    clips.pose = 60;
+    df::Rng rng(9);
+    for (int c = 0; c < 64; ++c) {
+      clips.labels.push_back(c % 10);
+      for (int k = 0; k < 50 * 60; ++k) clips.frames.push_back(static_cast<float>(rng.normal()));
+    }
+    df::nn::Tape<float> tape;
+    const auto t = df::bench::time_iterations(warmup, iters, [&] {
+      if (which == "gan")
+        df::models::actgan_gan_iteration(m, clips, tape);
+      else
+        df::models::actgan_pretrain_iteration(m, clips, tape);
+    });
+    const std::size_t params = m.gen->store().size() + m.disc->store().size() + m.cls->store().size() +
+                               (which == "gan" ? 0 : m.critic->store().size());
+    std::printf("| %s | %zu | %.1f | %.1f |\n",
+                which == "gan" ? "ActGAN 1D+2G (B 32, T 50)" : "ActGAN WGAN-GP 5C+1G (B 64)", params,
+                t.median_ms, t.min_ms);
+  });
+}
