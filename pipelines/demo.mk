@@ -8,7 +8,8 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
       $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
       $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt \
       $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png \
-      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.txt
+      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.txt \
+      $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png $(DEMO)/actgan-mmd.txt $(DEMO)/actgan-accuracy.txt
 	@echo
 	@echo "== h5check: file kinds, shapes, compression, history"
 	$(BIN)/h5check --no-history $(DEMO)/faerie.h5
@@ -32,10 +33,21 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@sed -n '2,$$p' $(DEMO)/msae-localization.txt | sed 's/^/     /'
 	@echo "   (pipelines/msae.mk trains longer, adds the baselines and reproduces the paper's tables)"
 	@echo
+	@echo "== ActGAN (train-actgan: 400 WGAN-GP + 400 GAN iterations, small networks, on 5 synthetic actions)"
+	@echo "   generated from noise vs the real test clips (eval-metrics; MMD_u^2, lower is closer):"
+	@tail -n 1 $(DEMO)/actgan-mmd.txt | sed 's/^mean */     MMD_avg, MMD_seq: /'
+	@echo "   recognised by the trained classifier (classify-actions): real test clips / generated:"
+	@awk '/^all / { a[++n] = $$4 } END { printf "     %s / %s\n", a[1], a[2] }' $(DEMO)/actgan-accuracy.txt
+	@echo "   a mixture walk:0.5,wave:0.5, its class probabilities (walk wave jump kick squat):"
+	@sed -n 's/^\(walk+wave~[0-9]\) */     \1  /p' $(DEMO)/actgan-mixed.txt
+	@echo "   (a short demo run with small networks; train-actgan's defaults are the authors' sizes)"
+	@echo
 	@echo "== pictures (render-mesh)"
 	@echo "  $(DEMO)/bdlstm-prediction.png   truth / BD-LSTM / linear at future frames 5, 10, 15, coloured by error"
 	@echo "  $(DEMO)/faerie.png              MD2 frames above their ACAP round trip, coloured by error"
 	@echo "  $(DEMO)/msae-components.png     the kept MSAE components (rows: levels), coloured by deformation"
+	@echo "  $(DEMO)/actgan-generated.png    one generated sequence per action (stick figures, every 3rd frame)"
+	@echo "  $(DEMO)/actgan-mixed.png        sequences generated for the mixture walk:0.5,wave:0.5"
 	@echo
 	@echo "== outputs in $(DEMO)/"
 	@echo "  finger.h5, bumps.h5     synthetic sequences (acap kind, positions; bumps with ground truth)"
@@ -129,3 +141,28 @@ $(DEMO)/msae-localization.txt: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
 $(DEMO)/msae-recon.txt: $(DEMO)/msae-model.h5
 	$(BIN)/recon-msae -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-recon.h5
 	$(BIN)/eval-metrics $(DEMO)/msae-recon.h5 $(DEMO)/bumps-acap.h5 > $@
+
+# ActGAN: a short training run with small networks on synthetic actions, sequences generated
+# for every class and for a mixture of two, their MMD to the real test clips and how often the
+# trained classifier recognises them.
+$(DEMO)/actions.h5: | $(DEMO)
+	$(BIN)/synth-actions -q -f --per-class 40 --frames 40 --seed 1 -o $(DEMO)/actions-raw.h5
+	$(BIN)/skel2h5 -q -f $(DEMO)/actions-raw.h5 --length 30 --clip-stride 10 --test-fraction 0.2 --seed 1 -o $@
+$(DEMO)/actgan-model.h5: $(DEMO)/actions.h5
+	$(BIN)/train-actgan -f --hidden 64 --fc 256 --batch 16 --pretrain-iterations 400 --iterations 400 \
+	  --print-every 200 $< -o $@
+$(DEMO)/actgan-generated.h5: $(DEMO)/actgan-model.h5
+	$(BIN)/gen-actgan -q -f --count 8 --seed 1 $< -o $@
+$(DEMO)/actgan-mixed.h5: $(DEMO)/actgan-model.h5
+	$(BIN)/gen-actgan -q -f --mix walk:0.5,wave:0.5 --count 3 --seed 2 $< -o $@
+$(DEMO)/actgan-generated.png: $(DEMO)/actgan-generated.h5
+	$(BIN)/render-mesh -q -f $< --sequence walk~0 --sequence wave~0 --sequence jump~0 --sequence kick~0 \
+	  --sequence squat~0 --every 3 --size 100 --view 30,10 --title "ActGAN: actions generated from noise" -o $@
+$(DEMO)/actgan-mixed.png: $(DEMO)/actgan-mixed.h5
+	$(BIN)/render-mesh -q -f $< --every 3 --size 100 --view 30,10 \
+	  --title "ActGAN: generated for the mixture walk 0.5 + wave 0.5" -o $@
+$(DEMO)/actgan-mmd.txt: $(DEMO)/actgan-generated.h5 $(DEMO)/actions.h5
+	$(BIN)/eval-metrics $^ > $@.tmp && mv $@.tmp $@
+$(DEMO)/actgan-accuracy.txt: $(DEMO)/actgan-model.h5 $(DEMO)/actions.h5 $(DEMO)/actgan-generated.h5 $(DEMO)/actgan-mixed.h5
+	{ $(BIN)/classify-actions $< $(DEMO)/actions.h5 && $(BIN)/classify-actions $< $(DEMO)/actgan-generated.h5; } > $@.tmp && mv $@.tmp $@
+	$(BIN)/classify-actions --probabilities $< $(DEMO)/actgan-mixed.h5 > $(DEMO)/actgan-mixed.txt
