@@ -45,6 +45,11 @@ int main(int argc, char** argv) {
   l->add_option("--gamma", opt.net.gamma, "Weight of the classifier's cross-entropy (cycle loss)")
       ->default_val(opt.net.gamma);
   l->add_flag("--direct-latent", direct, "The LSTM gives h_{t+1} itself, not the residual v_t");
+  n->add_option("--generator", opt.net.generator,
+                "latent: the paper's generator; pose: the baseline RNN whose LSTM output is the\n"
+                "pose itself (no latent transitions, no shared decoder; --pretrain-iterations 0)")
+      ->default_val(opt.net.generator)
+      ->check(CLI::IsMember({"latent", "pose"}));
   l->add_flag("--no-classifier", no_classifier, "No classifier and no cycle loss");
   l->add_option("--gp-lambda", opt.net.gp_lambda, "WGAN-GP gradient penalty")->default_val(opt.net.gp_lambda);
   auto* g = app.add_option_group("Training");

@@ -124,7 +124,8 @@ void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int leng
       for (std::size_t t = 0; t < L; ++t) {
         const auto s = static_cast<std::size_t>(r0 + i);
         for (std::size_t k = 0; k < P; ++k) poses[(s * L + t) * P + k] = g.frames[t].value()(i, static_cast<Eigen::Index>(k));
-        for (std::size_t k = 0; k < Z; ++k) latents[(s * L + t) * Z + k] = g.latents[t].value()(i, static_cast<Eigen::Index>(k));
+        if (!g.latents.empty())
+          for (std::size_t k = 0; k < Z; ++k) latents[(s * L + t) * Z + k] = g.latents[t].value()(i, static_cast<Eigen::Index>(k));
       }
   }
 }
@@ -157,6 +158,8 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
     io::write_header(f, "skeleton", {m.history});
     io::write_skeleton_data(f, s);
   }
+  if (!opt.latents.empty() && m.config.generator == "pose")
+    throw UsageError("the direct-pose baseline has no latent trajectories (--latents)");
   if (!opt.latents.empty()) write_latents(opt.latents, names, latents, length, m.config.latent);
   out.commit();
   log::info("wrote {}: {} sequences of {} frames", opt.output, names.size(), length);

@@ -45,6 +45,7 @@ void write_config(h5::File& f, const ActganModel& m) {
   f.set_attr("/config", "hidden", c.hidden);
   f.set_attr("/config", "fc", c.fc);
   f.set_attr("/config", "residual", static_cast<int>(c.residual));
+  f.set_attr("/config", "generator", c.generator);
   f.set_attr("/config", "smoothness", c.smoothness);
   f.set_attr("/config", "sigma1", c.sigma1);
   f.set_attr("/config", "sigma2", c.sigma2);
@@ -78,6 +79,7 @@ void read_config(const h5::File& f, ActganModel& m) {
   c.hidden = i("hidden");
   c.fc = i("fc");
   c.residual = i("residual") != 0;
+  c.generator = f.has_attr("/config", "generator") ? f.attr_string("/config", "generator") : "latent";
   c.smoothness = f.attr_string("/config", "smoothness");
   c.sigma1 = d("sigma1");
   c.sigma2 = d("sigma2");

@@ -9,13 +9,20 @@ using nn::Activation;
 
 template <class T>
 ActganGenerator<T>::ActganGenerator(const ActganConfig& c, Rng& rng) : config_(c) {
+  if (c.generator != "latent" && c.generator != "pose")
+    throw UsageError("the generator must be 'latent' or 'pose'");
   lstm_ = nn::LstmCell<T>(store_, "gen.lstm", c.noise + c.classes, c.hidden, rng);
+  if (c.generator == "pose") {
+    to_latent_ = nn::Linear<T>(store_, "gen.to_pose", c.hidden, c.pose, rng);
+    return;
+  }
   to_latent_ = nn::Linear<T>(store_, "gen.to_latent", c.hidden, c.latent, rng);
   decoder_ = nn::Mlp<T>(store_, "gen.decoder", {c.latent + c.classes, c.fc, c.pose}, Activation::relu, rng);
 }
 
 template <class T>
 nn::Var<T> ActganGenerator<T>::decode(const nn::Bound<T>& p, Var h, Var y) const {
+  if (config_.generator == "pose") throw Error("internal: the pose baseline has no decoder");
   return decoder_(p, nn::concat_cols<T>({h, y}));
 }
 
@@ -27,6 +34,13 @@ GeneratedSequences<T> ActganGenerator<T>::generate(const nn::Bound<T>& p, Var y,
   nn::LstmState<T> s{tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden)),
                      tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden))};
   GeneratedSequences<T> g;
+  if (config_.generator == "pose") {
+    for (const Var& xi : noise) {
+      s = lstm_(p, nn::concat_cols<T>({xi, y}), s);
+      g.frames.push_back(to_latent_(p, s.h));
+    }
+    return g;
+  }
   Var h = h1;
   g.latents.push_back(h);
   g.frames.push_back(decode(p, h, y));
@@ -75,7 +89,7 @@ template <class T>
 GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, int length, Rng& rng) {
   GeneratorNoise<T> g{nn::Matrix<T>(n, c.latent), {}};
   for (Eigen::Index k = 0; k < g.h1.size(); ++k) g.h1.data()[k] = static_cast<T>(rng.uniform(-1, 1));
-  for (int t = 1; t < length; ++t) {
+  for (int t = c.generator == "pose" ? 0 : 1; t < length; ++t) {
     nn::Matrix<T> m(n, c.noise);
     for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<T>(rng.normal());
     g.xi.push_back(std::move(m));
@@ -102,7 +116,7 @@ template <class T>
 nn::Var<T> smoothness(const ActganConfig& c, const GeneratedSequences<T>& g) {
   nn::Tape<T>& tape = *g.frames.front().tape;
   const T per_sequence = T(1) / static_cast<T>(g.frames.front().rows());
-  const bool latent = c.smoothness == "both" || c.smoothness == "latent";
+  const bool latent = (c.smoothness == "both" || c.smoothness == "latent") && !g.latents.empty();
   const bool action = c.smoothness == "both" || c.smoothness == "action";
   nn::Var<T> total = tape.constant(nn::Matrix<T>::Zero(1, 1));
   for (std::size_t t = 1; t < g.frames.size(); ++t) {

@@ -8,6 +8,8 @@
 //                  [B, 2H] -> MLP [2H, FC, 1] (a logit)
 //   classifier     the same over x_t -> MLP [2H, FC, C] (logits)
 //   critic         MLP [P + C, FC, 1] on single frames (the decoder's WGAN-GP pre-training)
+// and the baseline a reviewer asks for (generator "pose"): the same LSTM over (xi_t, y) whose
+// output is the pose itself, x_t = FC(o_t) [B, P]: no latent transitions, no shared decoder.
 // Each has its own parameter store (and optimizer): a step of one never moves another's weights.
 #pragma once
 
@@ -27,6 +29,8 @@ struct ActganConfig {
   int latent = 12;    ///< h_t
   int hidden = 256;   ///< LSTM hidden size (generator, discriminator, classifier)
   int fc = 1024;      ///< hidden layer of the decoder, the heads and the critic
+  /// "latent": the paper's generator; "pose": the direct-pose RNN baseline (no decoder)
+  std::string generator = "latent";
   bool residual = true;  ///< h_{t+1} = h_t + v_t; false: the direct latent of paper Table 6
   /// Omega = sigma1 sum |h_t - h_{t-1}|^2 + sigma2 sum |x_t - x_{t-1}|^2 per sequence; which
   /// terms: "both", "latent", "action" or "none" (paper Table 5)
@@ -52,7 +56,8 @@ class ActganGenerator {
   const nn::ParameterStore<T>& store() const { return store_; }
   /// x = Dec(h, y): [B, Z], [B, C] -> [B, P].
   Var decode(const nn::Bound<T>& p, Var h, Var y) const;
-  /// T frames from h_1 [B, Z] and noise xi_1..xi_{T-1} [B, noise] (constants) for labels y.
+  /// T frames from h_1 [B, Z] and noise xi_1..xi_{T-1} [B, noise] (constants) for labels y;
+  /// the pose baseline ignores h_1 and takes T noise steps (latents stay empty).
   GeneratedSequences<T> generate(const nn::Bound<T>& p, Var y, Var h1,
                                  const std::vector<Var>& noise) const;
   /// Parameter indices of the decoder (pre-trained alone).
@@ -102,7 +107,8 @@ class FrameCritic {
 };
 
 /// The generator's random inputs for n sequences of `length` frames: h_1 ~ U(-1, 1) [n, Z] and
-/// xi_1..xi_{length-1} ~ N(0, I) [n, noise], drawn from rng in this order.
+/// xi_1..xi_{length-1} ~ N(0, I) [n, noise] (length steps for the pose baseline), drawn from rng
+/// in this order.
 template <class T>
 struct GeneratorNoise {
   nn::Matrix<T> h1;

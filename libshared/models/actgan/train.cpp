@@ -26,6 +26,8 @@ void check_options(const ActganTrainOptions& opt) {
         "at least 1, learning rates positive");
   if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
+  if (c.generator == "pose" && t.pretrain_iterations > 0)
+    throw UsageError("the direct-pose baseline (--generator pose) has no decoder to pre-train: use --pretrain-iterations 0");
   if (opt.print_every < 1 || opt.checkpoint_every < 0)
     throw UsageError("--print-every must be positive, --checkpoint-every not negative");
 }
@@ -40,6 +42,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("hidden", a.hidden, b.hidden);
   differs("fc", a.fc, b.fc);
   differs("direct-latent", !a.residual, !b.residual);
+  differs("generator", a.generator, b.generator);
   differs("smoothness", a.smoothness, b.smoothness);
   differs("sigma1", a.sigma1, b.sigma1);
   differs("sigma2", a.sigma2, b.sigma2);

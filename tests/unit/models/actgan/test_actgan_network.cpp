@@ -70,6 +70,22 @@ TEST_CASE("ActGAN: generator frames and smoothness, residual and direct latent",
       CHECK(r.max_error <= 1e-6);
     }
   }
+  // the direct-pose baseline: T noise steps, the LSTM's output through one FC is the pose
+  ActganConfig pc = tiny();
+  pc.generator = "pose";
+  Rng prng(1);
+  ActganGenerator<double> pg(pc, prng);
+  GenInputs pin;
+  pin.noise.push_back(random(2, 3, 11));
+  auto pr = nn::gradient_check(
+      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
+        const auto s = pin.run(pg, t, nn::Bound<double>{x});
+        return nn::add(nn::sum_squares(nn::concat_rows<double>(s.frames)), smoothness(pc, s));
+      },
+      values(pg.store()));
+  INFO("pose baseline\n" << pr.report);
+  CHECK(pr.max_error <= 1e-6);
+  CHECK(pg.store().find("gen.decoder.0.weight") < 0);
   // residual: h_{t+1} - h_t is the LSTM's output; h_1 is the given start
   ActganConfig c = tiny();
   Rng rng(1);
