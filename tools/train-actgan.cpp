@@ -69,6 +69,10 @@ int main(int argc, char** argv) {
   g->add_option("--lr", opt.training.lr, "Adam learning rate of the GAN")->default_val(opt.training.lr);
   g->add_option("--lr-pretrain", opt.training.lr_pretrain, "Adam learning rate of the pre-training")
       ->default_val(opt.training.lr_pretrain);
+  g->add_flag("--classifier-only", opt.training.classifier_only,
+              "Train only the classifier, on the real clips (the paper's Baseline_T/G; with\n"
+              "--pretrain-iterations 0): classify-actions then compares it with the classifier\n"
+              "trained inside the GAN");
   g->add_option("--print-every", opt.print_every, "Iterations per loss line")->default_val(opt.print_every);
   g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt, removed at the end)");
   g->add_option("--checkpoint-every", opt.checkpoint_every, "Iterations between checkpoints (0 = none)")

@@ -62,6 +62,7 @@ void write_config(h5::File& f, const ActganModel& m) {
   f.set_attr("/config", "g_steps", t.g_steps);
   f.set_attr("/config", "lr", t.lr);
   f.set_attr("/config", "lr_pretrain", t.lr_pretrain);
+  f.set_attr("/config", "classifier_only", static_cast<int>(t.classifier_only));
   f.set_attr("/config", "seed", fmt::format("{}", t.seed));
   f.set_attr("/config", "frame_rate", m.frame_rate);
   f.set_attr("/config", "length", m.length);
@@ -96,6 +97,7 @@ void read_config(const h5::File& f, ActganModel& m) {
   t.g_steps = i("g_steps");
   t.lr = d("lr");
   t.lr_pretrain = d("lr_pretrain");
+  t.classifier_only = f.has_attr("/config", "classifier_only") && i("classifier_only") != 0;
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   m.frame_rate = d("frame_rate");
   m.length = i("length");

@@ -26,6 +26,9 @@ struct ActganTraining {
   int d_steps = 1;                          ///< discriminator steps per iteration (k)
   int g_steps = 2;                          ///< generator + classifier steps per iteration
   double lr = 1e-4, lr_pretrain = 1e-3;     ///< Adam, betas 0.5 / 0.9
+  /// Train only the classifier, on the real clips (the paper's Baseline_T/G: a classifier
+  /// trained alone, to compare with the one trained inside the bi-directional GAN)
+  bool classifier_only = false;
   std::uint64_t seed = 1;
 };
 

@@ -28,6 +28,8 @@ void check_options(const ActganTrainOptions& opt) {
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
   if (c.generator == "pose" && t.pretrain_iterations > 0)
     throw UsageError("the direct-pose baseline (--generator pose) has no decoder to pre-train: use --pretrain-iterations 0");
+  if (t.classifier_only && (t.pretrain_iterations > 0 || !c.classifier))
+    throw UsageError("--classifier-only trains the classifier alone: use --pretrain-iterations 0, not --no-classifier");
   if (opt.print_every < 1 || opt.checkpoint_every < 0)
     throw UsageError("--print-every must be positive, --checkpoint-every not negative");
 }
@@ -59,6 +61,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("lr", s.lr, t.lr);
   differs("lr-pretrain", s.lr_pretrain, t.lr_pretrain);
   differs("seed", s.seed, t.seed);
+  differs("classifier-only", s.classifier_only, t.classifier_only);
   differs("length", ck.length, want.length);
   if (ck.class_names != want.class_names) throw InvalidInput("checkpoint was trained on other classes", path);
 }
@@ -151,7 +154,31 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
   return {mean_value(loss), critic_loss, wasserstein, 0, 0, gp};
 }
 
+namespace {
+
+// The classifier alone on real clips (Baseline_T/G): g_steps cross-entropy updates.
+LossTerms classifier_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
+  std::vector<Matrix> real;
+  std::vector<int> labels;
+  double ce = 0;
+  for (int k = 0; k < m.training.g_steps; ++k) {
+    draw_clips(d, m.training.batch, m.rng, real, labels);
+    tape.clear();
+    m.cls->store().zero_grad();
+    const auto pc = m.cls->store().bind(tape);
+    const Var loss = nn::softmax_cross_entropy((*m.cls)(pc, constants(tape, real)), labels);
+    tape.backward(loss);
+    m.cls->store().collect(pc);
+    m.adam.cls->step(m.cls->store().values(), m.cls->store().grads());
+    ce += mean_value(loss) / m.training.g_steps;
+  }
+  return {ce, 0, 0, 0, ce, 0};
+}
+
+}  // namespace
+
 LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
+  if (m.training.classifier_only) return classifier_iteration(m, d, tape);
   const auto& tr = m.training;
   const auto& c = m.config;
   const int n = tr.batch;
