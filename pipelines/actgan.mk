@@ -1,0 +1,137 @@
+# ActGAN experiments (paper 3: Wang et al., "Learning Diverse Stochastic Human-Action Generators
+# by Learning Smooth Latent Transitions"), on the data we have:
+#   make -f Makefile.data actgan [DATA=../shared/data] [OUT=out] [AG_SETS="synthetic"] [-j2]
+# Per data set S (synthetic: synth-actions, 5 classes, 6 simulated subjects, subjects 5 and 6
+# held out; utkinect: UTKinect-Action3D from DATA, 10 classes, subjects 2, 4, 6, 8, 10 held out):
+#   $(AG)/S/mmd.md        MMD_avg and MMD_seq of 100 generated sequences per class against the
+#                         real test clips: ours, the direct-pose RNN baseline, and the ablations of
+#                         paper Tables 5-6 (smoothness none / latent only / action only, direct
+#                         latent, no classifier)
+#   $(AG)/S/accuracy.md   per class, how often a classifier recognises real test clips and
+#                         generated sequences: ours (trained inside the GAN) and a classifier
+#                         trained alone on the real clips (paper Table 2's Baseline_T/G)
+#   $(AG)/S/mixed.png     sequences generated for a mixture of two classes (+ mixed.md: the
+#                         classifier's probabilities)
+#   $(AG)/S/latent.png    2-D latent trajectories of a model with --latent 2, per class (Fig. 3)
+#   $(AG)/S/generated.png one generated sequence per class, stick figures
+#   $(AG)/S/curve.png     the loss terms over training
+# Training times on 2 cores are in the README (ActGAN section). AG_PRETRAIN / AG_ITERATIONS set
+# the iteration counts and AG_OPTIONS adds options to every model (a smoke run:
+# AG_PRETRAIN=10 AG_ITERATIONS=10 AG_OPTIONS="--hidden 16 --fc 32 --batch 8" AG_COUNT=10).
+AG := $(OUT)/actgan
+HAVE_UTK := $(wildcard $(DATA)/skeleton/UTKinect.tar.zst)
+AG_SETS ?= synthetic $(if $(HAVE_UTK),utkinect)
+AG_PRETRAIN ?= 1000
+AG_ITERATIONS ?= 2000
+AG_OPTIONS ?=
+AG_COUNT ?= 100
+AG_VARIANTS := pose no-smooth latent-only action-only direct no-cls
+pose_AG := --generator pose
+no-smooth_AG := --smoothness none
+latent-only_AG := --smoothness latent
+action-only_AG := --smoothness action
+direct_AG := --direct-latent
+no-cls_AG := --no-classifier
+latent2_AG := --latent 2
+cls-alone_AG := --classifier-only
+# $(call ag_train,VARIANT): a model's training options (no pre-training without a decoder to train)
+ag_train = --pretrain-iterations $(if $(filter pose cls-alone,$(1)),0,$(AG_PRETRAIN)) \
+  --iterations $(AG_ITERATIONS) $(AG_OPTIONS) $(if $(1),$($(1)_AG))
+synthetic_MIX := walk:0.5,wave:0.5
+utkinect_MIX := walk:0.5,waveHands:0.5
+AG_LABEL_pose := direct-pose RNN baseline (no latent transitions, no decoder)
+AG_LABEL_no-smooth := ours, no smoothness (Table 5)
+AG_LABEL_latent-only := ours, smoothness on latents only (Table 5)
+AG_LABEL_action-only := ours, smoothness on poses only (Table 5)
+AG_LABEL_direct := ours, direct latent (Table 6)
+AG_LABEL_no-cls := ours, no classifier (Table 2 ablation)
+
+.PHONY: actgan
+actgan: $(foreach s,$(AG_SETS),$(AG)/$(s)/mmd.md $(AG)/$(s)/accuracy.md $(AG)/$(s)/mixed.png \
+          $(AG)/$(s)/latent.png $(AG)/$(s)/generated.png $(AG)/$(s)/curve.png)
+	@for s in $(AG_SETS); do \
+	  echo; echo "=== $$s"; cat $(AG)/$$s/mmd.md; echo; cat $(AG)/$$s/accuracy.md; echo; cat $(AG)/$$s/mixed.md; \
+	  echo; echo "pictures: $(AG)/$$s/generated.png, mixed.png, latent.png, curve.png"; \
+	done
+
+# --- data: equal-length normalized clips with a subject split
+$(AG)/synthetic/data.h5:
+	@mkdir -p $(@D)
+	$(BIN)/synth-actions -q -f --per-class 60 --frames 60 --subjects 6 --seed 1 -o $(@D)/raw.h5
+	$(BIN)/skel2h5 -q -f $(@D)/raw.h5 --length 30 --clip-stride 10 --test-subjects 5,6 -o $@
+$(AG)/utkinect/src/.unpacked: $(DATA)/skeleton/UTKinect.tar.zst
+	@mkdir -p $(@D)
+	tar --zstd -xf $< -C $(@D)
+	touch $@
+$(AG)/utkinect/data.h5: $(AG)/utkinect/src/.unpacked
+	$(BIN)/skel2h5 -q -f $(AG)/utkinect/src/UTKinect/joints --fps 15 --length 20 --clip-stride 5 \
+	  --test-subjects 2,4,6,8,10 -o $@
+
+# --- models: ours, the variants, a 2-D latent model for the plot, the classifier alone
+$(AG)/%/model.h5: $(AG)/%/data.h5
+	$(call launch,train) $(BIN)/train-actgan -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
+	  $(call ag_train,) $< -o $@ 2>&1 | tee $(@:.h5=.log)
+define AG_VARIANT_RULES
+$(AG)/%/model-$(1).h5: $(AG)/%/data.h5
+	$$(call launch,train) $$(BIN)/train-actgan -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
+	  $$(call ag_train,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+endef
+$(foreach v,$(AG_VARIANTS) latent2 cls-alone,$(eval $(call AG_VARIANT_RULES,$(v))))
+
+# --- generation and measures
+$(AG)/%/gen.h5: $(AG)/%/model.h5
+	$(call launch,generate) $(BIN)/gen-actgan -q -f --count $(AG_COUNT) --seed 7 $< -o $@
+define AG_GEN_RULES
+$(AG)/%/gen-$(1).h5: $(AG)/%/model-$(1).h5
+	$$(call launch,generate) $$(BIN)/gen-actgan -q -f --count $$(AG_COUNT) --seed 7 $$< -o $$@
+endef
+$(foreach v,$(AG_VARIANTS),$(eval $(call AG_GEN_RULES,$(v))))
+$(AG)/%.mmd.json: $(AG)/%.h5
+	$(call launch,eval) $(BIN)/eval-metrics -q $< $(dir $<)data.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
+ag_mmd = sed -n 's/^  "mmd_$(2)": \([^,]*\),*$$/\1/p' $(1) | awk '{ printf "%.4f", $$1 }'
+$(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json)
+	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6)"; echo; \
+	  echo "| model | MMD_avg | MMD_seq |"; echo "|---|---:|---:|"; \
+	  echo "| ours (residual latent, smoothness on both, classifier) | $$($(call ag_mmd,$<,avg)) | $$($(call ag_mmd,$<,seq)) |"; \
+	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.mmd.json; \
+	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
+	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; esac; \
+	    echo "| $$l | $$($(call ag_mmd,$$f,avg)) | $$($(call ag_mmd,$$f,seq)) |"; done; \
+	} $(write_if_changed)
+ag_acc = sed -n "s/^$(2) *[0-9]* *[0-9]* *\([0-9.]*\)\$$/\1/p" $(1)
+$(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 $(AG)/%/data.h5
+	$(BIN)/classify-actions $(AG)/$*/model.h5 $(AG)/$*/data.h5 > $(AG)/$*/acc-ours-real.txt
+	$(BIN)/classify-actions $(AG)/$*/model.h5 $(AG)/$*/gen.h5 > $(AG)/$*/acc-ours-gen.txt
+	$(BIN)/classify-actions $(AG)/$*/model-cls-alone.h5 $(AG)/$*/data.h5 > $(AG)/$*/acc-alone-real.txt
+	$(BIN)/classify-actions $(AG)/$*/model-cls-alone.h5 $(AG)/$*/gen.h5 > $(AG)/$*/acc-alone-gen.txt
+	{ echo "$* — classification accuracy per class (paper Table 2): real test clips (T) and our generated sequences (G)"; echo; \
+	  echo "| class | Baseline_T | Baseline_G | Ours_T | Ours_G |"; echo "|---|---:|---:|---:|---:|"; \
+	  for c in $$(h5dump -d /classes/names -y -w 0 $(AG)/$*/data.h5 | sed -n '/DATA {/,/}/p' | grep -o '"[^"]*"' | tr -d '"') all; do \
+	    echo "| $$c | $$($(call ag_acc,$(AG)/$*/acc-alone-real.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-alone-gen.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-ours-real.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-ours-gen.txt,$$c)) |"; \
+	  done; } $(write_if_changed)
+
+# --- pictures
+$(AG)/%/generated.png: $(AG)/%/gen.h5
+	$(BIN)/render-mesh -q -f $< $$(h5dump -d /classes/names -y -w 0 $< | sed -n '/DATA {/,/}/p' | grep -o '"[^"]*"' | tr -d '"' | sed 's/.*/--sequence &~0/') \
+	  --every 3 --size 100 --view 30,10 --title "$*: one generated sequence per class (every 3rd frame)" -o $@
+$(AG)/%/mixed.png: $(AG)/%/model.h5
+	$(BIN)/gen-actgan -q -f --mix $($*_MIX) --count 3 --seed 8 $< -o $(AG)/$*/mixed.h5
+	$(BIN)/classify-actions --probabilities $< $(AG)/$*/mixed.h5 | sed -n '/^sequence/,$$p' > $(AG)/$*/mixed.md
+	$(BIN)/render-mesh -q -f $(AG)/$*/mixed.h5 --every 3 --size 100 --view 30,10 \
+	  --title "$*: generated for the mixture $($*_MIX)" -o $@
+$(AG)/%/latent.png: $(AG)/%/model-latent2.h5
+	$(BIN)/gen-actgan -q -f --count 5 --seed 9 --latents $(AG)/$*/latent.tsv $< -o $(AG)/$*/latent.h5
+	rm -f $(AG)/$*/latent-*.txt
+	awk -F'\t' '/^#/ || !NF { next } { split($$1, a, "~"); f = "$(AG)/$*/latent-" a[1] ".txt"; \
+	  if ($$1 != seen[f]) { if (seen[f] != "") print "" > f; seen[f] = $$1 } print $$3, $$4 > f }' $(AG)/$*/latent.tsv
+	gnuplot -e "set terminal pngcairo size 760,600; set output '$@'; set key outside right; \
+	  set title '$*: 2-D latent trajectories h_t of one model, 5 per class (paper Fig. 3)'; \
+	  files = system('ls $(AG)/$*/latent-*.txt'); \
+	  plot for [f in files] f using 1:2 with lines title system('basename '.f.' .txt | sed s/latent-//')"
+$(AG)/%/curve.png: $(AG)/%/model.h5
+	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+\n-' ' ' | xargs -n 7 > $(@:.png=.txt)
+	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
+	  set title '$*: ActGAN training (pre-training rows: critic loss and Wasserstein estimate)'; set xlabel 'iteration'; \
+	  plot '$(@:.png=.txt)' using 1:3 with lines title 'discriminator / critic loss', \
+	       '' using 1:4 with lines title 'adversarial (G) / Wasserstein estimate', \
+	       '' using 1:5 with lines title 'smoothness', '' using 1:6 with lines title 'cycle (classifier CE)'"
