@@ -73,15 +73,7 @@ int main(int argc, char** argv) {
               "Train only the classifier, on the real clips (the paper's Baseline_T/G; with\n"
               "--pretrain-iterations 0): classify-actions then compares it with the classifier\n"
               "trained inside the GAN");
-  g->add_option("--print-every", opt.print_every, "Iterations per loss line")->default_val(opt.print_every);
-  g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt, removed at the end)");
-  g->add_option("--checkpoint-every", opt.checkpoint_every, "Iterations between checkpoints (0 = none)")
-      ->default_val(opt.checkpoint_every);
-  g->add_flag("--resume", opt.resume,
-              "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
-              "uninterrupted run with the same options. SIGTERM or SIGUSR1 (preemption,\n"
-              "Slurm's time-limit warning) stops after the iteration in progress with a\n"
-              "checkpoint and exit status 75; a second SIGTERM kills at once");
+  df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"
       "  train-actgan actions.h5 -o actgan.h5\n"

@@ -52,18 +52,7 @@ int main(int argc, char** argv) {
                 "Raise the KL weight linearly from 0 to 1 over N iterations (0 = the paper: 1\n"
                 "throughout); counters the latent collapsing to the prior")
       ->default_val(opt.training.kl_warmup);
-  g->add_option("--print-every", opt.print_every, "Iterations between loss lines (and log rows)")
-      ->default_val(opt.print_every);
-  g->add_option("--checkpoint", opt.checkpoint, "Checkpoint file (default OUTPUT.ckpt, removed at the end; a file named\n"
-                "here is kept). Any bdlstm-model file is a checkpoint");
-  g->add_option("--checkpoint-every", opt.checkpoint_every,
-                "Iterations between checkpoints, taken at the next loss line (0 = none)")
-      ->default_val(opt.checkpoint_every);
-  g->add_flag("--resume", opt.resume,
-              "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
-              "uninterrupted run with the same options. SIGTERM or SIGUSR1 (preemption,\n"
-              "Slurm's time-limit warning) stops after the iteration in progress with a\n"
-              "checkpoint and exit status 75; a second SIGTERM kills at once");
+  df::models::add_training_run_options(*g, opt.run);
   auto* n = app.add_option_group("Network (ablations: paper Table 2)");
   n->add_option("--directions", directions,
                 "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"

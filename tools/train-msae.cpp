@@ -97,19 +97,7 @@ int main(int argc, char** argv) {
        "error is logged at every loss line. Choose iteration counts and options on it, never on\n"
        "the test shapes")
       ->default_val(opt.training.validation_fraction);
-  g->add_option("--print-every", opt.print_every, "Iterations between loss lines (and log rows)")
-      ->default_val(opt.print_every);
-  g->add_option(
-      "--checkpoint", opt.checkpoint,
-      "Checkpoint file (default OUTPUT.ckpt, removed at the end; a file named here is kept)");
-  g->add_option("--checkpoint-every", opt.checkpoint_every,
-                "Iterations between checkpoints (0 = none)")
-      ->default_val(opt.checkpoint_every);
-  g->add_flag("--resume", opt.resume,
-              "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
-              "uninterrupted run with the same options. SIGTERM or SIGUSR1 (preemption,\n"
-              "Slurm's time-limit warning) stops after the iteration in progress with a\n"
-              "checkpoint and exit status 75; a second SIGTERM kills at once");
+  df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"
       "  train-msae bumps.h5 -o bumps-msae.h5\n"

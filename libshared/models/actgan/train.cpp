@@ -30,8 +30,7 @@ void check_options(const ActganTrainOptions& opt) {
     throw UsageError("the direct-pose baseline (--generator pose) has no decoder to pre-train: use --pretrain-iterations 0");
   if (t.classifier_only && (t.pretrain_iterations > 0 || !c.classifier))
     throw UsageError("--classifier-only trains the classifier alone: use --pretrain-iterations 0, not --no-classifier");
-  if (opt.print_every < 1 || opt.checkpoint_every < 0)
-    throw UsageError("--print-every must be positive, --checkpoint-every not negative");
+  opt.run.check();
 }
 
 void check_resumable(const ActganModel& ck, const ActganModel& want, const std::string& path) {
@@ -289,8 +288,8 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   const io::SkeletonFile s = io::read_skeleton_file(opt.input);
   const ActionClips clips = training_clips(s, opt.input);
   ActganModel m = describe_model(opt, s, clips);
-  const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
-  if (opt.resume && std::filesystem::exists(ckpt)) {
+  const std::string ckpt = opt.run.checkpoint_path(opt.output);
+  if (opt.run.resume && std::filesystem::exists(ckpt)) {
     ActganModel ck = load_actgan_model(ckpt);
     check_resumable(ck, m, ckpt);
     m.gen = std::move(ck.gen);  // the state; the settings (and --iterations) are this run's
@@ -321,13 +320,10 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   };
   auto checkpoint = [&] { save_actgan_model(ckpt, m, {opt.input}, true); };
   std::vector<std::string> names(ActganModel::log_columns().begin() + 1, ActganModel::log_columns().end());
-  run_training_loop({total, opt.print_every, opt.checkpoint_every, ckpt}, names, m.iteration, m.log, m.unprinted,
+  run_training_loop({total, opt.run.print_every, opt.run.checkpoint_every, ckpt}, names, m.iteration, m.log, m.unprinted,
                     step, checkpoint);
   save_actgan_model(opt.output, m, {opt.input}, common.force);
-  if (opt.checkpoint.empty()) {
-    std::error_code ec;
-    std::filesystem::remove(ckpt, ec);
-  }
+  opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);
 }
 

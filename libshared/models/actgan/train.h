@@ -15,10 +15,7 @@ namespace df::models {
 
 struct ActganTrainOptions {
   std::string input, output;
-  std::string checkpoint;      ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
-  int checkpoint_every = 500;  ///< iterations between checkpoints (0 = none)
-  bool resume = false;
-  int print_every = 100;
+  TrainingRun run;  ///< checkpoints, --resume, loss lines
   ActganConfig net;
   ActganTraining training;
 };

@@ -123,10 +123,9 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (opt.training.window < 2) throw UsageError("--window must be at least 2");
   if (opt.training.batch < 1 || opt.training.stride < 1 || opt.training.iterations < 0)
     throw UsageError("--batch and --stride must be positive, --iterations not negative");
-  if (opt.print_every < 1) throw UsageError("--print-every must be positive");
+  opt.run.check();
   if (opt.training.teacher_frames < 1 || opt.training.teacher_frames >= opt.training.window)
     throw UsageError("--teacher-frames must be at least 1 and smaller than --window");
-  if (opt.checkpoint_every < 0) throw UsageError("--checkpoint-every must not be negative");
   if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
 
   check_training_output(opt.output, opt.input, common.force);
@@ -171,8 +170,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
         opt.input);
   }
 
-  const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
-  if (opt.resume && std::filesystem::exists(ckpt)) {
+  const std::string ckpt = opt.run.checkpoint_path(opt.output);
+  if (opt.run.resume && std::filesystem::exists(ckpt)) {
     BdlstmModel ck = load_bdlstm_model(ckpt);
     check_resumable(ck, m, ckpt);
     m.net = std::move(ck.net);
@@ -235,14 +234,11 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     save_bdlstm_model(ckpt, m, {opt.input}, true);
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
-  run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every, ckpt},
+  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt},
                     {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, m.unprinted, step,
                     checkpoint);
   save_bdlstm_model(opt.output, m, {opt.input}, common.force);
-  if (opt.checkpoint.empty()) {  // our own OUTPUT.ckpt; a checkpoint the user named is theirs
-    std::error_code ec;
-    std::filesystem::remove(ckpt, ec);
-  }
+  opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);
 }
 

@@ -9,15 +9,13 @@
 
 #include "core/tool.h"
 #include "models/bdlstm/model.h"
+#include "models/common/training.h"
 
 namespace df::models {
 
 struct BdlstmTrainOptions {
   std::string input, output;
-  std::string checkpoint;      ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
-  int checkpoint_every = 500;  ///< iterations between checkpoints (0 = none)
-  bool resume = false;         ///< continue from the checkpoint when it exists
-  int print_every = 100;       ///< iterations between loss lines (and training-log rows)
+  TrainingRun run;  ///< checkpoints, --resume, loss lines
   BdlstmConfig net;
   BdlstmTraining training;
 };

@@ -1,5 +1,7 @@
 #include "models/common/training.h"
 
+#include <CLI/CLI.hpp>
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -107,6 +109,37 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
                                 sigabbrev_np(sig), done, loop.iterations, loop.checkpoint_path));
     }
   }
+}
+
+std::string TrainingRun::checkpoint_path(const std::string& output) const {
+  return checkpoint.empty() ? output + ".ckpt" : checkpoint;
+}
+
+void TrainingRun::check() const {
+  if (print_every < 1) throw UsageError("--print-every must be positive");
+  if (checkpoint_every < 0) throw UsageError("--checkpoint-every must not be negative");
+}
+
+void TrainingRun::finish(const std::string& output) const {
+  if (!checkpoint.empty()) return;
+  std::error_code ec;
+  std::filesystem::remove(checkpoint_path(output), ec);
+}
+
+void add_training_run_options(CLI::Option_group& g, TrainingRun& run) {
+  g.add_option("--print-every", run.print_every, "Iterations between loss lines (and log rows)")
+      ->default_val(run.print_every);
+  g.add_option("--checkpoint", run.checkpoint,
+               "Checkpoint file (default OUTPUT.ckpt, removed at the end; a file named here is\n"
+               "kept). Any model file of this tool is a checkpoint");
+  g.add_option("--checkpoint-every", run.checkpoint_every,
+               "Iterations between checkpoints, taken at the next loss line (0 = none)")
+      ->default_val(run.checkpoint_every);
+  g.add_flag("--resume", run.resume,
+             "Continue from the checkpoint if it exists; the result is bit-identical to an\n"
+             "uninterrupted run with the same options. SIGTERM or SIGUSR1 (preemption,\n"
+             "Slurm's time-limit warning) stops after the iteration in progress with a\n"
+             "checkpoint and exit status 75; a second SIGTERM kills at once");
 }
 
 void check_training_output(const std::string& output, const std::string& input, bool force) {

@@ -13,6 +13,10 @@
 
 #include "core/error.h"
 
+namespace CLI {
+class Option_group;
+}
+
 namespace df::models {
 
 struct TrainingLoop {
@@ -21,6 +25,23 @@ struct TrainingLoop {
   int checkpoint_every = 0;     ///< 0 = no checkpoints during the run
   std::string checkpoint_path;  ///< where checkpoint() writes (for messages)
 };
+
+/// What every trainer's run shares: where and how often it checkpoints, --resume, loss lines.
+struct TrainingRun {
+  std::string checkpoint;      ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
+  int checkpoint_every = 500;  ///< iterations between checkpoints (0 = none)
+  bool resume = false;         ///< continue from the checkpoint when it exists
+  int print_every = 100;       ///< iterations per loss line and log row
+  /// The checkpoint file of a run that writes `output`.
+  std::string checkpoint_path(const std::string& output) const;
+  /// UsageError for a non-positive print_every or a negative checkpoint_every.
+  void check() const;
+  /// After the final model is written: removes our own OUTPUT.ckpt (one the user named is kept).
+  void finish(const std::string& output) const;
+};
+
+/// Declares --print-every, --checkpoint, --checkpoint-every and --resume on a trainer's options.
+void add_training_run_options(CLI::Option_group& group, TrainingRun& run);
 
 /// Loss terms of one iteration; the first is the total that was minimised.
 using LossTerms = std::vector<double>;

@@ -31,8 +31,7 @@ void check_options(const MsaeTrainOptions& opt) {
     throw UsageError("--train-fraction must be in (0, 1)");
   if (!(t.validation_fraction >= 0 && t.validation_fraction < 1))
     throw UsageError("--validation-fraction must be in [0, 1)");
-  if (opt.print_every < 1 || opt.checkpoint_every < 0)
-    throw UsageError("--print-every must be positive, --checkpoint-every not negative");
+  opt.run.check();
   if (opt.net.kz.size() != opt.net.d.size())
     throw UsageError("--kz and --d need one value per level");
   for (double d : opt.net.d)
@@ -309,8 +308,8 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   if (!in.exists("/features/normalized"))
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
   MsaeModel m = describe_model(opt, common, in);
-  const std::string ckpt = opt.checkpoint.empty() ? opt.output + ".ckpt" : opt.checkpoint;
-  const auto geodesic = restore_or_initialize(m, opt.resume, ckpt);
+  const std::string ckpt = opt.run.checkpoint_path(opt.output);
+  const auto geodesic = restore_or_initialize(m, opt.run.resume, ckpt);
   if (m.iteration > m.training.iterations)
     throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}",
                                  m.iteration, m.training.iterations));
@@ -361,16 +360,13 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   std::function<LossTerms()> evaluate;
   if (validation.rows() > 0)
     evaluate = [&]() -> LossTerms { return {reconstruction_error(*m.net, validation)}; };
-  run_training_loop({m.training.iterations, opt.print_every, opt.checkpoint_every, ckpt},
+  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt},
                     {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, m.unprinted, step,
                     checkpoint,
                     {"validation"}, evaluate);
   remember_geodesics(m, *geodesic);
   save_msae_model(opt.output, m, {opt.input}, common.force);
-  if (opt.checkpoint.empty()) {
-    std::error_code ec;
-    std::filesystem::remove(ckpt, ec);
-  }
+  opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);
 }
 

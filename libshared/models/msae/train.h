@@ -10,16 +10,14 @@
 
 #include "core/tool.h"
 #include "models/msae/model.h"
+#include "models/common/training.h"
 
 namespace df::models {
 
 struct MsaeTrainOptions {
   std::string input, output;
   std::string train_list, test_list;  ///< explicit split: files of frame names or indices
-  std::string checkpoint;      ///< "" = OUTPUT.ckpt (removed after success; a named one is kept)
-  int checkpoint_every = 500;  ///< iterations between checkpoints (0 = none)
-  bool resume = false;
-  int print_every = 100;
+  TrainingRun run;  ///< checkpoints, --resume, loss lines
   MsaeConfig net;
   MsaeTraining training;
 };
