@@ -68,11 +68,19 @@ $(AG)/utkinect/data.h5: $(AG)/utkinect/src/.unpacked
 	  --test-subjects 2,4,6,8,10 -o $@
 
 # --- models: ours, the variants, a 2-D latent model for the plot, the classifier alone
-$(AG)/%/model.h5: $(AG)/%/data.h5
+# Beside each model its options, rewritten only when they change: a model retrains when its
+# options do (new iteration counts, say), and only then.
+$(AG)/%/model.args: FORCE
+	@mkdir -p $(@D)
+	@echo '$(call ag_train,)' $(write_if_changed)
+$(AG)/%/model.h5: $(AG)/%/data.h5 $(AG)/%/model.args
 	$(call launch,train) $(BIN)/train-actgan -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
 	  $(call ag_train,) $< -o $@ 2>&1 | tee $(@:.h5=.log)
 define AG_VARIANT_RULES
-$(AG)/%/model-$(1).h5: $(AG)/%/data.h5
+$(AG)/%/model-$(1).args: FORCE
+	@mkdir -p $$(@D)
+	@echo '$$(call ag_train,$(1))' $$(write_if_changed)
+$(AG)/%/model-$(1).h5: $(AG)/%/data.h5 $(AG)/%/model-$(1).args
 	$$(call launch,train) $$(BIN)/train-actgan -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
 	  $$(call ag_train,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
 endef
@@ -132,6 +140,6 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+\n-' ' ' | xargs -n 7 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
 	  set title '$*: ActGAN training (pre-training rows: critic loss and Wasserstein estimate)'; set xlabel 'iteration'; \
-	  plot '$(@:.png=.txt)' using 1:3 with lines title 'discriminator / critic loss', \
-	       '' using 1:4 with lines title 'adversarial (G) / Wasserstein estimate', \
-	       '' using 1:5 with lines title 'smoothness', '' using 1:6 with lines title 'cycle (classifier CE)'"
+	  plot '$(@:.png=.txt)' using 1:3 with linespoints title 'discriminator / critic loss', \
+	       '' using 1:4 with linespoints title 'adversarial (G) / Wasserstein estimate', \
+	       '' using 1:5 with linespoints title 'smoothness', '' using 1:6 with linespoints title 'cycle (classifier CE)'"

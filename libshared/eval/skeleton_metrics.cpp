@@ -58,6 +58,36 @@ Distances squared_distances(const RowMatrixF& X, const RowMatrixF& Y) {
   return d;
 }
 
+// The range, sum and sum of squares of D's entries (its strict lower triangle when `lower`) in
+// one pass: rows in fixed blocks, the blocks' results combined in order.
+struct DistanceStats {
+  double min = std::numeric_limits<double>::infinity(), max = 0, sum = 0, sum_squares = 0;
+};
+DistanceStats distance_stats(const RowMatrixF& D, bool lower) {
+  const Eigen::Index N = D.rows(), blocks = (N + kBlock - 1) / kBlock;
+  std::vector<DistanceStats> partial(static_cast<std::size_t>(blocks));
+  tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
+    DistanceStats& st = partial[static_cast<std::size_t>(b)];
+    for (Eigen::Index i = b * kBlock; i < std::min(N, (b + 1) * kBlock); ++i) {
+      const Eigen::Index cols = lower ? i : D.cols();
+      if (cols == 0) continue;
+      const auto row = D.row(i).head(cols);
+      st.min = std::min(st.min, static_cast<double>(row.minCoeff()));
+      st.max = std::max(st.max, static_cast<double>(row.maxCoeff()));
+      st.sum += row.template cast<double>().sum();
+      st.sum_squares += row.template cast<double>().squaredNorm();
+    }
+  });
+  DistanceStats total;
+  for (const auto& p : partial) {
+    total.min = std::min(total.min, p.min);
+    total.max = std::max(total.max, p.max);
+    total.sum += p.sum;
+    total.sum_squares += p.sum_squares;
+  }
+  return total;
+}
+
 // The sum over D's entries (its strict lower triangle when `lower`) of f(row segment): rows in
 // fixed blocks, the blocks' sums added in order.
 template <class F>
@@ -101,14 +131,11 @@ MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y) {
   double dmin = std::numeric_limits<double>::infinity(), dmax = 0;
   std::array<double, 3> s1{}, s2{};
   for (std::size_t c = 0; c < 3; ++c) {
-    const RowMatrixF& M = *D[c];
-    for (Eigen::Index i = lower[c] ? 1 : 0; i < M.rows(); ++i) {
-      const auto row = M.row(i).head(lower[c] ? i : M.cols());
-      dmin = std::min(dmin, static_cast<double>(row.minCoeff()));
-      dmax = std::max(dmax, static_cast<double>(row.maxCoeff()));
-    }
-    s1[c] = sum_rows(M, lower[c], [](const auto& r) { return r.template cast<double>().sum(); });
-    s2[c] = sum_rows(M, lower[c], [](const auto& r) { return r.template cast<double>().squaredNorm(); });
+    const DistanceStats st = distance_stats(*D[c], lower[c]);
+    dmin = std::min(dmin, st.min);
+    dmax = std::max(dmax, st.max);
+    s1[c] = st.sum;
+    s2[c] = st.sum_squares;
   }
   const double m = static_cast<double>(X.rows()), n = static_cast<double>(Y.rows());
   const std::array<double, 3> pairs{m * (m - 1) / 2, n * (n - 1) / 2, m * n};

@@ -13,7 +13,8 @@
 namespace df::models {
 namespace {
 
-std::vector<const nn::ParameterStore<float>*> stores(const ActganModel& m) {
+// Every network's parameters, in the file's order.
+std::vector<nn::ParameterStore<float>*> stores(const ActganModel& m) {
   return {&m.gen->store(), &m.disc->store(), &m.cls->store(), &m.critic->store()};
 }
 
@@ -184,8 +185,7 @@ ActganModel load_actgan_model(const std::string& path) {
   m.initialize();
   const auto names = provenance::history_lines(f.attr_string("/params", "order"));
   std::size_t k = 0;
-  for (const auto* cs : stores(m)) {
-    auto* s = const_cast<nn::ParameterStore<float>*>(cs);
+  for (auto* s : stores(m)) {
     for (std::size_t i = 0; i < s->views().size(); ++i, ++k) {
       const auto& v = s->views()[i];
       if (k >= names.size() || names[k] != v.name)

@@ -72,10 +72,16 @@ void draw_frames(const ActionClips& d, int n, Rng& rng, Matrix& x, std::vector<i
   for (int r = 0; r < n; ++r) {
     const std::size_t clip = rng.below(d.size());
     const std::size_t t = rng.below(static_cast<std::uint64_t>(d.length));
-    x.row(r) = Eigen::Map<const Eigen::RowVectorXf>(
-        d.frames.data() + (clip * static_cast<std::size_t>(d.length) + t) * static_cast<std::size_t>(d.pose), d.pose);
+    x.row(r) = Eigen::Map<const Eigen::RowVectorXf>(d.frame(clip, t), d.pose);
     labels[static_cast<std::size_t>(r)] = d.labels[clip];
   }
+}
+
+// The labels of n random training clips (the classes in their training frequencies).
+std::vector<int> draw_labels(const ActionClips& d, int n, Rng& rng) {
+  std::vector<int> labels(static_cast<std::size_t>(n));
+  for (auto& l : labels) l = d.labels[rng.below(d.size())];
+  return labels;
 }
 
 // Random training clips: frames[t] [n, P] and labels.
@@ -84,10 +90,8 @@ void draw_clips(const ActionClips& d, int n, Rng& rng, std::vector<Matrix>& fram
   labels.resize(static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) {
     const std::size_t clip = rng.below(d.size());
-    for (int t = 0; t < d.length; ++t)
-      frames[static_cast<std::size_t>(t)].row(r) = Eigen::Map<const Eigen::RowVectorXf>(
-          d.frames.data() + (clip * static_cast<std::size_t>(d.length) + static_cast<std::size_t>(t)) * static_cast<std::size_t>(d.pose),
-          d.pose);
+    for (std::size_t t = 0; t < frames.size(); ++t)
+      frames[t].row(r) = Eigen::Map<const Eigen::RowVectorXf>(d.frame(clip, t), d.pose);
     labels[static_cast<std::size_t>(r)] = d.labels[clip];
   }
 }
@@ -138,8 +142,7 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
     wasserstein = mean_value(real_score) - mean_value(fake_score);
     gp = mean_value(penalty);
   }
-  draw_frames(d, n, m.rng, x, labels);  // labels of real frames: the classes' frequencies
-  const Matrix y = one_hot<float>(labels, m.config.classes);
+  const Matrix y = one_hot<float>(draw_labels(d, n, m.rng), m.config.classes);
   for (Eigen::Index i = 0; i < h.size(); ++i) h.data()[i] = static_cast<float>(m.rng.normal());
   tape.clear();
   m.gen->store().zero_grad();

@@ -27,6 +27,10 @@ struct ActionClips {
   std::vector<float> frames;  ///< [clips, length, pose]
   std::vector<int> labels;
   std::size_t size() const { return labels.size(); }
+  /// Frame t of clip c: pose values.
+  const float* frame(std::size_t c, std::size_t t) const {
+    return frames.data() + (c * static_cast<std::size_t>(length) + t) * static_cast<std::size_t>(pose);
+  }
 };
 ActionClips training_clips(const io::SkeletonFile& s, const std::string& path);
 
