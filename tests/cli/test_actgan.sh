@@ -27,7 +27,7 @@ expect_rc 1; expect_one_error_line train-actgan; expect_err "gamma = 0.1"
 echo "ok (threads, resume)"
 
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the
-# tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.26 and 1.0 -> 0.45)
+# tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.27 and 1.0 -> 0.47)
 train-actgan -q "${tiny[@]}" --pretrain-iterations 0 --iterations 1 clips.h5 -o untrained.h5
 train-actgan -q "${tiny[@]}" --pretrain-iterations 300 --iterations 300 clips.h5 -o trained.h5
 gen-actgan -q --seed 4 --count 12 untrained.h5 -o gen0.h5
