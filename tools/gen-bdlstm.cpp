@@ -68,6 +68,25 @@ int main(int argc, char** argv) {
       ->default_val(opt.retries);
   app.add_option("--window", opt.window, "predict: frames per chained run (0 = the training window)")
       ->default_val(opt.window);
+  app.add_option("--restart", opt.restart,
+                 "predict: window = restart the chain every --window frames from the last u frames\n"
+                 "with fresh states (the paper's chaining); never = one chain carries its LSTM state\n"
+                 "over the whole length")
+      ->default_val(opt.restart)
+      ->check(CLI::IsMember({"window", "never"}));
+  app.add_option("--latent", opt.latent,
+                 "z fed to the LSTM: mean (the encoder's) or sample (a draw from q(z|x), as in training)")
+      ->default_val(opt.latent)
+      ->check(CLI::IsMember({"mean", "sample"}));
+  app.add_option("--blend", opt.blend,
+                 "complete: cross-fade the forward and backward chains over N frames around the\n"
+                 "merge (0 = switch at the merge, the paper)")
+      ->default_val(opt.blend);
+  app.add_option("--merge-scale", opt.merge_scale,
+                 "complete: --threshold relative to the frame's feature norm (features, the paper) or\n"
+                 "to the chains' mean change per step (motion)")
+      ->default_val(opt.merge_scale)
+      ->check(CLI::IsMember({"features", "motion"}));
   app.add_option("--stride", opt.stride,
                  "Data frames per generated frame (0 = the model's training --stride): given frames,\n"
                  "keyframes and the frames compared with the data are this far apart")

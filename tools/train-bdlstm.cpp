@@ -52,6 +52,10 @@ int main(int argc, char** argv) {
                 "Raise the KL weight linearly from 0 to 1 over N iterations (0 = the paper: 1\n"
                 "throughout); counters the latent collapsing to the prior")
       ->default_val(opt.training.kl_warmup);
+  g->add_option("--kl-free-bits", opt.net.free_bits,
+                "Free bits: per step, a latent dimension's KL (mean over the batch) below this many\n"
+                "nats is not penalised (0 = the paper); the log's kl column is the penalised value")
+      ->default_val(opt.net.free_bits);
   df::models::add_training_run_options(*g, opt.run);
   auto* n = app.add_option_group("Network (ablations: paper Table 2)");
   n->add_option("--directions", directions,

@@ -126,6 +126,33 @@ eval-metrics long.h5 >long.txt
 grep -q "feature change" long.txt || fail "no feature change for a single file"
 echo "ok (long)"
 
+# --- generation remedies (issue 18): --restart never carries one chain's state (the window no
+# longer matters; the paper's restarts every window differ), --latent sample draws z from q(z|x)
+# (seeded), --blend cross-fades the chains and keeps the keyframes exact
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 30 -o w30.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 30 --restart never -o n30.h5
+run h5diff w30.h5 n30.h5 /features/normalized; expect_rc 0
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 --restart never -o n5.h5
+run h5diff n30.h5 n5.h5 /features/normalized; expect_rc 0
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 -o w5.h5
+run h5diff -q w5.h5 n5.h5 /features/normalized; expect_rc 1
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent sample --seed 2 -o ls1.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent sample --seed 2 --threads 1 -o ls2.h5
+run h5diff ls1.h5 ls2.h5 /features/normalized; expect_rc 0
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 -o lm.h5
+run h5diff -q ls1.h5 lm.h5 /features/normalized; expect_rc 1
+gen-bdlstm -q m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --threshold 0.5 --blend 0 -o comp0.h5
+run h5diff comp.h5 comp0.h5 /features/normalized; expect_rc 0
+run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --threshold 2 --blend 3 --merge-scale motion -o compb.h5
+expect_rc 0
+eval-metrics compb.h5 data.h5 --json compb.json >/dev/null
+awk '/"step": 0,/ { getline; getline; if ($2 + 0 > 1e-6) bad = 1; seen = 1 } END { exit !(seen && !bad) }' compb.json ||
+  fail "blended completion: keyframes not reproduced: $(grep -A3 '"step": 0,' compb.json)"
+run h5diff -q comp.h5 compb.h5 /features/normalized; expect_rc 1
+run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 40,52 --blend -1 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "blend"
+echo "ok (remedies: restart never, latent sample, blend)"
+
 # --- bad input: one line, the right exit code
 synth-meshseq -q --frames 10 --resolution 5 -o other.h5
 obj2acap -q other.h5 -o other-acap.h5

@@ -74,6 +74,14 @@ void check_options(const BdlstmGenerateOptions& opt) {
   if (opt.stride < 0) throw UsageError("--stride must not be negative");
   if (opt.part != "test" && opt.part != "validation")
     throw UsageError("--part must be test or validation");
+  if (opt.restart != "window" && opt.restart != "never")
+    throw UsageError("--restart must be window or never");
+  if (opt.latent != "mean" && opt.latent != "sample")
+    throw UsageError("--latent must be mean or sample");
+  if (opt.merge_scale != "features" && opt.merge_scale != "motion")
+    throw UsageError("--merge-scale must be features or motion");
+  if (opt.blend < 0) throw UsageError("--blend must not be negative");
+  if (!(opt.state_sigma >= 0)) throw UsageError("--state-sigma must not be negative");
 }
 
 }  // namespace
@@ -105,6 +113,13 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
   nn::Var<float> z;
   if (latent == LatentInput::mean) {
     z = net_.encode(bound_, chain_, xin).first;
+  } else if (latent == LatentInput::sample && net_.config().kl) {  // z ~ q(z|x), as in training
+    auto [mu, logvar] = net_.encode(bound_, chain_, xin);
+    Matrix eps(x.rows(), net_.config().latent);
+    for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
+    z = nn::reparameterize(mu, logvar, eps);
+  } else if (latent == LatentInput::sample) {  // a deterministic encoder: its z is the mean
+    z = net_.encode(bound_, chain_, xin).first;
   } else {
     Matrix eps = Matrix::Zero(x.rows(), net_.config().latent);
     if (latent == LatentInput::prior)
@@ -115,6 +130,40 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
   for (std::size_t l = 0; l < states.size(); ++l)
     h_[l] = states[l].h.value(), c_[l] = states[l].c.value();
   return y;
+}
+
+std::vector<double> probe_prediction_error(const BdlstmNet<float>& net, const Matrix& X,
+                                           const std::vector<std::int64_t>& starts, int initial,
+                                           int length, std::int64_t q, const LatentInput* latent,
+                                           Rng& rng) {
+  const auto rows = static_cast<Index>(starts.size());
+  auto frame = [&](int t) {  // frame t of every window, [rows, 9V]
+    Matrix x(rows, X.cols());
+    for (Index r = 0; r < rows; ++r) x.row(r) = X.row(starts[static_cast<std::size_t>(r)] + t * q);
+    return x;
+  };
+  auto error = [&](const Matrix& pred, const Matrix& truth) {
+    double e = 0;
+    for (Index r = 0; r < rows; ++r)
+      e += (pred.row(r) - truth.row(r)).norm() / std::max(truth.row(r).norm(), 1e-12f);
+    return e / static_cast<double>(rows);
+  };
+  std::vector<double> err;
+  if (!latent) {  // zero motion: the last given frame
+    const Matrix last = frame(initial - 1);
+    for (int k = 1; k <= length; ++k) err.push_back(error(last, frame(initial - 1 + k)));
+    return err;
+  }
+  ChainStepper chain(net, 0);
+  chain.reset(rows, static_cast<float>(net.config().init_state), 0, rng);
+  auto step = [&](const Matrix& x) { return chain.step(x, *latent, rng); };
+  Matrix y;
+  for (int t = 0; t < initial; ++t) y = step(frame(t));
+  for (int k = 1; k <= length; ++k) {
+    err.push_back(error(y, frame(initial - 1 + k)));
+    if (k < length) y = step(y);
+  }
+  return err;
 }
 
 std::size_t GenerationData::sequence_of(std::int64_t f) const {
@@ -250,6 +299,8 @@ ChainRunner::ChainRunner(const BdlstmGenerateOptions& opt, const BdlstmModel& m,
       d_(d),
       q_(stride),
       window_(opt.window ? opt.window : m.training.window),
+      restart_(opt.restart == "window"),
+      latent_(opt.latent == "sample" ? LatentInput::sample : LatentInput::mean),
       rng_(seed, 2),
       forward_(std::make_unique<ChainStepper>(*m.net, 0)) {
   if (window_ < 2) throw UsageError("--window must be at least 2");
@@ -282,6 +333,22 @@ void push(GeneratedSequence& s, const Matrix& row, std::int64_t source, std::int
 
 }  // namespace
 
+std::vector<Matrix> merged_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B,
+                                Index row, std::int64_t merge, int blend) {
+  const auto L = static_cast<std::int64_t>(F.size()) - 1;
+  std::vector<Matrix> p;
+  for (std::int64_t t = 1; t <= L; ++t) {
+    // Weight of the backward chain: 0 up to the merge, 1 after it, a linear ramp over `blend`
+    // frames centred between frames merge and merge + 1; the last frame is the keyframe.
+    const double ramp = 0.5 + (static_cast<double>(t - merge) - 0.5) / (blend + 1);
+    const auto w = static_cast<float>(t == L ? 1.0 : std::clamp(ramp, 0.0, 1.0));
+    const Matrix f = F[static_cast<std::size_t>(t)].row(row);
+    const Matrix b = B[static_cast<std::size_t>(L - t)].row(row);
+    p.push_back(w == 0 ? f : w == 1 ? b : Matrix((1 - w) * f + w * b));
+  }
+  return p;
+}
+
 std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
   const int K = opt_.samples;
   const auto& X = d_.features;
@@ -309,7 +376,7 @@ std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
     while (produced < opt_.length) {
       forward_->reset(K, init, K > 1 ? opt_.state_sigma : 0, rng_);
       Matrix y;
-      for (const auto& x : recent) y = forward_->step(x);
+      for (const auto& x : recent) y = forward_->step(x, latent_, rng_);
       int in_run = static_cast<int>(u);
       while (true) {
         ++produced;
@@ -317,8 +384,9 @@ std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
           push(g[static_cast<std::size_t>(k)], y.row(k), source_of(last, produced), produced);
         recent.erase(recent.begin());
         recent.push_back(y);
-        if (produced == opt_.length || in_run >= window_ - 1) break;
-        y = forward_->step(y);
+        // --restart never: one chain carries its LSTM state to the end.
+        if (produced == opt_.length || (restart_ && in_run >= window_ - 1)) break;
+        y = forward_->step(y, latent_, rng_);
         ++in_run;
       }
     }
@@ -344,33 +412,37 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
     const bool rnd = K > 1 || attempt > 0;
     forward_->reset(K, init, rnd ? opt_.state_sigma : 0, rng_);
     std::vector<Matrix> F{Matrix(X.row(a)).replicate(K, 1)};
-    for (std::int64_t t = 0; t < L; ++t) F.push_back(forward_->step(F.back()));
+    for (std::int64_t t = 0; t < L; ++t) F.push_back(forward_->step(F.back(), latent_, rng_));
     backward_->reset(K, -init, rnd ? opt_.state_sigma : 0, rng_);
     std::vector<Matrix> B{Matrix(X.row(b)).replicate(K, 1)};
-    for (std::int64_t t = 0; t < L; ++t) B.push_back(backward_->step(B.back()));
+    for (std::int64_t t = 0; t < L; ++t) B.push_back(backward_->step(B.back(), latent_, rng_));
     bool all = true;
     for (int k = 0; k < K; ++k) {
       auto& bk = best[static_cast<std::size_t>(k)];
       if (bk < opt_.threshold) continue;
+      // --merge-scale motion: differences relative to the two chains' mean change per step.
+      float motion = 0;
+      if (opt_.merge_scale == "motion") {
+        for (std::int64_t t = 0; t < L; ++t)
+          motion += (F[static_cast<std::size_t>(t + 1)].row(k) - F[static_cast<std::size_t>(t)].row(k)).norm() +
+                    (B[static_cast<std::size_t>(t + 1)].row(k) - B[static_cast<std::size_t>(t)].row(k)).norm();
+        motion = std::max(motion / static_cast<float>(2 * L), 1e-12f);
+      }
       // F_i is i steps after a, B_j j steps before b: same time i+j = L, adjacent i+j = L−1.
       float diff = std::numeric_limits<float>::infinity();
       std::int64_t bi = 0;
       for (std::int64_t i = 0; i <= L; ++i)
         for (std::int64_t j : {L - i, L - 1 - i}) {
           if (j < 0) continue;
-          const float e = relative_difference(F[static_cast<std::size_t>(i)],
-                                              B[static_cast<std::size_t>(j)], k);
+          const auto& fi = F[static_cast<std::size_t>(i)];
+          const auto& bj = B[static_cast<std::size_t>(j)];
+          const float e = motion > 0 ? (fi.row(k) - bj.row(k)).norm() / motion
+                                     : relative_difference(fi, bj, k);
           if (e < diff) diff = e, bi = i;
         }
       if (diff < bk) {
         bk = diff;
-        // Step t comes from the forward chain up to the merge, then from the backward chain
-        // (B_0 = the keyframe b).
-        auto& p = path[static_cast<std::size_t>(k)];
-        p.clear();
-        for (std::int64_t t = 1; t <= L; ++t)
-          p.push_back(t < L && t <= bi ? Matrix(F[static_cast<std::size_t>(t)].row(k))
-                                       : Matrix(B[static_cast<std::size_t>(L - t)].row(k)));
+        path[static_cast<std::size_t>(k)] = merged_path(F, B, k, bi, opt_.blend);
       }
       all = all && bk < opt_.threshold;
     }

@@ -48,6 +48,18 @@ struct BdlstmGenerateOptions {
   double threshold = 0.05;   ///< complete: merge when ‖S^f − S^b‖ / ‖S^f‖ is below this
   int retries = 20;          ///< complete: attempts with random states before giving up
   int window = 0;            ///< predict: restart the chain every WINDOW frames (0 = the model's)
+  /// predict: "window" restarts the chain every window from the last u frames with fresh
+  /// states (the paper's chaining of fixed-length networks); "never" carries one chain's LSTM
+  /// state over the whole length
+  std::string restart = "window";
+  /// z fed to the LSTM: the encoder's "mean", or a "sample" of q(z|x) as in training
+  std::string latent = "mean";
+  /// complete: frames over which the forward and backward chains are cross-faded around the
+  /// merge (0 = switch at the merge, the paper)
+  int blend = 0;
+  /// complete: --threshold is relative to the forward frame's feature norm ("features", the
+  /// paper) or to the chains' mean change per step ("motion")
+  std::string merge_scale = "features";
   /// Data frames per generated frame (0 = the model's training --stride): a model trained on
   /// every q-th frame steps q frames at a time, so given frames, keyframes and /frames/source
   /// are q apart.
@@ -112,6 +124,24 @@ class ChainStepper {
   std::vector<nn::Matrix<float>> h_, c_;
 };
 
+/// Relative feature error ‖X̂_k − X_k‖ / ‖X_k‖ at steps k = 1..length, the mean over windows that
+/// start at `starts` (frames q apart in X), of the forward chain (states +init_state) fed the
+/// first `initial` frames of each window, then running free, with z chosen by `latent`; or of
+/// zero motion (the last given frame repeated) when `latent` is null. Prior draws come from `rng`.
+/// inspect-bdlstm's probes and train-bdlstm's validation error.
+std::vector<double> probe_prediction_error(const BdlstmNet<float>& net, const nn::Matrix<float>& X,
+                                           const std::vector<std::int64_t>& starts, int initial,
+                                           int length, std::int64_t q, const LatentInput* latent,
+                                           Rng& rng);
+
+/// One completion of a gap of L steps from the forward chain F (F[0] the first keyframe, F[i] i
+/// steps after it) and the backward chain B (B[0] the second keyframe, B[j] j steps before it),
+/// row `row` of each: steps 1..L, from F up to step `merge`, from B after it, cross-faded over
+/// `blend` frames around the merge (0 = a switch); step L is the second keyframe.
+std::vector<nn::Matrix<float>> merged_path(const std::vector<nn::Matrix<float>>& F,
+                                           const std::vector<nn::Matrix<float>>& B,
+                                           Eigen::Index row, std::int64_t merge, int blend);
+
 /// Runs the chains of a model over cases: one object per run, cases in order (the random
 /// initial states are drawn from one stream seeded by --seed).
 class ChainRunner {
@@ -136,6 +166,8 @@ class ChainRunner {
   const GenerationData& d_;
   std::int64_t q_;
   int window_;
+  bool restart_;
+  LatentInput latent_;
   Rng rng_;
   std::unique_ptr<ChainStepper> forward_, backward_own_;
   ChainStepper* backward_;

@@ -19,20 +19,6 @@ namespace {
 using Matrix = nn::Matrix<float>;
 using Eigen::Index;
 
-// First frames of windows of `span` frames inside the chosen part of every sequence.
-std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
-                                      std::int64_t span) {
-  if (part == "train") return window_starts(split, span);
-  const bool test = part == "test";
-  std::vector<std::int64_t> starts;
-  for (std::size_t s = 0; s < split.test_begin.size(); ++s) {
-    const std::int64_t b = test ? split.test_begin[s] : split.validation_begin[s];
-    const std::int64_t e = test ? split.test_end[s] : split.validation_end[s];
-    for (std::int64_t f = b; f + span <= e; ++f) starts.push_back(f);
-  }
-  return starts;
-}
-
 template <class V>
 std::vector<V> evenly(const std::vector<V>& all, std::size_t n) {
   if (all.size() <= n) return all;
@@ -67,41 +53,6 @@ std::vector<double> kl_per_dimension(const BdlstmModel& m, const Matrix& X,
   return kl;
 }
 
-// Relative feature error ‖X̂_k − X_k‖ / ‖X_k‖ at steps k = 1..length, mean over the windows, of
-// the forward chain fed `initial` frames, with z chosen by `mode`; or zero motion (mode empty).
-std::vector<double> probe(const BdlstmModel& m, const Matrix& X,
-                          const std::vector<std::int64_t>& starts, int initial, int length,
-                          std::int64_t q, const LatentInput* mode, Rng& rng) {
-  const auto rows = static_cast<Index>(starts.size());
-  auto frame = [&](int t) {  // frame t of every window, [rows, 9V]
-    Matrix x(rows, X.cols());
-    for (Index r = 0; r < rows; ++r) x.row(r) = X.row(starts[static_cast<std::size_t>(r)] + t * q);
-    return x;
-  };
-  auto error = [&](const Matrix& pred, const Matrix& truth) {
-    double e = 0;
-    for (Index r = 0; r < rows; ++r)
-      e += (pred.row(r) - truth.row(r)).norm() / std::max(truth.row(r).norm(), 1e-12f);
-    return e / static_cast<double>(rows);
-  };
-  std::vector<double> err;
-  if (!mode) {  // zero motion: the last given frame
-    const Matrix last = frame(initial - 1);
-    for (int k = 1; k <= length; ++k) err.push_back(error(last, frame(initial - 1 + k)));
-    return err;
-  }
-  ChainStepper chain(*m.net, 0);
-  chain.reset(rows, static_cast<float>(m.config.init_state), 0, rng);
-  auto step = [&](const Matrix& x) { return chain.step(x, *mode, rng); };
-  Matrix y;
-  for (int t = 0; t < initial; ++t) y = step(frame(t));
-  for (int k = 1; k <= length; ++k) {
-    err.push_back(error(y, frame(initial - 1 + k)));
-    if (k < length) y = step(y);
-  }
-  return err;
-}
-
 double mean_of(const std::vector<double>& v) {
   return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
 }
@@ -130,7 +81,8 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
         opt.data);
 
   // 1. The training log.
-  const std::size_t cols = BdlstmModel::kLogColumns.size();
+  const auto columns = m.log_columns();
+  const std::size_t cols = columns.size();
   std::cout << fmt::format("{}: {} iterations, latent {} ({})\n", opt.model, m.iteration,
                            m.config.latent,
                            m.config.kl ? "VAE encoder with KL" : "deterministic encoder");
@@ -138,7 +90,7 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
     auto row = [&](std::size_t r) {
       std::string s;
       for (std::size_t k = 0; k < cols; ++k)
-        s += fmt::format("{} {:.4g}  ", BdlstmModel::kLogColumns[k], m.log[r * cols + k]);
+        s += fmt::format("{} {:.4g}  ", columns[k], m.log[r * cols + k]);
       return s;
     };
     std::cout << "  training log, first row: " << row(0)
@@ -186,8 +138,8 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
   const char* names[] = {"z = encoder mean", "z ~ prior N(0, I)", "z = 0", "zero motion"};
   std::vector<std::vector<double>> errors;
   for (const auto& mode : modes)
-    errors.push_back(probe(m, d.features, starts, opt.initial, opt.length, q, &mode, rng));
-  errors.push_back(probe(m, d.features, starts, opt.initial, opt.length, q, nullptr, rng));
+    errors.push_back(probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, &mode, rng));
+  errors.push_back(probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, nullptr, rng));
   std::vector<int> shown{1};  // steps in the table: 1, 5, 10 (those that exist) and the last
   for (int k : {5, 10, opt.length})
     if (k <= opt.length && k > shown.back()) shown.push_back(k);
@@ -214,7 +166,7 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
       for (const auto& e : errors) out << "\t" << e[static_cast<std::size_t>(k)];
       out << "\n";
     }
-    out << "\n\n# training_log: " << fmt::format("{}", fmt::join(BdlstmModel::kLogColumns, ", "))
+    out << "\n\n# training_log: " << fmt::format("{}", fmt::join(columns, ", "))
         << "\n";
     for (std::size_t r = 0; r + cols <= m.log.size(); r += cols) {
       for (std::size_t k = 0; k < cols; ++k) out << (k ? "\t" : "") << m.log[r + k];

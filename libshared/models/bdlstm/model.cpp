@@ -12,6 +12,12 @@
 
 namespace df::models {
 
+std::vector<std::string> BdlstmModel::log_columns() const {
+  std::vector<std::string> c{"iteration", "total", "recon", "bidir", "kl", "l2"};
+  if (training.validation_fraction > 0) c.push_back("validation");
+  return c;
+}
+
 void BdlstmModel::initialize() {
   auto topo = geometry::mesh_topology(tmpl.faces, static_cast<int>(tmpl.vertices.rows()));
   net = std::make_unique<BdlstmNet<float>>(config, static_cast<int>(tmpl.vertices.rows()),
@@ -47,6 +53,7 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     f.set_attr("/config", "l2_scope", c.l2_scope);
     f.set_attr("/config", "l2_weight", c.l2_weight);
     f.set_attr("/config", "decoder_init", c.decoder_init);
+    f.set_attr("/config", "kl_free_bits", c.free_bits);
     const auto& t = m.training;
     f.set_attr("/config", "window", t.window);
     f.set_attr("/config", "batch", t.batch);
@@ -59,7 +66,7 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     f.set_attr("/config", "teacher_frames", t.teacher_frames);
     f.set_attr("/config", "kl_warmup", t.kl_warmup);
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
-    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, BdlstmModel::kLogColumns,
+    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(),
                             m.unprinted);
     const std::size_t s = m.split.sequences.size();
     f.create_groups("/split");
@@ -107,6 +114,8 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   c.l2_weight = f.has_attr("/config", "l2_weight") ? f.attr_double("/config", "l2_weight") : 1.0;
   c.decoder_init =
       f.has_attr("/config", "decoder_init") ? f.attr_string("/config", "decoder_init") : "zero";
+  c.free_bits =
+      f.has_attr("/config", "kl_free_bits") ? f.attr_double("/config", "kl_free_bits") : 0.0;
   auto& t = m.training;
   t.window = i("window");
   t.batch = i("batch");

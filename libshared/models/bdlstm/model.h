@@ -57,9 +57,10 @@ struct BdlstmModel {
   io::Mesh tmpl;
   geometry::Normalization normalization;
   BdlstmSplit split;
-  static inline const std::vector<std::string> kLogColumns = {"iteration", "total", "recon",
-                                                              "bidir",     "kl",    "l2"};
-  std::vector<double> log;  ///< rows of kLogColumns, flat
+  /// The training log's columns: iteration total recon bidir kl l2, and validation (the error on
+  /// the validation windows relative to zero motion's) when the split has a validation part.
+  std::vector<std::string> log_columns() const;
+  std::vector<double> log;  ///< rows of log_columns(), flat
   std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   std::unique_ptr<BdlstmNet<float>> net;
   std::unique_ptr<nn::Adam<float>> adam;

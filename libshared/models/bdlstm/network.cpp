@@ -1,5 +1,7 @@
 #include "models/bdlstm/network.h"
 
+#include <limits>
+
 #include "core/error.h"
 
 namespace df::models {
@@ -36,6 +38,7 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
   if (config.decoder_init != "zero" && config.decoder_init != "small")
     throw UsageError("--decoder-init must be zero or small");
   if (!(config.l2_weight >= 0)) throw UsageError("--l2-weight must not be negative");
+  if (!(config.free_bits >= 0)) throw UsageError("--kl-free-bits must not be negative");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
   Rng rng(seed, 0);
   const int n = config.directions == Directions::standard ? 2 : 1;
@@ -115,7 +118,18 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, 
   if (config_.kl && eps) {
     z = nn::reparameterize(mu, logvar, *eps);
     if (kl_sum) {
-      Var kl = nn::scale(nn::gaussian_kl(mu, logvar), static_cast<T>(x.rows()));  // Σ over rows
+      const T rows = static_cast<T>(x.rows());
+      Var kl;  // Σ over rows
+      if (config_.free_bits > 0) {  // Σ_d max(λ, mean_rows KL_d), times the rows
+        Var per_element = nn::scale(
+            nn::sub(nn::sub(nn::add_scalar(logvar, T(1)), nn::square(mu)), nn::exp(logvar)),
+            T(-0.5));
+        Var per_dim = nn::clamp(nn::mean_rows(per_element), static_cast<T>(config_.free_bits),
+                                std::numeric_limits<T>::max());
+        kl = nn::scale(nn::sum(per_dim), rows);
+      } else {
+        kl = nn::scale(nn::gaussian_kl(mu, logvar), rows);
+      }
       *kl_sum = kl_sum->tape ? nn::add(*kl_sum, kl) : kl;
     }
   }

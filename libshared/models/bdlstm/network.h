@@ -26,9 +26,10 @@ namespace df::models {
 
 enum class Directions { shared, standard, unidirectional };
 /// What z is when generating or probing a trained network: the encoder's mean (the default), a
-/// draw from the prior N(0, I) that ignores the encoder, or zero. If "prior" or "zero" predict as
-/// well as "mean", the latent carries no information (posterior collapse).
-enum class LatentInput { mean, prior, zero };
+/// draw from q(z|x) as in training (sample), a draw from the prior N(0, I) that ignores the
+/// encoder, or zero. If "prior" or "zero" predict as well as "mean", the latent carries no
+/// information (posterior collapse).
+enum class LatentInput { mean, sample, prior, zero };
 const char* directions_name(Directions d);
 Directions directions_from_name(const std::string& name);  ///< UsageError if unknown
 
@@ -52,6 +53,10 @@ struct BdlstmConfig {
   /// The last decoder convolution starts at "zero" (δX = 0, no reconstruction gradient reaches
   /// the encoder at first) or "small" (Glorot × 0.01)
   std::string decoder_init = "zero";
+  /// Free bits (Kingma et al. 2016): nats per latent dimension and frame that the KL term does not
+  /// penalise — per step, each dimension's KL averaged over the rows counts as max(free_bits, KL_d).
+  /// Below it the encoder may carry information at no cost (0 = the paper: every nat counts).
+  double free_bits = 0;
 };
 
 /// The loss of one batch of windows, by term (each averaged over the windows of the batch).

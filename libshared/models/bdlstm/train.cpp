@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 
 #include "core/error.h"
 #include "core/log.h"
 #include "core/rng.h"
 #include "io/file_header.h"
 #include "io/schema.h"
+#include "models/bdlstm/generate.h"
 #include "models/common/training.h"
 #include "nn/train_step.h"
 
@@ -37,6 +39,7 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
   differs("l2-scope", a.l2_scope, b.l2_scope);
   differs("l2-weight", a.l2_weight, b.l2_weight);
   differs("decoder-init", a.decoder_init, b.decoder_init);
+  differs("kl-free-bits", a.free_bits, b.free_bits);
   const auto &s = ck.training, &t = want.training;
   differs("window", s.window, t.window);
   differs("batch", s.batch, t.batch);
@@ -53,6 +56,45 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
       ck.split.train_end != want.split.train_end || ck.split.test_begin != want.split.test_begin ||
       ck.split.test_end != want.split.test_end)
     throw InvalidInput("checkpoint was trained on other data (its train/test split differs)", path);
+}
+
+// With a validation part: the error logged at every loss line — windows of the validation parts
+// predicted from --teacher-frames given frames (as the pipelines' gen-bdlstm --initial) with z =
+// the encoder's mean, relative to zero motion's error on the same frames (< 1: ahead of it).
+std::function<LossTerms()> validation_evaluation(const BdlstmModel& m,
+                                                 const nn::Matrix<float>& data) {
+  if (m.training.validation_fraction <= 0) return {};
+  const int given = m.training.teacher_frames;
+  const std::int64_t q = m.training.stride;
+  std::vector<std::int64_t> starts;
+  int length = kValidationSteps;
+  for (; length >= 1 && starts.empty(); --length)
+    starts = part_starts(m.split, "validation",
+                         static_cast<std::int64_t>(given + length - 1) * q + 1);
+  ++length;
+  if (starts.empty())
+    throw InvalidInput(fmt::format("the validation parts are too short for {} given frames and one "
+                                   "predicted (stride {}): raise --validation-fraction",
+                                   given, q),
+                       m.split.data);
+  Rng unused;
+  auto mean_of = [](const std::vector<double>& v) {
+    double s = 0;
+    for (double x : v) s += x;
+    return s / static_cast<double>(v.size());
+  };
+  const double zero_motion =
+      mean_of(probe_prediction_error(*m.net, data, starts, given, length, q, nullptr, unused));
+  log::info(
+      "validation: {} windows of {} given + {} predicted frames; zero motion's relative feature "
+      "error there {:.4g} (the log's validation column is the network's error / this)",
+      starts.size(), given, length, zero_motion);
+  return [&m, &data, starts, given, length, q, zero_motion, mean_of]() -> LossTerms {
+    Rng none;
+    const LatentInput mean = LatentInput::mean;
+    return {mean_of(probe_prediction_error(*m.net, data, starts, given, length, q, &mean, none)) /
+            std::max(zero_motion, 1e-12)};
+  };
 }
 
 }  // namespace
@@ -116,6 +158,19 @@ std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t s
           (split.validation_begin.size() <= s ||
            clear_of(f, span, split.validation_begin[s], split.validation_end[s])))
         starts.push_back(f);
+  return starts;
+}
+
+std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
+                                      std::int64_t span) {
+  if (part == "train") return window_starts(split, span);
+  const bool test = part == "test";
+  std::vector<std::int64_t> starts;
+  for (std::size_t s = 0; s < split.test_begin.size(); ++s) {
+    const std::int64_t b = test ? split.test_begin[s] : split.validation_begin[s];
+    const std::int64_t e = test ? split.test_end[s] : split.validation_end[s];
+    for (std::int64_t f = b; f + span <= e; ++f) starts.push_back(f);
+  }
   return starts;
 }
 
@@ -203,6 +258,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
       m.training.window, m.training.stride, m.net->store().size(),
       directions_name(m.config.directions));
 
+  const auto evaluate = validation_evaluation(m, data);
+
   nn::Tape<float> tape;
   std::vector<nn::Matrix<float>> window(static_cast<std::size_t>(m.training.window),
                                         nn::Matrix<float>(m.training.batch, v9));
@@ -236,7 +293,9 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   };
   run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt},
                     {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, m.unprinted, step,
-                    checkpoint);
+                    checkpoint, evaluate ? std::vector<std::string>{"validation"}
+                                         : std::vector<std::string>{},
+                    evaluate);
   save_bdlstm_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);

@@ -33,6 +33,15 @@ void split_sequences(const std::vector<std::int64_t>& offsets, double fraction,
 /// sequence's held-out and validation parts, in sequence and frame order.
 std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span);
 
+/// First frames of windows of `span` frames inside one part of every sequence: "train" (as
+/// window_starts), "validation" or "test".
+std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
+                                      std::int64_t span);
+
+/// Predicted steps of train-bdlstm's validation error (Table 1's horizon), fewer when the
+/// validation part is shorter.
+inline constexpr int kValidationSteps = 15;
+
 void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common);
 
 }  // namespace df::models

@@ -77,3 +77,30 @@ TEST_CASE("gen-bdlstm plan: completion cases, --from and --keyframes", "[models]
   pred.from = {"nowhere:1"};
   CHECK_THROWS_AS(plan_cases(pred, f.m, f.d, 1), df::UsageError);
 }
+
+TEST_CASE("gen-bdlstm completion: switch or cross-fade at the merge", "[models][bdlstm]") {
+  // A gap of L = 6 steps; forward frames are 0, backward frames 1 (one row, one column).
+  const int L = 6;
+  std::vector<df::nn::Matrix<float>> F(L + 1, df::nn::Matrix<float>::Zero(1, 1)),
+      B(L + 1, df::nn::Matrix<float>::Ones(1, 1));
+  auto weights = [&](std::int64_t merge, int blend) {
+    std::vector<float> w;
+    for (const auto& m : merged_path(F, B, 0, merge, blend)) w.push_back(m(0, 0));
+    return w;
+  };
+  // blend 0 (the paper): forward up to the merge, backward after it.
+  REQUIRE(weights(2, 0) == std::vector<float>{0, 0, 1, 1, 1, 1});
+  // blend 2: two frames in between, symmetric around the switch.
+  const auto b2 = weights(2, 2);
+  REQUIRE(b2[0] == 0);
+  REQUIRE(b2[1] == Approx(1.0 / 3));
+  REQUIRE(b2[2] == Approx(2.0 / 3));
+  REQUIRE(b2[3] == 1);
+  // The last step is the second keyframe whatever the merge and blend.
+  REQUIRE(weights(6, 4).back() == 1);
+  REQUIRE(weights(0, 0) == std::vector<float>{1, 1, 1, 1, 1, 1});
+  for (int blend : {0, 1, 3, 8}) {
+    const auto w = weights(3, blend);
+    REQUIRE(std::is_sorted(w.begin(), w.end()));
+  }
+}
