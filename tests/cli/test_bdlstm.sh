@@ -118,6 +118,10 @@ eval-metrics comp.h5 data.h5 --json comp.json >/dev/null
 awk '/"step": 0,/ { getline; getline; if ($2 + 0 > 1e-6) bad = 1; seen = 1 } END { exit !(seen && !bad) }' comp.json ||
   fail "keyframes not reproduced: $(grep -A3 '"step": 0,' comp.json)"
 gen-bdlstm -q m.h5 data.h5 --mode complete --keyframes 40,52 --method linear -o lcomp.h5
+# each sample against the truth on its own: best of K <= mean of K <= worst of K
+awk '/"samples_vs_truth"/ { on = 1 } on && /"(cases|mean_of_k|best_of_k|worst_of_k)":/ { gsub(/[",:]/, " "); v[$1] = $2 }
+     END { exit !(v["cases"] == 1 && v["best_of_k"] > 0 && v["best_of_k"] <= v["mean_of_k"] && v["mean_of_k"] <= v["worst_of_k"]) }' comp.json ||
+  fail "samples_vs_truth: $(grep -A8 samples_vs_truth comp.json)"
 echo "ok (complete)"
 
 # --- a long generation stays finite and moving
