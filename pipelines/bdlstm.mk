@@ -35,17 +35,22 @@ TRAIN_THREADS ?= 0
 # chickenCrossing hold out 20% placed by the seed (--test-part random, default seed 1), as the
 # paper "randomly excludes a subsequence": pcow frames 144-184, chickenCrossing 77-156. They train
 # the paper's 7,000 iterations (about 3.5 hours each on 2 cores, side by side; README).
-finger_TRAIN := --iterations 2000 --window 32 --batch 8 --teacher-frames 3
+# S_SHAPE: the set's training options but the iteration count (the validation runs share them).
+finger_SHAPE := --window 32 --batch 8 --teacher-frames 3
+finger_TRAIN := --iterations 2000 $(finger_SHAPE)
 finger_LENGTH := 15
 finger_EVERY := 4
-faerie_TRAIN := --iterations 1000 --window 8 --batch 8 --test-fraction 0.5
+faerie_SHAPE := --window 8 --batch 8 --test-fraction 0.5
+faerie_TRAIN := --iterations 1000 $(faerie_SHAPE)
 faerie_LENGTH := 5
 faerie_EVERY := 1
-pcow_TRAIN := --iterations 7000 --window 32 --batch 8 --teacher-frames 3 --test-part random
+pcow_SHAPE := --window 32 --batch 8 --teacher-frames 3 --test-part random
+pcow_TRAIN := --iterations 7000 $(pcow_SHAPE)
 pcow_LENGTH := 15
 pcow_EVERY := 2
 chickenCrossing_STRIDE := 2
-chickenCrossing_TRAIN := --iterations 7000 --window 32 --batch 8 --stride $(chickenCrossing_STRIDE) --teacher-frames 3 --test-part random
+chickenCrossing_SHAPE := --window 32 --batch 8 --stride $(chickenCrossing_STRIDE) --teacher-frames 3 --test-part random
+chickenCrossing_TRAIN := --iterations 7000 $(chickenCrossing_SHAPE)
 chickenCrossing_LENGTH := 15
 chickenCrossing_EVERY := 2
 
@@ -266,6 +271,90 @@ $(BD)/%/fig-latent.png: $(BD)/%/latent.txt
 	       '' index 'error_by_step' using 1:3 with linespoints title 'z drawn from the prior', \
 	       '' index 'error_by_step' using 1:4 with linespoints title 'z = 0', \
 	       '' index 'error_by_step' using 1:5 with lines dashtype 2 lc 'black' title 'zero motion'; unset multiplot"
+
+# --- (g) choosing remedies on a validation part (issue 18), never on the test part:
+#   make -f Makefile.data bdlstm-validation [BD_VALIDATION_SETS="finger pcow"]
+# Each candidate trains with a validation part of BD_VALIDATION_FRACTION of every sequence carved
+# out of its training frames (placed by the seed; the test part does not move) and logs, at every
+# loss line, its error on the validation windows relative to zero motion's (the log's validation
+# column: below 1 = ahead of zero motion). Per set: $(BD)/S/validation.md (the curve's minimum,
+# where, and the last value, per candidate), validation.png (the curves), and for each candidate
+# the generation choices measured on the validation part: pace of a 300-frame generation from the
+# first validation frame (restart every window vs one chain) and completion of its gaps (switch vs
+# cross-fade) against linear interpolation.
+BD_VALIDATION_SETS ?= finger $(if $(HAVE_DATA),pcow)
+BD_VALIDATION_FRACTION ?= 0.15
+BD_VALIDATION_ITERATIONS ?= 1500
+BD_CANDIDATES ?= paper remedies
+# Every candidate spells out every remedy option, so that a change of defaults does not change it.
+paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero
+remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small
+no-kl_CANDIDATE := --no-kl --l2-scope weights --l2-weight 0.125 --decoder-init small
+
+.PHONY: bdlstm-validation
+bdlstm-validation: $(foreach s,$(BD_VALIDATION_SETS),$(BD)/$(s)/validation.md)
+	@for s in $(BD_VALIDATION_SETS); do echo; cat $(BD)/$$s/validation.md; echo "plot: $(BD)/$$s/validation.png"; done
+
+validation_args = --iterations $(BD_VALIDATION_ITERATIONS) $($(1)_SHAPE) --validation-fraction $(BD_VALIDATION_FRACTION) $($(2)_CANDIDATE)
+define CANDIDATE_RULES
+$(BD)/%/validate/$(1).args: FORCE
+	@mkdir -p $$(@D)
+	@echo '$$(call validation_args,$$*,$(1))' $$(write_if_changed)
+$(BD)/%/validate/$(1).h5: $(BD)/%/data.h5 $(BD)/%/validate/$(1).args
+	$$(call launch,train) $(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
+	  $$(call validation_args,$$*,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+endef
+$(foreach c,$(BD_CANDIDATES),$(eval $(call CANDIDATE_RULES,$(c))))
+
+# What a candidate learned, on its validation part (training log with the validation column).
+$(BD)/%.vlatent: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/inspect-bdlstm -q $< $(BD)/$(vset)/data.h5 --part validation --initial 1 --length 5 \
+	  --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+# 300 frames from the first validation frame, the paper's restarts or one chain: the pace over 10 steps.
+# The set of a target under $(BD) (its first directory), and its stride.
+vset = $(firstword $(subst /, ,$*))
+vstride = $(or $($(vset)_STRIDE),1)
+# The third frame of the first validation part: the last of 3 given frames.
+first_validation = $$(h5dump -y -w 0 -d /split/validation $(1) | awk -v q=$(vstride) '/DATA \{/ { d = 1; next } d { gsub(/,/, " "); print $$1 + 2 * q; exit }')
+$(BD)/%.long-window.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 --from $(call first_validation,$<) --initial 3 --length 300 --restart window -o $@
+$(BD)/%.long-never.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 --from $(call first_validation,$<) --initial 3 --length 300 --restart never -o $@
+# Prediction of the validation windows from 3 frames with z = the encoder's mean or a draw of q(z|x).
+VAL_PREDICT = --part validation --test-every 1 --initial 3 --test-context 3 --length 15
+$(BD)/%.vpred-mean.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_PREDICT) -o $@
+$(BD)/%.vpred-sample.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_PREDICT) --latent sample -o $@
+# Completion of the validation part's gaps: 8 samples, switch or cross-fade, and linear interpolation.
+VAL_COMPLETE = --mode complete --part validation --test-every 1 --gap 9 --samples 8 --seed 1
+$(BD)/%.complete-switch.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_COMPLETE) -o $@
+$(BD)/%.complete-blend.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_COMPLETE) --blend 4 --state-sigma 0.05 --merge-scale motion --threshold 1 -o $@
+$(BD)/%.complete-linear.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 --mode complete --part validation --test-every 1 --gap 9 --method linear -o $@
+$(BD)/%.veval: $(BD)/%.h5
+	$(call launch,eval) $(BIN)/eval-metrics -q $< $(BD)/$(vset)/data.h5 --json $@.json > $@.tmp && mv $@.tmp $@
+
+json_num = awk -v key='"$(2)":' '$$1 == key { gsub(/,/, "", $$2); printf "%.2f", 1000 * $$2; exit }' $(1)
+$(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlatent $(BD)/%/validate/$(c).long-window.change10 \
+                         $(BD)/%/validate/$(c).vpred-mean.veval $(BD)/%/validate/$(c).vpred-sample.veval \
+                         $(BD)/%/validate/$(c).long-never.change10 $(BD)/%/validate/$(c).complete-switch.veval \
+                         $(BD)/%/validate/$(c).complete-blend.veval $(BD)/%/validate/$(c).complete-linear.veval) \
+                       $(BD)/%/data.change10
+	{ echo "**$*** — remedies compared on a validation part ($(BD_VALIDATION_FRACTION) of each sequence, carved out of the training frames; $(BD_VALIDATION_ITERATIONS) iterations)"; echo; \
+	  echo "| candidate | validation error / zero motion's: min (at iteration) | last | prediction from 3 frames x 1e-3 diag, z = mean / sample | pace of 300 frames over 10 steps, restart every window / one chain (data $$($(call change_mean,$(BD)/$*/data.change10.tsv))) | completion x 1e-3 diag: switch mean / best of 8 | cross-fade mean / best of 8 | linear |"; \
+	  echo "|---|---:|---:|---:|---:|---:|---:|---:|"; \
+	  for c in $(BD_CANDIDATES); do v=$(BD)/$*/validate/$$c; \
+	    curve=$$(awk '/^# training_log/ { on = 1; next } on && NF == 0 { exit } on && NF >= 7 { if (!n++ || $$7 < m) { m = $$7; at = $$1 } last = $$7 } \
+	                  END { printf "%.3f (%d) | %.3f", m, at, last }' $$v.vlatent.tsv); \
+	    echo "| $$c | $$curve | $$($(call json_num,$$v.vpred-mean.veval.json,mean_relative)) / $$($(call json_num,$$v.vpred-sample.veval.json,mean_relative)) | $$($(call change_mean,$$v.long-window.change10.tsv,90)) / $$($(call change_mean,$$v.long-never.change10.tsv,90)) | $$($(call json_num,$$v.complete-switch.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-switch.veval.json,best_of_k_relative)) | $$($(call json_num,$$v.complete-blend.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-blend.veval.json,best_of_k_relative)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$v.complete-linear.veval | awk '{ printf "%.2f", 1000 * $$1 }') |"; \
+	  done; } > $@.tmp && mv $@.tmp $@
+	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/validation.png'; \
+	  set title '$*: validation error during training (relative to zero motion)'; set xlabel 'iteration'; \
+	  set ylabel 'validation error / zero motion'; set key top right; \
+	  plot $(foreach c,$(BD_CANDIDATES),'$(BD)/$*/validate/$(c).vlatent.tsv' index 'training_log' using 1:7 with linespoints lw 2 title '$(c)',) 1 with lines dashtype 2 lc 'black' title 'zero motion'"
 
 # Keep every intermediate file (models, generations, evaluations): later runs reuse them.
 .SECONDARY:

@@ -73,10 +73,11 @@ int main(int argc, char** argv) {
   n->add_option("--alpha-bidir", opt.net.alpha_bidir, "Weight of L_bidir")->default_val(opt.net.alpha_bidir);
   n->add_option("--alpha-reg", opt.net.alpha_reg, "Weight of L_KL + L_2")->default_val(opt.net.alpha_reg);
   n->add_option("--l2-scope", opt.net.l2_scope,
-                "L_2 over all trainable values (the paper's Σw²) or the weights only (no biases, so\n"
-                "the forget-gate bias keeps its 1)")
+                "L_2 over all trainable values (the paper's Σw²), the weights only (no biases, so\n"
+                "the forget-gate bias keeps its 1), or tf: all values, the LSTM forget-gate biases\n"
+                "measured from 1 (TensorFlow's forget_bias is a constant outside the weights)")
       ->default_val(opt.net.l2_scope)
-      ->check(CLI::IsMember({"all", "weights"}));
+      ->check(CLI::IsMember({"all", "weights", "tf"}));
   n->add_option("--l2-weight", opt.net.l2_weight, "Factor of L_2 inside alpha-reg (L_KL + w L_2)")
       ->default_val(opt.net.l2_weight);
   n->add_option("--decoder-init", opt.net.decoder_init,

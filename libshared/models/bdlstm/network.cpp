@@ -1,5 +1,6 @@
 #include "models/bdlstm/network.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "core/error.h"
@@ -33,8 +34,8 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     : config_(config), n_vertices_(n_vertices) {
   if (config.conv_layers < 1 || config.latent < 1 || config.hidden < 1 || config.lstm_layers < 1)
     throw UsageError("BD-LSTM sizes must be positive");
-  if (config.l2_scope != "all" && config.l2_scope != "weights")
-    throw UsageError("--l2-scope must be all or weights");
+  if (config.l2_scope != "all" && config.l2_scope != "weights" && config.l2_scope != "tf")
+    throw UsageError("--l2-scope must be all, weights or tf");
   if (config.decoder_init != "zero" && config.decoder_init != "small")
     throw UsageError("--decoder-init must be zero or small");
   if (!(config.l2_weight >= 0)) throw UsageError("--l2-weight must not be negative");
@@ -240,9 +241,25 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
   if (config_.l2) {
     std::vector<Var> squares;
     const auto& views = store_.views();
-    for (std::size_t k = 0; k < p.vars.size(); ++k)
-      if (config_.l2_scope == "all" || !views[k].name.ends_with(".bias"))
-        squares.push_back(nn::sum(nn::square(p.vars[k])));
+    // "tf": every trainable value, but each LSTM forget-gate bias measured from its initial 1
+    // (TensorFlow's LSTM cells add forget_bias = 1 as a constant outside the trainable bias, so
+    // decaying that bias decays towards 1): Σ b_f² − 2 Σ b_f + H = Σ (b_f − 1)².
+    std::vector<int> lstm_biases;
+    if (config_.l2_scope == "tf")
+      for (const auto& ch : chains_)
+        for (const auto& cell : ch.lstm.cells) lstm_biases.push_back(cell.b);
+    for (std::size_t k = 0; k < p.vars.size(); ++k) {
+      if (config_.l2_scope == "weights" && views[k].name.ends_with(".bias")) continue;
+      Var sq = nn::sum(nn::square(p.vars[k]));
+      if (std::find(lstm_biases.begin(), lstm_biases.end(), static_cast<int>(k)) !=
+          lstm_biases.end()) {
+        const Index h = config_.hidden;
+        sq = nn::add_scalar(
+            nn::add(sq, nn::scale(nn::sum(nn::slice_cols(p.vars[k], h, h)), T(-2))),
+            static_cast<T>(h));
+      }
+      squares.push_back(sq);
+    }
     l_2 = sum_of(squares);  // Σ w², not per window
     const Var weighted =
         config_.l2_weight == 1 ? l_2 : nn::scale(l_2, static_cast<T>(config_.l2_weight));

@@ -46,8 +46,10 @@ struct BdlstmConfig {
   double init_state = 0.1;  ///< s₀ᶠ = +init_state, s₀ᵇ = −init_state (h and c of every layer)
   // Remedies under study (issue: the latent collapses and L_2 pulls towards zero motion); the
   // defaults are the paper's form.
-  /// L_2 over every trainable value ("all", the paper's Σw²) or the weight matrices only
-  /// ("weights": no biases, so the LSTM's forget-gate bias of 1 is not pulled to 0)
+  /// L_2 over every trainable value ("all", the paper's Σw²), the weight matrices only
+  /// ("weights": no biases, so the LSTM's forget-gate bias of 1 is not pulled to 0), or every
+  /// value with the forget-gate biases measured from 1 ("tf": what the paper's TensorFlow cells
+  /// do, whose forget_bias = 1 is a constant outside the trainable bias)
   std::string l2_scope = "all";
   double l2_weight = 1;  ///< L_2's factor inside α₂ (L_KL + l2_weight · L_2)
   /// The last decoder convolution starts at "zero" (δX = 0, no reconstruction gradient reaches

@@ -276,6 +276,29 @@ TEST_CASE("BD-LSTM remedies: L2 without biases, L2 weight, a small last decoder 
   const auto [weights_only, unused] = terms_of(cfg);
   REQUIRE(weights_only.l2 == Approx(paper.l2 - biases).epsilon(1e-12));
   REQUIRE(weights_only.recon == paper.recon);
+  // tf: the forget-gate biases (1 at the start) are measured from 1, so they add nothing at first
+  // (hidden 4 × 2 layers of them); every other value counts as in "all".
+  cfg.l2_scope = "tf";
+  const auto [tf, unused_tf] = terms_of(cfg);
+  REQUIRE(tf.l2 == Approx(paper.l2 - 4 * 2).epsilon(1e-12));
+  {
+    BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
+    Rng w(8, 0);
+    for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(net.store().size()); ++k)
+      net.store().values()[k] = w.uniform(-0.5, 0.5);
+    std::vector<nn::Matrix<double>> params;
+    for (std::size_t i = 0; i < net.store().views().size(); ++i)
+      params.push_back(net.store().value(static_cast<int>(i)));
+    auto r = nn::gradient_check(
+        [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
+          nn::Bound<double> p{x};
+          Rng rng(11, 0);
+          return net.loss(t, p, window, rng);
+        },
+        params);
+    INFO(r.report);
+    REQUIRE(r.max_error <= 1e-6);
+  }
   cfg.l2_scope = "all";
   cfg.l2_weight = 0.25;
   const auto [quarter, unused2] = terms_of(cfg);
