@@ -285,11 +285,11 @@ $(BD)/%/fig-latent.png: $(BD)/%/latent.txt
 BD_VALIDATION_SETS ?= finger $(if $(HAVE_DATA),pcow)
 BD_VALIDATION_FRACTION ?= 0.15
 BD_VALIDATION_ITERATIONS ?= 1500
-BD_CANDIDATES ?= paper remedies
+BD_CANDIDATES ?= paper remedies no-kl
 # Every candidate spells out every remedy option, so that a change of defaults does not change it.
 paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero
 remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small
-no-kl_CANDIDATE := --no-kl --l2-scope weights --l2-weight 0.125 --decoder-init small
+no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero
 
 .PHONY: bdlstm-validation
 bdlstm-validation: $(foreach s,$(BD_VALIDATION_SETS),$(BD)/$(s)/validation.md)

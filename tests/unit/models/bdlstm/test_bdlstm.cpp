@@ -42,6 +42,28 @@ std::vector<nn::Matrix<T>> sine_windows(int n, int batch, std::uint64_t seed) {
   return w;
 }
 
+// Max error of the loss's analytic gradient against central differences, every parameter set
+// to random values first (the last decoder convolution starts at zero, which would hide every
+// gradient behind it). The same reparameterisation noise in every evaluation.
+std::pair<double, std::string> loss_gradient_error(BdlstmNet<double>& net,
+                                                   const std::vector<nn::Matrix<double>>& window,
+                                                   int given = 1) {
+  Rng w(8, 0);
+  for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(net.store().size()); ++k)
+    net.store().values()[k] = w.uniform(-0.5, 0.5);
+  std::vector<nn::Matrix<double>> params;
+  for (std::size_t i = 0; i < net.store().views().size(); ++i)
+    params.push_back(net.store().value(static_cast<int>(i)));
+  auto r = nn::gradient_check(
+      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
+        nn::Bound<double> p{x};
+        Rng rng(11, 0);
+        return net.loss(t, p, window, rng, nullptr, given);
+      },
+      params);
+  return {r.max_error, r.report};
+}
+
 }  // namespace
 
 TEST_CASE("BD-LSTM loss: gradients of every parameter (all variants)", "[models][bdlstm]") {
@@ -58,25 +80,10 @@ TEST_CASE("BD-LSTM loss: gradients of every parameter (all variants)", "[models]
     cfg.kl = v.kl;
     cfg.l2 = v.l2;
     BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
-    // Random weights everywhere (the last decoder convolution starts at zero, which would
-    // hide every gradient behind it).
-    Rng w(8, 0);
-    for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(net.store().size()); ++k)
-      net.store().values()[k] = w.uniform(-0.5, 0.5);
-    const auto window = sine_windows<double>(4, 2, 1);
-    std::vector<nn::Matrix<double>> params;
-    for (std::size_t i = 0; i < net.store().views().size(); ++i)
-      params.push_back(net.store().value(static_cast<int>(i)));
-    auto r = nn::gradient_check(
-        [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
-          nn::Bound<double> p{x};
-          Rng rng(11, 0);  // the same reparameterisation noise in every evaluation
-          return net.loss(t, p, window, rng, nullptr, v.given);
-        },
-        params);
+    const auto [error, report] = loss_gradient_error(net, sine_windows<double>(4, 2, 1), v.given);
     INFO(directions_name(v.d) << " kl=" << v.kl << " l2=" << v.l2 << " given=" << v.given << "\n"
-                              << r.report);
-    REQUIRE(r.max_error <= 1e-6);
+                              << report);
+    REQUIRE(error <= 1e-6);
   }
 }
 
@@ -283,21 +290,9 @@ TEST_CASE("BD-LSTM remedies: L2 without biases, L2 weight, a small last decoder 
   REQUIRE(tf.l2 == Approx(paper.l2 - 4 * 2).epsilon(1e-12));
   {
     BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
-    Rng w(8, 0);
-    for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(net.store().size()); ++k)
-      net.store().values()[k] = w.uniform(-0.5, 0.5);
-    std::vector<nn::Matrix<double>> params;
-    for (std::size_t i = 0; i < net.store().views().size(); ++i)
-      params.push_back(net.store().value(static_cast<int>(i)));
-    auto r = nn::gradient_check(
-        [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
-          nn::Bound<double> p{x};
-          Rng rng(11, 0);
-          return net.loss(t, p, window, rng);
-        },
-        params);
-    INFO(r.report);
-    REQUIRE(r.max_error <= 1e-6);
+    const auto [error, report] = loss_gradient_error(net, window);
+    INFO(report);
+    REQUIRE(error <= 1e-6);
   }
   cfg.l2_scope = "all";
   cfg.l2_weight = 0.25;
@@ -373,19 +368,7 @@ TEST_CASE("BD-LSTM free bits: a dimension's KL below the floor costs nothing", "
   // Gradients through the floor (dimensions above it) match central differences.
   cfg.free_bits = 0.05;
   BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
-  Rng w(8, 0);
-  for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(net.store().size()); ++k)
-    net.store().values()[k] = w.uniform(-0.5, 0.5);
-  std::vector<nn::Matrix<double>> params;
-  for (std::size_t i = 0; i < net.store().views().size(); ++i)
-    params.push_back(net.store().value(static_cast<int>(i)));
-  auto r = nn::gradient_check(
-      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
-        nn::Bound<double> p{x};
-        Rng rng(11, 0);
-        return net.loss(t, p, window, rng);
-      },
-      params);
-  INFO(r.report);
-  REQUIRE(r.max_error <= 1e-6);
+  const auto [error, report] = loss_gradient_error(net, window);
+  INFO(report);
+  REQUIRE(error <= 1e-6);
 }
