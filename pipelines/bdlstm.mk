@@ -332,6 +332,8 @@ $(BD)/%.complete-switch.h5: $(BD)/%.h5
 	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_COMPLETE) -o $@
 $(BD)/%.complete-blend.h5: $(BD)/%.h5
 	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_COMPLETE) --blend 4 --state-sigma 0.05 --merge-scale motion --threshold 1 -o $@
+$(BD)/%.complete-weighted.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_COMPLETE) --merge weighted --state-sigma 0.05 -o $@
 $(BD)/%.complete-linear.h5: $(BD)/%.h5
 	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 --mode complete --part validation --test-every 1 --gap 9 --method linear -o $@
 $(BD)/%.veval: $(BD)/%.h5
@@ -341,19 +343,20 @@ json_num = awk -v key='"$(2)":' '$$1 == key { gsub(/,/, "", $$2); printf "%.2f",
 $(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlatent $(BD)/%/validate/$(c).long-window.change10 \
                          $(BD)/%/validate/$(c).vpred-mean.veval $(BD)/%/validate/$(c).vpred-sample.veval \
                          $(BD)/%/validate/$(c).long-never.change10 $(BD)/%/validate/$(c).complete-switch.veval \
-                         $(BD)/%/validate/$(c).complete-blend.veval $(BD)/%/validate/$(c).complete-linear.veval) \
+                         $(BD)/%/validate/$(c).complete-blend.veval $(BD)/%/validate/$(c).complete-weighted.veval \
+                         $(BD)/%/validate/$(c).complete-linear.veval) \
                        $(BD)/%/data.change10
 	{ echo "**$*** — remedies compared on a validation part ($(BD_VALIDATION_FRACTION) of each sequence, carved out of the training frames; $(BD_VALIDATION_ITERATIONS) iterations)"; echo; \
-	  echo "| candidate | validation error / zero motion's: min (at iteration) | last | prediction from 3 frames x 1e-3 diag, z = mean / sample | pace of 300 frames over 10 steps, restart every window / one chain (data $$($(call change_mean,$(BD)/$*/data.change10.tsv))) | completion x 1e-3 diag: switch mean / best of 8 | cross-fade mean / best of 8 | linear |"; \
-	  echo "|---|---:|---:|---:|---:|---:|---:|---:|"; \
+	  echo "| candidate | validation error / zero motion's: min (at iteration) | last | prediction from 3 frames x 1e-3 diag, z = mean / sample | pace of 300 frames over 10 steps, restart every window / one chain (data $$($(call change_mean,$(BD)/$*/data.change10.tsv))) | completion x 1e-3 diag: switch mean / best of 8 | cross-fade mean / best of 8 | weighted mean / best of 8 | linear |"; \
+	  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"; \
 	  for c in $(BD_CANDIDATES); do v=$(BD)/$*/validate/$$c; \
 	    curve=$$(awk '/^# training_log/ { on = 1; next } on && NF == 0 { exit } on && NF >= 7 { if (!n++ || $$7 < m) { m = $$7; at = $$1 } last = $$7 } \
 	                  END { printf "%.3f (%d) | %.3f", m, at, last }' $$v.vlatent.tsv); \
-	    echo "| $$c | $$curve | $$($(call json_num,$$v.vpred-mean.veval.json,mean_relative)) / $$($(call json_num,$$v.vpred-sample.veval.json,mean_relative)) | $$($(call change_mean,$$v.long-window.change10.tsv,90)) / $$($(call change_mean,$$v.long-never.change10.tsv,90)) | $$($(call json_num,$$v.complete-switch.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-switch.veval.json,best_of_k_relative)) | $$($(call json_num,$$v.complete-blend.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-blend.veval.json,best_of_k_relative)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$v.complete-linear.veval | awk '{ printf "%.2f", 1000 * $$1 }') |"; \
+	    echo "| $$c | $$curve | $$($(call json_num,$$v.vpred-mean.veval.json,mean_relative)) / $$($(call json_num,$$v.vpred-sample.veval.json,mean_relative)) | $$($(call change_mean,$$v.long-window.change10.tsv,90)) / $$($(call change_mean,$$v.long-never.change10.tsv,90)) | $$($(call json_num,$$v.complete-switch.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-switch.veval.json,best_of_k_relative)) | $$($(call json_num,$$v.complete-blend.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-blend.veval.json,best_of_k_relative)) | $$($(call json_num,$$v.complete-weighted.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-weighted.veval.json,best_of_k_relative)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$v.complete-linear.veval | awk '{ printf "%.2f", 1000 * $$1 }') |"; \
 	  done; } > $@.tmp && mv $@.tmp $@
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/validation.png'; \
 	  set title '$*: validation error during training (relative to zero motion)'; set xlabel 'iteration'; \
-	  set ylabel 'validation error / zero motion'; set key top right; \
+	  set ylabel 'validation error / zero motion'; set key top right; set yrange [0:*]; \
 	  plot $(foreach c,$(BD_CANDIDATES),'$(BD)/$*/validate/$(c).vlatent.tsv' index 'training_log' using 1:7 with linespoints lw 2 title '$(c)',) 1 with lines dashtype 2 lc 'black' title 'zero motion'"
 
 # Keep every intermediate file (models, generations, evaluations): later runs reuse them.

@@ -78,6 +78,12 @@ int main(int argc, char** argv) {
                  "z fed to the LSTM: mean (the encoder's) or sample (a draw from q(z|x), as in training)")
       ->default_val(opt.latent)
       ->check(CLI::IsMember({"mean", "sample"}));
+  app.add_option("--merge", opt.merge,
+                 "complete: closest = switch chains at their closest pair of frames (the paper);\n"
+                 "weighted = mix them at every step, the forward chain's weight falling from 1 to 0\n"
+                 "over the gap (no threshold, no retries)")
+      ->default_val(opt.merge)
+      ->check(CLI::IsMember({"closest", "weighted"}));
   app.add_option("--blend", opt.blend,
                  "complete: cross-fade the forward and backward chains over N frames around the\n"
                  "merge (0 = switch at the merge, the paper)")

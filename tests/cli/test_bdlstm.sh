@@ -153,6 +153,11 @@ eval-metrics compb.h5 data.h5 --json compb.json >/dev/null
 awk '/"step": 0,/ { getline; getline; if ($2 + 0 > 1e-6) bad = 1; seen = 1 } END { exit !(seen && !bad) }' compb.json ||
   fail "blended completion: keyframes not reproduced: $(grep -A3 '"step": 0,' compb.json)"
 run h5diff -q comp.h5 compb.h5 /features/normalized; expect_rc 1
+gen-bdlstm -q m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --merge weighted -o compw.h5
+eval-metrics compw.h5 data.h5 --json compw.json >/dev/null
+awk '/"step": 0,/ { getline; getline; if ($2 + 0 > 1e-6) bad = 1; seen = 1 } END { exit !(seen && !bad) }' compw.json ||
+  fail "weighted completion: keyframes not reproduced: $(grep -A3 '"step": 0,' compw.json)"
+run h5diff -q comp.h5 compw.h5 /features/normalized; expect_rc 1
 run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 40,52 --blend -1 -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "blend"
 echo "ok (remedies: restart never, latent sample, blend)"

@@ -81,6 +81,8 @@ void check_options(const BdlstmGenerateOptions& opt) {
   if (opt.merge_scale != "features" && opt.merge_scale != "motion")
     throw UsageError("--merge-scale must be features or motion");
   if (opt.blend < 0) throw UsageError("--blend must not be negative");
+  if (opt.merge != "closest" && opt.merge != "weighted")
+    throw UsageError("--merge must be closest or weighted");
   if (!(opt.state_sigma >= 0)) throw UsageError("--state-sigma must not be negative");
 }
 
@@ -349,6 +351,18 @@ std::vector<Matrix> merged_path(const std::vector<Matrix>& F, const std::vector<
   return p;
 }
 
+std::vector<Matrix> weighted_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B,
+                                  Index row) {
+  const auto L = static_cast<std::int64_t>(F.size()) - 1;
+  std::vector<Matrix> p;
+  for (std::int64_t t = 1; t <= L; ++t) {
+    const float w = static_cast<float>(t) / static_cast<float>(L);
+    p.push_back((1 - w) * F[static_cast<std::size_t>(t)].row(row) +
+                w * B[static_cast<std::size_t>(L - t)].row(row));
+  }
+  return p;
+}
+
 std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
   const int K = opt_.samples;
   const auto& X = d_.features;
@@ -416,6 +430,10 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
     backward_->reset(K, -init, rnd ? opt_.state_sigma : 0, rng_);
     std::vector<Matrix> B{Matrix(X.row(b)).replicate(K, 1)};
     for (std::int64_t t = 0; t < L; ++t) B.push_back(backward_->step(B.back(), latent_, rng_));
+    if (opt_.merge == "weighted") {  // no merge point: each chain weighs most near its keyframe
+      for (int k = 0; k < K; ++k) path[static_cast<std::size_t>(k)] = weighted_path(F, B, k);
+      return path;
+    }
     bool all = true;
     for (int k = 0; k < K; ++k) {
       auto& bk = best[static_cast<std::size_t>(k)];

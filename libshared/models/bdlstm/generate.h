@@ -54,6 +54,10 @@ struct BdlstmGenerateOptions {
   std::string restart = "window";
   /// z fed to the LSTM: the encoder's "mean", or a "sample" of q(z|x) as in training
   std::string latent = "mean";
+  /// complete: "closest" (the paper: switch from the forward to the backward chain at their
+  /// closest pair of frames, retrying random states until it is below --threshold) or
+  /// "weighted" (every step a mix, the forward chain's weight falling linearly over the gap)
+  std::string merge = "closest";
   /// complete: frames over which the forward and backward chains are cross-faded around the
   /// merge (0 = switch at the merge, the paper)
   int blend = 0;
@@ -141,6 +145,12 @@ std::vector<double> probe_prediction_error(const BdlstmNet<float>& net, const nn
 std::vector<nn::Matrix<float>> merged_path(const std::vector<nn::Matrix<float>>& F,
                                            const std::vector<nn::Matrix<float>>& B,
                                            Eigen::Index row, std::int64_t merge, int blend);
+
+/// The same gap without a merge point: step t is (1 − t/L) F_t + (t/L) B_{L−t}, each chain
+/// weighing most near its own keyframe (step L is the second keyframe).
+std::vector<nn::Matrix<float>> weighted_path(const std::vector<nn::Matrix<float>>& F,
+                                             const std::vector<nn::Matrix<float>>& B,
+                                             Eigen::Index row);
 
 /// Runs the chains of a model over cases: one object per run, cases in order (the random
 /// initial states are drawn from one stream seeded by --seed).

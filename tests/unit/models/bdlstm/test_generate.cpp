@@ -104,3 +104,20 @@ TEST_CASE("gen-bdlstm completion: switch or cross-fade at the merge", "[models][
     REQUIRE(std::is_sorted(w.begin(), w.end()));
   }
 }
+
+TEST_CASE("gen-bdlstm completion: weighted mix of the two chains", "[models][bdlstm]") {
+  const int L = 4;
+  std::vector<df::nn::Matrix<float>> F, B;
+  for (int t = 0; t <= L; ++t) {
+    F.push_back(df::nn::Matrix<float>::Constant(2, 1, static_cast<float>(t)));       // row 0, 1
+    B.push_back(df::nn::Matrix<float>::Constant(2, 1, static_cast<float>(10 + t)));  // B_j
+  }
+  const auto p = weighted_path(F, B, 1);
+  REQUIRE(p.size() == 4);
+  // step t: (1 − t/4) t + (t/4)(10 + 4 − t)
+  for (int t = 1; t <= L; ++t) {
+    const double w = t / 4.0;
+    REQUIRE(p[static_cast<std::size_t>(t - 1)](0, 0) == Approx((1 - w) * t + w * (14 - t)));
+  }
+  REQUIRE(p.back()(0, 0) == 10);  // the second keyframe B_0
+}
