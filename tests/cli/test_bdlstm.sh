@@ -112,7 +112,7 @@ expect_rc 2; expect_one_error_line eval-metrics; expect_err "change-span"
 echo "ok (eval: linear step 3/6 $(step_error 3 lin.txt) $(step_error 6 lin.txt), bdlstm step 6 $(step_error 6 pred.txt))"
 
 # --- completion: keyframes are kept exactly, the chains merge under a loose threshold
-run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --threshold 0.5 -o comp.h5
+run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --merge-scale features --threshold 0.5 --blend 0 -o comp.h5
 expect_rc 0; expect_err "every completion merged"
 eval-metrics comp.h5 data.h5 --json comp.json >/dev/null
 awk '/"step": 0,/ { getline; getline; if ($2 + 0 > 1e-6) bad = 1; seen = 1 } END { exit !(seen && !bad) }' comp.json ||
@@ -130,23 +130,22 @@ eval-metrics long.h5 >long.txt
 grep -q "feature change" long.txt || fail "no feature change for a single file"
 echo "ok (long)"
 
-# --- generation remedies (issue 18): --restart never carries one chain's state (the window no
-# longer matters; the paper's restarts every window differ), --latent sample draws z from q(z|x)
-# (seeded), --blend cross-fades the chains and keeps the keyframes exact
-gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 30 -o w30.h5
-gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 30 --restart never -o n30.h5
+# --- generation remedies (issue 18), the defaults: --restart never carries one chain's state (the
+# window no longer matters; the paper's restarts every window differ), --latent sample draws z
+# from q(z|x) (seeded; differs from the mean), --blend cross-fades the chains and keeps the
+# keyframes exact, --merge weighted too
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 30 --latent mean --restart window -o w30.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 30 --latent mean -o n30.h5
 run h5diff w30.h5 n30.h5 /features/normalized; expect_rc 0
-gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 --restart never -o n5.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 --latent mean --restart never -o n5.h5
 run h5diff n30.h5 n5.h5 /features/normalized; expect_rc 0
-gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 -o w5.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 --latent mean --restart window -o w5.h5
 run h5diff -q w5.h5 n5.h5 /features/normalized; expect_rc 1
-gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent sample --seed 2 -o ls1.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --seed 2 -o ls1.h5
 gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent sample --seed 2 --threads 1 -o ls2.h5
 run h5diff ls1.h5 ls2.h5 /features/normalized; expect_rc 0
-gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 -o lm.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent mean -o lm.h5
 run h5diff -q ls1.h5 lm.h5 /features/normalized; expect_rc 1
-gen-bdlstm -q m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --threshold 0.5 --blend 0 -o comp0.h5
-run h5diff comp.h5 comp0.h5 /features/normalized; expect_rc 0
 run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 40,46,52 --samples 2 --threshold 2 --blend 3 --merge-scale motion -o compb.h5
 expect_rc 0
 eval-metrics compb.h5 data.h5 --json compb.json >/dev/null

@@ -84,6 +84,7 @@ void check_options(const BdlstmGenerateOptions& opt) {
   if (opt.merge != "closest" && opt.merge != "weighted")
     throw UsageError("--merge must be closest or weighted");
   if (!(opt.state_sigma >= 0)) throw UsageError("--state-sigma must not be negative");
+  if (!(opt.threshold >= 0)) throw UsageError("--threshold must not be negative");
 }
 
 }  // namespace
@@ -303,6 +304,7 @@ ChainRunner::ChainRunner(const BdlstmGenerateOptions& opt, const BdlstmModel& m,
       window_(opt.window ? opt.window : m.training.window),
       restart_(opt.restart == "window"),
       latent_(opt.latent == "sample" ? LatentInput::sample : LatentInput::mean),
+      threshold_(opt.threshold > 0 ? opt.threshold : opt.merge_scale == "motion" ? 1.0 : 0.05),
       rng_(seed, 2),
       forward_(std::make_unique<ChainStepper>(*m.net, 0)) {
   if (window_ < 2) throw UsageError("--window must be at least 2");
@@ -437,7 +439,7 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
     bool all = true;
     for (int k = 0; k < K; ++k) {
       auto& bk = best[static_cast<std::size_t>(k)];
-      if (bk < opt_.threshold) continue;
+      if (bk < threshold_) continue;
       // --merge-scale motion: differences relative to the two chains' mean change per step.
       float motion = 0;
       if (opt_.merge_scale == "motion") {
@@ -462,13 +464,13 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
         bk = diff;
         path[static_cast<std::size_t>(k)] = merged_path(F, B, k, bi, opt_.blend);
       }
-      all = all && bk < opt_.threshold;
+      all = all && bk < threshold_;
     }
     if (all) break;
   }
   for (float bk : best) {
     worst_merge_ = std::max(worst_merge_, static_cast<double>(bk));
-    if (bk >= opt_.threshold) ++unmerged_;
+    if (bk >= threshold_) ++unmerged_;
   }
   return path;
 }
@@ -556,7 +558,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
         "{} completion(s) did not merge below --threshold {} after {} attempts (worst relative "
         "difference {:.3g}); "
         "the closest pair was used",
-        runner.unmerged(), opt.threshold, opt.retries, runner.worst_merge());
+        runner.unmerged(), runner.threshold(), opt.retries, runner.worst_merge());
   else if (opt.mode == "complete" && opt.method == "bdlstm")
     log::info("every completion merged (worst relative difference {:.3g})", runner.worst_merge());
 
