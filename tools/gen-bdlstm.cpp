@@ -6,18 +6,18 @@ int main(int argc, char** argv) {
   df::Tool tool("gen-bdlstm",
                 "Generate mesh sequences with a BD-LSTM from train-bdlstm (Qiao et al., TVCG 2020).\n"
                 "  --mode predict   feed --initial u frames ending at each --from frame, then let the\n"
-                "                   network run --length frames, z drawn from q(z|x) as in training\n"
-                "                   (--latent mean: the encoder's mean); one chain carries its LSTM\n"
+                "                   network run --length frames, z = the encoder's mean (--latent\n"
+                "                   sample: drawn from q(z|x) as in training); one chain carries its LSTM\n"
                 "                   state over any length (--restart window: the paper's restart every\n"
                 "                   --window frames from the last u frames, which damps long runs);\n"
                 "  --mode complete  fill the gaps between --keyframes: a forward chain from each\n"
                 "                   keyframe (states +0.1) and a backward chain from the next (-0.1)\n"
                 "                   are merged at the closest pair of frames of the same or adjacent\n"
-                "                   time, cross-faded over --blend frames; random initial states are\n"
-                "                   retried until the difference is below --threshold times the\n"
-                "                   chains' change per step (the paper: --merge-scale features\n"
-                "                   --threshold 0.05 --blend 0 --state-sigma 0.1).\n"
-                "The defaults that differ from the paper were chosen on validation parts (README).\n"
+                "                   time (--blend N cross-fades them over N frames); random initial\n"
+                "                   states are retried until the relative feature difference is below\n"
+                "                   --threshold (paper: 5%; --merge-scale motion: relative to the\n"
+                "                   chains' change per step).\n"
+                "The default --restart never (not the paper's) was chosen on validation parts (README).\n"
                 "--samples K draws K different results per case from random initial LSTM states.\n"
                 "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
                 "(from the last two given frames) or interpolation in ACAP feature space; --method\n"
@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
   app.add_option("--samples", opt.samples, "Results per case; K > 1 draws random initial states")
       ->default_val(opt.samples);
   app.add_option("--state-sigma", opt.state_sigma,
-                 "Std-dev of random initial states around +-0.1 (the paper: 0.1, as large as the\n"
+                 "Std-dev of random initial states around +-0.1 (the paper's; as large as the\n"
                  "direction signal)")
       ->default_val(opt.state_sigma);
   app.add_option("--threshold", opt.threshold,

@@ -131,7 +131,7 @@ grep -q "feature change" long.txt || fail "no feature change for a single file"
 echo "ok (long)"
 
 # --- generation remedies (issue 18), the defaults: --restart never carries one chain's state (the
-# window no longer matters; the paper's restarts every window differ), --latent sample draws z
+# window no longer matters; the paper's restarts every window differ); --latent sample draws z
 # from q(z|x) (seeded; differs from the mean), --blend cross-fades the chains and keeps the
 # keyframes exact, --merge weighted too
 gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 30 --latent mean --restart window -o w30.h5
@@ -141,7 +141,7 @@ gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 --latent mean --rest
 run h5diff n30.h5 n5.h5 /features/normalized; expect_rc 0
 gen-bdlstm -q m.h5 data.h5 --from 10 --length 20 --window 5 --latent mean --restart window -o w5.h5
 run h5diff -q w5.h5 n5.h5 /features/normalized; expect_rc 1
-gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --seed 2 -o ls1.h5
+gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent sample --seed 2 -o ls1.h5
 gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent sample --seed 2 --threads 1 -o ls2.h5
 run h5diff ls1.h5 ls2.h5 /features/normalized; expect_rc 0
 gen-bdlstm -q m.h5 data.h5 --from 10 --length 6 --latent mean -o lm.h5

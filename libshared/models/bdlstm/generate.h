@@ -44,9 +44,10 @@ struct BdlstmGenerateOptions {
   int length = 15;           ///< predict: future frames
   int gap = 9;               ///< complete with --test-every: frames between the two keyframes
   int samples = 1;           ///< per case; > 1 draws random initial states
-  /// std-dev of random initial states around ±init_state (0.05: half the ±0.1 that tells the
-  /// shared network its direction; issue 18's validation parts chose it over the paper's 0.1)
-  double state_sigma = 0.05;
+  /// std-dev of random initial states around ±init_state (the paper's 0.1, as large as the ±0.1
+  /// that tells the shared network its direction; 0.05 with cross-fading did not win on
+  /// issue 18's validation parts)
+  double state_sigma = 0.1;
   /// complete: merge when the chains' difference, relative as --merge-scale says, is below this
   /// (0 = 1 for "motion", 0.05 for "features", the paper's 5%)
   double threshold = 0;
@@ -57,17 +58,17 @@ struct BdlstmGenerateOptions {
   /// state over the whole length
   std::string restart = "never";
   /// z fed to the LSTM: the encoder's "mean", or a "sample" of q(z|x) as in training
-  std::string latent = "sample";
+  std::string latent = "mean";
   /// complete: "closest" (the paper: switch from the forward to the backward chain at their
   /// closest pair of frames, retrying random states until it is below --threshold) or
   /// "weighted" (every step a mix, the forward chain's weight falling linearly over the gap)
   std::string merge = "closest";
   /// complete: frames over which the forward and backward chains are cross-faded around the
   /// merge (0 = switch at the merge, the paper)
-  int blend = 4;
+  int blend = 0;
   /// complete: --threshold is relative to the forward frame's feature norm ("features", the
   /// paper) or to the chains' mean change per step ("motion")
-  std::string merge_scale = "motion";
+  std::string merge_scale = "features";
   /// Data frames per generated frame (0 = the model's training --stride): a model trained on
   /// every q-th frame steps q frames at a time, so given frames, keyframes and /frames/source
   /// are q apart.
