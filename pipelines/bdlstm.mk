@@ -313,12 +313,12 @@ $(foreach c,$(BD_CANDIDATES),$(eval $(call CANDIDATE_RULES,$(c))))
 $(BD)/%.vlatent: $(BD)/%.h5
 	$(call launch,generate) $(BIN)/inspect-bdlstm -q $< $(BD)/$(vset)/data.h5 --part validation --initial 1 --length 5 \
 	  --tsv $@.tsv > $@.tmp && mv $@.tmp $@
-# 300 frames from the first validation frame, the paper's restarts or one chain: the pace over 10 steps.
 # The set of a target under $(BD) (its first directory), and its stride.
 vset = $(firstword $(subst /, ,$*))
 vstride = $(or $($(vset)_STRIDE),1)
 # The third frame of the first validation part: the last of 3 given frames.
 first_validation = $$(h5dump -y -w 0 -d /split/validation $(1) | awk -v q=$(vstride) '/DATA \{/ { d = 1; next } d { gsub(/,/, " "); print $$1 + 2 * q; exit }')
+# 300 frames from the first validation frame, the paper's restarts or one chain: the pace over 10 steps.
 $(BD)/%.long-window.h5: $(BD)/%.h5
 	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 --from $(call first_validation,$<) --initial 3 --length 300 --latent mean --restart window -o $@
 $(BD)/%.long-never.h5: $(BD)/%.h5
@@ -360,7 +360,7 @@ $(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlaten
 	  done; } > $@.tmp && mv $@.tmp $@
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/validation.png'; \
 	  set title '$*: validation error during training (relative to zero motion)'; set xlabel 'iteration'; \
-	  set ylabel 'validation error / zero motion'; set key top right; set yrange [0:*]; \
+	  set ylabel 'validation error / zero motion'; set key top right; set yrange [0:*]; set offsets 0, 0, 0.1, 0; \
 	  plot $(foreach c,$(BD_CANDIDATES),'$(BD)/$*/validate/$(c).vlatent.tsv' index 'training_log' using 1:7 with linespoints lw 2 title '$(c)',) 1 with lines dashtype 2 lc 'black' title 'zero motion'"
 
 # Keep every intermediate file (models, generations, evaluations): later runs reuse them.

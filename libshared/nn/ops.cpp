@@ -616,10 +616,13 @@ Var<T> mse(Var<T> a, Var<T> b) {
 }
 
 template <class T>
+Var<T> gaussian_kl_elements(Var<T> mu, Var<T> logvar) {
+  return scale(sub(sub(add_scalar(logvar, T(1)), square(mu)), exp(logvar)), T(-0.5));
+}
+
+template <class T>
 Var<T> gaussian_kl(Var<T> mu, Var<T> logvar) {
-  // −½ Σ (1 + lv − μ² − e^lv) / rows
-  Var<T> inner = sub(sub(add_scalar(logvar, T(1)), square(mu)), exp(logvar));
-  return scale(sum(inner), T(-0.5) / static_cast<T>(mu.rows()));
+  return scale(sum(gaussian_kl_elements(mu, logvar)), T(1) / static_cast<T>(mu.rows()));
 }
 
 template <class T>
@@ -670,6 +673,7 @@ Var<T> reparameterize(Var<T> mu, Var<T> logvar, const Matrix<T>& eps) {
   template Var<T> softmax_cross_entropy(Var<T>, const std::vector<int>&);                     \
   template Var<T> bce_with_logits(Var<T>, const Matrix<T>&);                                  \
   template Var<T> mse(Var<T>, Var<T>);                                                        \
+  template Var<T> gaussian_kl_elements(Var<T>, Var<T>);                                       \
   template Var<T> gaussian_kl(Var<T>, Var<T>);                                                \
   template Var<T> reparameterize(Var<T>, Var<T>, const Matrix<T>&);                           \
   template Matrix<T> softmax(const Matrix<T>&);

@@ -83,6 +83,9 @@ template <class T> Var<T> softmax_cross_entropy(Var<T> logits, const std::vector
 template <class T> Var<T> bce_with_logits(Var<T> logits, const Matrix<T>& targets);
 /// Mean of (a − b)² over all elements.
 template <class T> Var<T> mse(Var<T> a, Var<T> b);
+/// KL(N(μ, e^logvar) ‖ N(0, I)) per element ([rows, cols], not 1×1):
+/// −½ (1 + logvar − μ² − e^logvar), e.g. per latent dimension for free bits.
+template <class T> Var<T> gaussian_kl_elements(Var<T> mu, Var<T> logvar);
 /// KL(N(μ, e^logvar) ‖ N(0, I)) summed over columns, averaged over rows:
 /// −½ mean_rows Σ_cols (1 + logvar − μ² − e^logvar).
 template <class T> Var<T> gaussian_kl(Var<T> mu, Var<T> logvar);

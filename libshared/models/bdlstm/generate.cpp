@@ -114,15 +114,14 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
   auto states = net_.states_from(tape_, h_, c_);
   const nn::Var<float> xin = tape_.constant(x);
   nn::Var<float> z;
-  if (latent == LatentInput::mean) {
-    z = net_.encode(bound_, chain_, xin).first;
-  } else if (latent == LatentInput::sample && net_.config().kl) {  // z ~ q(z|x), as in training
+  if (latent == LatentInput::mean || latent == LatentInput::sample) {
     auto [mu, logvar] = net_.encode(bound_, chain_, xin);
-    Matrix eps(x.rows(), net_.config().latent);
-    for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
-    z = nn::reparameterize(mu, logvar, eps);
-  } else if (latent == LatentInput::sample) {  // a deterministic encoder: its z is the mean
-    z = net_.encode(bound_, chain_, xin).first;
+    z = mu;
+    if (latent == LatentInput::sample && net_.config().kl) {  // z ~ q(z|x), as in training (a
+      Matrix eps(x.rows(), net_.config().latent);             // deterministic encoder: the mean)
+      for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
+      z = nn::reparameterize(mu, logvar, eps);
+    }
   } else {
     Matrix eps = Matrix::Zero(x.rows(), net_.config().latent);
     if (latent == LatentInput::prior)
@@ -337,15 +336,16 @@ void push(GeneratedSequence& s, const Matrix& row, std::int64_t source, std::int
 
 }  // namespace
 
-std::vector<Matrix> merged_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B,
-                                Index row, std::int64_t merge, int blend) {
+namespace {
+
+// Steps 1..L of a gap: (1 − w_t) F_t + w_t B_{L−t} for row `row`, w_t = backward(t).
+template <class W>
+std::vector<Matrix> mixed_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B, Index row,
+                               W backward) {
   const auto L = static_cast<std::int64_t>(F.size()) - 1;
   std::vector<Matrix> p;
   for (std::int64_t t = 1; t <= L; ++t) {
-    // Weight of the backward chain: 0 up to the merge, 1 after it, a linear ramp over `blend`
-    // frames centred between frames merge and merge + 1; the last frame is the keyframe.
-    const double ramp = 0.5 + (static_cast<double>(t - merge) - 0.5) / (blend + 1);
-    const auto w = static_cast<float>(t == L ? 1.0 : std::clamp(ramp, 0.0, 1.0));
+    const auto w = static_cast<float>(backward(t, L));
     const Matrix f = F[static_cast<std::size_t>(t)].row(row);
     const Matrix b = B[static_cast<std::size_t>(L - t)].row(row);
     p.push_back(w == 0 ? f : w == 1 ? b : Matrix((1 - w) * f + w * b));
@@ -353,16 +353,23 @@ std::vector<Matrix> merged_path(const std::vector<Matrix>& F, const std::vector<
   return p;
 }
 
+}  // namespace
+
+std::vector<Matrix> merged_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B,
+                                Index row, std::int64_t merge, int blend) {
+  // 0 up to the merge, 1 after it, a linear ramp over `blend` frames centred between frames
+  // merge and merge + 1; the last frame is the keyframe.
+  return mixed_path(F, B, row, [&](std::int64_t t, std::int64_t L) {
+    const double ramp = 0.5 + (static_cast<double>(t - merge) - 0.5) / (blend + 1);
+    return t == L ? 1.0 : std::clamp(ramp, 0.0, 1.0);
+  });
+}
+
 std::vector<Matrix> weighted_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B,
                                   Index row) {
-  const auto L = static_cast<std::int64_t>(F.size()) - 1;
-  std::vector<Matrix> p;
-  for (std::int64_t t = 1; t <= L; ++t) {
-    const float w = static_cast<float>(t) / static_cast<float>(L);
-    p.push_back((1 - w) * F[static_cast<std::size_t>(t)].row(row) +
-                w * B[static_cast<std::size_t>(L - t)].row(row));
-  }
-  return p;
+  return mixed_path(F, B, row, [](std::int64_t t, std::int64_t L) {
+    return static_cast<double>(t) / static_cast<double>(L);
+  });
 }
 
 std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {

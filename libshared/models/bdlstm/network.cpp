@@ -122,11 +122,8 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, 
       const T rows = static_cast<T>(x.rows());
       Var kl;  // Σ over rows
       if (config_.free_bits > 0) {  // Σ_d max(λ, mean_rows KL_d), times the rows
-        Var per_element = nn::scale(
-            nn::sub(nn::sub(nn::add_scalar(logvar, T(1)), nn::square(mu)), nn::exp(logvar)),
-            T(-0.5));
-        Var per_dim = nn::clamp(nn::mean_rows(per_element), static_cast<T>(config_.free_bits),
-                                std::numeric_limits<T>::max());
+        Var per_dim = nn::clamp(nn::mean_rows(nn::gaussian_kl_elements(mu, logvar)),
+                                static_cast<T>(config_.free_bits), std::numeric_limits<T>::max());
         kl = nn::scale(nn::sum(per_dim), rows);
       } else {
         kl = nn::scale(nn::gaussian_kl(mu, logvar), rows);

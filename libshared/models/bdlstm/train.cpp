@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <numeric>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -79,9 +80,7 @@ std::function<LossTerms()> validation_evaluation(const BdlstmModel& m,
                        m.split.data);
   Rng unused;
   auto mean_of = [](const std::vector<double>& v) {
-    double s = 0;
-    for (double x : v) s += x;
-    return s / static_cast<double>(v.size());
+    return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
   };
   const double zero_motion =
       mean_of(probe_prediction_error(*m.net, data, starts, given, length, q, nullptr, unused));

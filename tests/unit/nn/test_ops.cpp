@@ -138,6 +138,8 @@ TEST_CASE("nn ops: losses", "[nn]") {
                     {rnd(4, 3, 1, -3, 3)});
   require_gradients([](Tape<double>&, const Vars& x) { return mse(x[0], x[1]); }, {rnd(4, 3, 1), rnd(4, 3, 2)});
   require_gradients([](Tape<double>&, const Vars& x) { return gaussian_kl(x[0], x[1]); }, {rnd(4, 3, 1), rnd(4, 3, 2)});
+  require_gradients([](Tape<double>&, const Vars& x) { return sum(square(gaussian_kl_elements(x[0], x[1]))); },
+                    {rnd(4, 3, 1), rnd(4, 3, 2)});
   M eps = rnd(4, 3, 3);
   require_gradients([eps](Tape<double>&, const Vars& x) { return reparameterize(x[0], x[1], eps); },
                     {rnd(4, 3, 1), rnd(4, 3, 2)});
@@ -149,6 +151,8 @@ TEST_CASE("nn ops: losses", "[nn]") {
   CHECK(softmax_cross_entropy(t.constant(M::Zero(2, 4)), {1, 3}).value()(0, 0) == Approx(std::log(4.0)));
   CHECK(bce_with_logits(t.constant(M::Zero(1, 1)), M(M::Constant(1, 1, 1))).value()(0, 0) == Approx(std::log(2.0)));
   CHECK(gaussian_kl(t.constant(M::Zero(2, 5)), t.constant(M::Zero(2, 5))).value()(0, 0) == 0.0);
+  // N(1, 1) against N(0, 1): ½ μ² = 0.5 per element.
+  CHECK(gaussian_kl_elements(t.constant(M::Ones(2, 3)), t.constant(M::Zero(2, 3))).value() == M::Constant(2, 3, 0.5));
   CHECK(mse(t.constant(M::Ones(2, 2)), t.constant(M::Zero(2, 2))).value()(0, 0) == 1.0);
 }
 
