@@ -239,6 +239,11 @@ LstmState<T> LstmCell<T>::operator()(const Bound<T>& p, Var<T> x, LstmState<T> s
 }
 
 template <class T>
+Var<T> LstmCell<T>::sequence(const Bound<T>& p, Var<T> x, LstmState<T> s, bool reverse) const {
+  return lstm_sequence(x, p[wx], p[wh], p[b], s.h, s.c, reverse);
+}
+
+template <class T>
 StackedLstm<T>::StackedLstm(ParameterStore<T>& s, const std::string& name, Index in, Index hidden, int layers,
                             Rng& rng) {
   for (int l = 0; l < layers; ++l) cells.emplace_back(s, fmt::format("{}.{}", name, l), l ? hidden : in, hidden, rng);
@@ -260,6 +265,13 @@ std::vector<Var<T>> StackedLstm<T>::run(const Bound<T>& p, const std::vector<Var
   std::vector<Var<T>> out;
   for (const auto& xt : x) out.push_back(step(p, xt, states));
   return out;
+}
+
+template <class T>
+Var<T> StackedLstm<T>::sequence(const Bound<T>& p, Var<T> x, Index batch, bool reverse) const {
+  auto states = constant_states(*x.tape, batch, T(0));
+  for (std::size_t l = 0; l < cells.size(); ++l) x = cells[l].sequence(p, x, states[l], reverse);
+  return x;
 }
 
 template <class T>
@@ -291,19 +303,8 @@ BidirectionalLstm<T>::BidirectionalLstm(ParameterStore<T>& s, const std::string&
     : forward(s, name + ".fw", in, hidden, layers, rng), backward(s, name + ".bw", in, hidden, layers, rng) {}
 
 template <class T>
-std::vector<Var<T>> BidirectionalLstm<T>::run(const Bound<T>& p, const std::vector<Var<T>>& x, Var<T>* last_forward,
-                                              Var<T>* last_backward) const {
-  if (x.empty()) throw Error("internal: empty sequence");
-  Tape<T>& t = *x[0].tape;
-  auto sf = forward.constant_states(t, x[0].rows(), T(0)), sb = backward.constant_states(t, x[0].rows(), T(0));
-  std::vector<Var<T>> hf = forward.run(p, x, sf);
-  std::vector<Var<T>> reversed(x.rbegin(), x.rend());
-  std::vector<Var<T>> hb = backward.run(p, reversed, sb);
-  std::vector<Var<T>> out;
-  for (std::size_t k = 0; k < x.size(); ++k) out.push_back(concat_cols<T>({hf[k], hb[x.size() - 1 - k]}));
-  if (last_forward) *last_forward = hf.back();
-  if (last_backward) *last_backward = hb.back();
-  return out;
+typename BidirectionalLstm<T>::Outputs BidirectionalLstm<T>::run(const Bound<T>& p, Var<T> x, Index batch) const {
+  return {forward.sequence(p, x, batch, false), backward.sequence(p, x, batch, true)};
 }
 
 #define DF_NN_LAYERS(T)                                                                                    \

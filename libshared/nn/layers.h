@@ -80,7 +80,17 @@ struct LstmCell {
   LstmCell() = default;
   LstmCell(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index hidden, Rng& rng);
   LstmState<T> operator()(const Bound<T>& p, Var<T> x, LstmState<T> s) const;
+  /// The layer over a whole sequence x [T·B, in] from state s (lstm_sequence): h of every step.
+  Var<T> sequence(const Bound<T>& p, Var<T> x, LstmState<T> s, bool reverse = false) const;
 };
+
+/// One LSTM layer (LstmCell's equations) over a whole sequence as one tape node: x [T·B, in]
+/// time-major (rows t·B .. t·B + B − 1 are step t), states h0, c0 [B, H]; returns h_t of every
+/// step [T·B, H] in time order. reverse: the steps run from the last to the first (the
+/// backward direction of a bidirectional LSTM). The input and weight products of all steps are
+/// one matrix product each instead of one per step.
+template <class T>
+Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T> c0, bool reverse);
 
 /// Stacked LSTM: one step feeds each layer's h into the next.
 template <class T>
@@ -92,6 +102,9 @@ struct StackedLstm {
   Var<T> step(const Bound<T>& p, Var<T> x, std::vector<LstmState<T>>& states) const;
   /// Runs over a sequence (x[t] [B, in]) from `states`; returns the top h of every step.
   std::vector<Var<T>> run(const Bound<T>& p, const std::vector<Var<T>>& x, std::vector<LstmState<T>>& states) const;
+  /// The top layer's h of every step of x [T·B, in] (time-major, batch B) from zero states, each
+  /// layer as one lstm_sequence node; reverse: from the last step to the first.
+  Var<T> sequence(const Bound<T>& p, Var<T> x, Eigen::Index batch, bool reverse = false) const;
   /// States filled with a constant (e.g. ±0.1 for the share-weight BD-LSTM chains).
   std::vector<LstmState<T>> constant_states(Tape<T>& t, Eigen::Index batch, T value) const;
 };
@@ -108,15 +121,19 @@ template <class T>
 SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bound<T>& p, const std::vector<Var<T>>& x,
                                             T forward_init, T backward_init);
 
-/// Standard bidirectional LSTM (separate weights per direction): outputs [B, 2H] per step
-/// (forward h_t beside backward h_t) and the last states of both directions.
+/// Standard bidirectional LSTM (separate weights per direction, zero initial states).
 template <class T>
 struct BidirectionalLstm {
+  /// h of every step [T·B, H] of each direction, in time order: forward's last state is its
+  /// last B rows, backward's its first B rows.
+  struct Outputs {
+    Var<T> forward, backward;
+  };
   StackedLstm<T> forward, backward;
   BidirectionalLstm() = default;
   BidirectionalLstm(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index hidden, int layers, Rng& rng);
-  std::vector<Var<T>> run(const Bound<T>& p, const std::vector<Var<T>>& x, Var<T>* last_forward = nullptr,
-                          Var<T>* last_backward = nullptr) const;
+  /// Over x [T·B, in] (time-major, batch B).
+  Outputs run(const Bound<T>& p, Var<T> x, Eigen::Index batch) const;
 };
 
 }  // namespace df::nn

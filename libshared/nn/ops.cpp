@@ -7,10 +7,13 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "nn/parallel_product.h"
 
 namespace df::nn {
 namespace {
 using Eigen::Index;
+using detail::parallel_product;
+using detail::product_into_grad;
 
 template <class T>
 Tape<T>& same_tape(Var<T> a, Var<T> b) {
@@ -43,6 +46,20 @@ Matrix<T> expand(const Matrix<T>& m, Index rows, Index cols) {
   return m.replicate(1, cols);
 }
 
+// f(a, b) element-wise on arrays, b broadcast to a's shape [rows, cols] when it is smaller:
+// without copying operands of the full shape (the common cases: equal shapes, a bias row).
+template <class T, class F>
+Matrix<T> broadcast_apply(const Matrix<T>& a, const Matrix<T>& b, Index rows, Index cols, F f) {
+  const bool a_full = a.rows() == rows && a.cols() == cols, b_full = b.rows() == rows && b.cols() == cols;
+  if (a_full && b_full) return f(a.array(), b.array()).matrix();
+  if (a_full && b.rows() == 1 && b.cols() == cols) {
+    Matrix<T> out(rows, cols);
+    for (Index r = 0; r < rows; ++r) out.row(r).array() = f(a.row(r).array(), b.row(0).array());
+    return out;
+  }
+  return f(expand(a, rows, cols).array(), expand(b, rows, cols).array()).matrix();
+}
+
 // Sums g over the axes along which a [rows, cols] operand was broadcast.
 template <class T>
 Matrix<T> reduce_to(const Matrix<T>& g, Index rows, Index cols) {
@@ -53,52 +70,21 @@ Matrix<T> reduce_to(const Matrix<T>& g, Index rows, Index cols) {
 }
 
 // Adds g (reduced to the node's shape) into node id's gradient, if it wants one.
-template <class T>
-void accumulate(Tape<T>& t, int id, const Matrix<T>& g) {
-  if (t.requires_grad(id)) t.grad(id) += reduce_to(g, t.value(id).rows(), t.value(id).cols());
+template <class T, class Expr>
+void accumulate(Tape<T>& t, int id, const Expr& g) {
+  if (!t.requires_grad(id)) return;
+  const Index rows = t.value(id).rows(), cols = t.value(id).cols();
+  if (g.rows() == rows && g.cols() == cols)
+    t.add_to_grad(id, g);
+  else
+    t.add_to_grad(id, reduce_to(Matrix<T>(g), rows, cols));
 }
+
 
 // The id the next recorded node will get (closures capture it before recording).
 template <class T>
 int next_id(const Tape<T>& t) {
   return static_cast<int>(t.size());
-}
-
-// C (+)= op(A) · op(B), split into fixed blocks of output rows (or, for few rows, of output
-// columns: the BD-LSTM's [16 × 26136] × [26136 × 256]) computed in parallel. The block size
-// never depends on the thread count, so every element is summed in the same order at any
-// --threads (Eigen's blocking depends on the block's shape only).
-constexpr Index kRowBlock = 64, kColBlock = 128;
-
-template <class T, class DstXpr, class LhsXpr, class RhsXpr>
-void parallel_product(DstXpr&& dst, const LhsXpr& lhs, const RhsXpr& rhs, bool accumulate_into) {
-  const Index rows = dst.rows(), cols = dst.cols();
-  const double work = static_cast<double>(rows) * static_cast<double>(cols) * static_cast<double>(lhs.cols());
-  if (rows < 2 * kRowBlock && cols >= 2 * kColBlock && work >= 4e6) {
-    tbb::parallel_for(Index{0}, (cols + kColBlock - 1) / kColBlock, [&](Index b) {
-      const Index c0 = b * kColBlock, n = std::min(kColBlock, cols - c0);
-      if (accumulate_into)
-        dst.middleCols(c0, n).noalias() += lhs * rhs.middleCols(c0, n);
-      else
-        dst.middleCols(c0, n).noalias() = lhs * rhs.middleCols(c0, n);
-    });
-    return;
-  }
-  if (rows < 2 * kRowBlock || work < 4e6) {  // small: one product
-    if (accumulate_into)
-      dst.noalias() += lhs * rhs;
-    else
-      dst.noalias() = lhs * rhs;
-    return;
-  }
-  const Index blocks = (rows + kRowBlock - 1) / kRowBlock;
-  tbb::parallel_for(Index{0}, blocks, [&](Index b) {
-    const Index r0 = b * kRowBlock, n = std::min(kRowBlock, rows - r0);
-    if (accumulate_into)
-      dst.middleRows(r0, n).noalias() += lhs.middleRows(r0, n) * rhs;
-    else
-      dst.middleRows(r0, n).noalias() = lhs.middleRows(r0, n) * rhs;
-  });
 }
 
 // Element-wise unary op on Eigen arrays (vectorised): out = f(A); dA += G ∘ d(A, OUT), where
@@ -131,10 +117,14 @@ Var<T> unary(Var<T> a, F f, D d) {
   return t.record(std::move(out), a.requires_grad(), [&t, ia, io, d] {
     using Flat = Eigen::Map<Eigen::Array<T, Eigen::Dynamic, 1>>;
     using ConstFlat = Eigen::Map<const Eigen::Array<T, Eigen::Dynamic, 1>>;
-    T* ga = t.grad(ia).data();
+    bool add = false;
+    T* ga = t.grad_to_update(ia, add).data();
     const T *go = t.grad(io).data(), *x = t.value(ia).data(), *y = t.value(io).data();
     for_chunks(t.value(io).size(), [&](Index k, Index n) {
-      Flat(ga + k, n) += ConstFlat(go + k, n) * d(ConstFlat(x + k, n), ConstFlat(y + k, n));
+      if (add)
+        Flat(ga + k, n) += ConstFlat(go + k, n) * d(ConstFlat(x + k, n), ConstFlat(y + k, n));
+      else
+        Flat(ga + k, n) = ConstFlat(go + k, n) * d(ConstFlat(x + k, n), ConstFlat(y + k, n));
     });
   });
 }
@@ -152,8 +142,8 @@ Var<T> matmul(Var<T> a, Var<T> b) {
   parallel_product<T>(out, a.value(), b.value(), false);
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     const Matrix<T>& g = t.grad(io);
-    if (t.requires_grad(ia)) parallel_product<T>(t.grad(ia), g, t.value(ib).transpose(), true);
-    if (t.requires_grad(ib)) parallel_product<T>(t.grad(ib), t.value(ia).transpose(), g, true);
+    if (t.requires_grad(ia)) product_into_grad(t, ia, g, t.value(ib).transpose());
+    if (t.requires_grad(ib)) product_into_grad(t, ib, t.value(ia).transpose(), g);
   });
 }
 
@@ -166,8 +156,8 @@ Var<T> matmul_transposed(Var<T> a, Var<T> b) {
   parallel_product<T>(out, a.value(), b.value().transpose(), false);
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     const Matrix<T>& g = t.grad(io);
-    if (t.requires_grad(ia)) parallel_product<T>(t.grad(ia), g, t.value(ib), true);
-    if (t.requires_grad(ib)) parallel_product<T>(t.grad(ib), g.transpose(), t.value(ia), true);
+    if (t.requires_grad(ia)) product_into_grad(t, ia, g, t.value(ib));
+    if (t.requires_grad(ib)) product_into_grad(t, ib, g.transpose(), t.value(ia));
   });
 }
 
@@ -197,7 +187,9 @@ Var<T> add(Var<T> a, Var<T> b) {
   Tape<T>& t = same_tape(a, b);
   auto [r, c] = broadcast_shape("add", a, b);
   const int ia = a.id, ib = b.id, io = next_id(t);
-  Matrix<T> out = expand(a.value(), r, c) + expand(b.value(), r, c);
+  Matrix<T> out = a.rows() == r && a.cols() == c
+                      ? broadcast_apply<T>(a.value(), b.value(), r, c, [](const auto& x, const auto& y) { return x + y; })
+                      : broadcast_apply<T>(b.value(), a.value(), r, c, [](const auto& y, const auto& x) { return x + y; });
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     accumulate(t, ia, t.grad(io));
     accumulate(t, ib, t.grad(io));
@@ -209,10 +201,12 @@ Var<T> sub(Var<T> a, Var<T> b) {
   Tape<T>& t = same_tape(a, b);
   auto [r, c] = broadcast_shape("sub", a, b);
   const int ia = a.id, ib = b.id, io = next_id(t);
-  Matrix<T> out = expand(a.value(), r, c) - expand(b.value(), r, c);
+  Matrix<T> out = a.rows() == r && a.cols() == c
+                      ? broadcast_apply<T>(a.value(), b.value(), r, c, [](const auto& x, const auto& y) { return x - y; })
+                      : broadcast_apply<T>(b.value(), a.value(), r, c, [](const auto& y, const auto& x) { return x - y; });
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     accumulate(t, ia, t.grad(io));
-    accumulate<T>(t, ib, -t.grad(io));
+    accumulate(t, ib, -t.grad(io));
   });
 }
 
@@ -221,11 +215,16 @@ Var<T> mul(Var<T> a, Var<T> b) {
   Tape<T>& t = same_tape(a, b);
   auto [r, c] = broadcast_shape("mul", a, b);
   const int ia = a.id, ib = b.id, io = next_id(t);
-  Matrix<T> out = expand(a.value(), r, c).cwiseProduct(expand(b.value(), r, c));
+  Matrix<T> out = a.rows() == r && a.cols() == c
+                      ? broadcast_apply<T>(a.value(), b.value(), r, c, [](const auto& x, const auto& y) { return x * y; })
+                      : broadcast_apply<T>(b.value(), a.value(), r, c, [](const auto& y, const auto& x) { return x * y; });
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     const Matrix<T>& g = t.grad(io);
-    if (t.requires_grad(ia)) accumulate<T>(t, ia, g.cwiseProduct(expand(t.value(ib), g.rows(), g.cols())));
-    if (t.requires_grad(ib)) accumulate<T>(t, ib, g.cwiseProduct(expand(t.value(ia), g.rows(), g.cols())));
+    auto product = [&](int other) {  // g ∘ the other operand, broadcast
+      return broadcast_apply<T>(g, t.value(other), g.rows(), g.cols(), [](const auto& x, const auto& y) { return x * y; });
+    };
+    if (t.requires_grad(ia)) accumulate(t, ia, product(ib));
+    if (t.requires_grad(ib)) accumulate(t, ib, product(ia));
   });
 }
 

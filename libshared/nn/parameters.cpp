@@ -51,6 +51,13 @@ Bound<T> ParameterStore<T>::bind(Tape<T>& tape) const {
 }
 
 template <class T>
+Bound<T> ParameterStore<T>::bind_constant(Tape<T>& tape) const {
+  Bound<T> b;
+  for (std::size_t i = 0; i < views_.size(); ++i) b.vars.push_back(tape.constant(value(static_cast<int>(i))));
+  return b;
+}
+
+template <class T>
 void ParameterStore<T>::collect(const Bound<T>& bound) {
   for (std::size_t i = 0; i < views_.size(); ++i) {
     const Var<T>& v = bound.vars[i];

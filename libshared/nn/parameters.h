@@ -47,6 +47,9 @@ class ParameterStore {
 
   /// Every parameter as a variable leaf of `tape` (values copied).
   Bound<T> bind(Tape<T>& tape) const;
+  /// Every parameter as a constant leaf: a forward pass through a network that is not trained
+  /// in this step (its weights get no gradient; inputs still do).
+  Bound<T> bind_constant(Tape<T>& tape) const;
   /// Adds the gradients of a binding's leaves into grads() (after tape.backward).
   void collect(const Bound<T>& bound);
 

@@ -30,6 +30,14 @@ Matrix<T>& Tape<T>::grad(int id) {
 }
 
 template <class T>
+Matrix<T>& Tape<T>::grad_to_update(int id, bool& add) {
+  Node& n = nodes_[static_cast<std::size_t>(id)];
+  add = n.grad.size() > 0 || n.value.size() == 0;
+  if (!add) n.grad.resize(n.value.rows(), n.value.cols());
+  return n.grad;
+}
+
+template <class T>
 void Tape<T>::backward(Var<T> from) {
   if (value(from.id).size() != 1) throw Error("internal: backward() from a non-scalar node needs a seed gradient");
   backward(from, Matrix<T>::Ones(1, 1));

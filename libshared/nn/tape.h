@@ -64,6 +64,20 @@ class Tape {
 
   const Matrix<T>& value(int id) const { return nodes_[static_cast<std::size_t>(id)].value; }
   Matrix<T>& grad(int id);
+  /// The gradient of node id for an op that is about to add into all of it: on first use it is
+  /// allocated but NOT zeroed and `add` is set false (the op writes = instead of +=, sparing a
+  /// pass of zeros); afterwards `add` is true. Same values as grad(id) += ..., one pass fewer.
+  Matrix<T>& grad_to_update(int id, bool& add);
+  /// grad(id) += e, or grad(id) = e on first use (e: an Eigen expression of the node's shape).
+  template <class Expr>
+  void add_to_grad(int id, const Expr& e) {
+    bool add = false;
+    Matrix<T>& g = grad_to_update(id, add);
+    if (add)
+      g += e;
+    else
+      g = e;
+  }
   bool requires_grad(int id) const { return nodes_[static_cast<std::size_t>(id)].requires_grad; }
   bool has_grad(int id) const { return nodes_[static_cast<std::size_t>(id)].grad.size() > 0; }
 

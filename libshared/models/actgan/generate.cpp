@@ -119,7 +119,7 @@ void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int leng
     const Eigen::Index n = std::min(kBatch, y.rows() - r0);
     const auto noise = draw_generator_noise<float>(m.config, n, length, rng);
     tape.clear();
-    const auto g = generate_from_noise(*m.gen, m.gen->store().bind(tape), tape, nn::Matrix<float>(y.middleRows(r0, n)), noise);
+    const auto g = generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, nn::Matrix<float>(y.middleRows(r0, n)), noise);
     for (Eigen::Index i = 0; i < n; ++i)
       for (std::size_t t = 0; t < L; ++t) {
         const auto s = static_cast<std::size_t>(r0 + i);
@@ -187,7 +187,7 @@ nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s, cons
       frames.push_back(tape.constant(x));
     }
     prob.middleRows(static_cast<Eigen::Index>(r0), static_cast<Eigen::Index>(n)) =
-        nn::softmax<float>((*m.cls)(m.cls->store().bind(tape), frames).value());
+        nn::softmax<float>((*m.cls)(m.cls->store().bind_constant(tape), frames).value());
   }
   return prob;
 }

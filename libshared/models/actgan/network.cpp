@@ -31,26 +31,25 @@ GeneratedSequences<T> ActganGenerator<T>::generate(const nn::Bound<T>& p, Var y,
                                                    const std::vector<Var>& noise) const {
   nn::Tape<T>& tape = *y.tape;
   const Eigen::Index batch = y.rows();
-  nn::LstmState<T> s{tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden)),
-                     tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden))};
+  // The LSTM over every step's (xi_t, y) as one node; its outputs [steps·B, H] time-major.
+  const nn::LstmState<T> zero{tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden)),
+                              tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden))};
+  const Var out = noise.empty() ? Var{}
+                                : to_latent_(p, lstm_.sequence(p, nn::concat_rows<T>(with_label(noise, y)), zero));
+  auto step = [&](std::size_t t) { return nn::slice_rows(out, static_cast<Eigen::Index>(t) * batch, batch); };
   GeneratedSequences<T> g;
   if (config_.generator == "pose") {
-    for (const Var& xi : noise) {
-      s = lstm_(p, nn::concat_cols<T>({xi, y}), s);
-      g.frames.push_back(to_latent_(p, s.h));
-    }
+    for (std::size_t t = 0; t < noise.size(); ++t) g.frames.push_back(step(t));
     return g;
   }
-  Var h = h1;
-  g.latents.push_back(h);
-  g.frames.push_back(decode(p, h, y));
-  for (const Var& xi : noise) {
-    s = lstm_(p, nn::concat_cols<T>({xi, y}), s);
-    const Var v = to_latent_(p, s.h);
-    h = config_.residual ? nn::add(h, v) : v;
-    g.latents.push_back(h);
-    g.frames.push_back(decode(p, h, y));
-  }
+  g.latents.push_back(h1);
+  for (std::size_t t = 0; t < noise.size(); ++t)
+    g.latents.push_back(config_.residual ? nn::add(g.latents.back(), step(t)) : step(t));
+  // The shared decoder on every frame at once.
+  const Var frames = decode(p, nn::concat_rows<T>(g.latents),
+                            nn::concat_rows<T>(std::vector<Var>(g.latents.size(), y)));
+  for (std::size_t t = 0; t < g.latents.size(); ++t)
+    g.frames.push_back(nn::slice_rows(frames, static_cast<Eigen::Index>(t) * batch, batch));
   return g;
 }
 
@@ -63,9 +62,10 @@ SequenceNet<T>::SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index
 
 template <class T>
 nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const {
-  Var last_forward, last_backward;
-  lstm_.run(p, x, &last_forward, &last_backward);
-  return head_(p, nn::concat_cols<T>({last_forward, last_backward}));
+  const Eigen::Index batch = x.front().rows(), steps = static_cast<Eigen::Index>(x.size());
+  const auto h = lstm_.run(p, nn::concat_rows<T>(x), batch);
+  return head_(p, nn::concat_cols<T>({nn::slice_rows(h.forward, (steps - 1) * batch, batch),
+                                      nn::slice_rows(h.backward, 0, batch)}));
 }
 
 template <class T>

@@ -125,7 +125,7 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
     Matrix eps(n, 1);
     for (Eigen::Index i = 0; i < n; ++i) eps(i) = static_cast<float>(m.rng.uniform());
     tape.clear();
-    const Matrix fake = m.gen->decode(m.gen->store().bind(tape), tape.constant(h), tape.constant(y)).value();
+    const Matrix fake = m.gen->decode(m.gen->store().bind_constant(tape), tape.constant(h), tape.constant(y)).value();
     const Matrix mixed = (eps.replicate(1, d.pose).array() * x.array() + (1 - eps.replicate(1, d.pose).array()) * fake.array()).matrix();
     tape.clear();
     m.critic->store().zero_grad();
@@ -147,7 +147,7 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
   tape.clear();
   m.gen->store().zero_grad();
   const auto pg = m.gen->store().bind(tape);
-  const auto pc = m.critic->store().bind(tape);
+  const auto pc = m.critic->store().bind_constant(tape);  // not trained in this step
   const Var yv = tape.constant(y);
   const Var loss = nn::scale(nn::mean((*m.critic)(pc, m.gen->decode(pg, tape.constant(h), yv), yv)), -1.0f);
   tape.backward(loss);
@@ -193,7 +193,7 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     const Matrix y = one_hot<float>(labels, c.classes);
     const auto noise = draw_generator_noise<float>(c, n, d.length, m.rng);
     tape.clear();
-    const std::vector<Matrix> fake = values(generate_from_noise(*m.gen, m.gen->store().bind(tape), tape, y, noise).frames);
+    const std::vector<Matrix> fake = values(generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, y, noise).frames);
     tape.clear();
     m.disc->store().zero_grad();
     const auto pd = m.disc->store().bind(tape);
@@ -214,7 +214,7 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     m.gen->store().zero_grad();
     m.cls->store().zero_grad();
     const auto pg = m.gen->store().bind(tape);
-    const auto pd = m.disc->store().bind(tape);
+    const auto pd = m.disc->store().bind_constant(tape);  // not trained in this step
     const auto pc = m.cls->store().bind(tape);
     const Var yv = tape.constant(y);
     const GeneratedSequences<float> g = generate_from_noise(*m.gen, pg, tape, y, noise);

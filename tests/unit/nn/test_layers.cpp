@@ -110,13 +110,37 @@ TEST_CASE("nn layers: LSTM cell, stacked and bidirectional gradients", "[nn]") {
   }
   {
     ParameterStore<double> s;
-    BidirectionalLstm<double> bi(s, "bi", 3, 2, 1, rng);
-    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)}, [&](const Bound<double>& p, const Vars& x) {
-      Var<double> lf, lb;
-      auto out = bi.run(p, x, &lf, &lb);
-      CHECK(out[0].cols() == 4);
-      return concat_cols<double>({out[1], lf, lb});
+    BidirectionalLstm<double> bi(s, "bi", 3, 2, 2, rng);
+    require_layer_gradients(s, {rnd(6, 3, 1)}, [&](const Bound<double>& p, const Vars& x) {
+      auto out = bi.run(p, x[0], 2);
+      CHECK(out.forward.rows() == 6);
+      CHECK(out.backward.cols() == 2);
+      return concat_cols<double>({out.forward, out.backward});
     });
+  }
+}
+
+TEST_CASE("nn layers: lstm_sequence is the cell step by step, in both directions", "[nn]") {
+  df::Rng rng(6);
+  ParameterStore<double> s;
+  LstmCell<double> cell(s, "cell", 3, 4, rng);
+  s.normal(cell.b, rng, 0.5);  // not only the forget gate's 1
+  for (bool reverse : {false, true}) {
+    INFO("reverse " << reverse);
+    // x, h0, c0 and every weight get their gradients through the one node.
+    require_layer_gradients(s, {rnd(8, 3, 1), rnd(2, 4, 2), rnd(2, 4, 3)}, [&](const Bound<double>& p, const Vars& x) {
+      return cell.sequence(p, x[0], {x[1], x[2]}, reverse);
+    });
+    Tape<double> t;
+    const Bound<double> p = s.bind(t);
+    const Var<double> x = t.constant(rnd(8, 3, 4));
+    LstmState<double> st{t.constant(rnd(2, 4, 5)), t.constant(rnd(2, 4, 6))};
+    const Matrix<double> fused = cell.sequence(p, x, st, reverse).value();
+    for (int k = 0; k < 4; ++k) {
+      const int step = reverse ? 3 - k : k;
+      st = cell(p, slice_rows(x, 2 * step, 2), st);
+      CHECK((fused.middleRows(2 * step, 2) - st.h.value()).cwiseAbs().maxCoeff() < 1e-14);
+    }
   }
 }
 

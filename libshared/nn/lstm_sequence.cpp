@@ -1,0 +1,115 @@
+// One LSTM layer over a whole sequence as one tape node (see layers.h). Forward: the input
+// products of all steps are one matrix product, then the steps run in order, each adding
+// h_{t-1} W_h. Backward: back through time for the gate gradients dZ (each step one product
+// with W_hᵀ), then the weight and input gradients of all steps as one product each.
+#include <fmt/format.h>
+
+#include "core/error.h"
+#include "nn/layers.h"
+#include "nn/parallel_product.h"
+
+namespace df::nn {
+namespace {
+using detail::parallel_product;
+using detail::product_into_grad;
+using Eigen::Index;
+
+// Activates the pre-activations z [B, 4H] in place: i, f, o sigmoid; g tanh.
+template <class Z>
+void activate_gates(Z&& z, Index H) {
+  z.leftCols(2 * H).array() = z.leftCols(2 * H).array().logistic();
+  z.middleCols(2 * H, H).array() = z.middleCols(2 * H, H).array().tanh();
+  z.rightCols(H).array() = z.rightCols(H).array().logistic();
+}
+
+// The order in which the steps run: step s is time index step_index(s).
+struct StepOrder {
+  Index steps;
+  bool reverse;
+  Index operator()(Index s) const { return reverse ? steps - 1 - s : s; }
+};
+
+}  // namespace
+
+template <class T>
+Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T> c0, bool reverse) {
+  Tape<T>& t = *x.tape;
+  const Index B = h0.rows(), H = wh.rows(), TB = x.rows();
+  if (B == 0 || TB % B != 0 || wx.rows() != x.cols() || wx.cols() != 4 * H || wh.cols() != 4 * H ||
+      b.rows() != 1 || b.cols() != 4 * H || h0.cols() != H || c0.rows() != B || c0.cols() != H)
+    throw Error(fmt::format(
+        "internal: lstm_sequence of x [{},{}], W_x [{},{}], W_h [{},{}], h0 [{},{}]", x.rows(),
+        x.cols(), wx.rows(), wx.cols(), wh.rows(), wh.cols(), h0.rows(), h0.cols()));
+  const StepOrder order{TB / B, reverse};
+  // Gates of every step [T·B, 4H] (activated) and cells [T·B, H], kept for backward.
+  auto gates = std::make_shared<Matrix<T>>(TB, 4 * H);
+  auto cells = std::make_shared<Matrix<T>>(TB, H);
+  Matrix<T> out(TB, H);
+  parallel_product<T>(*gates, x.value(), wx.value(), false);
+  gates->rowwise() += b.value().row(0);
+  for (Index s = 0; s < order.steps; ++s) {
+    const Index r = order(s) * B, rp = s ? order(s - 1) * B : -1;
+    auto z = gates->middleRows(r, B);
+    if (s)
+      parallel_product<T>(z, out.middleRows(rp, B), wh.value(), true);
+    else
+      parallel_product<T>(z, h0.value(), wh.value(), true);
+    activate_gates(z, H);
+    const Eigen::Map<const Matrix<T>> c_prev(s ? cells->data() + rp * H : c0.value().data(), B, H);
+    cells->middleRows(r, B) = z.middleCols(H, H).cwiseProduct(c_prev) +
+                              z.leftCols(H).cwiseProduct(z.middleCols(2 * H, H));
+    out.middleRows(r, B) =
+        z.rightCols(H).cwiseProduct(cells->middleRows(r, B).array().tanh().matrix());
+  }
+  const int ix = x.id, iwx = wx.id, iwh = wh.id, ib = b.id, ih = h0.id, ic = c0.id,
+            io = static_cast<int>(t.size());
+  const bool rg = x.requires_grad() || wx.requires_grad() || wh.requires_grad() ||
+                  b.requires_grad() || h0.requires_grad() || c0.requires_grad();
+  return t.record(
+      std::move(out), rg, [&t, gates, cells, order, B, H, ix, iwx, iwh, ib, ih, ic, io] {
+        const Matrix<T>& G = t.grad(io);
+        const Matrix<T>& Hs = t.value(io);
+        const Index TB = G.rows();
+        Matrix<T> dZ(TB, 4 * H), dh = Matrix<T>::Zero(B, H), dc = Matrix<T>::Zero(B, H);
+        for (Index s = order.steps - 1; s >= 0; --s) {
+          const Index r = order(s) * B, rp = s ? order(s - 1) * B : -1;
+          const auto z = gates->middleRows(r, B);
+          const auto i = z.leftCols(H).array(), f = z.middleCols(H, H).array(),
+                     g = z.middleCols(2 * H, H).array(), o = z.rightCols(H).array();
+          const Eigen::Map<const Matrix<T>> c_prev(s ? cells->data() + rp * H : t.value(ic).data(),
+                                                   B, H);
+          const Eigen::Array<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> tc =
+              cells->middleRows(r, B).array().tanh();
+          dh += G.middleRows(r, B);
+          dc.array() += dh.array() * o * (T(1) - tc.square());
+          auto dz = dZ.middleRows(r, B);
+          dz.leftCols(H).array() = dc.array() * g * i * (T(1) - i);
+          dz.middleCols(H, H).array() = dc.array() * c_prev.array() * f * (T(1) - f);
+          dz.middleCols(2 * H, H).array() = dc.array() * i * (T(1) - g.square());
+          dz.rightCols(H).array() = dh.array() * tc * o * (T(1) - o);
+          dc.array() *= f;
+          if (s || t.requires_grad(ih))
+            parallel_product<T>(dh, dz, t.value(iwh).transpose(), false);
+        }
+        if (t.requires_grad(ih)) t.grad(ih) += dh;
+        if (t.requires_grad(ic)) t.grad(ic) += dc;
+        if (t.requires_grad(
+                iwh)) {  // Σ_t h_{t-1}ᵀ dZ_t as one product: the previous h of every step
+          Matrix<T> h_prev(TB, H);
+          for (Index s = 0; s < order.steps; ++s)
+            h_prev.middleRows(order(s) * B, B) =
+                s ? Hs.middleRows(order(s - 1) * B, B) : t.value(ih);
+          product_into_grad(t, iwh, h_prev.transpose(), dZ);
+        }
+        if (t.requires_grad(iwx)) product_into_grad(t, iwx, t.value(ix).transpose(), dZ);
+        if (t.requires_grad(ib)) t.add_to_grad(ib, dZ.colwise().sum());
+        if (t.requires_grad(ix)) product_into_grad(t, ix, dZ, t.value(iwx).transpose());
+      });
+}
+
+template Var<float> lstm_sequence(Var<float>, Var<float>, Var<float>, Var<float>, Var<float>,
+                                  Var<float>, bool);
+template Var<double> lstm_sequence(Var<double>, Var<double>, Var<double>, Var<double>, Var<double>,
+                                   Var<double>, bool);
+
+}  // namespace df::nn
