@@ -72,8 +72,10 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
                        const std::function<LossTerms()>& evaluate) {
   Interval interval(names.size(), unprinted);
   unprinted.clear();
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::int64_t first_iteration = iteration;
+  // The pace of the last printed interval (not since the start: a run's phases, e.g. ActGAN's
+  // pre-training and GAN, differ by 50x in cost per iteration).
+  auto interval_start = std::chrono::steady_clock::now();
+  std::int64_t timed = 0;  // iterations run since interval_start (a resumed interval holds more)
   std::int64_t last_checkpoint = iteration;
   while (iteration < loop.iterations) {
     const std::int64_t done = iteration + 1;  // counting this one
@@ -83,13 +85,16 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
                               done, terms[0]));
     for (std::size_t k = 0; k < interval.sum.size(); ++k) interval.sum[k] += terms.at(k);
     ++interval.iterations;
+    ++timed;
     iteration = done;  // before any checkpoint: the file must say how many iterations it holds
     if (done % loop.print_every == 0 || done == loop.iterations) {
       const std::string detail =
           append_log_row(done, interval, names, evaluate_names, evaluate, log);
-      const double secs =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const double per = secs / static_cast<double>(done - first_iteration);
+      const auto now = std::chrono::steady_clock::now();
+      const double per =
+          std::chrono::duration<double>(now - interval_start).count() / static_cast<double>(timed);
+      interval_start = now;
+      timed = 0;
       log::info("iteration {}/{}: {} {:.4g} ({}); {:.3f} s/iteration, {:.0f} s left", done,
                 loop.iterations, names[0], interval.sum[0] / static_cast<double>(interval.iterations),
                 detail, per, per * static_cast<double>(loop.iterations - done));
