@@ -62,6 +62,7 @@ SequenceNet<T>::SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index
 
 template <class T>
 nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const {
+  if (x.empty()) throw Error("internal: a sequence network on an empty sequence");
   const Eigen::Index batch = x.front().rows(), steps = static_cast<Eigen::Index>(x.size());
   const auto h = lstm_.run(p, nn::concat_rows<T>(x), batch);
   return head_(p, nn::concat_cols<T>({nn::slice_rows(h.forward, (steps - 1) * batch, batch),
