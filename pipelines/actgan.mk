@@ -143,3 +143,52 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 	  plot '$(@:.png=.txt)' using 1:3 with linespoints title 'discriminator / critic loss', \
 	       '' using 1:4 with linespoints title 'adversarial (G) / Wasserstein estimate', \
 	       '' using 1:5 with linespoints title 'smoothness', '' using 1:6 with linespoints title 'cycle (classifier CE)'"
+
+# --- validation: the GAN's iteration count chosen on training subjects held out of training
+#   make -f Makefile.data actgan-validation [AG_SETS=...]
+# Ours and the direct-pose baseline train AG_VAL_ITERATIONS GAN iterations without the clips of
+# S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
+# log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
+# $(AG)/S/validation.md: per model the minimum of each (and where) and the last value;
+# $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
+AG_VAL_ITERATIONS ?= 4000
+AG_VAL_MODELS := ours pose
+synthetic_VAL_SUBJECTS := 4
+utkinect_VAL_SUBJECTS := 9
+ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
+pose_VAL := --pretrain-iterations 0 --generator pose
+ag_val_train = $($(2)_VAL) --iterations $(AG_VAL_ITERATIONS) $(AG_OPTIONS) --validation-subjects $($(1)_VAL_SUBJECTS)
+
+.PHONY: actgan-validation
+actgan-validation: $(foreach s,$(AG_SETS),$(AG)/$(s)/validation.md $(AG)/$(s)/validation.png)
+	@for s in $(AG_SETS); do echo; cat $(AG)/$$s/validation.md; echo "curves: $(AG)/$$s/validation.png"; done
+
+define AG_VAL_RULES
+$(AG)/%/validate/$(1).args: FORCE
+	@mkdir -p $$(@D)
+	@echo '$$(call ag_val_train,$$*,$(1))' $$(write_if_changed)
+$(AG)/%/validate/$(1).h5: $(AG)/%/data.h5 $(AG)/%/validate/$(1).args
+	$$(call launch,train) $$(BIN)/train-actgan -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
+	  $$(call ag_val_train,$$*,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+endef
+$(foreach v,$(AG_VAL_MODELS),$(eval $(call AG_VAL_RULES,$(v))))
+# A model's log rows: iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq
+$(AG)/%.val.txt: $(AG)/%.h5
+	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+\n-' ' ' | xargs -n 9 > $@
+# min (at iteration) of column $(2) over the GAN's rows (iteration > pre-training), and the last
+ag_val_min = awk -v from=$(3) '$$1 > from { if (!n++ || $$$(2) < m) { m = $$$(2); at = $$1 } last = $$$(2) } \
+  END { printf "%.4f (%d) | %.4f", m, at, last }' $(1)
+$(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
+	{ echo "**$*** — the GAN's iteration count on a validation part (training subjects $($*_VAL_SUBJECTS) held out; $(AG_VAL_ITERATIONS) GAN iterations; 100 sequences per class)"; echo; \
+	  echo "| model | MMD_avg min (at iteration) | last | MMD_seq min (at iteration) | last |"; echo "|---|---:|---:|---:|---:|"; \
+	  echo "| ours | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,9,$(AG_PRETRAIN))) |"; \
+	  echo "| $(AG_LABEL_pose) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,8,0)) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,9,0)) |"; \
+	} $(write_if_changed)
+$(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
+	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; set key top right; \
+	  set title '$*: MMD against held-out training subjects ($($*_VAL_SUBJECTS)) during training'; \
+	  set xlabel 'GAN iteration'; set ylabel 'MMD_u^2'; set logscale y; \
+	  plot '$(AG)/$*/validate/ours.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours MMD_avg', \
+	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours MMD_seq', \
+	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose MMD_avg', \
+	       '' using 1:9 with linespoints title 'direct-pose MMD_seq'"

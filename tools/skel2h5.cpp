@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
       ->default_val(opt.clip_stride);
   app.add_option("--test-subjects", opt.test_subjects,
                  "Hold out the sequences of these subjects, comma-separated (UTKinect: 1-10)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);  // one comma-separated word: a positional may follow
   app.add_option("--test-fraction", opt.test_fraction,
                  "Or hold out this fraction of each class's sequences, drawn by --seed")
       ->default_val(opt.test_fraction);

@@ -1,5 +1,6 @@
 // train-actgan: train the action generator with smooth latent transitions (paper 3).
 #include "core/tool.h"
+#include "eval/skeleton_metrics.h"
 #include "models/actgan/train.h"
 
 int main(int argc, char** argv) {
@@ -73,18 +74,29 @@ int main(int argc, char** argv) {
               "Train only the classifier, on the real clips (the paper's Baseline_T/G; with\n"
               "--pretrain-iterations 0): classify-actions then compares it with the classifier\n"
               "trained inside the GAN");
+  g->add_option("--validation-subjects", opt.training.validation_subjects,
+                "Hold out these training subjects, comma-separated: their clips are not trained\n"
+                "on, and every loss line adds the MMD_avg and MMD_seq of 100 sequences generated\n"
+                "per class against them (val_mmd_avg, val_mmd_seq): where they stop falling is\n"
+                "the iteration count to train the final model for, without the test part")
+      ->delimiter(',')
+      ->allow_extra_args(false);  // one comma-separated word: a positional may follow
   df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"
       "  train-actgan actions.h5 -o actgan.h5\n"
       "  train-actgan --pretrain-iterations 500 --iterations 1000 --batch 16 utk.h5 -o utk-actgan.h5\n"
       "  train-actgan --smoothness none actions.h5 -o no-smooth.h5          # paper Table 5\n"
-      "  train-actgan --direct-latent actions.h5 -o direct.h5               # paper Table 6");
+      "  train-actgan --direct-latent actions.h5 -o direct.h5               # paper Table 6\n"
+      "  train-actgan --validation-subjects 4 actions.h5 -o val.h5          # choose --iterations");
   return tool.run(argc, argv, [&] {
     opt.net.smoothness = smoothness;
     opt.net.residual = !direct;
     opt.net.classifier = !no_classifier;
     opt.training.seed = tool.common().seed;
+    opt.validate = [](const df::models::ActganModel& m, const df::models::ActionClips& clips) {
+      return df::eval::actgan_validation_mmd(m, clips);
+    };
     df::models::train_actgan(opt, tool.common());
   });
 }

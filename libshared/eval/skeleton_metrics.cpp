@@ -12,6 +12,8 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/rng.h"
+#include "models/actgan/generate.h"
 
 namespace df::eval {
 namespace {
@@ -197,6 +199,23 @@ RowMatrixF sequence_rows(const io::SkeletonFile& f, const std::vector<float>& po
   return M;
 }
 
+void spread(const RowMatrixF& seqs, double& mean, double& sd);
+
+// One class's MMD_seq, MMD_avg and spread: generated sequences X against real ones Y, one
+// flattened sequence per row, `frame_size` values per frame.
+ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size) {
+  ClassSkeletonMetrics m;
+  m.generated = static_cast<std::size_t>(X.rows());
+  m.real = static_cast<std::size_t>(Y.rows());
+  m.mmd_seq = mmd2_max(X, Y).mmd2;
+  const auto cols = static_cast<Eigen::Index>(frame_size);
+  const Eigen::Index frames = X.cols() / cols;
+  for (Eigen::Index t = 0; t < frames; ++t)
+    m.mmd_avg += mmd2_max(X.middleCols(t * cols, cols), Y.middleCols(t * cols, cols)).mmd2 / static_cast<double>(frames);
+  spread(X, m.spread_mean, m.spread_sd);
+  return m;
+}
+
 void spread(const RowMatrixF& seqs, double& mean, double& sd) {
   const Eigen::RowVectorXf centre = seqs.colwise().mean();
   std::vector<double> d(static_cast<std::size_t>(seqs.rows()));
@@ -238,21 +257,10 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
                 pred.class_names[c], gen.size(), real.size());
       continue;
     }
-    ClassSkeletonMetrics m;
-    m.name = pred.class_names[c];
-    m.generated = gen.size();
-    m.real = real.size();
     const RowMatrixF X = sequence_rows(pred, pred_poses, gen, out.frames);
     const RowMatrixF Y = sequence_rows(truth, truth.poses, real, out.frames);
-    m.mmd_seq = mmd2_max(X, Y).mmd2;
-    for (std::size_t t = 0; t < out.frames; ++t) {
-      const auto cols = static_cast<Eigen::Index>(fs);
-      m.mmd_avg += mmd2_max(X.middleCols(static_cast<Eigen::Index>(t * fs), cols),
-                            Y.middleCols(static_cast<Eigen::Index>(t * fs), cols))
-                       .mmd2 /
-                   static_cast<double>(out.frames);
-    }
-    spread(X, m.spread_mean, m.spread_sd);
+    ClassSkeletonMetrics m = class_metrics(X, Y, fs);
+    m.name = pred.class_names[c];
     out.classes.push_back(m);
   }
   if (out.classes.empty()) throw InvalidInput("PRED and TRUTH share no class with 2 sequences each");
@@ -261,6 +269,36 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     out.mmd_seq += m.mmd_seq / static_cast<double>(out.classes.size());
   }
   return out;
+}
+
+std::vector<double> actgan_validation_mmd(const models::ActganModel& model, const models::ActionClips& clips,
+                                          int per_class) {
+  const auto classes = static_cast<Eigen::Index>(model.class_names.size());
+  const auto fs = static_cast<std::size_t>(clips.pose);
+  const auto row = static_cast<Eigen::Index>(static_cast<std::size_t>(clips.length) * fs);
+  Rng rng(model.training.seed, 2);  // the same noise at every evaluation: the curve shows the model, not the draw
+  double avg = 0, seq = 0;
+  int measured = 0;
+  for (Eigen::Index c = 0; c < classes; ++c) {
+    std::vector<std::size_t> real;
+    for (std::size_t k = 0; k < clips.size(); ++k)
+      if (clips.labels[k] == c) real.push_back(k);
+    if (real.size() < 2) continue;
+    nn::Matrix<float> y = nn::Matrix<float>::Zero(per_class, classes);
+    y.col(c).setOnes();
+    std::vector<float> poses, latents;
+    models::generate_actions(model, y, clips.length, rng, poses, latents);
+    const RowMatrixF X = Eigen::Map<const RowMatrixF>(poses.data(), per_class, row);
+    RowMatrixF Y(static_cast<Eigen::Index>(real.size()), row);
+    for (std::size_t r = 0; r < real.size(); ++r)
+      std::copy_n(clips.frame(real[r], 0), static_cast<std::size_t>(row), Y.row(static_cast<Eigen::Index>(r)).data());
+    const ClassSkeletonMetrics m = class_metrics(X, Y, fs);
+    avg += m.mmd_avg;
+    seq += m.mmd_seq;
+    ++measured;
+  }
+  if (measured == 0) throw InvalidInput("no class has 2 validation clips: MMD needs 2 of each");
+  return {avg / measured, seq / measured};
 }
 
 void eval_skeletons(const std::string& pred_path, const std::string& truth_path,

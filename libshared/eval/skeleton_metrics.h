@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "io/skeleton_file.h"
+#include "models/actgan/train.h"
 
 namespace df::eval {
 
@@ -53,6 +54,13 @@ struct SkeletonMetrics {
 /// its normalization differs), cut to the shortest sequence.
 SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
                                  bool all_truth);
+
+/// train-actgan's validation columns: MMD_avg and MMD_seq (as skeleton_metrics, in the model's
+/// normalized coordinates) of `per_class` sequences generated for each class against the held-out
+/// clips of that class (classes with fewer than 2 clips are left out), averaged over classes. The
+/// noise is drawn from Rng(seed, 2) afresh at every call: the same draw at every evaluation.
+std::vector<double> actgan_validation_mmd(const models::ActganModel& model, const models::ActionClips& clips,
+                                          int per_class = 100);
 
 /// eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
 void eval_skeletons(const std::string& pred, const std::string& truth, const std::string& json,

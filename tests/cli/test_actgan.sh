@@ -95,3 +95,32 @@ expect_rc 1; expect_one_error_line classify-actions
 expect_err "20 joints x 3: the model was trained on 9 values per pose"
 [ -f bad.h5 ] && fail "output written after an error"
 echo "ok (errors)"
+
+# --- a validation part: training subjects held out, the log's MMD columns against them
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 10 --validation-subjects 2 --threads 1 clips.h5 -o val1.h5
+expect_rc 0
+all=$(train-actgan "${tiny[@]}" --pretrain-iterations 0 --iterations 0 clips.h5 -o none.h5 2>&1 | sed -n 's/.*: \([0-9]*\) training clips.*/\1/p')
+held=$(sed -n 's/.*validation: \([0-9]*\) clips of subjects 2 held out.*/\1/p' err.txt)
+kept=$(sed -n 's/.*: \([0-9]*\) training clips.*/\1/p' err.txt)
+[ -n "$held" ] && [ "$held" -gt 0 ] && [ $((kept + held)) = "$all" ] ||
+  fail "validation clips: $held held out + $kept trained should be the $all training clips"
+expect_err "iteration 20/20: .*; val_mmd_avg [0-9.e-]+; val_mmd_seq [0-9.e-]+\)"
+h5check -q --kind actgan-model val1.h5
+h5dump -A -d /training/log val1.h5 | grep -q '"iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq"' ||
+  fail "the log's columns should end with val_mmd_avg val_mmd_seq"
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 10 --validation-subjects 2 --threads 2 clips.h5 -o val2.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 3 --validation-subjects 2 clips.h5 -o val-half.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 10 --validation-subjects 2 --resume --checkpoint val-half.h5 \
+  clips.h5 -o val-resumed.h5
+for obj in /params /training/log /validation/subjects; do
+  run h5diff val1.h5 val2.h5 $obj; expect_rc 0
+  run h5diff val1.h5 val-resumed.h5 $obj; expect_rc 0
+done
+run h5diff -q val1.h5 m1.h5 /params; expect_rc 1  # fewer clips, another model
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 10 --validation-subjects 3 --resume --checkpoint val-half.h5 \
+  clips.h5 -o bad.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "validation-subjects = 2, this run has 3"
+run train-actgan "${tiny[@]}" --validation-subjects 9 clips.h5 -o bad.h5
+expect_rc 2; expect_one_error_line train-actgan; expect_err "validation subject 9 performs none of the training sequences of clips.h5"
+[ -f bad.h5 ] && fail "output written after an error"
+echo "ok (validation subjects)"

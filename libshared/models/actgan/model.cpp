@@ -100,6 +100,8 @@ void read_config(const h5::File& f, ActganModel& m) {
   t.lr_pretrain = d("lr_pretrain");
   t.classifier_only = f.has_attr("/config", "classifier_only") && i("classifier_only") != 0;
   t.seed = std::stoull(f.attr_string("/config", "seed"));
+  if (f.exists("/validation/subjects"))  // absent: none (and in files older than it)
+    t.validation_subjects = f.read<std::int32_t>("/validation/subjects").data;
   m.frame_rate = d("frame_rate");
   m.length = i("length");
   m.data = f.attr_string("/config", "data");
@@ -107,8 +109,9 @@ void read_config(const h5::File& f, ActganModel& m) {
 
 }  // namespace
 
-const std::vector<std::string>& ActganModel::log_columns() {
-  static const std::vector<std::string> c{"iteration", "loss", "disc", "adv", "smooth", "cycle", "gp"};
+std::vector<std::string> ActganModel::log_columns() const {
+  std::vector<std::string> c{"iteration", "loss", "disc", "adv", "smooth", "cycle", "gp"};
+  if (!training.validation_subjects.empty()) c.insert(c.end(), {"val_mmd_avg", "val_mmd_seq"});
   return c;
 }
 
@@ -138,6 +141,8 @@ void save_actgan_model(const std::string& path, const ActganModel& m,
     io::write_header(f, "actgan-model", {m.history});
     write_config(f, m);
     f.set_attr("/", "iteration", m.iteration);
+    const auto& vs = m.training.validation_subjects;
+    if (!vs.empty()) f.write<std::int32_t>("/validation/subjects", vs, {vs.size()});
     std::string order;
     for (const auto* s : stores(m))
       for (std::size_t k = 0; k < s->views().size(); ++k) {
@@ -166,7 +171,7 @@ void save_actgan_model(const std::string& path, const ActganModel& m,
       f.set_attr("/normalization", "root_joint", m.normalization.root_joint);
       f.set_attr("/normalization", "scale", m.normalization.scale);
     }
-    const auto& cols = ActganModel::log_columns();
+    const auto cols = m.log_columns();
     if (!m.log.empty()) {
       f.write<double>("/training/log", m.log, {m.log.size() / cols.size(), cols.size()});
       std::string names;

@@ -30,6 +30,9 @@ struct ActganTraining {
   /// trained alone, to compare with the one trained inside the bi-directional GAN)
   bool classifier_only = false;
   std::uint64_t seed = 1;
+  /// Training subjects held out for validation (their clips are not trained on; the log gets the
+  /// MMD of generated sequences against them at every loss line)
+  std::vector<std::int32_t> validation_subjects;
 };
 
 /// The optimizers, one per network and phase.
@@ -57,8 +60,9 @@ struct ActganModel {
   std::vector<double> log, unprinted;
   std::string history;
 
-  /// The training log's columns.
-  static const std::vector<std::string>& log_columns();
+  /// The training log's columns: iteration, the loss terms, then with validation subjects the
+  /// validation MMD_avg and MMD_seq.
+  std::vector<std::string> log_columns() const;
   /// Untrained networks (weights from Rng(seed, 0)) and fresh optimizers.
   void initialize();
 };

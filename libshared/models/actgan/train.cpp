@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/error.h"
@@ -61,6 +62,8 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("lr-pretrain", s.lr_pretrain, t.lr_pretrain);
   differs("seed", s.seed, t.seed);
   differs("classifier-only", s.classifier_only, t.classifier_only);
+  differs("validation-subjects", fmt::format("{}", fmt::join(s.validation_subjects, ",")),
+          fmt::format("{}", fmt::join(t.validation_subjects, ",")));
   differs("length", ck.length, want.length);
   if (ck.class_names != want.class_names) throw InvalidInput("checkpoint was trained on other classes", path);
 }
@@ -261,35 +264,80 @@ ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile
   return m;
 }
 
+// The loss lines' validation columns: opt.validate on the held-out clips (none without them).
+std::function<LossTerms()> validation_evaluation(const ActganTrainOptions& opt, const ActganModel& m,
+                                                 const ActionClips& validation) {
+  if (validation.size() == 0) return {};
+  if (!opt.validate) throw Error("train_actgan: validation subjects but no validation measure");
+  log::info("validation: {} clips of subjects {} held out of training; the log's val_mmd_avg / val_mmd_seq columns "
+            "compare generated sequences with them",
+            validation.size(), fmt::join(m.training.validation_subjects, ","));
+  return [&opt, &m, &validation] { return opt.validate(m, validation); };
+}
+
 }  // namespace
 
-ActionClips training_clips(const io::SkeletonFile& s, const std::string& path) {
+namespace {
+
+// Appends sequence q of `s` to `c` (equal lengths: the first sets it).
+void append_clip(const io::SkeletonFile& s, std::size_t q, const std::string& path, ActionClips& c) {
+  const auto length = static_cast<int>(s.length(q));
+  if (c.length == 0) c.length = length;
+  if (length != c.length)
+    throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length", c.length, length),
+                       path);
+  c.frames.insert(c.frames.end(), s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q]) * c.pose,
+                  s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q + 1]) * c.pose);
+  c.labels.push_back(s.labels[q]);
+}
+
+// UsageError unless every validation subject performs some of the training sequences.
+void check_validation_subjects(const io::SkeletonFile& s, const std::vector<std::int32_t>& subjects,
+                               const std::string& path) {
+  if (subjects.empty()) return;
+  if (s.subjects.empty())
+    throw UsageError(fmt::format("{} names no subjects: --validation-subjects needs them (skel2h5 input with subjects)", path));
+  for (const auto v : subjects) {
+    bool found = false;
+    for (std::size_t q = 0; q < s.sequences() && !found; ++q)
+      found = s.subjects[q] == v && (s.test.empty() || !s.test[q]);
+    if (!found)
+      throw UsageError(fmt::format("validation subject {} performs none of the training sequences of {}", v, path));
+  }
+}
+
+}  // namespace
+
+ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
+                          const std::vector<std::int32_t>& validation_subjects) {
   if (s.dims != 3) throw InvalidInput("ActGAN needs 3-D joints", path);
-  ActionClips c;
-  c.pose = static_cast<int>(s.frame_size());
+  check_validation_subjects(s, validation_subjects, path);
+  ActionData d;
+  d.train.pose = d.validation.pose = static_cast<int>(s.frame_size());
   for (std::size_t q = 0; q < s.sequences(); ++q) {
     if (!s.test.empty() && s.test[q]) continue;
-    const auto length = static_cast<int>(s.length(q));
-    if (c.length == 0) c.length = length;
-    if (length != c.length)
-      throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length", c.length, length),
-                         path);
-    c.frames.insert(c.frames.end(), s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q]) * c.pose,
-                    s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q + 1]) * c.pose);
-    c.labels.push_back(s.labels[q]);
+    const bool held_out = !validation_subjects.empty() &&
+                          std::find(validation_subjects.begin(), validation_subjects.end(), s.subjects[q]) !=
+                              validation_subjects.end();
+    append_clip(s, q, path, held_out ? d.validation : d.train);
   }
-  if (c.size() < 2) throw InvalidInput(fmt::format("{} training sequence(s); ActGAN needs at least 2", c.size()), path);
-  if (c.length < 2) throw InvalidInput("sequences of 1 frame: nothing moves", path);
+  if (d.validation.length != 0 && d.train.length != 0 && d.validation.length != d.train.length)
+    throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length",
+                                   d.train.length, d.validation.length),
+                       path);
+  if (d.train.size() < 2) throw InvalidInput(fmt::format("{} training sequence(s); ActGAN needs at least 2", d.train.size()), path);
+  if (d.train.length < 2) throw InvalidInput("sequences of 1 frame: nothing moves", path);
   if (!s.normalization.present())
     log::warn("{} is not normalized (skel2h5 without --raw normalizes): training on raw coordinates", path);
-  return c;
+  return d;
 }
 
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
   check_training_output(opt.output, opt.input, common.force);
   const io::SkeletonFile s = io::read_skeleton_file(opt.input);
-  const ActionClips clips = training_clips(s, opt.input);
+  const ActionData data = training_clips(s, opt.input, opt.training.validation_subjects);
+  const ActionClips& clips = data.train;
   ActganModel m = describe_model(opt, s, clips);
   const std::string ckpt = opt.run.checkpoint_path(opt.output);
   if (opt.run.resume && std::filesystem::exists(ckpt)) {
@@ -315,6 +363,7 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   log::info("{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} iterations", opt.input,
             clips.size(), clips.length, m.class_names.size(), clips.pose, m.training.pretrain_iterations,
             m.training.iterations);
+  const auto evaluate = validation_evaluation(opt, m, data.validation);
   nn::Tape<float> tape;
   auto step = [&](std::int64_t done) -> LossTerms {
     if (done == m.training.pretrain_iterations + 1 && m.training.pretrain_iterations > 0)
@@ -322,9 +371,12 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
     return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape) : actgan_gan_iteration(m, clips, tape);
   };
   auto checkpoint = [&] { save_actgan_model(ckpt, m, {opt.input}, true); };
-  std::vector<std::string> names(ActganModel::log_columns().begin() + 1, ActganModel::log_columns().end());
+  const auto columns = m.log_columns();
+  const std::size_t terms = 6;  // loss disc adv smooth cycle gp; then the validation columns
+  const std::vector<std::string> names(columns.begin() + 1, columns.begin() + 1 + terms),
+      evaluated(columns.begin() + 1 + terms, columns.end());
   run_training_loop({total, opt.run.print_every, opt.run.checkpoint_every, ckpt}, names, m.iteration, m.log, m.unprinted,
-                    step, checkpoint);
+                    step, checkpoint, evaluated, evaluate);
   save_actgan_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);

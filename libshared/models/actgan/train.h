@@ -5,7 +5,9 @@
 // cross-entropy on real and generated sequences).
 #pragma once
 
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "core/tool.h"
 #include "models/actgan/model.h"
@@ -13,15 +15,7 @@
 
 namespace df::models {
 
-struct ActganTrainOptions {
-  std::string input, output;
-  TrainingRun run;  ///< checkpoints, --resume, loss lines
-  ActganConfig net;
-  ActganTraining training;
-};
-
-/// The training clips of a skeleton file: its sequences with test == 0 (all when it marks
-/// none), each [length, P] row-major in `frames`, and their labels.
+/// Equal-length clips, each [length, P] row-major in `frames`, and their labels.
 struct ActionClips {
   int length = 0, pose = 0;
   std::vector<float> frames;  ///< [clips, length, pose]
@@ -32,7 +26,29 @@ struct ActionClips {
     return frames.data() + (c * static_cast<std::size_t>(length) + t) * static_cast<std::size_t>(pose);
   }
 };
-ActionClips training_clips(const io::SkeletonFile& s, const std::string& path);
+
+/// The training sequences of a skeleton file (test == 0; all when it marks none): those of the
+/// validation subjects in `validation`, the others in `train`. UsageError for a validation
+/// subject that performs no training sequence; InvalidInput for unequal lengths or fewer than 2
+/// training clips.
+struct ActionData {
+  ActionClips train, validation;
+};
+ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
+                          const std::vector<std::int32_t>& validation_subjects = {});
+
+/// Measures a model in training on held-out clips (the log's validation columns, in the order of
+/// ActganModel::log_columns()); supplied by the caller (eval::actgan_validation_mmd), as the
+/// measures live above the models.
+using ActganValidator = std::function<LossTerms(const ActganModel&, const ActionClips&)>;
+
+struct ActganTrainOptions {
+  std::string input, output;
+  TrainingRun run;  ///< checkpoints, --resume, loss lines
+  ActganConfig net;
+  ActganTraining training;
+  ActganValidator validate;  ///< needed with training.validation_subjects
+};
 
 /// One pre-training iteration (critic_steps critic updates with the gradient penalty, then one
 /// decoder update) and one GAN iteration (d_steps discriminator updates, then g_steps generator +
