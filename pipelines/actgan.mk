@@ -146,16 +146,18 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 
 # --- validation: the GAN's iteration count chosen on training subjects held out of training
 #   make -f Makefile.data actgan-validation [AG_SETS=...]
-# Ours and the direct-pose baseline train AG_VAL_ITERATIONS GAN iterations without the clips of
+# Ours (decoder fixed in the GAN phase), ours with --train-decoder and the direct-pose baseline
+# train AG_VAL_ITERATIONS GAN iterations without the clips of
 # S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
 # log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
 # $(AG)/S/validation.md: per model the minimum of each (and where) and the last value;
 # $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
 AG_VAL_ITERATIONS ?= 4000
-AG_VAL_MODELS := ours pose
+AG_VAL_MODELS := ours ours-dec pose
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
+ours-dec_VAL := --pretrain-iterations $(AG_PRETRAIN) --train-decoder
 pose_VAL := --pretrain-iterations 0 --generator pose
 ag_val_train = $($(2)_VAL) --iterations $(AG_VAL_ITERATIONS) $(AG_OPTIONS) --validation-subjects $($(1)_VAL_SUBJECTS)
 
@@ -182,6 +184,7 @@ $(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.tx
 	{ echo "**$*** — the GAN's iteration count on a validation part (training subjects $($*_VAL_SUBJECTS) held out; $(AG_VAL_ITERATIONS) GAN iterations; 100 sequences per class)"; echo; \
 	  echo "| model | MMD_avg min (at iteration) | last | MMD_seq min (at iteration) | last |"; echo "|---|---:|---:|---:|---:|"; \
 	  echo "| ours | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,9,$(AG_PRETRAIN))) |"; \
+	  echo "| ours, decoder trained in the GAN phase (--train-decoder) | $$($(call ag_val_min,$(AG)/$*/validate/ours-dec.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours-dec.val.txt,9,$(AG_PRETRAIN))) |"; \
 	  echo "| $(AG_LABEL_pose) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,8,0)) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,9,0)) |"; \
 	} $(write_if_changed)
 $(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
@@ -190,5 +193,7 @@ $(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.t
 	  set xlabel 'GAN iteration'; set ylabel 'MMD_u^2'; set logscale y; \
 	  plot '$(AG)/$*/validate/ours.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours MMD_avg', \
 	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours MMD_seq', \
+	       '$(AG)/$*/validate/ours-dec.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours --train-decoder MMD_avg', \
+	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours --train-decoder MMD_seq', \
 	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose MMD_avg', \
 	       '' using 1:9 with linespoints title 'direct-pose MMD_seq'"

@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
       "     same form labels real and generated sequences; per iteration --d-steps\n"
       "     discriminator updates, then --g-steps updates of generator + classifier on\n"
       "     BCE + Omega (smoothness of latents, sigma1, and poses, sigma2) + gamma x the\n"
-      "     classifier's cross-entropy on real and generated sequences.\n"
+      "     classifier's cross-entropy on real and generated sequences; the pre-trained\n"
+      "     decoder stays fixed (--train-decoder: it learns too).\n"
       "Adam with betas 0.5 / 0.9 for every network (as the authors' code).\n\n"
       "INPUT: a skeleton .h5 of equal-length clips (skel2h5 --length; its test part is not\n"
       "trained on). OUTPUT: an actgan-model .h5 for gen-actgan (weights, Adam and RNG state,\n"
@@ -81,6 +82,9 @@ int main(int argc, char** argv) {
                 "the iteration count to train the final model for, without the test part")
       ->delimiter(',')
       ->allow_extra_args(false);  // one comma-separated word: a positional may follow
+  g->add_flag("--train-decoder", opt.training.train_decoder,
+              "Let the GAN phase update the pre-trained frame decoder too (by default it stays\n"
+              "fixed, as in the authors' code: the LSTM learns paths through its latent space)");
   df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"

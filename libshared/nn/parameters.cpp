@@ -58,6 +58,16 @@ Bound<T> ParameterStore<T>::bind_constant(Tape<T>& tape) const {
 }
 
 template <class T>
+Bound<T> ParameterStore<T>::bind_except(Tape<T>& tape, std::string_view frozen_prefix) const {
+  Bound<T> b;
+  for (std::size_t i = 0; i < views_.size(); ++i) {
+    const auto p = static_cast<int>(i);
+    b.vars.push_back(views_[i].name.starts_with(frozen_prefix) ? tape.constant(value(p)) : tape.variable(value(p)));
+  }
+  return b;
+}
+
+template <class T>
 void ParameterStore<T>::collect(const Bound<T>& bound) {
   for (std::size_t i = 0; i < views_.size(); ++i) {
     const Var<T>& v = bound.vars[i];

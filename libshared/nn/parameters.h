@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/rng.h"
@@ -50,6 +51,9 @@ class ParameterStore {
   /// Every parameter as a constant leaf: a forward pass through a network that is not trained
   /// in this step (its weights get no gradient; inputs still do).
   Bound<T> bind_constant(Tape<T>& tape) const;
+  /// Every parameter as a variable leaf but those whose name starts with `frozen_prefix`, which
+  /// are constants (a part of the network held fixed in this step: no gradient, no update).
+  Bound<T> bind_except(Tape<T>& tape, std::string_view frozen_prefix) const;
   /// Adds the gradients of a binding's leaves into grads() (after tape.backward).
   void collect(const Bound<T>& bound);
 

@@ -26,6 +26,18 @@ run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --gamma 0
 expect_rc 1; expect_one_error_line train-actgan; expect_err "gamma = 0.1"
 echo "ok (threads, resume)"
 
+# --- the GAN phase keeps the pre-trained decoder fixed unless --train-decoder
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 clips.h5 -o pretrained.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --train-decoder clips.h5 -o m-dec.h5
+for p in gen.decoder.0.weight gen.decoder.1.bias; do
+  run h5diff pretrained.h5 m1.h5 /params/$p; expect_rc 0
+  run h5diff -q pretrained.h5 m-dec.h5 /params/$p; expect_rc 1
+done
+run h5diff -q pretrained.h5 m1.h5 /params/gen.lstm.wx; expect_rc 1
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --train-decoder --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "train-decoder"
+echo "ok (frozen decoder)"
+
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the
 # tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.27 and 1.0 -> 0.47)
 train-actgan -q "${tiny[@]}" --pretrain-iterations 0 --iterations 1 clips.h5 -o untrained.h5
