@@ -137,7 +137,7 @@ $(AG)/%/latent.png: $(AG)/%/model-latent2.h5
 	  files = system('ls $(AG)/$*/latent-*.txt'); \
 	  plot for [f in files] f using 1:2 with lines title system('basename '.f.' .txt | sed s/latent-//')"
 $(AG)/%/curve.png: $(AG)/%/model.h5
-	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+\n-' ' ' | xargs -n 7 > $(@:.png=.txt)
+	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.e+\n-' ' ' | xargs -n 7 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
 	  set title '$*: ActGAN training (pre-training rows: critic loss and Wasserstein estimate)'; set xlabel 'iteration'; \
 	  plot '$(@:.png=.txt)' using 1:3 with linespoints title 'discriminator / critic loss', \
@@ -146,18 +146,21 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 
 # --- validation: the GAN's iteration count chosen on training subjects held out of training
 #   make -f Makefile.data actgan-validation [AG_SETS=...]
-# Ours (decoder fixed in the GAN phase), ours with --train-decoder and the direct-pose baseline
-# train AG_VAL_ITERATIONS GAN iterations without the clips of
+# Ours, ours with the decoder fixed in the GAN phase (--freeze-decoder), ours as the authors' code
+# (decoder fixed, sigma1 summed over the batch) and the direct-pose baseline train
+# AG_VAL_ITERATIONS GAN iterations without the clips of
 # S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
 # log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
 # $(AG)/S/validation.md: per model the minimum of each (and where) and the last value;
 # $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
-AG_VAL_ITERATIONS ?= 4000
-AG_VAL_MODELS := ours ours-dec pose
+AG_VAL_ITERATIONS ?= 1000
+AG_VAL_MODELS := ours ours-frozen ours-authors pose
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
-ours-dec_VAL := --pretrain-iterations $(AG_PRETRAIN) --train-decoder
+ours-frozen_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder
+# sigma1 x the batch (32): the authors' code sums the latent term over the batch, not its mean
+ours-authors_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 1.6
 pose_VAL := --pretrain-iterations 0 --generator pose
 ag_val_train = $($(2)_VAL) --iterations $(AG_VAL_ITERATIONS) $(AG_OPTIONS) --validation-subjects $($(1)_VAL_SUBJECTS)
 
@@ -176,24 +179,28 @@ endef
 $(foreach v,$(AG_VAL_MODELS),$(eval $(call AG_VAL_RULES,$(v))))
 # A model's log rows: iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq
 $(AG)/%.val.txt: $(AG)/%.h5
-	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+\n-' ' ' | xargs -n 9 > $@
+	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.e+\n-' ' ' | xargs -n 9 > $@
 # min (at iteration) of column $(2) over the GAN's rows (iteration > pre-training), and the last
 ag_val_min = awk -v from=$(3) '$$1 > from { if (!n++ || $$$(2) < m) { m = $$$(2); at = $$1 } last = $$$(2) } \
-  END { printf "%.4f (%d) | %.4f", m, at, last }' $(1)
+  END { printf "%.4f (%d) | %.4f", m, at - from, last }' $(1)
 $(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
 	{ echo "**$*** — the GAN's iteration count on a validation part (training subjects $($*_VAL_SUBJECTS) held out; $(AG_VAL_ITERATIONS) GAN iterations; 100 sequences per class)"; echo; \
-	  echo "| model | MMD_avg min (at iteration) | last | MMD_seq min (at iteration) | last |"; echo "|---|---:|---:|---:|---:|"; \
+	  echo "| model | MMD_avg min (at GAN iteration) | last | MMD_seq min (at GAN iteration) | last |"; echo "|---|---:|---:|---:|---:|"; \
+	  echo "| ours at the end of pre-training (GAN iteration 0: decoder trained, LSTM not) | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$8 }' $(AG)/$*/validate/ours.val.txt) | | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$9 }' $(AG)/$*/validate/ours.val.txt) | |"; \
 	  echo "| ours | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,9,$(AG_PRETRAIN))) |"; \
-	  echo "| ours, decoder trained in the GAN phase (--train-decoder) | $$($(call ag_val_min,$(AG)/$*/validate/ours-dec.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours-dec.val.txt,9,$(AG_PRETRAIN))) |"; \
+	  echo "| ours, decoder fixed in the GAN phase (--freeze-decoder) | $$($(call ag_val_min,$(AG)/$*/validate/ours-frozen.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours-frozen.val.txt,9,$(AG_PRETRAIN))) |"; \
+	  echo "| ours as the authors' code: decoder fixed, sigma1 1.6 (0.05 summed over the batch of 32) | $$($(call ag_val_min,$(AG)/$*/validate/ours-authors.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours-authors.val.txt,9,$(AG_PRETRAIN))) |"; \
 	  echo "| $(AG_LABEL_pose) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,8,0)) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,9,0)) |"; \
 	} $(write_if_changed)
 $(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
-	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; set key top right; \
-	  set title '$*: MMD against held-out training subjects ($($*_VAL_SUBJECTS)) during training'; \
+	gnuplot -e "set terminal pngcairo size 960,500; set output '$@'; set key outside right noenhanced font ',9'; set xrange [0:*]; \
+	  set title '$*: MMD against held-out training subjects $($*_VAL_SUBJECTS) (GAN iteration 0: end of pre-training)'; \
 	  set xlabel 'GAN iteration'; set ylabel 'MMD_u^2'; set logscale y; \
-	  plot '$(AG)/$*/validate/ours.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours MMD_avg', \
-	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours MMD_seq', \
-	       '$(AG)/$*/validate/ours-dec.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours --train-decoder MMD_avg', \
-	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 > $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours --train-decoder MMD_seq', \
+	  plot '$(AG)/$*/validate/ours.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours MMD_avg', \
+	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours MMD_seq', \
+	       '$(AG)/$*/validate/ours-frozen.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours --freeze-decoder MMD_avg', \
+	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours --freeze-decoder MMD_seq', \
+	       '$(AG)/$*/validate/ours-authors.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'authors code MMD_avg', \
+	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'authors code MMD_seq', \
 	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose MMD_avg', \
 	       '' using 1:9 with linespoints title 'direct-pose MMD_seq'"

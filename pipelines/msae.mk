@@ -146,13 +146,13 @@ $(MS)/%/components.png: $(MS)/%/kept.h5
 	  --column-labels "$$($(call frame_names,$(MS)/$*/kept-acap.h5))" --row-labels "kept" \
 	  --title "$*: kept MSAE components L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
 $(MS)/%/fig3.png: $(MS)/%/components.h5
-	h5dump -d /similarity -y -w 0 -m %.5f $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
+	h5dump -d /similarity -y -w 0 -m %.5f $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 560,500; set output '$@'; \
 	  set title '$*: |cosine similarity| of the level-0 components'; set xrange [-0.5:9.5]; set yrange [9.5:-0.5]; \
 	  set cbrange [0:1]; set palette defined (0 '#440154', 0.5 '#21918c', 1 '#fde725'); \
 	  plot '$(@:.png=.txt)' matrix with image notitle"
 $(MS)/%/curve.png: $(MS)/%/msae.h5
-	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+\n-' ' ' | xargs -n 6 > $(@:.png=.txt)
+	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.e+\n-' ' ' | xargs -n 6 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; set logscale y; \
 	  set title '$*: MSAE training (validation shapes are held out, not test shapes)'; set xlabel 'iteration'; \
 	  plot '$(@:.png=.txt)' using 1:2 with lines title 'training loss (all blocks)', \

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       "     discriminator updates, then --g-steps updates of generator + classifier on\n"
       "     BCE + Omega (smoothness of latents, sigma1, and poses, sigma2) + gamma x the\n"
       "     classifier's cross-entropy on real and generated sequences; the pre-trained\n"
-      "     decoder stays fixed (--train-decoder: it learns too).\n"
+      "     decoder learns on (--freeze-decoder: it stays fixed).\n"
       "Adam with betas 0.5 / 0.9 for every network (as the authors' code).\n\n"
       "INPUT: a skeleton .h5 of equal-length clips (skel2h5 --length; its test part is not\n"
       "trained on). OUTPUT: an actgan-model .h5 for gen-actgan (weights, Adam and RNG state,\n"
@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   tool.with_threads().with_seed(1).with_force().with_stop_requests();
   df::models::ActganTrainOptions opt;
   std::string smoothness = opt.net.smoothness;
-  bool direct = false, no_classifier = false;
+  bool direct = false, no_classifier = false, freeze_decoder = false;
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "skeleton .h5 of equal-length clips")->required();
   app.add_option("-o,--output", opt.output, "Output model (.h5)")->required();
@@ -82,9 +82,10 @@ int main(int argc, char** argv) {
                 "the iteration count to train the final model for, without the test part")
       ->delimiter(',')
       ->allow_extra_args(false);  // one comma-separated word: a positional may follow
-  g->add_flag("--train-decoder", opt.training.train_decoder,
-              "Let the GAN phase update the pre-trained frame decoder too (by default it stays\n"
-              "fixed, as in the authors' code: the LSTM learns paths through its latent space)");
+  g->add_flag("--freeze-decoder", freeze_decoder,
+              "Keep the pre-trained frame decoder fixed in the GAN phase, as the authors' code\n"
+              "does (only the LSTM learns paths through its latent space); on validation data\n"
+              "the discriminator then wins outright, so by default the decoder learns on");
   df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"
@@ -97,6 +98,7 @@ int main(int argc, char** argv) {
     opt.net.smoothness = smoothness;
     opt.net.residual = !direct;
     opt.net.classifier = !no_classifier;
+    opt.training.train_decoder = !freeze_decoder;
     opt.training.seed = tool.common().seed;
     opt.validate = [](const df::models::ActganModel& m, const df::models::ActionClips& clips) {
       return df::eval::actgan_validation_mmd(m, clips);

@@ -26,16 +26,16 @@ run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --gamma 0
 expect_rc 1; expect_one_error_line train-actgan; expect_err "gamma = 0.1"
 echo "ok (threads, resume)"
 
-# --- the GAN phase keeps the pre-trained decoder fixed unless --train-decoder
+# --- --freeze-decoder: the GAN phase keeps the pre-trained decoder as it is
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 clips.h5 -o pretrained.h5
-train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --train-decoder clips.h5 -o m-dec.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --freeze-decoder clips.h5 -o m-frozen.h5
 for p in gen.decoder.0.weight gen.decoder.1.bias; do
-  run h5diff pretrained.h5 m1.h5 /params/$p; expect_rc 0
-  run h5diff -q pretrained.h5 m-dec.h5 /params/$p; expect_rc 1
+  run h5diff pretrained.h5 m-frozen.h5 /params/$p; expect_rc 0
+  run h5diff -q pretrained.h5 m1.h5 /params/$p; expect_rc 1
 done
-run h5diff -q pretrained.h5 m1.h5 /params/gen.lstm.wx; expect_rc 1
-run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --train-decoder --resume --checkpoint m-half.h5 clips.h5 -o x.h5
-expect_rc 1; expect_one_error_line train-actgan; expect_err "train-decoder"
+run h5diff -q pretrained.h5 m-frozen.h5 /params/gen.lstm.wx; expect_rc 1
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --freeze-decoder --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "freeze-decoder"
 echo "ok (frozen decoder)"
 
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the

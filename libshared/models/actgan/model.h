@@ -29,9 +29,10 @@ struct ActganTraining {
   /// Train only the classifier, on the real clips (the paper's Baseline_T/G: a classifier
   /// trained alone, to compare with the one trained inside the bi-directional GAN)
   bool classifier_only = false;
-  /// Also update the pre-trained frame decoder in the GAN phase (the authors' code keeps it
-  /// fixed: only the LSTM, its output layer and the classifier learn there)
-  bool train_decoder = false;
+  /// Update the pre-trained frame decoder in the GAN phase too (false: --freeze-decoder, as the
+  /// authors' code, where only the LSTM, its output layer and the classifier learn there; chosen
+  /// on validation MMD: freezing it lets the discriminator win outright)
+  bool train_decoder = true;
   std::uint64_t seed = 1;
   /// Training subjects held out for validation (their clips are not trained on; the log gets the
   /// MMD of generated sequences against them at every loss line)

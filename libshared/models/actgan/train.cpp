@@ -63,7 +63,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("seed", s.seed, t.seed);
   differs("classifier-only", s.classifier_only, t.classifier_only);
   if (want.config.generator != "pose")  // no decoder: the option means nothing there
-    differs("train-decoder", s.train_decoder, t.train_decoder);
+    differs("freeze-decoder", !s.train_decoder, !t.train_decoder);
   differs("validation-subjects", fmt::format("{}", fmt::join(s.validation_subjects, ",")),
           fmt::format("{}", fmt::join(t.validation_subjects, ",")));
   differs("length", ck.length, want.length);
@@ -218,7 +218,7 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     tape.clear();
     m.gen->store().zero_grad();
     m.cls->store().zero_grad();
-    // The pre-trained decoder stays as it is unless --train-decoder (the authors' code).
+    // --freeze-decoder (the authors' code): the pre-trained decoder stays as it is.
     const auto pg = tr.train_decoder ? m.gen->store().bind(tape) : m.gen->store().bind_except(tape, "gen.decoder.");
     const auto pd = m.disc->store().bind_constant(tape);  // not trained in this step
     const auto pc = m.cls->store().bind(tape);
