@@ -146,21 +146,23 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 
 # --- validation: the GAN's iteration count chosen on training subjects held out of training
 #   make -f Makefile.data actgan-validation [AG_SETS=...]
-# Ours, ours with the decoder fixed in the GAN phase (--freeze-decoder), ours as the authors' code
-# (decoder fixed, sigma1 summed over the batch) and the direct-pose baseline train
-# AG_VAL_ITERATIONS GAN iterations without the clips of
+# Ours, ours with the decoder fixed in the GAN phase (--freeze-decoder, as the authors' code), with
+# sigma1 as the authors' code weighs it (their latent term is summed over the batch, not averaged:
+# 0.05 x our batch of 32 = 1.6; their code's 0.1 x their batch of 64 = 6.4), and the direct-pose
+# baseline train AG_VAL_ITERATIONS GAN iterations without the clips of
 # S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
 # log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
 # $(AG)/S/validation.md: per model the minimum of each (and where) and the last value;
 # $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
 AG_VAL_ITERATIONS ?= 1000
-AG_VAL_MODELS := ours ours-frozen ours-authors pose
+AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 pose
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
 ours-frozen_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder
-# sigma1 x the batch (32): the authors' code sums the latent term over the batch, not its mean
-ours-authors_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 1.6
+ours-frozen-s1.6_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 1.6
+ours-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --sigma1 6.4
+ours-frozen-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 6.4
 pose_VAL := --pretrain-iterations 0 --generator pose
 ag_val_train = $($(2)_VAL) --iterations $(AG_VAL_ITERATIONS) $(AG_OPTIONS) --validation-subjects $($(1)_VAL_SUBJECTS)
 
@@ -189,18 +191,18 @@ $(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.tx
 	  echo "| ours at the end of pre-training (GAN iteration 0: decoder trained, LSTM not) | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$8 }' $(AG)/$*/validate/ours.val.txt) | | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$9 }' $(AG)/$*/validate/ours.val.txt) | |"; \
 	  echo "| ours | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,9,$(AG_PRETRAIN))) |"; \
 	  echo "| ours, decoder fixed in the GAN phase (--freeze-decoder) | $$($(call ag_val_min,$(AG)/$*/validate/ours-frozen.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours-frozen.val.txt,9,$(AG_PRETRAIN))) |"; \
-	  echo "| ours as the authors' code: decoder fixed, sigma1 1.6 (0.05 summed over the batch of 32) | $$($(call ag_val_min,$(AG)/$*/validate/ours-authors.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours-authors.val.txt,9,$(AG_PRETRAIN))) |"; \
+	  for v in ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4; do f=$(AG)/$*/validate/$$v.val.txt; \
+	    case $$v in *frozen*) l="decoder fixed, ";; *) l="";; esac; \
+	    echo "| ours, $${l}sigma1 $${v##*-s} | $$($(call ag_val_min,$$f,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$$f,9,$(AG_PRETRAIN))) |"; done; \
 	  echo "| $(AG_LABEL_pose) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,8,0)) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,9,0)) |"; \
 	} $(write_if_changed)
 $(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
-	gnuplot -e "set terminal pngcairo size 960,500; set output '$@'; set key outside right noenhanced font ',9'; set xrange [0:*]; \
-	  set title '$*: MMD against held-out training subjects $($*_VAL_SUBJECTS) (GAN iteration 0: end of pre-training)'; \
-	  set xlabel 'GAN iteration'; set ylabel 'MMD_u^2'; set logscale y; \
-	  plot '$(AG)/$*/validate/ours.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours MMD_avg', \
-	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours MMD_seq', \
-	       '$(AG)/$*/validate/ours-frozen.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'ours --freeze-decoder MMD_avg', \
-	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'ours --freeze-decoder MMD_seq', \
-	       '$(AG)/$*/validate/ours-authors.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title 'authors code MMD_avg', \
-	       '' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title 'authors code MMD_seq', \
-	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose MMD_avg', \
-	       '' using 1:9 with linespoints title 'direct-pose MMD_seq'"
+	gnuplot -e "set terminal pngcairo size 1000,760; set output '$@'; set multiplot layout 2,1; \
+	  set key outside right noenhanced font ',9'; set xrange [0:*]; set logscale y; set yrange [0.2:3]; set ytics (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3); set ylabel 'MMD_u^2'; \
+	  files = '$(filter-out pose,$(AG_VAL_MODELS))'; \
+	  set title '$*: MMD_avg against held-out training subjects $($*_VAL_SUBJECTS) (GAN iteration 0: end of pre-training)' noenhanced; \
+	  plot for [v in files] '$(AG)/$*/validate/'.v.'.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title v, \
+	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose baseline'; \
+	  set title '$*: MMD_seq' noenhanced; set xlabel 'GAN iteration'; \
+	  plot for [v in files] '$(AG)/$*/validate/'.v.'.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title v, \
+	       '$(AG)/$*/validate/pose.val.txt' using 1:9 with linespoints title 'direct-pose baseline'; unset multiplot"
