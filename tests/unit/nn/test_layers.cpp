@@ -251,3 +251,21 @@ TEST_CASE("nn learning: an MLP learns XOR (deterministic for a seed)", "[nn]") {
   auto [loss2, w2] = train(7);
   CHECK(w1 == w2);  // same seed, same weights
 }
+
+TEST_CASE("nn parameters: bind_except holds the named part fixed", "[nn]") {
+  df::Rng rng(5);
+  ParameterStore<double> s;
+  Linear<double> kept(s, "gen.lstm", 3, 2, rng), frozen(s, "gen.decoder", 2, 2, rng);
+  Tape<double> t;
+  const Bound<double> p = s.bind_except(t, "gen.decoder.");
+  const Var<double> y = sum_squares(frozen(p, kept(p, t.constant(rnd(4, 3, 1)))));
+  t.backward(y);
+  s.zero_grad();
+  s.collect(p);
+  for (int i = 0; i < static_cast<int>(p.vars.size()); ++i) {
+    const bool is_frozen = i == frozen.w || i == frozen.b;
+    CHECK(p.vars[static_cast<std::size_t>(i)].requires_grad() == !is_frozen);
+    if (is_frozen) CHECK(s.grad(i).isZero());
+    else CHECK(s.grad(i).norm() > 0);
+  }
+}
