@@ -199,7 +199,16 @@ RowMatrixF sequence_rows(const io::SkeletonFile& f, const std::vector<float>& po
   return M;
 }
 
-void spread(const RowMatrixF& seqs, double& mean, double& sd);
+void spread(const RowMatrixF& seqs, double& mean, double& sd) {
+  const Eigen::RowVectorXf centre = seqs.colwise().mean();
+  std::vector<double> d(static_cast<std::size_t>(seqs.rows()));
+  for (Eigen::Index r = 0; r < seqs.rows(); ++r) d[static_cast<std::size_t>(r)] = (seqs.row(r) - centre).norm();
+  mean = 0;
+  for (double x : d) mean += x / static_cast<double>(d.size());
+  sd = 0;
+  for (double x : d) sd += (x - mean) * (x - mean) / static_cast<double>(d.size());
+  sd = std::sqrt(sd);
+}
 
 // One class's MMD_seq, MMD_avg and spread: generated sequences X against real ones Y, one
 // flattened sequence per row, `frame_size` values per frame.
@@ -214,17 +223,6 @@ ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std
     m.mmd_avg += mmd2_max(X.middleCols(t * cols, cols), Y.middleCols(t * cols, cols)).mmd2 / static_cast<double>(frames);
   spread(X, m.spread_mean, m.spread_sd);
   return m;
-}
-
-void spread(const RowMatrixF& seqs, double& mean, double& sd) {
-  const Eigen::RowVectorXf centre = seqs.colwise().mean();
-  std::vector<double> d(static_cast<std::size_t>(seqs.rows()));
-  for (Eigen::Index r = 0; r < seqs.rows(); ++r) d[static_cast<std::size_t>(r)] = (seqs.row(r) - centre).norm();
-  mean = 0;
-  for (double x : d) mean += x / static_cast<double>(d.size());
-  sd = 0;
-  for (double x : d) sd += (x - mean) * (x - mean) / static_cast<double>(d.size());
-  sd = std::sqrt(sd);
 }
 
 }  // namespace

@@ -36,6 +36,9 @@ done
 run h5diff -q pretrained.h5 m-frozen.h5 /params/gen.lstm.wx; expect_rc 1
 run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --freeze-decoder --resume --checkpoint m-half.h5 clips.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-actgan; expect_err "freeze-decoder"
+run train-actgan "${tiny[@]}" --generator pose --pretrain-iterations 0 --iterations 2 --freeze-decoder clips.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-actgan; expect_err "no decoder to freeze"
+[ -f x.h5 ] && fail "output written after an error"
 echo "ok (frozen decoder)"
 
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the

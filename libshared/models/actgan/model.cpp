@@ -112,9 +112,14 @@ void read_config(const h5::File& f, ActganModel& m) {
 
 }  // namespace
 
+std::vector<std::string> ActganModel::loss_columns() { return {"loss", "disc", "adv", "smooth", "cycle", "gp"}; }
+
+std::vector<std::string> ActganModel::validation_columns() { return {"val_mmd_avg", "val_mmd_seq"}; }
+
 std::vector<std::string> ActganModel::log_columns() const {
-  std::vector<std::string> c{"iteration", "loss", "disc", "adv", "smooth", "cycle", "gp"};
-  if (!training.validation_subjects.empty()) c.insert(c.end(), {"val_mmd_avg", "val_mmd_seq"});
+  std::vector<std::string> c{"iteration"};
+  for (auto&& part : {loss_columns(), training.validation_subjects.empty() ? std::vector<std::string>{} : validation_columns()})
+    c.insert(c.end(), part.begin(), part.end());
   return c;
 }
 

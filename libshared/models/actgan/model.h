@@ -64,8 +64,12 @@ struct ActganModel {
   std::vector<double> log, unprinted;
   std::string history;
 
-  /// The training log's columns: iteration, the loss terms, then with validation subjects the
-  /// validation MMD_avg and MMD_seq.
+  /// The loss terms of a log row and the validation measures that follow them when there are
+  /// validation subjects.
+  static std::vector<std::string> loss_columns();
+  static std::vector<std::string> validation_columns();
+  /// The training log's columns: iteration, loss_columns(), then with validation subjects
+  /// validation_columns().
   std::vector<std::string> log_columns() const;
   /// Untrained networks (weights from Rng(seed, 0)) and fresh optimizers.
   void initialize();

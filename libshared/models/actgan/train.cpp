@@ -29,6 +29,8 @@ void check_options(const ActganTrainOptions& opt) {
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
   if (c.generator == "pose" && t.pretrain_iterations > 0)
     throw UsageError("the direct-pose baseline (--generator pose) has no decoder to pre-train: use --pretrain-iterations 0");
+  if (c.generator == "pose" && !t.train_decoder)
+    throw UsageError("the direct-pose baseline (--generator pose) has no decoder to freeze: leave out --freeze-decoder");
   if (t.classifier_only && (t.pretrain_iterations > 0 || !c.classifier))
     throw UsageError("--classifier-only trains the classifier alone: use --pretrain-iterations 0, not --no-classifier");
   opt.run.check();
@@ -62,8 +64,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("lr-pretrain", s.lr_pretrain, t.lr_pretrain);
   differs("seed", s.seed, t.seed);
   differs("classifier-only", s.classifier_only, t.classifier_only);
-  if (want.config.generator != "pose")  // no decoder: the option means nothing there
-    differs("freeze-decoder", !s.train_decoder, !t.train_decoder);
+  differs("freeze-decoder", !s.train_decoder, !t.train_decoder);
   differs("validation-subjects", fmt::format("{}", fmt::join(s.validation_subjects, ",")),
           fmt::format("{}", fmt::join(t.validation_subjects, ",")));
   differs("length", ck.length, want.length);
@@ -272,23 +273,19 @@ std::function<LossTerms()> validation_evaluation(const ActganTrainOptions& opt, 
                                                  const ActionClips& validation) {
   if (validation.size() == 0) return {};
   if (!opt.validate) throw Error("train_actgan: validation subjects but no validation measure");
-  log::info("validation: {} clips of subjects {} held out of training; the log's val_mmd_avg / val_mmd_seq columns "
-            "compare generated sequences with them",
-            validation.size(), fmt::join(m.training.validation_subjects, ","));
+  log::info("validation: {} clips of subjects {} held out of training; the log's {} columns compare generated "
+            "sequences with them",
+            validation.size(), fmt::join(m.training.validation_subjects, ","),
+            fmt::join(ActganModel::validation_columns(), " / "));
   return [&opt, &m, &validation] { return opt.validate(m, validation); };
 }
 
-}  // namespace
-
-namespace {
-
-// Appends sequence q of `s` to `c` (equal lengths: the first sets it).
-void append_clip(const io::SkeletonFile& s, std::size_t q, const std::string& path, ActionClips& c) {
-  const auto length = static_cast<int>(s.length(q));
-  if (c.length == 0) c.length = length;
-  if (length != c.length)
-    throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length", c.length, length),
-                       path);
+// Appends sequence q of `s` to `c`; every clip has `length` frames (the first sets it).
+void append_clip(const io::SkeletonFile& s, std::size_t q, const std::string& path, int& length, ActionClips& c) {
+  const auto n = static_cast<int>(s.length(q));
+  if (length == 0) length = n;
+  if (n != length)
+    throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length", length, n), path);
   c.frames.insert(c.frames.end(), s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q]) * c.pose,
                   s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q + 1]) * c.pose);
   c.labels.push_back(s.labels[q]);
@@ -317,17 +314,15 @@ ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
   check_validation_subjects(s, validation_subjects, path);
   ActionData d;
   d.train.pose = d.validation.pose = static_cast<int>(s.frame_size());
+  int length = 0;
   for (std::size_t q = 0; q < s.sequences(); ++q) {
     if (!s.test.empty() && s.test[q]) continue;
     const bool held_out = !validation_subjects.empty() &&
                           std::find(validation_subjects.begin(), validation_subjects.end(), s.subjects[q]) !=
                               validation_subjects.end();
-    append_clip(s, q, path, held_out ? d.validation : d.train);
+    append_clip(s, q, path, length, held_out ? d.validation : d.train);
   }
-  if (d.validation.length != 0 && d.train.length != 0 && d.validation.length != d.train.length)
-    throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length",
-                                   d.train.length, d.validation.length),
-                       path);
+  d.train.length = d.validation.length = length;
   if (d.train.size() < 2) throw InvalidInput(fmt::format("{} training sequence(s); ActGAN needs at least 2", d.train.size()), path);
   if (d.train.length < 2) throw InvalidInput("sequences of 1 frame: nothing moves", path);
   if (!s.normalization.present())
@@ -374,12 +369,9 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
     return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape) : actgan_gan_iteration(m, clips, tape);
   };
   auto checkpoint = [&] { save_actgan_model(ckpt, m, {opt.input}, true); };
-  const auto columns = m.log_columns();
-  const std::size_t terms = 6;  // loss disc adv smooth cycle gp; then the validation columns
-  const std::vector<std::string> names(columns.begin() + 1, columns.begin() + 1 + terms),
-      evaluated(columns.begin() + 1 + terms, columns.end());
-  run_training_loop({total, opt.run.print_every, opt.run.checkpoint_every, ckpt}, names, m.iteration, m.log, m.unprinted,
-                    step, checkpoint, evaluated, evaluate);
+  run_training_loop({total, opt.run.print_every, opt.run.checkpoint_every, ckpt}, ActganModel::loss_columns(), m.iteration,
+                    m.log, m.unprinted, step, checkpoint,
+                    evaluate ? ActganModel::validation_columns() : std::vector<std::string>{}, evaluate);
   save_actgan_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);
