@@ -152,7 +152,8 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # baseline train AG_VAL_ITERATIONS GAN iterations without the clips of
 # S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
 # log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
-# $(AG)/S/validation.md: per model the minimum of each (and where) and the last value;
+# $(AG)/S/validation.md: per model the minimum of each (and where), the last value, and the
+# size of its generated poses at the first and the last frame (scripts/pose-norms);
 # $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
 AG_VAL_ITERATIONS ?= 1000
 AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 pose
@@ -164,6 +165,14 @@ ours-frozen-s1.6_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --
 ours-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --sigma1 6.4
 ours-frozen-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 6.4
 pose_VAL := --pretrain-iterations 0 --generator pose
+ours_VAL_LABEL := ours (paper defaults: sigma1 0.05, the decoder learns on)
+ours-frozen_VAL_LABEL := decoder fixed (--freeze-decoder, the authors' code)
+ours-frozen-s1.6_VAL_LABEL := decoder fixed, sigma1 1.6 (0.05 summed over our batch of 32)
+ours-s6.4_VAL_LABEL := sigma1 6.4 (the authors' code: 0.1 summed over their batch of 64)
+ours-frozen-s6.4_VAL_LABEL := decoder fixed, sigma1 6.4
+pose_VAL_LABEL := $(AG_LABEL_pose)
+# $(call ag_val_from,MODEL): its pre-training iterations (the GAN's rows come after them)
+ag_val_from = $(if $(filter pose,$(1)),0,$(AG_PRETRAIN))
 ag_val_train = $($(2)_VAL) --iterations $(AG_VAL_ITERATIONS) $(AG_OPTIONS) --validation-subjects $($(1)_VAL_SUBJECTS)
 
 .PHONY: actgan-validation
@@ -177,24 +186,27 @@ $(AG)/%/validate/$(1).args: FORCE
 $(AG)/%/validate/$(1).h5: $(AG)/%/data.h5 $(AG)/%/validate/$(1).args
 	$$(call launch,train) $$(BIN)/train-actgan -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
 	  $$(call ag_val_train,$$*,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+# The size of its poses at the first and the last frame (20 sequences per class, scripts/pose-norms).
+$(AG)/%/validate/$(1).norms: $(AG)/%/validate/$(1).h5
+	$$(call launch,generate) $$(BIN)/gen-actgan -q -f --count 20 --seed 3 $$< -o $$(@:.norms=.sample.h5)
+	$$(DF_ROOT)/scripts/pose-norms $$(@:.norms=.sample.h5) > $$@.tmp && mv $$@.tmp $$@
 endef
 $(foreach v,$(AG_VAL_MODELS),$(eval $(call AG_VAL_RULES,$(v))))
+$(AG)/%/data.norms: $(AG)/%/data.h5
+	$(DF_ROOT)/scripts/pose-norms $< > $@.tmp && mv $@.tmp $@
 # A model's log rows: iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq
 $(AG)/%.val.txt: $(AG)/%.h5
 	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.e+\n-' ' ' | xargs -n 9 > $@
 # min (at iteration) of column $(2) over the GAN's rows (iteration > pre-training), and the last
 ag_val_min = awk -v from=$(3) '$$1 > from { if (!n++ || $$$(2) < m) { m = $$$(2); at = $$1 } last = $$$(2) } \
   END { printf "%.4f (%d) | %.4f", m, at - from, last }' $(1)
-$(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
+$(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt $(AG)/%/validate/$(v).norms) $(AG)/%/data.norms
 	{ echo "**$*** — the GAN's iteration count on a validation part (training subjects $($*_VAL_SUBJECTS) held out; $(AG_VAL_ITERATIONS) GAN iterations; 100 sequences per class)"; echo; \
-	  echo "| model | MMD_avg min (at GAN iteration) | last | MMD_seq min (at GAN iteration) | last |"; echo "|---|---:|---:|---:|---:|"; \
-	  echo "| ours at the end of pre-training (GAN iteration 0: decoder trained, LSTM not) | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$8 }' $(AG)/$*/validate/ours.val.txt) | | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$9 }' $(AG)/$*/validate/ours.val.txt) | |"; \
-	  echo "| ours | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours.val.txt,9,$(AG_PRETRAIN))) |"; \
-	  echo "| ours, decoder fixed in the GAN phase (--freeze-decoder) | $$($(call ag_val_min,$(AG)/$*/validate/ours-frozen.val.txt,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$(AG)/$*/validate/ours-frozen.val.txt,9,$(AG_PRETRAIN))) |"; \
-	  for v in ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4; do f=$(AG)/$*/validate/$$v.val.txt; \
-	    case $$v in *frozen*) l="decoder fixed, ";; *) l="";; esac; \
-	    echo "| ours, $${l}sigma1 $${v##*-s} | $$($(call ag_val_min,$$f,8,$(AG_PRETRAIN))) | $$($(call ag_val_min,$$f,9,$(AG_PRETRAIN))) |"; done; \
-	  echo "| $(AG_LABEL_pose) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,8,0)) | $$($(call ag_val_min,$(AG)/$*/validate/pose.val.txt,9,0)) |"; \
+	  echo "| model | MMD_avg min (at GAN iteration) | last | MMD_seq min (at GAN iteration) | last | pose norm, frame 1 -> last |"; \
+	  echo "|---|---:|---:|---:|---:|---:|"; \
+	  echo "| ours at the end of pre-training (GAN iteration 0: decoder trained, LSTM not) | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$8 }' $(AG)/$*/validate/ours.val.txt) | | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$9 }' $(AG)/$*/validate/ours.val.txt) | | |"; \
+	  $(foreach v,$(AG_VAL_MODELS),echo "| $($(v)_VAL_LABEL) | $$($(call ag_val_min,$(AG)/$*/validate/$(v).val.txt,8,$(call ag_val_from,$(v)))) | $$($(call ag_val_min,$(AG)/$*/validate/$(v).val.txt,9,$(call ag_val_from,$(v)))) | $$(awk '{ printf "%s -> %s", $$1, $$2 }' $(AG)/$*/validate/$(v).norms) |";) \
+	  echo; echo "Pose norm: the mean Euclidean norm of a pose (z-scored coordinates) at the first and the last frame; the real clips (data.h5): $$(awk '{ printf "%s -> %s", $$1, $$2 }' $(AG)/$*/data.norms)."; \
 	} $(write_if_changed)
 $(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
 	gnuplot -e "set terminal pngcairo size 1000,760; set output '$@'; set multiplot layout 2,1; \

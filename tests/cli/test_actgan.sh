@@ -2,6 +2,7 @@
 # thread independence, bit-exact resume, determinism per seed), a short training moves the
 # generated poses towards the data (MMD falls), gen-actgan (classes, mixture, latents),
 # classify-actions, eval-metrics on skeleton files, and bad input. Stored numbers: tests/golden/.
+DF_ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 source "$(dirname "$0")/lib.sh"
 : "${DF_PLUGIN_DIR:?}"
 export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
@@ -68,6 +69,10 @@ h5dump -d /sequences/names mix.h5 | grep -q '"walk+wave~2"' || fail "mixture nam
 run classify-actions trained.h5 mix.h5 --probabilities; expect_rc 0
 expect_out "walk\+wave~0 +[0-9.]+ +[0-9.]+ +[0-9.]+"
 h5check -q --kind skeleton mix.h5
+# scripts/pose-norms (actgan-validation's pose sizes): two positive means, first and last frame
+norms=$(bash "$DF_ROOT/scripts/pose-norms" gen1.h5)
+[[ $norms =~ ^[0-9]+\.[0-9]{2}\ [0-9]+\.[0-9]{2}$ ]] && awk -v a="${norms% *}" -v b="${norms#* }" 'BEGIN { exit !(a > 0 && b > 0) }' ||
+  fail "pose-norms: two positive numbers expected, got '$norms'"
 echo "ok (generation)"
 
 # --- the classifier on the real test part and on generated sequences
