@@ -114,13 +114,13 @@ $(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 
 	$(BIN)/classify-actions $(AG)/$*/model-cls-alone.h5 $(AG)/$*/gen.h5 > $(AG)/$*/acc-alone-gen.txt
 	{ echo "$* — classification accuracy per class (paper Table 2): real test clips (T) and our generated sequences (G)"; echo; \
 	  echo "| class | Baseline_T | Baseline_G | Ours_T | Ours_G |"; echo "|---|---:|---:|---:|---:|"; \
-	  for c in $$(h5dump -d /classes/names -y -w 0 $(AG)/$*/data.h5 | sed -n '/DATA {/,/}/p' | grep -o '"[^"]*"' | tr -d '"') all; do \
+	  for c in $$($(call h5_values,$(AG)/$*/data.h5,/classes/names) | grep -o '"[^"]*"' | tr -d '"') all; do \
 	    echo "| $$c | $$($(call ag_acc,$(AG)/$*/acc-alone-real.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-alone-gen.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-ours-real.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-ours-gen.txt,$$c)) |"; \
 	  done; } $(write_if_changed)
 
 # --- pictures
 $(AG)/%/generated.png: $(AG)/%/gen.h5
-	$(BIN)/render-mesh -q -f $< $$(h5dump -d /classes/names -y -w 0 $< | sed -n '/DATA {/,/}/p' | grep -o '"[^"]*"' | tr -d '"' | sed 's/.*/--sequence &~0/') \
+	$(BIN)/render-mesh -q -f $< $$($(call h5_values,$<,/classes/names) | grep -o '"[^"]*"' | tr -d '"' | sed 's/.*/--sequence &~0/') \
 	  --every 3 --size 100 --view 30,10 --title "$*: one generated sequence per class (every 3rd frame)" -o $@
 $(AG)/%/mixed.png: $(AG)/%/model.h5
 	$(BIN)/gen-actgan -q -f --mix $($*_MIX) --count 3 --seed 8 $< -o $(AG)/$*/mixed.h5
@@ -137,7 +137,7 @@ $(AG)/%/latent.png: $(AG)/%/model-latent2.h5
 	  files = system('ls $(AG)/$*/latent-*.txt'); \
 	  plot for [f in files] f using 1:2 with lines title system('basename '.f.' .txt | sed s/latent-//')"
 $(AG)/%/curve.png: $(AG)/%/model.h5
-	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.e+\n-' ' ' | xargs -n 7 > $(@:.png=.txt)
+	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n 7 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
 	  set title '$*: ActGAN training (pre-training rows: critic loss and Wasserstein estimate)'; set xlabel 'iteration'; \
 	  plot '$(@:.png=.txt)' using 1:3 with linespoints title 'discriminator / critic loss', \
@@ -196,7 +196,7 @@ $(AG)/%/data.norms: $(AG)/%/data.h5
 	$(DF_ROOT)/scripts/pose-norms $< > $@.tmp && mv $@.tmp $@
 # A model's log rows: iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq
 $(AG)/%.val.txt: $(AG)/%.h5
-	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.e+\n-' ' ' | xargs -n 9 > $@
+	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n 9 > $@
 # min (at iteration) of column $(2) over the GAN's rows (iteration > pre-training), and the last
 ag_val_min = awk -v from=$(3) '$$1 > from { if (!n++ || $$$(2) < m) { m = $$$(2); at = $$1 } last = $$$(2) } \
   END { printf "%.4f (%d) | %.4f", m, at - from, last }' $(1)

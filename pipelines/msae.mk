@@ -146,17 +146,17 @@ $(MS)/%/components.png: $(MS)/%/kept.h5
 	  --column-labels "$$($(call frame_names,$(MS)/$*/kept-acap.h5))" --row-labels "kept" \
 	  --title "$*: kept MSAE components L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
 $(MS)/%/fig3.png: $(MS)/%/components.h5
-	h5dump -d /similarity -y -w 0 -m %.5f $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
+	$(call h5_values,$<,/similarity,%.5f) | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 560,500; set output '$@'; \
 	  set title '$*: |cosine similarity| of the level-0 components'; set xrange [-0.5:9.5]; set yrange [9.5:-0.5]; \
 	  set cbrange [0:1]; set palette defined (0 '#440154', 0.5 '#21918c', 1 '#fde725'); \
 	  plot '$(@:.png=.txt)' matrix with image notitle"
 $(MS)/%/curve.png: $(MS)/%/msae.h5
-	h5dump -d /training/log -y -w 0 -m %.6g $< | sed -n '/DATA {/,/}/{p;/}/q}' | tr -c '0-9.e+\n-' ' ' | xargs -n 6 > $(@:.png=.txt)
+	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n 6 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; set logscale y; \
 	  set title '$*: MSAE training (validation shapes are held out, not test shapes)'; set xlabel 'iteration'; \
 	  plot '$(@:.png=.txt)' using 1:2 with lines title 'training loss (all blocks)', \
-	       '' using 1:6 with linespoints title 'validation: mean |X - X^|^2 per shape'"
+	       '' using 1:6 with linespoints title 'validation: mean |X - X_hat|^2 per shape' noenhanced"
 $(MS)/bumps/localization.md: $(MS)/bumps/kept.h5 $(MS)/bumps/frames.h5
 	{ echo "bumps — localization of the planted regions by the kept components (support: deformation >= 10% of the component's peak; IoU with the region's disc)"; echo; \
 	  $(BIN)/eval-metrics $< $(MS)/bumps/frames.h5 | sed -n '2,$$p' | sed 's/^/    /'; } $(write_if_changed)
