@@ -156,7 +156,7 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # size of its generated poses at the first and the last frame (scripts/pose-norms);
 # $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
 AG_VAL_ITERATIONS ?= 1000
-AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 pose
+AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 ours-small ours-small-s6.4 pose
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
@@ -164,12 +164,16 @@ ours-frozen_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder
 ours-frozen-s1.6_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 1.6
 ours-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --sigma1 6.4
 ours-frozen-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 6.4
+ours-small_VAL := --pretrain-iterations $(AG_PRETRAIN) --step-init small
+ours-small-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --step-init small --sigma1 6.4
 pose_VAL := --pretrain-iterations 0 --generator pose
 ours_VAL_LABEL := ours (paper defaults: sigma1 0.05, the decoder learns on)
 ours-frozen_VAL_LABEL := decoder fixed (--freeze-decoder, the authors' code)
 ours-frozen-s1.6_VAL_LABEL := decoder fixed, sigma1 1.6 (0.05 summed over our batch of 32)
 ours-s6.4_VAL_LABEL := sigma1 6.4 (the authors' code: 0.1 summed over their batch of 64)
 ours-frozen-s6.4_VAL_LABEL := decoder fixed, sigma1 6.4
+ours-small_VAL_LABEL := generator steps start small (--step-init small)
+ours-small-s6.4_VAL_LABEL := steps start small, sigma1 6.4
 pose_VAL_LABEL := $(AG_LABEL_pose)
 # $(call ag_val_from,MODEL): its pre-training iterations (the GAN's rows come after them)
 ag_val_from = $(if $(filter pose,$(1)),0,$(AG_PRETRAIN))

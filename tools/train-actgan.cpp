@@ -47,6 +47,12 @@ int main(int argc, char** argv) {
   l->add_option("--gamma", opt.net.gamma, "Weight of the classifier's cross-entropy (cycle loss)")
       ->default_val(opt.net.gamma);
   l->add_flag("--direct-latent", direct, "The LSTM gives h_{t+1} itself, not the residual v_t");
+  n->add_option("--step-init", opt.net.step_init,
+                "The generator's output layer v_t = FC(o_t) at its Glorot draw or x 0.01 (small:\n"
+                "the untrained generator stays where h_1 starts instead of drifting out of the\n"
+                "decoder's N(0, I) range)")
+      ->default_val(opt.net.step_init)
+      ->check(CLI::IsMember({"glorot", "small"}));
   n->add_option("--generator", opt.net.generator,
                 "latent: the paper's generator; pose: the baseline RNN whose LSTM output is the\n"
                 "pose itself (no latent transitions, no shared decoder; --pretrain-iterations 0)")

@@ -42,6 +42,17 @@ expect_rc 2; expect_one_error_line train-actgan; expect_err "no decoder to freez
 [ -f x.h5 ] && fail "output written after an error"
 echo "ok (frozen decoder)"
 
+# --- --step-init small: the generator's output layer starts at 0.01 x its Glorot draw; stored,
+# checked on --resume, refused for the pose baseline
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 --step-init small clips.h5 -o m-small.h5
+[ "$(h5dump -a /config/step_init -y m-small.h5 | sed -n 's/^ *"\(.*\)"$/\1/p')" = small ] || fail "step_init not stored"
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --step-init small --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "step-init"
+run train-actgan "${tiny[@]}" --generator pose --pretrain-iterations 0 --iterations 2 --step-init small clips.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-actgan; expect_err "step-init"
+[ -f x.h5 ] && fail "output written after an error"
+echo "ok (step init)"
+
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the
 # tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.27 and 1.0 -> 0.47)
 train-actgan -q "${tiny[@]}" --pretrain-iterations 0 --iterations 1 clips.h5 -o untrained.h5

@@ -17,6 +17,8 @@ ActganGenerator<T>::ActganGenerator(const ActganConfig& c, Rng& rng) : config_(c
     return;
   }
   to_latent_ = nn::Linear<T>(store_, "gen.to_latent", c.hidden, c.latent, rng);
+  if (c.step_init != "glorot" && c.step_init != "small") throw UsageError("--step-init must be glorot or small");
+  if (c.step_init == "small") store_.value(to_latent_.w) *= T(0.01);
   decoder_ = nn::Mlp<T>(store_, "gen.decoder", {c.latent + c.classes, c.fc, c.pose}, Activation::relu, rng);
 }
 

@@ -32,6 +32,11 @@ struct ActganConfig {
   /// "latent": the paper's generator; "pose": the direct-pose RNN baseline (no decoder)
   std::string generator = "latent";
   bool residual = true;  ///< h_{t+1} = h_t + v_t; false: the direct latent of paper Table 6
+  /// The generator's output layer (v_t) at its Glorot draw ("glorot") or that draw x 0.01
+  /// ("small"): with Glorot weights the untrained generator's steps add up, the latent's RMS
+  /// growing from 0.57 to 2.5 over 30 frames before any training, out of the N(0, I) range the
+  /// decoder was pre-trained on (its poses grow with the latent's radius)
+  std::string step_init = "glorot";
   /// Omega = sigma1 sum |h_t - h_{t-1}|^2 + sigma2 sum |x_t - x_{t-1}|^2 per sequence; which
   /// terms: "both", "latent", "action" or "none" (paper Table 5)
   std::string smoothness = "both";

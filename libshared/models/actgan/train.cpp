@@ -29,6 +29,8 @@ void check_options(const ActganTrainOptions& opt) {
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
   if (c.generator == "pose" && t.pretrain_iterations > 0)
     throw UsageError("the direct-pose baseline (--generator pose) has no decoder to pre-train: use --pretrain-iterations 0");
+  if (c.generator == "pose" && c.step_init != "glorot")
+    throw UsageError("--step-init sets the latent generator's steps v_t: the direct-pose baseline (--generator pose) has none");
   if (c.generator == "pose" && !t.train_decoder)
     throw UsageError("the direct-pose baseline (--generator pose) has no decoder to freeze: leave out --freeze-decoder");
   if (t.classifier_only && (t.pretrain_iterations > 0 || !c.classifier))
@@ -46,6 +48,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("hidden", a.hidden, b.hidden);
   differs("fc", a.fc, b.fc);
   differs("direct-latent", !a.residual, !b.residual);
+  differs("step-init", a.step_init, b.step_init);
   differs("generator", a.generator, b.generator);
   differs("smoothness", a.smoothness, b.smoothness);
   differs("sigma1", a.sigma1, b.sigma1);

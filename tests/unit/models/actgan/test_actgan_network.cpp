@@ -3,6 +3,7 @@
 // through both, and the critic's gradient penalty (a gradient of a gradient).
 #include <catch2/catch.hpp>
 
+#include "core/error.h"
 #include "models/actgan/network.h"
 #include "nn/gradient_check.h"
 #include "nn/ops.h"
@@ -185,4 +186,26 @@ TEST_CASE("ActGAN: the critic's input gradient and its gradient penalty", "[mode
     expected += (std::sqrt(sq) - 1) * (std::sqrt(sq) - 1) / 3;
   }
   CHECK(penalty == Approx(expected).epsilon(1e-6));
+}
+
+TEST_CASE("ActGAN: --step-init small starts the generator near its h_1", "[models][actgan]") {
+  // The same draw, the output layer x 0.01: every step v_t and so every drift from h_1 is 100x
+  // smaller (the bias starts at 0), the rest of the network unchanged.
+  auto drift = [](const char* init) {
+    ActganConfig c = tiny();
+    c.step_init = init;
+    Rng rng(1);
+    ActganGenerator<double> g(c, rng);
+    nn::Tape<double> t;
+    GenInputs in;
+    const auto s = in.run(g, t, g.store().bind(t));
+    return (s.latents.back().value() - s.latents.front().value()).norm();
+  };
+  const double glorot = drift("glorot"), small = drift("small");
+  CHECK(glorot > 1e-3);
+  CHECK(small == Approx(0.01 * glorot).epsilon(1e-9));
+  ActganConfig bad = tiny();
+  bad.step_init = "zero";
+  Rng rng(1);
+  CHECK_THROWS_AS(ActganGenerator<double>(bad, rng), UsageError);
 }
