@@ -185,7 +185,7 @@ fi
   echo "| case | parameters | threads | median ms | min ms | peak MiB |"
   echo "|---|---|---|---|---|---|"
   for threads in 1 2; do
-    for c in gan pretrain; do
+    for c in gan gan-all pretrain; do
       net_bench "$bin/bench_actgan" --case $c --threads $threads --iters 5 |
         while IFS=$'\t' read -r label params median min mib; do
           echo "| $label | $params | $threads | $median | $min | $mib |"

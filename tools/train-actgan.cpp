@@ -53,6 +53,16 @@ int main(int argc, char** argv) {
                 "decoder's N(0, I) range)")
       ->default_val(opt.net.step_init)
       ->check(CLI::IsMember({"glorot", "small"}));
+  n->add_option("--disc-input", opt.net.disc_input,
+                "What the discriminator sees per frame: frames [x_t, y], or motion [x_t,\n"
+                "x_t - x_{t-1}, y] (frames and their differences, as the authors' code)")
+      ->default_val(opt.net.disc_input)
+      ->check(CLI::IsMember({"frames", "motion"}));
+  n->add_option("--disc-pool", opt.net.disc_pool,
+                "What the discriminator's head reads: last (the BiLSTM's last forward and backward\n"
+                "states) or all (every step's outputs, as the authors' code; fixes the clip length)")
+      ->default_val(opt.net.disc_pool)
+      ->check(CLI::IsMember({"last", "all"}));
   n->add_option("--generator", opt.net.generator,
                 "latent: the paper's generator; pose: the baseline RNN whose LSTM output is the\n"
                 "pose itself (no latent transitions, no shared decoder; --pretrain-iterations 0)")

@@ -53,6 +53,26 @@ expect_rc 2; expect_one_error_line train-actgan; expect_err "step-init"
 [ -f x.h5 ] && fail "output written after an error"
 echo "ok (step init)"
 
+# --- --disc-input motion --disc-pool all (the authors' discriminator): trains, stored, its head
+# reads all 12 steps of [x_t, x_t - x_{t-1}, y] (2 x 16 x 12 inputs), checked on --resume;
+# gen-actgan and classify-actions read the model (the classifier keeps any length)
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 5 --disc-input motion --disc-pool all clips.h5 -o m-authors.h5
+h5check -q --kind actgan-model m-authors.h5
+for a in disc_input:motion disc_pool:all; do
+  [ "$(h5dump -a /config/${a%%:*} -y m-authors.h5 | sed -n 's/^ *"\(.*\)"$/\1/p')" = "${a#*:}" ] || fail "${a%%:*} not stored"
+done
+h5dump -H -d /params/disc.head.0.weight m-authors.h5 | grep -q "( 384, 32 )" || fail "the head does not read every step"
+gen-actgan -q --seed 4 --count 2 --length 20 m-authors.h5 -o gen-authors.h5
+classify-actions -q m-authors.h5 gen-authors.h5 > /dev/null
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-pool all --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "disc-pool"
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-input motion --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "disc-input"
+run train-actgan "${tiny[@]}" --disc-pool mean clips.h5 -o x.h5
+expect_rc 2; expect_err "disc-pool: mean not in"
+[ -f x.h5 ] && fail "output written after an error"
+echo "ok (authors' discriminator)"
+
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the
 # tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.27 and 1.0 -> 0.47)
 train-actgan -q "${tiny[@]}" --pretrain-iterations 0 --iterations 1 clips.h5 -o untrained.h5

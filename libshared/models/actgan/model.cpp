@@ -51,6 +51,8 @@ void write_config(h5::File& f, const ActganModel& m) {
   f.set_attr("/config", "smoothness", c.smoothness);
   f.set_attr("/config", "sigma1", c.sigma1);
   f.set_attr("/config", "sigma2", c.sigma2);
+  f.set_attr("/config", "disc_input", c.disc_input);
+  f.set_attr("/config", "disc_pool", c.disc_pool);
   f.set_attr("/config", "gamma", c.gamma);
   f.set_attr("/config", "classifier", static_cast<int>(c.classifier));
   f.set_attr("/config", "gp_lambda", c.gp_lambda);
@@ -89,6 +91,9 @@ void read_config(const h5::File& f, ActganModel& m) {
   c.smoothness = f.attr_string("/config", "smoothness");
   c.sigma1 = d("sigma1");
   c.sigma2 = d("sigma2");
+  // Absent in files written before the options: the discriminator saw [x_t, y], its last states.
+  c.disc_input = f.has_attr("/config", "disc_input") ? f.attr_string("/config", "disc_input") : "frames";
+  c.disc_pool = f.has_attr("/config", "disc_pool") ? f.attr_string("/config", "disc_pool") : "last";
   c.gamma = d("gamma");
   c.classifier = i("classifier") != 0;
   c.gp_lambda = d("gp_lambda");
@@ -129,7 +134,7 @@ std::vector<std::string> ActganModel::log_columns() const {
 void ActganModel::initialize() {
   Rng init(training.seed, 0);
   gen = std::make_unique<ActganGenerator<float>>(config, init);
-  disc = std::make_unique<SequenceNet<float>>(config, config.pose + config.classes, 1, "disc", init);
+  disc = make_discriminator<float>(config, length, init);
   cls = std::make_unique<SequenceNet<float>>(config, config.pose, config.classes, "cls", init);
   critic = std::make_unique<FrameCritic<float>>(config, init);
   adam.decoder = make_adam(gen->store(), training.lr_pretrain);

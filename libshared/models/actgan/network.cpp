@@ -1,5 +1,9 @@
 #include "models/actgan/network.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+
 #include "core/error.h"
 #include "nn/ops.h"
 
@@ -57,18 +61,36 @@ GeneratedSequences<T> ActganGenerator<T>::generate(const nn::Bound<T>& p, Var y,
 
 template <class T>
 SequenceNet<T>::SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index out,
-                            const std::string& name, Rng& rng) {
+                            const std::string& name, Rng& rng, int pool_steps)
+    : pool_steps_(pool_steps) {
   lstm_ = nn::BidirectionalLstm<T>(store_, name + ".lstm", in, c.hidden, 1, rng);
-  head_ = nn::Mlp<T>(store_, name + ".head", {2 * c.hidden, c.fc, out}, Activation::relu, rng);
+  const Eigen::Index features = 2 * c.hidden * std::max(1, pool_steps);
+  head_ = nn::Mlp<T>(store_, name + ".head", {features, c.fc, out}, Activation::relu, rng);
 }
 
 template <class T>
 nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const {
   if (x.empty()) throw Error("internal: a sequence network on an empty sequence");
   const Eigen::Index batch = x.front().rows(), steps = static_cast<Eigen::Index>(x.size());
+  if (pool_steps_ > 0 && steps != pool_steps_)
+    throw Error(fmt::format("internal: a network of {}-frame sequences on {} frames", pool_steps_, steps));
   const auto h = lstm_.run(p, nn::concat_rows<T>(x), batch);
-  return head_(p, nn::concat_cols<T>({nn::slice_rows(h.forward, (steps - 1) * batch, batch),
-                                      nn::slice_rows(h.backward, 0, batch)}));
+  if (pool_steps_ == 0)
+    return head_(p, nn::concat_cols<T>({nn::slice_rows(h.forward, (steps - 1) * batch, batch),
+                                        nn::slice_rows(h.backward, 0, batch)}));
+  std::vector<Var> every_step;  // [forward_1, backward_1, ..., forward_T, backward_T]
+  for (Eigen::Index t = 0; t < steps; ++t) {
+    every_step.push_back(nn::slice_rows(h.forward, t * batch, batch));
+    every_step.push_back(nn::slice_rows(h.backward, t * batch, batch));
+  }
+  return head_(p, nn::concat_cols<T>(every_step));
+}
+
+template <class T>
+std::unique_ptr<SequenceNet<T>> make_discriminator(const ActganConfig& c, int length, Rng& rng) {
+  if (c.disc_pool != "last" && c.disc_pool != "all") throw UsageError("--disc-pool must be last or all");
+  if (c.disc_pool == "all" && length < 1) throw Error("internal: a discriminator over all steps needs the length");
+  return std::make_unique<SequenceNet<T>>(c, discriminator_width(c), 1, "disc", rng, c.disc_pool == "all" ? length : 0);
 }
 
 template <class T>
@@ -115,6 +137,20 @@ std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> 
   return out;
 }
 
+Eigen::Index discriminator_width(const ActganConfig& c) {
+  if (c.disc_input != "frames" && c.disc_input != "motion") throw UsageError("--disc-input must be frames or motion");
+  return (c.disc_input == "motion" ? 2 * c.pose : c.pose) + c.classes;
+}
+
+template <class T>
+std::vector<nn::Var<T>> discriminator_input(const ActganConfig& c, const std::vector<nn::Var<T>>& x, nn::Var<T> y) {
+  if (c.disc_input != "motion") return with_label(x, y);  // "frames" (discriminator_width refuses others)
+  std::vector<nn::Var<T>> out;
+  for (std::size_t t = 0; t < x.size(); ++t)
+    out.push_back(nn::concat_cols<T>({x[t], nn::sub(x[t], x[t == 0 ? 0 : t - 1]), y}));
+  return out;
+}
+
 template <class T>
 nn::Var<T> smoothness(const ActganConfig& c, const GeneratedSequences<T>& g) {
   nn::Tape<T>& tape = *g.frames.front().tape;
@@ -148,6 +184,8 @@ nn::Matrix<T> one_hot(const std::vector<int>& labels, int classes) {
   template class SequenceNet<T>;                                                             \
   template class FrameCritic<T>;                                                             \
   template std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>&, nn::Var<T>);   \
+  template std::vector<nn::Var<T>> discriminator_input(const ActganConfig&, const std::vector<nn::Var<T>>&, nn::Var<T>); \
+  template std::unique_ptr<SequenceNet<T>> make_discriminator<T>(const ActganConfig&, int, Rng&); \
   template nn::Var<T> smoothness(const ActganConfig&, const GeneratedSequences<T>&);         \
   template nn::Matrix<T> one_hot<T>(const std::vector<int>&, int);                          \
   template GeneratorNoise<T> draw_generator_noise<T>(const ActganConfig&, Eigen::Index, int, Rng&); \

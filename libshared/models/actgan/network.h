@@ -4,8 +4,9 @@
 //   generator      implicit LSTM over (xi_t, y) -> v_t = FC(o_t) [B, Z];
 //                  h_1 ~ U(-1, 1), h_{t+1} = h_t + v_t (residual) or h_{t+1} = v_t (direct);
 //                  shared frame decoder x_t = Dec(h_t, y) = MLP [Z + C, FC, P] (ReLU)
-//   discriminator  bidirectional LSTM over [x_t, y] -> the last forward and backward states
-//                  [B, 2H] -> MLP [2H, FC, 1] (a logit)
+//   discriminator  bidirectional LSTM over [x_t, y] (or [x_t, x_t - x_{t-1}, y]) -> the last
+//                  forward and backward states [B, 2H] (or every step's, [B, T·2H]) -> MLP
+//                  [., FC, 1] (a logit)
 //   classifier     the same over x_t -> MLP [2H, FC, C] (logits)
 //   critic         MLP [P + C, FC, 1] on single frames (the decoder's WGAN-GP pre-training)
 // and the baseline a reviewer asks for (generator "pose"): the same LSTM over (xi_t, y) whose
@@ -13,6 +14,7 @@
 // Each has its own parameter store (and optimizer): a step of one never moves another's weights.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,6 +43,13 @@ struct ActganConfig {
   /// terms: "both", "latent", "action" or "none" (paper Table 5)
   std::string smoothness = "both";
   double sigma1 = 0.05, sigma2 = 5e-5;
+  /// What the discriminator sees per frame: "frames" [x_t, y] or "motion" [x_t, x_t - x_{t-1}, y]
+  /// (the first frame's difference 0), the frames and their differences as the authors' code
+  std::string disc_input = "frames";
+  /// What the discriminator's head reads: "last", the last forward and backward states of its
+  /// BiLSTM [B, 2H], or "all", every step's forward and backward outputs [B, T·2H] (the authors'
+  /// code; the head's size then fixes the sequence length T). The classifier stays "last".
+  std::string disc_pool = "last";
   double gamma = 0.1;      ///< weight of the classifier's cross-entropy (cycle loss, eq. 6)
   bool classifier = true;  ///< false: no classifier, no cycle loss (paper Table 2's ablation)
   double gp_lambda = 10;   ///< WGAN-GP gradient penalty
@@ -76,12 +85,15 @@ class ActganGenerator {
   nn::Mlp<T> decoder_;
 };
 
-/// The discriminator (outputs 1, input P + C) or the classifier (outputs C, input P).
+/// The discriminator (outputs 1, input discriminator_width) or the classifier (outputs C, input P).
 template <class T>
 class SequenceNet {
  public:
   using Var = nn::Var<T>;
-  SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index out, const std::string& name, Rng& rng);
+  /// pool_steps 0: the head reads the last forward and backward states (any length); > 0: every
+  /// step's outputs of sequences of exactly pool_steps frames.
+  SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index out, const std::string& name, Rng& rng,
+              int pool_steps = 0);
   nn::ParameterStore<T>& store() { return store_; }
   const nn::ParameterStore<T>& store() const { return store_; }
   /// Logits [B, out] of the sequence x_1..x_T (rows [B, in]).
@@ -91,7 +103,12 @@ class SequenceNet {
   nn::ParameterStore<T> store_;
   nn::BidirectionalLstm<T> lstm_;
   nn::Mlp<T> head_;
+  int pool_steps_ = 0;
 };
+
+/// The discriminator of c (c.disc_input, c.disc_pool) for sequences of `length` frames.
+template <class T>
+std::unique_ptr<SequenceNet<T>> make_discriminator(const ActganConfig& c, int length, Rng& rng);
 
 /// The conditional WGAN critic on single frames.
 template <class T>
@@ -127,9 +144,15 @@ template <class T>
 GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>& g, const nn::Bound<T>& p, nn::Tape<T>& tape,
                                           const nn::Matrix<T>& y, const GeneratorNoise<T>& noise);
 
-/// [x_t, y] per frame (the discriminator's input).
+/// [x_t, y] per frame.
 template <class T>
 std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> y);
+
+/// The discriminator's input per frame: [x_t, y], or [x_t, x_t - x_{t-1}, y] (c.disc_input
+/// "motion"), and its width.
+template <class T>
+std::vector<nn::Var<T>> discriminator_input(const ActganConfig& c, const std::vector<nn::Var<T>>& x, nn::Var<T> y);
+Eigen::Index discriminator_width(const ActganConfig& c);
 
 /// Omega of a generated batch (mean over sequences of the terms `c.smoothness` selects).
 template <class T>

@@ -53,6 +53,8 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("smoothness", a.smoothness, b.smoothness);
   differs("sigma1", a.sigma1, b.sigma1);
   differs("sigma2", a.sigma2, b.sigma2);
+  differs("disc-input", a.disc_input, b.disc_input);
+  differs("disc-pool", a.disc_pool, b.disc_pool);
   differs("gamma", a.gamma, b.gamma);
   differs("no-classifier", !a.classifier, !b.classifier);
   differs("gp-lambda", a.gp_lambda, b.gp_lambda);
@@ -207,8 +209,8 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     m.disc->store().zero_grad();
     const auto pd = m.disc->store().bind(tape);
     const Var yv = tape.constant(y);
-    const Var loss = nn::add(nn::bce_with_logits((*m.disc)(pd, with_label(constants(tape, real), yv)), ones),
-                             nn::bce_with_logits((*m.disc)(pd, with_label(constants(tape, fake), yv)), zeros));
+    const Var loss = nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, constants(tape, real), yv)), ones),
+                             nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, constants(tape, fake), yv)), zeros));
     tape.backward(loss);
     m.disc->store().collect(pd);
     m.adam.disc->step(m.disc->store().values(), m.disc->store().grads());
@@ -228,7 +230,7 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     const auto pc = m.cls->store().bind(tape);
     const Var yv = tape.constant(y);
     const GeneratedSequences<float> g = generate_from_noise(*m.gen, pg, tape, y, noise);
-    const Var a = nn::bce_with_logits((*m.disc)(pd, with_label(g.frames, yv)), ones);
+    const Var a = nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, g.frames, yv)), ones);
     const Var o = smoothness(c, g);
     Var loss = nn::add(a, o);
     Var cyc = tape.constant(Matrix::Zero(1, 1));

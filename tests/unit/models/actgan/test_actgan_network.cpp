@@ -209,3 +209,51 @@ TEST_CASE("ActGAN: --step-init small starts the generator near its h_1", "[model
   Rng rng(1);
   CHECK_THROWS_AS(ActganGenerator<double>(bad, rng), UsageError);
 }
+
+TEST_CASE("ActGAN: the discriminator on frames and differences over every step", "[models][actgan]") {
+  // --disc-input motion --disc-pool all (the authors' discriminator): gradients w.r.t. its
+  // weights and through its input to the generator's; the input holds x_t, x_t - x_{t-1}
+  // (0 at the first frame) and y; the head reads all T steps and refuses another length.
+  ActganConfig c = tiny();
+  c.disc_input = "motion";
+  c.disc_pool = "all";
+  Rng rng(5);
+  ActganGenerator<double> g(c, rng);
+  const auto d = make_discriminator<double>(c, 4, rng);
+  CHECK(discriminator_width(c) == 2 * c.pose + c.classes);
+  CHECK(d->store().value(d->store().find("disc.head.0.weight")).rows() == 4 * 2 * c.hidden);
+  GenInputs in;
+  const auto ones = nn::Matrix<double>(nn::Matrix<double>::Ones(2, 1));
+  auto rd = nn::gradient_check(
+      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
+        const auto s = in.run(g, t, g.store().bind_constant(t));
+        return nn::bce_with_logits((*d)(nn::Bound<double>{x}, discriminator_input(c, s.frames, t.constant(in.y))), ones);
+      },
+      values(d->store()));
+  INFO(rd.report);
+  CHECK(rd.max_error <= 1e-6);
+  auto rg = nn::gradient_check(
+      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
+        const auto s = in.run(g, t, nn::Bound<double>{x});
+        return nn::bce_with_logits((*d)(d->store().bind_constant(t), discriminator_input(c, s.frames, t.constant(in.y))), ones);
+      },
+      values(g.store()));
+  INFO(rg.report);
+  CHECK(rg.max_error <= 1e-6);
+  nn::Tape<double> t;
+  const auto s = in.run(g, t, g.store().bind(t));
+  const auto x = discriminator_input(c, s.frames, t.constant(in.y));
+  REQUIRE(x.size() == 4);
+  CHECK(x[0].value().middleCols(6, 6).norm() == 0);
+  CHECK(x[2].value().leftCols(6) == s.frames[2].value());
+  CHECK(x[2].value().middleCols(6, 6).isApprox(s.frames[2].value() - s.frames[1].value()));
+  CHECK(x[2].value().rightCols(2) == in.y);
+  const std::vector<nn::Var<double>> three(x.begin(), x.begin() + 3);
+  CHECK_THROWS_AS((*d)(d->store().bind(t), three), Error);
+  ActganConfig bad = c;
+  bad.disc_pool = "mean";
+  CHECK_THROWS_AS(make_discriminator<double>(bad, 4, rng), UsageError);
+  bad = c;
+  bad.disc_input = "velocity";
+  CHECK_THROWS_AS(discriminator_width(bad), UsageError);
+}
