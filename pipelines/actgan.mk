@@ -151,8 +151,9 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # 0.05 x our batch of 32 = 1.6; their code's 0.1 x their batch of 64 = 6.4), the generator's steps
 # starting small (--step-init small; also with a 5x lower learning rate), the discriminator as the
 # authors' code has it (frames and their differences, every step to its head; each alone, both,
-# and both with the lower learning rate) and the direct-pose baseline train AG_VAL_ITERATIONS GAN
-# iterations without the clips of
+# and both with the lower learning rate), instance noise on the discriminator's frames
+# (--disc-noise) and the direct-pose baseline train AG_VAL_ITERATIONS GAN iterations without the
+# clips of
 # S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
 # log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
 # $(AG)/S/validation.md: per model the minimum of each (and where), the last value, and the
@@ -160,7 +161,7 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
 AG_VAL_ITERATIONS ?= 1000
 AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 ours-small ours-small-s6.4 \
-  ours-small-lr2e-5 ours-dmotion ours-dall ours-dauthors ours-dauthors-lr2e-5 pose
+  ours-small-lr2e-5 ours-dmotion ours-dall ours-dauthors ours-dauthors-lr2e-5 ours-noise0.1 ours-noise0.3 pose
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
@@ -175,6 +176,8 @@ ours-dmotion_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion
 ours-dall_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-pool all
 ours-dauthors_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion --disc-pool all
 ours-dauthors-lr2e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion --disc-pool all --lr 2e-5
+ours-noise0.1_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-noise 0.1
+ours-noise0.3_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-noise 0.3
 pose_VAL := --pretrain-iterations 0 --generator pose
 ours_VAL_LABEL := ours (paper defaults: sigma1 0.05, the decoder learns on)
 ours-frozen_VAL_LABEL := decoder fixed (--freeze-decoder, the authors' code)
@@ -188,6 +191,8 @@ ours-dmotion_VAL_LABEL := discriminator sees frames and their differences (--dis
 ours-dall_VAL_LABEL := discriminator reads every step (--disc-pool all)
 ours-dauthors_VAL_LABEL := the authors' discriminator (--disc-input motion --disc-pool all)
 ours-dauthors-lr2e-5_VAL_LABEL := the authors' discriminator, learning rate 2e-5
+ours-noise0.1_VAL_LABEL := instance noise 0.1 on what the discriminator sees (--disc-noise 0.1)
+ours-noise0.3_VAL_LABEL := instance noise 0.3 (--disc-noise 0.3)
 pose_VAL_LABEL := $(AG_LABEL_pose)
 # $(call ag_val_from,MODEL): its pre-training iterations (the GAN's rows come after them)
 ag_val_from = $(if $(filter pose,$(1)),0,$(AG_PRETRAIN))

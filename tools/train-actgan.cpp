@@ -102,6 +102,10 @@ int main(int argc, char** argv) {
               "Keep the pre-trained frame decoder fixed in the GAN phase, as the authors' code\n"
               "does (only the LSTM learns paths through its latent space); on validation data\n"
               "the discriminator then wins outright, so by default the decoder learns on");
+  g->add_option("--disc-noise", opt.training.disc_noise,
+                "Instance noise: sigma of Gaussian noise added to every frame the discriminator\n"
+                "sees, real and generated (normalized units; 0: none)")
+      ->default_val(opt.training.disc_noise);
   df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"

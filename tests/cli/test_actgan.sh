@@ -73,6 +73,20 @@ expect_rc 2; expect_err "disc-pool: mean not in"
 [ -f x.h5 ] && fail "output written after an error"
 echo "ok (authors' discriminator)"
 
+# --- --disc-noise (instance noise on what the discriminator sees): stored, changes the training
+# (same seeds as m1.h5), thread-independent, checked on --resume, not negative
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-noise 0.2 --threads 1 clips.h5 -o m-noise1.h5
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-noise 0.2 --threads 2 clips.h5 -o m-noise2.h5
+run h5diff m-noise1.h5 m-noise2.h5 /params; expect_rc 0
+run h5diff -q m1.h5 m-noise1.h5 /params/gen.lstm.wx; expect_rc 1
+[ "$(h5dump -a /config/disc_noise m-noise1.h5 | grep -A1 DATA | tail -1 | sed 's/.*: *//')" = 0.2 ] || fail "disc_noise not stored"
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-noise 0.2 --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "disc-noise"
+run train-actgan "${tiny[@]}" --disc-noise -1 clips.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-actgan; expect_err "disc-noise"
+[ -f x.h5 ] && fail "output written after an error"
+echo "ok (instance noise)"
+
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the
 # tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.27 and 1.0 -> 0.47)
 train-actgan -q "${tiny[@]}" --pretrain-iterations 0 --iterations 1 clips.h5 -o untrained.h5

@@ -68,6 +68,7 @@ void write_config(h5::File& f, const ActganModel& m) {
   f.set_attr("/config", "lr_pretrain", t.lr_pretrain);
   f.set_attr("/config", "classifier_only", static_cast<int>(t.classifier_only));
   f.set_attr("/config", "train_decoder", static_cast<int>(t.train_decoder));
+  f.set_attr("/config", "disc_noise", t.disc_noise);
   f.set_attr("/config", "seed", fmt::format("{}", t.seed));
   f.set_attr("/config", "frame_rate", m.frame_rate);
   f.set_attr("/config", "length", m.length);
@@ -110,6 +111,7 @@ void read_config(const h5::File& f, ActganModel& m) {
   t.classifier_only = f.has_attr("/config", "classifier_only") && i("classifier_only") != 0;
   // Absent in files written before the option: those trained the decoder in the GAN phase.
   t.train_decoder = !f.has_attr("/config", "train_decoder") || i("train_decoder") != 0;
+  t.disc_noise = f.has_attr("/config", "disc_noise") ? d("disc_noise") : 0;  // absent: older files, none
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   if (f.exists("/validation/subjects"))  // absent: none (and in files older than it)
     t.validation_subjects = f.read<std::int32_t>("/validation/subjects").data;

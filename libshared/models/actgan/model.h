@@ -33,6 +33,10 @@ struct ActganTraining {
   /// authors' code, where only the LSTM, its output layer and the classifier learn there; chosen
   /// on validation MMD: freezing it lets the discriminator win outright)
   bool train_decoder = true;
+  /// Instance noise: sigma of the Gaussian noise added to every frame the discriminator sees, real
+  /// and generated, in its steps and the generator's (0: none). Blurs the two distributions'
+  /// supports so that the discriminator cannot tell them apart at a glance.
+  double disc_noise = 0;
   std::uint64_t seed = 1;
   /// Training subjects held out for validation (their clips are not trained on; the log gets the
   /// MMD of generated sequences against them at every loss line)

@@ -21,10 +21,11 @@ void check_options(const ActganTrainOptions& opt) {
   const auto& t = opt.training;
   const auto& c = opt.net;
   if (t.pretrain_iterations < 0 || t.iterations < 0 || t.batch < 2 || t.pretrain_batch < 2 ||
-      t.critic_steps < 1 || t.d_steps < 1 || t.g_steps < 1 || !(t.lr > 0) || !(t.lr_pretrain > 0))
+      t.critic_steps < 1 || t.d_steps < 1 || t.g_steps < 1 || !(t.lr > 0) || !(t.lr_pretrain > 0) ||
+      !(t.disc_noise >= 0))
     throw UsageError(
         "--iterations and --pretrain-iterations must not be negative, batches at least 2, steps "
-        "at least 1, learning rates positive");
+        "at least 1, learning rates positive, --disc-noise not negative");
   if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
   if (c.generator == "pose" && t.pretrain_iterations > 0)
@@ -70,6 +71,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("seed", s.seed, t.seed);
   differs("classifier-only", s.classifier_only, t.classifier_only);
   differs("freeze-decoder", !s.train_decoder, !t.train_decoder);
+  differs("disc-noise", s.disc_noise, t.disc_noise);
   differs("validation-subjects", fmt::format("{}", fmt::join(s.validation_subjects, ",")),
           fmt::format("{}", fmt::join(t.validation_subjects, ",")));
   differs("length", ck.length, want.length);
@@ -120,6 +122,19 @@ std::vector<Matrix> values(const std::vector<Var>& v) {
 }
 
 float mean_value(Var v) { return v.value().mean(); }
+
+// Instance noise (--disc-noise): x_t + sigma N(0, I) per frame, the noise a constant drawn from
+// rng; x itself without noise (and nothing drawn) when sigma is 0.
+std::vector<Var> with_instance_noise(const std::vector<Var>& x, double sigma, Rng& rng) {
+  if (sigma == 0) return x;
+  std::vector<Var> out;
+  for (const auto& f : x) {
+    Matrix n(f.rows(), f.cols());
+    for (Eigen::Index i = 0; i < n.size(); ++i) n.data()[i] = static_cast<float>(sigma * rng.normal());
+    out.push_back(nn::add(f, f.tape->constant(n)));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -209,8 +224,10 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     m.disc->store().zero_grad();
     const auto pd = m.disc->store().bind(tape);
     const Var yv = tape.constant(y);
-    const Var loss = nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, constants(tape, real), yv)), ones),
-                             nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, constants(tape, fake), yv)), zeros));
+    const auto real_seen = with_instance_noise(constants(tape, real), tr.disc_noise, m.rng);  // real first
+    const auto fake_seen = with_instance_noise(constants(tape, fake), tr.disc_noise, m.rng);
+    const Var loss = nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, real_seen, yv)), ones),
+                             nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, fake_seen, yv)), zeros));
     tape.backward(loss);
     m.disc->store().collect(pd);
     m.adam.disc->step(m.disc->store().values(), m.disc->store().grads());
@@ -230,7 +247,8 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     const auto pc = m.cls->store().bind(tape);
     const Var yv = tape.constant(y);
     const GeneratedSequences<float> g = generate_from_noise(*m.gen, pg, tape, y, noise);
-    const Var a = nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, g.frames, yv)), ones);
+    const Var a = nn::bce_with_logits(
+        (*m.disc)(pd, discriminator_input(c, with_instance_noise(g.frames, tr.disc_noise, m.rng), yv)), ones);
     const Var o = smoothness(c, g);
     Var loss = nn::add(a, o);
     Var cyc = tape.constant(Matrix::Zero(1, 1));
