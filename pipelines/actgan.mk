@@ -149,9 +149,9 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # Ours, ours with the decoder fixed in the GAN phase (--freeze-decoder, as the authors' code), with
 # sigma1 as the authors' code weighs it (their latent term is summed over the batch, not averaged:
 # 0.05 x our batch of 32 = 1.6; their code's 0.1 x their batch of 64 = 6.4), the generator's steps
-# starting small (--step-init small; also with a 5x lower learning rate), the discriminator as the
-# authors' code has it (frames and their differences, every step to its head; each alone, both,
-# and both with the lower learning rate), instance noise on the discriminator's frames
+# starting small (--step-init small), the discriminator as the authors' code has it (frames and
+# their differences, every step to its head; each alone and both), a 5x lower learning rate with
+# some of these, instance noise on the discriminator's frames
 # (--disc-noise) and the direct-pose baseline train AG_VAL_ITERATIONS GAN iterations without the
 # clips of
 # S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
@@ -161,7 +161,8 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # $(AG)/S/validation.png: the curves. AG_ITERATIONS is then set from where they stop falling.
 AG_VAL_ITERATIONS ?= 1000
 AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 ours-small ours-small-s6.4 \
-  ours-small-lr2e-5 ours-dmotion ours-dall ours-dauthors ours-dauthors-lr2e-5 ours-noise0.1 ours-noise0.3 pose
+  ours-lr2e-5 ours-small-lr2e-5 ours-dmotion ours-dmotion-lr2e-5 ours-dall ours-dauthors ours-dauthors-lr2e-5 \
+  ours-noise0.1 ours-noise0.3 pose
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
@@ -171,8 +172,10 @@ ours-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --sigma1 6.4
 ours-frozen-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 6.4
 ours-small_VAL := --pretrain-iterations $(AG_PRETRAIN) --step-init small
 ours-small-s6.4_VAL := --pretrain-iterations $(AG_PRETRAIN) --step-init small --sigma1 6.4
+ours-lr2e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --lr 2e-5
 ours-small-lr2e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --step-init small --lr 2e-5
 ours-dmotion_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion
+ours-dmotion-lr2e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion --lr 2e-5
 ours-dall_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-pool all
 ours-dauthors_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion --disc-pool all
 ours-dauthors-lr2e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion --disc-pool all --lr 2e-5
@@ -186,8 +189,10 @@ ours-s6.4_VAL_LABEL := sigma1 6.4 (the authors' code: 0.1 summed over their batc
 ours-frozen-s6.4_VAL_LABEL := decoder fixed, sigma1 6.4
 ours-small_VAL_LABEL := generator steps start small (--step-init small)
 ours-small-s6.4_VAL_LABEL := steps start small, sigma1 6.4
+ours-lr2e-5_VAL_LABEL := the GAN's learning rate 2e-5 (--lr 2e-5)
 ours-small-lr2e-5_VAL_LABEL := steps start small, the GAN's learning rate 2e-5 (--lr 2e-5)
 ours-dmotion_VAL_LABEL := discriminator sees frames and their differences (--disc-input motion)
+ours-dmotion-lr2e-5_VAL_LABEL := discriminator sees frames and their differences, learning rate 2e-5
 ours-dall_VAL_LABEL := discriminator reads every step (--disc-pool all)
 ours-dauthors_VAL_LABEL := the authors' discriminator (--disc-input motion --disc-pool all)
 ours-dauthors-lr2e-5_VAL_LABEL := the authors' discriminator, learning rate 2e-5
