@@ -165,6 +165,10 @@ AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 ou
   ours-noise0.1 ours-noise0.3 pose
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
+# The data's own level: the real clips of the other training subjects against the held-out ones,
+# the score of a generator that reproduced its training clips exactly (eval-metrics --pred-subjects).
+synthetic_VAL_REF_SUBJECTS := 1,2,3
+utkinect_VAL_REF_SUBJECTS := 1,3,5,7
 ours_VAL := --pretrain-iterations $(AG_PRETRAIN)
 ours-frozen_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder
 ours-frozen-s1.6_VAL := --pretrain-iterations $(AG_PRETRAIN) --freeze-decoder --sigma1 1.6
@@ -220,6 +224,10 @@ $(AG)/%/validate/$(1).norms: $(AG)/%/validate/$(1).h5
 	$$(DF_ROOT)/scripts/pose-norms $$(@:.norms=.sample.h5) > $$@.tmp && mv $$@.tmp $$@
 endef
 $(foreach v,$(AG_VAL_MODELS),$(eval $(call AG_VAL_RULES,$(v))))
+$(AG)/%/validate/real.mmd.json: $(AG)/%/data.h5
+	@mkdir -p $(@D)
+	$(call launch,eval) $(BIN)/eval-metrics -q $< $< --pred-subjects $($*_VAL_REF_SUBJECTS) \
+	  --truth-subjects $($*_VAL_SUBJECTS) --json $@.tmp > /dev/null && mv $@.tmp $@
 $(AG)/%/data.norms: $(AG)/%/data.h5
 	$(DF_ROOT)/scripts/pose-norms $< > $@.tmp && mv $@.tmp $@
 # A model's log rows: iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq
@@ -228,21 +236,26 @@ $(AG)/%.val.txt: $(AG)/%.h5
 # min (at iteration) of column $(2) over the GAN's rows (iteration > pre-training), and the last
 ag_val_min = awk -v from=$(3) '$$1 > from { if (!n++ || $$$(2) < m) { m = $$$(2); at = $$1 } last = $$$(2) } \
   END { printf "%.4f (%d) | %.4f", m, at - from, last }' $(1)
-$(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt $(AG)/%/validate/$(v).norms) $(AG)/%/data.norms
+$(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt $(AG)/%/validate/$(v).norms) $(AG)/%/data.norms \
+    $(AG)/%/validate/real.mmd.json
 	{ echo "**$*** — the GAN's iteration count on a validation part (training subjects $($*_VAL_SUBJECTS) held out; $(AG_VAL_ITERATIONS) GAN iterations; 100 sequences per class)"; echo; \
 	  echo "| model | MMD_avg min (at GAN iteration) | last | MMD_seq min (at GAN iteration) | last | pose norm, frame 1 -> last |"; \
 	  echo "|---|---:|---:|---:|---:|---:|"; \
+	  echo "| the real clips of training subjects $($*_VAL_REF_SUBJECTS) (the data's own level: a generator that reproduced them exactly) | $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,avg)) | | $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,seq)) | | |"; \
 	  echo "| ours at the end of pre-training (GAN iteration 0: decoder trained, LSTM not) | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$8 }' $(AG)/$*/validate/ours.val.txt) | | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$9 }' $(AG)/$*/validate/ours.val.txt) | | |"; \
 	  $(foreach v,$(AG_VAL_MODELS),echo "| $($(v)_VAL_LABEL) | $$($(call ag_val_min,$(AG)/$*/validate/$(v).val.txt,8,$(call ag_val_from,$(v)))) | $$($(call ag_val_min,$(AG)/$*/validate/$(v).val.txt,9,$(call ag_val_from,$(v)))) | $$(awk '{ printf "%s -> %s", $$1, $$2 }' $(AG)/$*/validate/$(v).norms) |";) \
 	  echo; echo "Pose norm: the mean Euclidean norm of a pose (z-scored coordinates) at the first and the last frame; the real clips (data.h5): $$(awk '{ printf "%s -> %s", $$1, $$2 }' $(AG)/$*/data.norms)."; \
 	} $(write_if_changed)
-$(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt)
-	gnuplot -e "set terminal pngcairo size 1000,760; set output '$@'; set multiplot layout 2,1; \
+$(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt) $(AG)/%/validate/real.mmd.json
+	gnuplot -e "ref_avg = $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,avg)); ref_seq = $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,seq)); \
+	  set terminal pngcairo size 1000,760; set output '$@'; set multiplot layout 2,1; \
 	  set key outside right noenhanced font ',9'; set xrange [0:*]; set logscale y; set yrange [0.2:3]; set ytics (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3); set ylabel 'MMD_u^2'; \
 	  files = '$(filter-out pose,$(AG_VAL_MODELS))'; \
 	  set title '$*: MMD_avg against held-out training subjects $($*_VAL_SUBJECTS) (GAN iteration 0: end of pre-training)' noenhanced; \
 	  plot for [v in files] '$(AG)/$*/validate/'.v.'.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title v, \
-	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose baseline'; \
+	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose baseline', \
+	       ref_avg with lines lw 3 lc rgb 'black' title 'real clips of subjects $($*_VAL_REF_SUBJECTS)'; \
 	  set title '$*: MMD_seq' noenhanced; set xlabel 'GAN iteration'; \
 	  plot for [v in files] '$(AG)/$*/validate/'.v.'.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title v, \
-	       '$(AG)/$*/validate/pose.val.txt' using 1:9 with linespoints title 'direct-pose baseline'; unset multiplot"
+	       '$(AG)/$*/validate/pose.val.txt' using 1:9 with linespoints title 'direct-pose baseline', \
+	       ref_seq with lines lw 3 lc rgb 'black' title 'real clips of subjects $($*_VAL_REF_SUBJECTS)'; unset multiplot"

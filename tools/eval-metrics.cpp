@@ -57,8 +57,17 @@ int main(int argc, char** argv) {
                  "Components: a vertex is in a component's support when its deformation reaches this\n"
                  "fraction of the component's maximum")
       ->default_val(opt.support_threshold);
-  app.add_flag("--all-truth", opt.all_truth,
+  app.add_flag("--all-truth", opt.skeletons.all_truth,
                "Skeleton files: compare with all of TRUTH's sequences, not only its test part");
+  app.add_option("--pred-subjects", opt.skeletons.pred_subjects,
+                 "Skeleton files: only PRED's sequences of these subjects, e.g. 1,2,3")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  app.add_option("--truth-subjects", opt.skeletons.truth_subjects,
+                 "Skeleton files: TRUTH's sequences of these subjects (test part or not) instead of\n"
+                 "its test part. With both, a file against itself: the score of the real clips")
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--change-span", opt.change_span, "Feature change between frames K apart (1 = consecutive)")
       ->default_val(opt.change_span);
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);
@@ -68,6 +77,9 @@ int main(int argc, char** argv) {
               "  eval-metrics pred.h5 pcow.h5 --steps 5,10,15\n"
               "  eval-metrics long.h5 --json change.json     # freezing / jerks of a generation\n"
               "  eval-metrics long.h5 --change-span 10       # motion over 10 frames\n"
-              "  eval-metrics recon.h5 test.h5 --json -");
+              "  eval-metrics recon.h5 test.h5 --json -\n"
+              "  eval-metrics gen.h5 clips.h5                 # MMD of generated actions (test part)\n"
+              "  eval-metrics clips.h5 clips.h5 --pred-subjects 1,2,3 --truth-subjects 4\n"
+              "                                  # the data's own level: training subjects vs one held out");
   return tool.run(argc, argv, [&] { df::eval::eval_metrics(opt, tool.common()); });
 }

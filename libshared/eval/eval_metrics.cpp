@@ -48,7 +48,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
                                ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
                                : std::string();
   if (kind == "skeleton") {
-    eval_skeletons(opt.pred, opt.truth, opt.json, opt.all_truth);
+    eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons);
     return;
   }
   if (kind == "components") {

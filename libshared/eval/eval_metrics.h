@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/tool.h"
+#include "eval/skeleton_metrics.h"
 
 namespace df::eval {
 
@@ -37,8 +38,9 @@ struct EvalOptions {
   /// PRED a components file: a component's support is where its deformation reaches this
   /// fraction of its maximum (localization against TRUTH's planted regions)
   double support_threshold = 0.1;
-  /// PRED and TRUTH skeleton files: compare with all of TRUTH's sequences, not only its test part
-  bool all_truth = false;
+  /// PRED and TRUTH skeleton files: which sequences are compared (all of TRUTH's, or some
+  /// subjects' of either file)
+  SkeletonSelection skeletons;
 };
 
 void eval_metrics(const EvalOptions& opt, const CommonOptions& common);

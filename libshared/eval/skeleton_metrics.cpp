@@ -225,19 +225,43 @@ ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std
   return m;
 }
 
+// Per sequence of `f` (named `what` in errors): 1 when its subject is one of `subjects`.
+std::vector<char> of_subjects(const io::SkeletonFile& f, const std::vector<std::int32_t>& subjects,
+                              const char* what) {
+  if (f.subjects.size() != f.sequences())
+    throw InvalidInput(fmt::format("{} names no subjects (/sequences/subjects): it cannot be selected by subject", what));
+  std::vector<char> in(f.sequences(), 0);
+  for (const auto v : subjects) {
+    bool found = false;
+    for (std::size_t s = 0; s < f.sequences(); ++s)
+      if (f.subjects[s] == v) in[s] = 1, found = true;
+    if (!found) throw InvalidInput(fmt::format("subject {} performs none of {}'s sequences", v, what));
+  }
+  return in;
+}
+
 }  // namespace
 
 SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
-                                 bool all_truth) {
+                                 const SkeletonSelection& select) {
   if (pred.joints != truth.joints || pred.dims != truth.dims)
     throw InvalidInput(fmt::format("PRED has {} joints x {}, TRUTH {} x {}", pred.joints, pred.dims,
                                    truth.joints, truth.dims));
-  const bool test_only = !all_truth && std::count(truth.test.begin(), truth.test.end(), 1) > 0;
+  if (select.all_truth && !select.truth_subjects.empty())
+    throw UsageError("--all-truth or --truth-subjects: the first takes every TRUTH sequence, the second some");
+  const std::vector<char> pred_in = select.pred_subjects.empty() ? std::vector<char>(pred.sequences(), 1)
+                                                                 : of_subjects(pred, select.pred_subjects, "PRED");
+  std::vector<char> truth_in(truth.sequences(), 1);
+  if (!select.truth_subjects.empty())
+    truth_in = of_subjects(truth, select.truth_subjects, "TRUTH");
+  else if (!select.all_truth && std::count(truth.test.begin(), truth.test.end(), 1) > 0)
+    for (std::size_t s = 0; s < truth.sequences(); ++s) truth_in[s] = truth.test[s] != 0;
   SkeletonMetrics out;
   out.frames = std::numeric_limits<std::size_t>::max();
-  for (std::size_t s = 0; s < pred.sequences(); ++s) out.frames = std::min(out.frames, pred.length(s));
+  for (std::size_t s = 0; s < pred.sequences(); ++s)
+    if (pred_in[s]) out.frames = std::min(out.frames, pred.length(s));
   for (std::size_t s = 0; s < truth.sequences(); ++s)
-    if (!test_only || truth.test[s]) out.frames = std::min(out.frames, truth.length(s));
+    if (truth_in[s]) out.frames = std::min(out.frames, truth.length(s));
   const std::vector<float> pred_poses = io::poses_normalized_as(pred, truth.normalization);
   const std::size_t fs = pred.frame_size();
   for (std::size_t c = 0; c < pred.class_names.size(); ++c) {
@@ -245,10 +269,9 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     if (tc == truth.class_names.end()) continue;
     std::vector<std::size_t> gen, real;
     for (std::size_t s = 0; s < pred.sequences(); ++s)
-      if (pred.labels[s] == static_cast<std::int32_t>(c)) gen.push_back(s);
+      if (pred_in[s] && pred.labels[s] == static_cast<std::int32_t>(c)) gen.push_back(s);
     for (std::size_t s = 0; s < truth.sequences(); ++s)
-      if (truth.labels[s] == static_cast<std::int32_t>(tc - truth.class_names.begin()) &&
-          (!test_only || truth.test[s]))
+      if (truth_in[s] && truth.labels[s] == static_cast<std::int32_t>(tc - truth.class_names.begin()))
         real.push_back(s);
     if (gen.size() < 2 || real.size() < 2) {
       log::warn("class {}: {} generated and {} real sequences; MMD needs 2 of each, skipped",
@@ -300,11 +323,11 @@ std::vector<double> actgan_validation_mmd(const models::ActganModel& model, cons
 }
 
 void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
-                    const std::string& json, bool all_truth) {
+                    const std::string& json, const SkeletonSelection& select) {
   if (truth_path.empty()) throw UsageError("skeleton files are measured against TRUTH (real sequences)");
   const io::SkeletonFile pred = io::read_skeleton_file(pred_path);
   const io::SkeletonFile truth = io::read_skeleton_file(truth_path);
-  const SkeletonMetrics r = skeleton_metrics(pred, truth, all_truth);
+  const SkeletonMetrics r = skeleton_metrics(pred, truth, select);
   nlohmann::ordered_json js;
   js["pred"] = pred_path;
   js["truth"] = truth_path;

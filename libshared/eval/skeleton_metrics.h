@@ -49,11 +49,23 @@ struct SkeletonMetrics {
   double mmd_avg = 0, mmd_seq = 0;  ///< averages over the classes both files have
 };
 
-/// PRED's sequences against TRUTH's of the same class name (TRUTH's test sequences when it marks
-/// any and !all_truth), both in TRUTH's coordinates (PRED converted through raw coordinates when
-/// its normalization differs), cut to the shortest sequence.
+/// Which sequences of the two files are compared.
+struct SkeletonSelection {
+  bool all_truth = false;                    ///< all of TRUTH's sequences, not only its test part
+  std::vector<std::int32_t> pred_subjects;   ///< only PRED's sequences of these subjects (empty: all)
+  /// only TRUTH's sequences of these subjects, in its test part or not (empty: its test part)
+  std::vector<std::int32_t> truth_subjects;
+};
+
+/// PRED's sequences against TRUTH's of the same class name, as `select` picks them (by default
+/// all of PRED's and TRUTH's test sequences when it marks any), both in TRUTH's coordinates (PRED
+/// converted through raw coordinates when its normalization differs), cut to the shortest
+/// sequence. Subjects are read from /sequences/subjects: InvalidInput when a file has none or a
+/// named subject performs none of its sequences. The subject lists let the data be measured
+/// against itself — the training subjects' clips against held-out ones give the score of a
+/// generator that reproduced its training data exactly.
 SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
-                                 bool all_truth);
+                                 const SkeletonSelection& select = {});
 
 /// train-actgan's validation columns: MMD_avg and MMD_seq (as skeleton_metrics, in the model's
 /// normalized coordinates) of `per_class` sequences generated for each class against the held-out
@@ -64,6 +76,6 @@ std::vector<double> actgan_validation_mmd(const models::ActganModel& model, cons
 
 /// eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
 void eval_skeletons(const std::string& pred, const std::string& truth, const std::string& json,
-                    bool all_truth);
+                    const SkeletonSelection& select);
 
 }  // namespace df::eval

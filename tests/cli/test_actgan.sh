@@ -100,6 +100,21 @@ for kind in avg seq; do
   echo "ok (learning: MMD_$kind $before -> $after)"
 done
 
+# --- the data's own level (eval-metrics --pred-subjects / --truth-subjects): some subjects' real
+# clips against another's; a subject's clips against themselves leave nothing (MMD_u^2 <= 0)
+run eval-metrics clips.h5 clips.h5 --pred-subjects 1,2 --truth-subjects 3; expect_rc 0
+expect_out "walk +12 +6 "
+own() { eval-metrics clips.h5 clips.h5 --pred-subjects "$1" --truth-subjects "$2" --json - |
+  sed -n "s/^  \"mmd_seq\": \([^,]*\),*\$/\1/p"; }
+others=$(own 1,2 3) self=$(own 3 3)
+awk -v o="$others" -v s="$self" 'BEGIN { exit !(o > 0.01 && s <= 1e-6) }' ||
+  fail "subjects 1,2 against 3: $others, 3 against itself: $self"
+run eval-metrics clips.h5 clips.h5 --pred-subjects 9; expect_rc 1
+expect_one_error_line eval-metrics; expect_err "subject 9 performs none of PRED"
+run eval-metrics clips.h5 clips.h5 --truth-subjects 3 --all-truth; expect_rc 2
+expect_one_error_line eval-metrics; expect_err "all-truth"
+echo "ok (the data against itself by subject: $others; a subject against itself: $self)"
+
 # --- generation: deterministic per seed, different across seeds; classes, mixtures, latents
 gen-actgan -q --seed 4 --count 12 trained.h5 -o again.h5
 run h5diff gen1.h5 again.h5 /poses; expect_rc 0

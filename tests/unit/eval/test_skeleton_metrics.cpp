@@ -69,7 +69,7 @@ TEST_CASE("skeleton metrics: per class against the real test part, in the real f
   p.seed = 2;
   p.frames = 25;  // longer: compared over the first 20
   const io::SkeletonFile gen = synth::make_actions(p);
-  const auto r = eval::skeleton_metrics(gen, real, false);
+  const auto r = eval::skeleton_metrics(gen, real);
   CHECK(r.frames == 20);
   REQUIRE(r.classes.size() == 2);
   CHECK(r.classes[0].generated == 12);
@@ -77,8 +77,50 @@ TEST_CASE("skeleton metrics: per class against the real test part, in the real f
   // the generated walks against the real waves: much further apart
   io::SkeletonFile swapped = gen;
   for (auto& l : swapped.labels) l = 1 - l;
-  const auto w = eval::skeleton_metrics(swapped, real, false);
+  const auto w = eval::skeleton_metrics(swapped, real);
   CHECK(w.mmd_seq > 3 * r.mmd_seq);
   CHECK(w.mmd_avg > 3 * r.mmd_avg);
   CHECK(r.classes[0].spread_mean > 0);
+}
+
+TEST_CASE("skeleton metrics: sequences picked by subject, a file against itself", "[eval]") {
+  synth::ActionParams p;
+  p.classes = {"walk", "wave"};
+  p.per_class = 12;
+  p.frames = 20;
+  p.subjects = 4;
+  p.seed = 1;
+  io::SkeletonFile data = synth::make_actions(p);
+  data.test.assign(data.sequences(), 0);
+  for (std::size_t s = 0; s < data.sequences(); ++s) data.test[s] = data.subjects[s] == 4;
+  eval::SkeletonSelection select;
+  select.pred_subjects = {1, 2, 3};
+  // against the test part (subject 4) by default: every subject-4 clip of a class, 3 subjects' of PRED
+  const auto r = eval::skeleton_metrics(data, data, select);
+  REQUIRE(r.classes.size() == 2);
+  CHECK(r.classes[0].generated == 9);
+  CHECK(r.classes[0].real == 3);
+  // the same with TRUTH's subjects named: test flags do not matter then
+  select.truth_subjects = {4};
+  io::SkeletonFile unflagged = data;
+  unflagged.test.assign(data.sequences(), 0);
+  const auto named = eval::skeleton_metrics(data, unflagged, select);
+  CHECK(named.mmd_avg == r.mmd_avg);
+  CHECK(named.mmd_seq == r.mmd_seq);
+  // one subject's clips against themselves: no difference left (MMD_u^2 of a sample with itself
+  // is negative, the unbiased estimator's -2/(n-1) mean cross term)
+  select.pred_subjects = {2};
+  select.truth_subjects = {2};
+  CHECK(eval::skeleton_metrics(data, data, select).mmd_seq < 0.1 * r.mmd_seq);
+  SECTION("errors") {
+    select.truth_subjects = {7};
+    CHECK_THROWS_WITH(eval::skeleton_metrics(data, data, select), Catch::Contains("subject 7"));
+    select.truth_subjects = {4};
+    select.all_truth = true;
+    CHECK_THROWS_AS(eval::skeleton_metrics(data, data, select), UsageError);
+    select.all_truth = false;
+    io::SkeletonFile anonymous = data;
+    anonymous.subjects.clear();
+    CHECK_THROWS_WITH(eval::skeleton_metrics(anonymous, data, select), Catch::Contains("names no subjects"));
+  }
 }
