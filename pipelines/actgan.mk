@@ -37,6 +37,12 @@ cls-alone_AG := --classifier-only
 # $(call ag_train,VARIANT): a model's training options (no pre-training without a decoder to train)
 ag_train = --pretrain-iterations $(if $(filter pose cls-alone,$(1)),0,$(AG_PRETRAIN)) \
   --iterations $(AG_ITERATIONS) $(AG_OPTIONS) $(if $(1),$($(1)_AG))
+# The training subjects (the data's own level in mmd.md: their real clips against the test clips)
+synthetic_TRAIN_SUBJECTS := 1,2,3,4
+utkinect_TRAIN_SUBJECTS := 1,3,5,7,9
+# The training subjects (the data's own level in mmd.md: their real clips against the test clips)
+synthetic_TRAIN_SUBJECTS := 1,2,3,4
+utkinect_TRAIN_SUBJECTS := 1,3,5,7,9
 synthetic_MIX := walk:0.5,wave:0.5
 utkinect_MIX := walk:0.5,waveHands:0.5
 AG_LABEL_pose := direct-pose RNN baseline (no latent transitions, no decoder)
@@ -97,14 +103,18 @@ $(foreach v,$(AG_VARIANTS),$(eval $(call AG_GEN_RULES,$(v))))
 $(AG)/%.mmd.json: $(AG)/%.h5
 	$(call launch,eval) $(BIN)/eval-metrics -q $< $(dir $<)data.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
 ag_mmd = sed -n 's/^  "mmd_$(2)": \([^,]*\),*$$/\1/p' $(1) | awk '{ printf "%.4f", $$1 }'
-$(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json)
-	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6)"; echo; \
-	  echo "| model | MMD_avg | MMD_seq |"; echo "|---|---:|---:|"; \
-	  echo "| ours (residual latent, smoothness on both, classifier) | $$($(call ag_mmd,$<,avg)) | $$($(call ag_mmd,$<,seq)) |"; \
+$(AG)/%/real.mmd.json: $(AG)/%/data.h5
+	$(call launch,eval) $(BIN)/eval-metrics -q $< $< --pred-subjects $($*_TRAIN_SUBJECTS) --json $@.tmp > /dev/null && mv $@.tmp $@
+ag_mmd_row = $$($(call ag_mmd,$(1),avg)) | $$($(call ag_mmd,$(1),seq)) | $$($(call ag_mmd,$(1),motion_avg)) | $$($(call ag_mmd,$(1),motion_seq))
+$(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json) $(AG)/%/real.mmd.json
+	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences"; echo; \
+	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq |"; echo "|---|---:|---:|---:|---:|"; \
+	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) |"; \
+	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_mmd_row,$<) |"; \
 	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.mmd.json; \
 	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
 	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; esac; \
-	    echo "| $$l | $$($(call ag_mmd,$$f,avg)) | $$($(call ag_mmd,$$f,seq)) |"; done; \
+	    echo "| $$l | $(call ag_mmd_row,$$f) |"; done; \
 	} $(write_if_changed)
 ag_acc = sed -n "s/^$(2) *[0-9]* *[0-9]* *\([0-9.]*\)\$$/\1/p" $(1)
 $(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 $(AG)/%/data.h5
@@ -231,31 +241,40 @@ $(AG)/%/validate/real.mmd.json: $(AG)/%/data.h5
 $(AG)/%/data.norms: $(AG)/%/data.h5
 	$(DF_ROOT)/scripts/pose-norms $< > $@.tmp && mv $@.tmp $@
 # A model's log rows: iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq
+# val_mmd_motion_avg val_mmd_motion_seq (columns 8-11)
 $(AG)/%.val.txt: $(AG)/%.h5
-	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n 9 > $@
+	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n 11 > $@
 # min (at iteration) of column $(2) over the GAN's rows (iteration > pre-training), and the last
 ag_val_min = awk -v from=$(3) '$$1 > from { if (!n++ || $$$(2) < m) { m = $$$(2); at = $$1 } last = $$$(2) } \
   END { printf "%.4f (%d) | %.4f", m, at - from, last }' $(1)
+# $(call ag_val_at_pretrain,STEM,COLUMN): ours' value at the end of pre-training
+ag_val_at_pretrain = awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$$(2) }' $(AG)/$(1)/validate/ours.val.txt
+ag_real = $(call ag_mmd,$(AG)/$(1)/validate/real.mmd.json,$(2))
 $(AG)/%/validation.md: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt $(AG)/%/validate/$(v).norms) $(AG)/%/data.norms \
     $(AG)/%/validate/real.mmd.json
-	{ echo "**$*** — the GAN's iteration count on a validation part (training subjects $($*_VAL_SUBJECTS) held out; $(AG_VAL_ITERATIONS) GAN iterations; 100 sequences per class)"; echo; \
-	  echo "| model | MMD_avg min (at GAN iteration) | last | MMD_seq min (at GAN iteration) | last | pose norm, frame 1 -> last |"; \
-	  echo "|---|---:|---:|---:|---:|---:|"; \
-	  echo "| the real clips of training subjects $($*_VAL_REF_SUBJECTS) (the data's own level: a generator that reproduced them exactly) | $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,avg)) | | $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,seq)) | | |"; \
-	  echo "| ours at the end of pre-training (GAN iteration 0: decoder trained, LSTM not) | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$8 }' $(AG)/$*/validate/ours.val.txt) | | $$(awk '$$1 == $(AG_PRETRAIN) { printf "%.4f", $$9 }' $(AG)/$*/validate/ours.val.txt) | | |"; \
-	  $(foreach v,$(AG_VAL_MODELS),echo "| $($(v)_VAL_LABEL) | $$($(call ag_val_min,$(AG)/$*/validate/$(v).val.txt,8,$(call ag_val_from,$(v)))) | $$($(call ag_val_min,$(AG)/$*/validate/$(v).val.txt,9,$(call ag_val_from,$(v)))) | $$(awk '{ printf "%s -> %s", $$1, $$2 }' $(AG)/$*/validate/$(v).norms) |";) \
+	{ echo "**$*** — the GAN's iteration count on a validation part (training subjects $($*_VAL_SUBJECTS) held out; $(AG_VAL_ITERATIONS) GAN iterations; 100 sequences per class). Each MMD: the minimum over the GAN's iterations (at GAN iteration) / the last. Motion: the same measures of frame differences x_t+1 - x_t (eval-metrics)."; echo; \
+	  echo "| model | MMD_avg min (at) | last | MMD_seq min (at) | last | motion MMD_avg min (at) | last | motion MMD_seq min (at) | last | pose norm, frame 1 -> last |"; \
+	  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"; \
+	  echo "| the real clips of training subjects $($*_VAL_REF_SUBJECTS) (the data's own level: a generator that reproduced them exactly) | $$($(call ag_real,$*,avg)) | | $$($(call ag_real,$*,seq)) | | $$($(call ag_real,$*,motion_avg)) | | $$($(call ag_real,$*,motion_seq)) | | |"; \
+	  echo "| ours at the end of pre-training (GAN iteration 0: decoder trained, LSTM not) | $$($(call ag_val_at_pretrain,$*,8)) | | $$($(call ag_val_at_pretrain,$*,9)) | | $$($(call ag_val_at_pretrain,$*,10)) | | $$($(call ag_val_at_pretrain,$*,11)) | | |"; \
+	  $(foreach v,$(AG_VAL_MODELS),echo "| $($(v)_VAL_LABEL) | $(foreach c,8 9 10 11,$$($(call ag_val_min,$(AG)/$*/validate/$(v).val.txt,$(c),$(call ag_val_from,$(v)))) |) $$(awk '{ printf "%s -> %s", $$1, $$2 }' $(AG)/$*/validate/$(v).norms) |";) \
 	  echo; echo "Pose norm: the mean Euclidean norm of a pose (z-scored coordinates) at the first and the last frame; the real clips (data.h5): $$(awk '{ printf "%s -> %s", $$1, $$2 }' $(AG)/$*/data.norms)."; \
 	} $(write_if_changed)
+# $(call ag_val_panel,STEM,COLUMN,TITLE,REFERENCE): one panel of validation.png
+ag_val_panel = set title '$(1): $(3)' noenhanced; \
+  plot for [v in files] '$(AG)/$(1)/validate/'.v.'.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$$(2) : 1/0) with linespoints title v, \
+       '$(AG)/$(1)/validate/pose.val.txt' using 1:$(2) with linespoints title 'direct-pose baseline', \
+       $(4) with lines lw 3 lc rgb 'black' title 'real clips of subjects $($(1)_VAL_REF_SUBJECTS)';
 $(AG)/%/validation.png: $(foreach v,$(AG_VAL_MODELS),$(AG)/%/validate/$(v).val.txt) $(AG)/%/validate/real.mmd.json
-	gnuplot -e "ref_avg = $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,avg)); ref_seq = $$($(call ag_mmd,$(AG)/$*/validate/real.mmd.json,seq)); \
-	  set terminal pngcairo size 1000,760; set output '$@'; set multiplot layout 2,1; \
-	  set key outside right noenhanced font ',9'; set xrange [0:*]; set logscale y; set yrange [0.2:3]; set ytics (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3); set ylabel 'MMD_u^2'; \
+	gnuplot -e "ref_avg = $$($(call ag_real,$*,avg)); ref_seq = $$($(call ag_real,$*,seq)); \
+	  ref_motion_avg = $$($(call ag_real,$*,motion_avg)); ref_motion_seq = $$($(call ag_real,$*,motion_seq)); \
+	  set terminal pngcairo size 1000,1600; set output '$@'; set multiplot layout 4,1; \
+	  set key outside right noenhanced font ',8' spacing 0.75; set lmargin at screen 0.08; set rmargin at screen 0.72; \
+	  set xrange [0:*]; set logscale y; set ylabel 'MMD_u^2'; set xlabel 'GAN iteration'; \
 	  files = '$(filter-out pose,$(AG_VAL_MODELS))'; \
-	  set title '$*: MMD_avg against held-out training subjects $($*_VAL_SUBJECTS) (GAN iteration 0: end of pre-training)' noenhanced; \
-	  plot for [v in files] '$(AG)/$*/validate/'.v.'.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$8 : 1/0) with linespoints title v, \
-	       '$(AG)/$*/validate/pose.val.txt' using 1:8 with linespoints title 'direct-pose baseline', \
-	       ref_avg with lines lw 3 lc rgb 'black' title 'real clips of subjects $($*_VAL_REF_SUBJECTS)'; \
-	  set title '$*: MMD_seq' noenhanced; set xlabel 'GAN iteration'; \
-	  plot for [v in files] '$(AG)/$*/validate/'.v.'.val.txt' using (\$$1-$(AG_PRETRAIN)):(\$$1 >= $(AG_PRETRAIN) ? \$$9 : 1/0) with linespoints title v, \
-	       '$(AG)/$*/validate/pose.val.txt' using 1:9 with linespoints title 'direct-pose baseline', \
-	       ref_seq with lines lw 3 lc rgb 'black' title 'real clips of subjects $($*_VAL_REF_SUBJECTS)'; unset multiplot"
+	  set yrange [0.2:3]; set ytics (0.2, 0.3, 0.5, 0.7, 1, 1.5, 2, 3); \
+	  $(call ag_val_panel,$*,8,MMD_avg against held-out training subjects $($*_VAL_SUBJECTS) (GAN iteration 0: end of pre-training),ref_avg) \
+	  $(call ag_val_panel,$*,9,MMD_seq,ref_seq) \
+	  set yrange [0.001:3]; set ytics (0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 1, 3); \
+	  $(call ag_val_panel,$*,10,motion MMD_avg (frame differences),ref_motion_avg) \
+	  $(call ag_val_panel,$*,11,motion MMD_seq,ref_motion_seq) unset multiplot"

@@ -35,7 +35,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo
 	@echo "== ActGAN (train-actgan: 400 WGAN-GP + 400 GAN iterations, small networks, on 5 synthetic actions)"
 	@echo "   generated from noise vs the real test clips (eval-metrics; MMD_u^2, lower is closer):"
-	@tail -n 1 $(DEMO)/actgan-mmd.txt | sed 's/^mean */     MMD_avg, MMD_seq: /'
+	@tail -n 1 $(DEMO)/actgan-mmd.txt | sed 's/^mean */     MMD_avg, MMD_seq, the same of motion: /'
 	@echo "   recognised by the trained classifier (classify-actions): real test clips / generated:"
 	@awk '/^all / { a[++n] = $$4 } END { printf "     %s / %s\n", a[1], a[2] }' $(DEMO)/actgan-accuracy.txt
 	@echo "   a mixture walk:0.5,wave:0.5, its class probabilities (walk wave jump kick squat):"

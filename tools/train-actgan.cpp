@@ -94,7 +94,8 @@ int main(int argc, char** argv) {
   g->add_option("--validation-subjects", opt.training.validation_subjects,
                 "Hold out these training subjects, comma-separated: their clips are not trained\n"
                 "on, and every loss line adds the MMD_avg and MMD_seq of 100 sequences generated\n"
-                "per class against them (val_mmd_avg, val_mmd_seq): where they stop falling is\n"
+                "per class against them (val_mmd_avg, val_mmd_seq) and the same of their frame\n"
+                "differences (val_mmd_motion_avg, val_mmd_motion_seq): where they stop falling is\n"
                 "the iteration count to train the final model for, without the test part")
       ->delimiter(',')
       ->allow_extra_args(false);  // one comma-separated word: a positional may follow

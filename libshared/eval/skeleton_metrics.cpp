@@ -210,17 +210,35 @@ void spread(const RowMatrixF& seqs, double& mean, double& sd) {
   sd = std::sqrt(sd);
 }
 
-// One class's MMD_seq, MMD_avg and spread: generated sequences X against real ones Y, one
-// flattened sequence per row, `frame_size` values per frame.
+// The differences of consecutive frames x_{t+1} - x_t of each row (one flattened sequence of
+// `frame_size` values per frame): rows of frames - 1 velocities.
+RowMatrixF frame_differences(const RowMatrixF& M, std::size_t frame_size) {
+  const auto cols = static_cast<Eigen::Index>(frame_size);
+  return M.rightCols(M.cols() - cols) - M.leftCols(M.cols() - cols);
+}
+
+// MMD_seq (whole rows) and MMD_avg (per frame index, averaged) of X against Y.
+void mmd_seq_avg(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size, double& seq, double& avg) {
+  seq = mmd2_max(X, Y).mmd2;
+  const auto cols = static_cast<Eigen::Index>(frame_size);
+  const Eigen::Index frames = X.cols() / cols;
+  avg = 0;
+  for (Eigen::Index t = 0; t < frames; ++t)
+    avg += mmd2_max(X.middleCols(t * cols, cols), Y.middleCols(t * cols, cols)).mmd2 / static_cast<double>(frames);
+}
+
+// One class's MMD_seq, MMD_avg, the same of frame differences, and spread: generated sequences X
+// against real ones Y, one flattened sequence per row, `frame_size` values per frame.
 ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size) {
   ClassSkeletonMetrics m;
   m.generated = static_cast<std::size_t>(X.rows());
   m.real = static_cast<std::size_t>(Y.rows());
-  m.mmd_seq = mmd2_max(X, Y).mmd2;
-  const auto cols = static_cast<Eigen::Index>(frame_size);
-  const Eigen::Index frames = X.cols() / cols;
-  for (Eigen::Index t = 0; t < frames; ++t)
-    m.mmd_avg += mmd2_max(X.middleCols(t * cols, cols), Y.middleCols(t * cols, cols)).mmd2 / static_cast<double>(frames);
+  mmd_seq_avg(X, Y, frame_size, m.mmd_seq, m.mmd_avg);
+  if (X.cols() > static_cast<Eigen::Index>(frame_size))
+    mmd_seq_avg(frame_differences(X, frame_size), frame_differences(Y, frame_size), frame_size, m.mmd_motion_seq,
+                m.mmd_motion_avg);
+  else
+    m.mmd_motion_seq = m.mmd_motion_avg = std::numeric_limits<double>::quiet_NaN();  // one frame: no motion
   spread(X, m.spread_mean, m.spread_sd);
   return m;
 }
@@ -286,8 +304,11 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
   }
   if (out.classes.empty()) throw InvalidInput("PRED and TRUTH share no class with 2 sequences each");
   for (const auto& m : out.classes) {
-    out.mmd_avg += m.mmd_avg / static_cast<double>(out.classes.size());
-    out.mmd_seq += m.mmd_seq / static_cast<double>(out.classes.size());
+    const auto n = static_cast<double>(out.classes.size());
+    out.mmd_avg += m.mmd_avg / n;
+    out.mmd_seq += m.mmd_seq / n;
+    out.mmd_motion_avg += m.mmd_motion_avg / n;
+    out.mmd_motion_seq += m.mmd_motion_seq / n;
   }
   return out;
 }
@@ -298,7 +319,7 @@ std::vector<double> actgan_validation_mmd(const models::ActganModel& model, cons
   const auto fs = static_cast<std::size_t>(clips.pose);
   const auto row = static_cast<Eigen::Index>(static_cast<std::size_t>(clips.length) * fs);
   Rng rng(model.training.seed, 2);  // the same noise at every evaluation: the curve shows the model, not the draw
-  double avg = 0, seq = 0;
+  double avg = 0, seq = 0, motion_avg = 0, motion_seq = 0;
   int measured = 0;
   for (Eigen::Index c = 0; c < classes; ++c) {
     std::vector<std::size_t> real;
@@ -316,10 +337,12 @@ std::vector<double> actgan_validation_mmd(const models::ActganModel& model, cons
     const ClassSkeletonMetrics m = class_metrics(X, Y, fs);
     avg += m.mmd_avg;
     seq += m.mmd_seq;
+    motion_avg += m.mmd_motion_avg;
+    motion_seq += m.mmd_motion_seq;
     ++measured;
   }
   if (measured == 0) throw InvalidInput("no class has 2 validation clips: MMD needs 2 of each");
-  return {avg / measured, seq / measured};
+  return {avg / measured, seq / measured, motion_avg / measured, motion_seq / measured};
 }
 
 void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
@@ -334,19 +357,24 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
   js["frames"] = r.frames;
   js["mmd_avg"] = r.mmd_avg;
   js["mmd_seq"] = r.mmd_seq;
+  js["mmd_motion_avg"] = r.mmd_motion_avg;
+  js["mmd_motion_seq"] = r.mmd_motion_seq;
   for (const auto& m : r.classes)
     js["classes"][m.name] = {{"generated", m.generated}, {"real", m.real},
                              {"mmd_avg", m.mmd_avg},     {"mmd_seq", m.mmd_seq},
+                             {"mmd_motion_avg", m.mmd_motion_avg}, {"mmd_motion_seq", m.mmd_motion_seq},
                              {"spread_mean", m.spread_mean}, {"spread_sd", m.spread_sd}};
   if (json != "-") {
     fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
                pred_path, truth_path, r.frames);
-    fmt::print("{:<16} {:>9} {:>6} {:>11} {:>11} {:>12} {:>10}\n", "class", "generated", "real",
-               "MMD_avg", "MMD_seq", "spread mean", "spread sd");
+    fmt::print("{:<16} {:>9} {:>6} {:>11} {:>11} {:>11} {:>11} {:>12} {:>10}\n", "class", "generated", "real",
+               "MMD_avg", "MMD_seq", "motion_avg", "motion_seq", "spread mean", "spread sd");
     for (const auto& m : r.classes)
-      fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>12.5g} {:>10.5g}\n", m.name,
-                 m.generated, m.real, m.mmd_avg, m.mmd_seq, m.spread_mean, m.spread_sd);
-    fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq);
+      fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>12.5g} {:>10.5g}\n", m.name,
+                 m.generated, m.real, m.mmd_avg, m.mmd_seq, m.mmd_motion_avg, m.mmd_motion_seq, m.spread_mean,
+                 m.spread_sd);
+    fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq,
+               r.mmd_motion_avg, r.mmd_motion_seq);
   }
   if (json.empty()) return;
   if (json == "-") {

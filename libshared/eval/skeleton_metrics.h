@@ -4,6 +4,10 @@
 //   MMD_avg  per class j and frame index i: MMD_u^2 of the generated frames i against the real
 //            test frames i, averaged over frames and classes
 //   MMD_seq  per class: MMD_u^2 of whole sequences (flattened), averaged over classes
+//   MMD_motion_avg, MMD_motion_seq  the same two of the frame differences x_{t+1} - x_t (not in
+//            the paper): the paper's two barely see motion — real clips with their frames
+//            shuffled in time, or with the first frame held still, score about as the clips
+//            themselves — while these tell them apart by an order of magnitude
 //   spread   per class: mean and standard deviation of the distance of each generated sequence
 //            to the class's mean sequence (paper Table 4's diversity statistic)
 #pragma once
@@ -40,6 +44,7 @@ struct ClassSkeletonMetrics {
   std::string name;
   std::size_t generated = 0, real = 0;  ///< sequences compared
   double mmd_avg = 0, mmd_seq = 0;
+  double mmd_motion_avg = 0, mmd_motion_seq = 0;  ///< of frame differences (NaN for 1-frame sequences)
   double spread_mean = 0, spread_sd = 0;  ///< distance of generated sequences to their mean
 };
 
@@ -47,6 +52,7 @@ struct SkeletonMetrics {
   std::size_t frames = 0;  ///< frames compared per sequence (the shortest of both files)
   std::vector<ClassSkeletonMetrics> classes;
   double mmd_avg = 0, mmd_seq = 0;  ///< averages over the classes both files have
+  double mmd_motion_avg = 0, mmd_motion_seq = 0;
 };
 
 /// Which sequences of the two files are compared.
@@ -67,7 +73,7 @@ struct SkeletonSelection {
 SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
                                  const SkeletonSelection& select = {});
 
-/// train-actgan's validation columns: MMD_avg and MMD_seq (as skeleton_metrics, in the model's
+/// train-actgan's validation columns: MMD_avg, MMD_seq and their motion forms (as skeleton_metrics, in the model's
 /// normalized coordinates) of `per_class` sequences generated for each class against the held-out
 /// clips of that class (classes with fewer than 2 clips are left out), averaged over classes. The
 /// noise is drawn from Rng(seed, 2) afresh at every call: the same draw at every evaluation.

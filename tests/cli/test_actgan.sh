@@ -184,10 +184,10 @@ held=$(sed -n 's/.*validation: \([0-9]*\) clips of subjects 2 held out.*/\1/p' e
 kept=$(sed -n 's/.*: \([0-9]*\) training clips.*/\1/p' err.txt)
 [ -n "$held" ] && [ "$held" -gt 0 ] && [ $((kept + held)) = "$all" ] ||
   fail "validation clips: $held held out + $kept trained should be the $all training clips"
-expect_err "iteration 20/20: .*; val_mmd_avg [0-9.e-]+; val_mmd_seq [0-9.e-]+\)"
+expect_err "iteration 20/20: .*; val_mmd_avg [0-9.e-]+; val_mmd_seq [0-9.e-]+; val_mmd_motion_avg [0-9.e-]+; val_mmd_motion_seq [0-9.e-]+\)"
 h5check -q --kind actgan-model val1.h5
-h5dump -A -d /training/log val1.h5 | grep -q '"iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq"' ||
-  fail "the log's columns should end with val_mmd_avg val_mmd_seq"
+h5dump -A -d /training/log val1.h5 | grep -q '"iteration loss disc adv smooth cycle gp val_mmd_avg val_mmd_seq val_mmd_motion_avg val_mmd_motion_seq"' ||
+  fail "the log's columns should end with val_mmd_avg val_mmd_seq val_mmd_motion_avg val_mmd_motion_seq"
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 10 --validation-subjects 2 --threads 2 clips.h5 -o val2.h5
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 3 --validation-subjects 2 clips.h5 -o val-half.h5
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 10 --validation-subjects 2 --resume --checkpoint val-half.h5 \

@@ -124,7 +124,7 @@ void read_config(const h5::File& f, ActganModel& m) {
 
 std::vector<std::string> ActganModel::loss_columns() { return {"loss", "disc", "adv", "smooth", "cycle", "gp"}; }
 
-std::vector<std::string> ActganModel::validation_columns() { return {"val_mmd_avg", "val_mmd_seq"}; }
+std::vector<std::string> ActganModel::validation_columns() { return {"val_mmd_avg", "val_mmd_seq", "val_mmd_motion_avg", "val_mmd_motion_seq"}; }
 
 std::vector<std::string> ActganModel::log_columns() const {
   std::vector<std::string> c{"iteration"};

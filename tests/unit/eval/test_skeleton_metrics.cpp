@@ -124,3 +124,32 @@ TEST_CASE("skeleton metrics: sequences picked by subject, a file against itself"
     CHECK_THROWS_WITH(eval::skeleton_metrics(anonymous, data, select), Catch::Contains("names no subjects"));
   }
 }
+
+TEST_CASE("skeleton metrics: the motion MMD tells sequences held still from moving ones", "[eval]") {
+  synth::ActionParams p;
+  p.classes = {"walk", "kick"};
+  p.per_class = 30;
+  p.frames = 20;
+  p.seed = 1;
+  io::SkeletonFile real = synth::make_actions(p);
+  real.test.assign(real.sequences(), 1);
+  p.seed = 2;
+  const io::SkeletonFile gen = synth::make_actions(p);
+  io::SkeletonFile still = gen;  // every sequence holds its first pose
+  const std::size_t fs = gen.frame_size();
+  for (std::size_t s = 0; s < gen.sequences(); ++s)
+    for (auto t = gen.offsets[s]; t < gen.offsets[s + 1]; ++t)
+      std::copy_n(gen.poses.begin() + gen.offsets[s] * static_cast<std::ptrdiff_t>(fs), fs,
+                  still.poses.begin() + t * static_cast<std::ptrdiff_t>(fs));
+  const auto r = eval::skeleton_metrics(gen, real);
+  const auto w = eval::skeleton_metrics(still, real);
+  CHECK(w.mmd_motion_avg > 10 * r.mmd_motion_avg);
+  CHECK(w.mmd_motion_seq > 10 * r.mmd_motion_seq);
+  CHECK(r.classes[0].mmd_motion_seq == r.classes[0].mmd_motion_seq);  // not NaN
+  // one frame: no motion to measure
+  io::SkeletonFile one = gen;
+  for (std::size_t s = 0; s <= one.sequences(); ++s) one.offsets[s] = static_cast<std::int64_t>(s);
+  one.poses.resize(one.sequences() * fs);
+  one.frames = one.sequences();
+  CHECK(std::isnan(eval::skeleton_metrics(one, real).mmd_motion_seq));
+}
