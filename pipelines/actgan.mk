@@ -4,9 +4,10 @@
 # Per data set S (synthetic: synth-actions, 5 classes, 6 simulated subjects, subjects 5 and 6
 # held out; utkinect: UTKinect-Action3D from DATA, 10 classes, subjects 2, 4, 6, 8, 10 held out):
 #   $(AG)/S/mmd.md        MMD_avg and MMD_seq of 100 generated sequences per class against the
-#                         real test clips: ours, the direct-pose RNN baseline, and the ablations of
-#                         paper Tables 5-6 (smoothness none / latent only / action only, direct
-#                         latent, no classifier)
+#                         real test clips, and the same of their frame differences (motion): the
+#                         real training clips (the data's own level), ours, the direct-pose RNN
+#                         baseline, and the ablations of paper Tables 5-6 (smoothness none / latent
+#                         only / action only, direct latent, no classifier)
 #   $(AG)/S/accuracy.md   per class, how often a classifier recognises real test clips and
 #                         generated sequences: ours (trained inside the GAN) and a classifier
 #                         trained alone on the real clips (paper Table 2's Baseline_T/G)
@@ -37,9 +38,6 @@ cls-alone_AG := --classifier-only
 # $(call ag_train,VARIANT): a model's training options (no pre-training without a decoder to train)
 ag_train = --pretrain-iterations $(if $(filter pose cls-alone,$(1)),0,$(AG_PRETRAIN)) \
   --iterations $(AG_ITERATIONS) $(AG_OPTIONS) $(if $(1),$($(1)_AG))
-# The training subjects (the data's own level in mmd.md: their real clips against the test clips)
-synthetic_TRAIN_SUBJECTS := 1,2,3,4
-utkinect_TRAIN_SUBJECTS := 1,3,5,7,9
 # The training subjects (the data's own level in mmd.md: their real clips against the test clips)
 synthetic_TRAIN_SUBJECTS := 1,2,3,4
 utkinect_TRAIN_SUBJECTS := 1,3,5,7,9

@@ -15,6 +15,21 @@ RowMatrixF gaussian(int rows, int cols, double mean, double sd, std::uint64_t se
   for (Eigen::Index i = 0; i < M.size(); ++i) M.data()[i] = static_cast<float>(rng.normal(mean, sd));
   return M;
 }
+
+// Synthetic actions of `classes`, per_class sequences of `frames` frames each, by `subjects`
+// performers; every sequence marked as test (callers change the marks).
+io::SkeletonFile actions(std::vector<std::string> classes, int per_class, int frames, std::uint64_t seed,
+                         int subjects = 5) {
+  synth::ActionParams p;
+  p.classes = std::move(classes);
+  p.per_class = per_class;
+  p.frames = frames;
+  p.subjects = subjects;
+  p.seed = seed;
+  io::SkeletonFile s = synth::make_actions(p);
+  s.test.assign(s.sequences(), 1);
+  return s;
+}
 }  // namespace
 
 TEST_CASE("MMD: equal to a brute-force double-precision sum over every pair", "[eval]") {
@@ -58,17 +73,9 @@ TEST_CASE("MMD: the same bits at 1 and 2 threads", "[eval]") {
 }
 
 TEST_CASE("skeleton metrics: per class against the real test part, in the real file's coordinates", "[eval]") {
-  synth::ActionParams p;
-  p.classes = {"walk", "wave"};
-  p.per_class = 12;
-  p.frames = 20;
-  p.seed = 1;
-  io::SkeletonFile real = synth::make_actions(p);
-  real.test.assign(real.sequences(), 0);
-  for (std::size_t s = 0; s < real.sequences(); s += 2) real.test[s] = 1;
-  p.seed = 2;
-  p.frames = 25;  // longer: compared over the first 20
-  const io::SkeletonFile gen = synth::make_actions(p);
+  io::SkeletonFile real = actions({"walk", "wave"}, 12, 20, 1);
+  for (std::size_t s = 0; s < real.sequences(); ++s) real.test[s] = s % 2 == 0;
+  const io::SkeletonFile gen = actions({"walk", "wave"}, 12, 25, 2);  // longer: compared over the first 20
   const auto r = eval::skeleton_metrics(gen, real);
   CHECK(r.frames == 20);
   REQUIRE(r.classes.size() == 2);
@@ -84,14 +91,7 @@ TEST_CASE("skeleton metrics: per class against the real test part, in the real f
 }
 
 TEST_CASE("skeleton metrics: sequences picked by subject, a file against itself", "[eval]") {
-  synth::ActionParams p;
-  p.classes = {"walk", "wave"};
-  p.per_class = 12;
-  p.frames = 20;
-  p.subjects = 4;
-  p.seed = 1;
-  io::SkeletonFile data = synth::make_actions(p);
-  data.test.assign(data.sequences(), 0);
+  io::SkeletonFile data = actions({"walk", "wave"}, 12, 20, 1, 4);
   for (std::size_t s = 0; s < data.sequences(); ++s) data.test[s] = data.subjects[s] == 4;
   eval::SkeletonSelection select;
   select.pred_subjects = {1, 2, 3};
@@ -126,15 +126,8 @@ TEST_CASE("skeleton metrics: sequences picked by subject, a file against itself"
 }
 
 TEST_CASE("skeleton metrics: the motion MMD tells sequences held still from moving ones", "[eval]") {
-  synth::ActionParams p;
-  p.classes = {"walk", "kick"};
-  p.per_class = 30;
-  p.frames = 20;
-  p.seed = 1;
-  io::SkeletonFile real = synth::make_actions(p);
-  real.test.assign(real.sequences(), 1);
-  p.seed = 2;
-  const io::SkeletonFile gen = synth::make_actions(p);
+  const io::SkeletonFile real = actions({"walk", "kick"}, 30, 20, 1);
+  const io::SkeletonFile gen = actions({"walk", "kick"}, 30, 20, 2);
   io::SkeletonFile still = gen;  // every sequence holds its first pose
   const std::size_t fs = gen.frame_size();
   for (std::size_t s = 0; s < gen.sequences(); ++s)
