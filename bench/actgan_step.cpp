@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
       else
         df::models::actgan_gan_iteration(m, clips, tape);
     });
-    const std::size_t params = m.gen->store().size() + m.disc->store().size() + m.cls->store().size() +
+    const std::size_t params = m.gen->store().size() + m.discriminator_store().size() + m.cls->store().size() +
                                (which == "pretrain" ? m.critic->store().size() : 0);
     const char* label = which == "gan"       ? "ActGAN 1D+2G (B 32, T 50)"
                         : which == "gan-all" ? "ActGAN 1D+2G, authors' discriminator (B 32, T 50)"

@@ -159,9 +159,10 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # 0.05 x our batch of 32 = 1.6; their code's 0.1 x their batch of 64 = 6.4), the generator's steps
 # starting small (--step-init small), the discriminator as the authors' code has it (frames and
 # their differences, every step to its head; each alone and both), a 5x lower learning rate with
-# some of these, instance noise on the discriminator's frames
-# (--disc-noise) and the direct-pose baseline train AG_VAL_ITERATIONS GAN iterations without the
-# clips of
+# some of these, instance noise on the discriminator's frames (--disc-noise), no classifier, a
+# discriminator slower than the generator (--disc-lr), a Wasserstein critic of whole clips with
+# the gradient penalty (--discriminator critic) and the direct-pose baseline (against the BiLSTM
+# and against that critic) train AG_VAL_ITERATIONS GAN iterations without the clips of
 # S_VAL_SUBJECTS (training subjects: the test part is never looked at); every 100 iterations the
 # log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
 # $(AG)/S/validation.md: per model the minimum of each (and where), the last value, and the
@@ -170,7 +171,7 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 AG_VAL_ITERATIONS ?= 1000
 AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 ours-small ours-small-s6.4 \
   ours-lr2e-5 ours-small-lr2e-5 ours-dmotion ours-dmotion-lr2e-5 ours-dall ours-dauthors ours-dauthors-lr2e-5 \
-  ours-noise0.1 ours-noise0.3 pose
+  ours-noise0.1 ours-noise0.3 ours-nocls ours-dlr1e-5 ours-nocls-dlr1e-5 ours-critic pose pose-critic
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 # The data's own level: the real clips of the other training subjects against the held-out ones,
@@ -193,7 +194,12 @@ ours-dauthors_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion --
 ours-dauthors-lr2e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-input motion --disc-pool all --lr 2e-5
 ours-noise0.1_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-noise 0.1
 ours-noise0.3_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-noise 0.3
+ours-nocls_VAL := --pretrain-iterations $(AG_PRETRAIN) --no-classifier
+ours-dlr1e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-lr 1e-5
+ours-nocls-dlr1e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --no-classifier --disc-lr 1e-5
+ours-critic_VAL := --pretrain-iterations $(AG_PRETRAIN) --discriminator critic --d-steps 5
 pose_VAL := --pretrain-iterations 0 --generator pose
+pose-critic_VAL := --pretrain-iterations 0 --generator pose --discriminator critic --d-steps 5
 ours_VAL_LABEL := ours (paper defaults: sigma1 0.05, the decoder learns on)
 ours-frozen_VAL_LABEL := decoder fixed (--freeze-decoder, the authors' code)
 ours-frozen-s1.6_VAL_LABEL := decoder fixed, sigma1 1.6 (0.05 summed over our batch of 32)
@@ -210,9 +216,14 @@ ours-dauthors_VAL_LABEL := the authors' discriminator (--disc-input motion --dis
 ours-dauthors-lr2e-5_VAL_LABEL := the authors' discriminator, learning rate 2e-5
 ours-noise0.1_VAL_LABEL := instance noise 0.1 on what the discriminator sees (--disc-noise 0.1)
 ours-noise0.3_VAL_LABEL := instance noise 0.3 (--disc-noise 0.3)
+ours-nocls_VAL_LABEL := no classifier and no cycle loss (--no-classifier)
+ours-dlr1e-5_VAL_LABEL := the discriminator 10x slower than the generator (--disc-lr 1e-5)
+ours-nocls-dlr1e-5_VAL_LABEL := no classifier, the discriminator 10x slower
+ours-critic_VAL_LABEL := a Wasserstein critic of whole clips with gradient penalty, 5 critic steps per iteration (--discriminator critic --d-steps 5)
 pose_VAL_LABEL := $(AG_LABEL_pose)
+pose-critic_VAL_LABEL := direct-pose RNN baseline against the same critic (--discriminator critic --d-steps 5)
 # $(call ag_val_from,MODEL): its pre-training iterations (the GAN's rows come after them)
-ag_val_from = $(if $(filter pose,$(1)),0,$(AG_PRETRAIN))
+ag_val_from = $(if $(filter pose%,$(1)),0,$(AG_PRETRAIN))
 ag_val_train = $($(2)_VAL) --iterations $(AG_VAL_ITERATIONS) $(AG_OPTIONS) --validation-subjects $($(1)_VAL_SUBJECTS)
 
 .PHONY: actgan-validation

@@ -53,6 +53,12 @@ int main(int argc, char** argv) {
                 "decoder's N(0, I) range)")
       ->default_val(opt.net.step_init)
       ->check(CLI::IsMember({"glorot", "small"}));
+  n->add_option("--discriminator", opt.net.discriminator,
+                "The GAN's discriminator: bilstm (the paper's bidirectional LSTM, binary\n"
+                "cross-entropy) or critic (a Wasserstein critic MLP on the whole clip [x_1..x_T, y]\n"
+                "with the gradient penalty --gp-lambda, as the pre-training's; fixes the clip length)")
+      ->default_val(opt.net.discriminator)
+      ->check(CLI::IsMember({"bilstm", "critic"}));
   n->add_option("--disc-input", opt.net.disc_input,
                 "What the discriminator sees per frame: frames [x_t, y], or motion [x_t,\n"
                 "x_t - x_{t-1}, y] (frames and their differences, as the authors' code)")
@@ -69,7 +75,7 @@ int main(int argc, char** argv) {
       ->default_val(opt.net.generator)
       ->check(CLI::IsMember({"latent", "pose"}));
   l->add_flag("--no-classifier", no_classifier, "No classifier and no cycle loss");
-  l->add_option("--gp-lambda", opt.net.gp_lambda, "WGAN-GP gradient penalty")->default_val(opt.net.gp_lambda);
+  l->add_option("--gp-lambda", opt.net.gp_lambda, "WGAN-GP gradient penalty (pre-training; the GAN with --discriminator critic)")->default_val(opt.net.gp_lambda);
   auto* g = app.add_option_group("Training");
   g->add_option("--pretrain-iterations", opt.training.pretrain_iterations, "WGAN-GP iterations of the decoder")
       ->default_val(opt.training.pretrain_iterations);
@@ -87,6 +93,10 @@ int main(int argc, char** argv) {
   g->add_option("--lr", opt.training.lr, "Adam learning rate of the GAN")->default_val(opt.training.lr);
   g->add_option("--lr-pretrain", opt.training.lr_pretrain, "Adam learning rate of the pre-training")
       ->default_val(opt.training.lr_pretrain);
+  g->add_option("--disc-lr", opt.training.disc_lr,
+                "Adam learning rate of the GAN's discriminator (0: --lr, as the paper); lower than\n"
+                "--lr for a discriminator slower than the generator (two time-scale updates)")
+      ->default_val(opt.training.disc_lr);
   g->add_flag("--classifier-only", opt.training.classifier_only,
               "Train only the classifier, on the real clips (the paper's Baseline_T/G; with\n"
               "--pretrain-iterations 0): classify-actions then compares it with the classifier\n"

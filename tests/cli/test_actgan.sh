@@ -87,6 +87,44 @@ expect_rc 2; expect_one_error_line train-actgan; expect_err "disc-noise"
 [ -f x.h5 ] && fail "output written after an error"
 echo "ok (instance noise)"
 
+# --- --disc-lr (the discriminator's own learning rate): stored (the GAN's lr when not given),
+# changes the training, checked on --resume, not negative
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-lr 1e-5 clips.h5 -o m-dlr.h5
+run h5diff -q m1.h5 m-dlr.h5 /params/gen.lstm.wx; expect_rc 1
+attr() { h5dump -a /config/$1 $2 | grep -A1 DATA | tail -1 | sed 's/.*: *//'; }
+[ "$(attr disc_lr m-dlr.h5)" = 1e-05 ] || fail "disc_lr not stored: $(attr disc_lr m-dlr.h5)"
+[ "$(attr disc_lr m1.h5)" = "$(attr lr m1.h5)" ] || fail "disc_lr is not lr by default"
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-lr 1e-5 --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "disc-lr"
+run train-actgan "${tiny[@]}" --disc-lr -1 clips.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-actgan; expect_err "disc-lr"
+[ -f x.h5 ] && fail "output written after an error"
+echo "ok (discriminator learning rate)"
+
+# --- --discriminator critic (a Wasserstein critic of whole clips with the gradient penalty):
+# stored, its input T·P + C wide, thread-independent, resumes bit-exactly, read by gen-actgan;
+# refused with the BiLSTM's options and on --resume of a BiLSTM checkpoint
+crit=(--discriminator critic --d-steps 2 --pretrain-iterations 10)
+train-actgan -q "${tiny[@]}" "${crit[@]}" --iterations 20 --threads 1 clips.h5 -o m-crit1.h5
+train-actgan -q "${tiny[@]}" "${crit[@]}" --iterations 20 --threads 2 clips.h5 -o m-crit2.h5
+h5check -q --kind actgan-model m-crit1.h5
+run h5diff m-crit1.h5 m-crit2.h5 /params; expect_rc 0
+train-actgan -q "${tiny[@]}" "${crit[@]}" --iterations 5 clips.h5 -o m-crit-half.h5
+train-actgan -q "${tiny[@]}" "${crit[@]}" --iterations 20 --resume --checkpoint m-crit-half.h5 clips.h5 -o m-crit-resumed.h5
+run h5diff m-crit1.h5 m-crit-resumed.h5 /params; expect_rc 0
+[ "$(h5dump -a /config/discriminator -y m-crit1.h5 | sed -n 's/^ *"\(.*\)"$/\1/p')" = critic ] || fail "discriminator not stored"
+frames=$(h5dump -a /config/length m-crit1.h5 | grep -A1 DATA | tail -1 | sed 's/.*: *//')
+h5dump -H -d /params/disc.0.weight m-crit1.h5 | grep -q "( $((frames * 60 + 3)), " || fail "the critic does not read whole clips"
+gen-actgan -q --seed 4 --count 2 m-crit1.h5 -o gen-crit.h5
+run train-actgan "${tiny[@]}" "${crit[@]}" --iterations 20 --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "discriminator"
+run train-actgan "${tiny[@]}" "${crit[@]}" --disc-input motion clips.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-actgan; expect_err "disc-input"
+run train-actgan "${tiny[@]}" --discriminator gru clips.h5 -o x.h5
+expect_rc 2; expect_err "discriminator: gru not in"
+[ -f x.h5 ] && fail "output written after an error"
+echo "ok (clip critic)"
+
 # --- learning: the generated poses move towards the data (MMD of generated vs real falls; the
 # tiny networks' GAN is noisy, so the bound is loose: measured 0.54 -> 0.27 and 1.0 -> 0.47)
 train-actgan -q "${tiny[@]}" --pretrain-iterations 0 --iterations 1 clips.h5 -o untrained.h5

@@ -15,7 +15,7 @@ namespace {
 
 // Every network's parameters, in the file's order.
 std::vector<nn::ParameterStore<float>*> stores(const ActganModel& m) {
-  return {&m.gen->store(), &m.disc->store(), &m.cls->store(), &m.critic->store()};
+  return {&m.gen->store(), &m.discriminator_store(), &m.cls->store(), &m.critic->store()};
 }
 
 std::unique_ptr<nn::Adam<float>> make_adam(const nn::ParameterStore<float>& s, double lr) {
@@ -51,6 +51,7 @@ void write_config(h5::File& f, const ActganModel& m) {
   f.set_attr("/config", "smoothness", c.smoothness);
   f.set_attr("/config", "sigma1", c.sigma1);
   f.set_attr("/config", "sigma2", c.sigma2);
+  f.set_attr("/config", "discriminator", c.discriminator);
   f.set_attr("/config", "disc_input", c.disc_input);
   f.set_attr("/config", "disc_pool", c.disc_pool);
   f.set_attr("/config", "gamma", c.gamma);
@@ -66,6 +67,7 @@ void write_config(h5::File& f, const ActganModel& m) {
   f.set_attr("/config", "g_steps", t.g_steps);
   f.set_attr("/config", "lr", t.lr);
   f.set_attr("/config", "lr_pretrain", t.lr_pretrain);
+  f.set_attr("/config", "disc_lr", t.discriminator_lr());
   f.set_attr("/config", "classifier_only", static_cast<int>(t.classifier_only));
   f.set_attr("/config", "train_decoder", static_cast<int>(t.train_decoder));
   f.set_attr("/config", "disc_noise", t.disc_noise);
@@ -95,6 +97,7 @@ void read_config(const h5::File& f, ActganModel& m) {
   // Absent in files written before the options: the discriminator saw [x_t, y], its last states.
   c.disc_input = f.has_attr("/config", "disc_input") ? f.attr_string("/config", "disc_input") : "frames";
   c.disc_pool = f.has_attr("/config", "disc_pool") ? f.attr_string("/config", "disc_pool") : "last";
+  c.discriminator = f.has_attr("/config", "discriminator") ? f.attr_string("/config", "discriminator") : "bilstm";
   c.gamma = d("gamma");
   c.classifier = i("classifier") != 0;
   c.gp_lambda = d("gp_lambda");
@@ -108,6 +111,7 @@ void read_config(const h5::File& f, ActganModel& m) {
   t.g_steps = i("g_steps");
   t.lr = d("lr");
   t.lr_pretrain = d("lr_pretrain");
+  t.disc_lr = f.has_attr("/config", "disc_lr") ? d("disc_lr") : t.lr;  // absent: older files, the GAN's lr
   t.classifier_only = f.has_attr("/config", "classifier_only") && i("classifier_only") != 0;
   // Absent in files written before the option: those trained the decoder in the GAN phase.
   t.train_decoder = !f.has_attr("/config", "train_decoder") || i("train_decoder") != 0;
@@ -133,16 +137,27 @@ std::vector<std::string> ActganModel::log_columns() const {
   return c;
 }
 
+nn::ParameterStore<float>& ActganModel::discriminator_store() const {
+  if (clip_critic) return clip_critic->store();
+  if (!disc) throw Error("internal: an ActGAN model without a discriminator");
+  return disc->store();
+}
+
 void ActganModel::initialize() {
   Rng init(training.seed, 0);
   gen = std::make_unique<ActganGenerator<float>>(config, init);
-  disc = make_discriminator<float>(config, length, init);
+  disc.reset();
+  clip_critic.reset();
+  if (config.discriminator == "critic")
+    clip_critic = std::make_unique<Critic<float>>(config, Eigen::Index{length} * config.pose, "disc", init);
+  else
+    disc = make_discriminator<float>(config, length, init);
   cls = std::make_unique<SequenceNet<float>>(config, config.pose, config.classes, "cls", init);
-  critic = std::make_unique<FrameCritic<float>>(config, init);
+  critic = std::make_unique<Critic<float>>(config, config.pose, "critic", init);
   adam.decoder = make_adam(gen->store(), training.lr_pretrain);
   adam.critic = make_adam(critic->store(), training.lr_pretrain);
   adam.gen = make_adam(gen->store(), training.lr);
-  adam.disc = make_adam(disc->store(), training.lr);
+  adam.disc = make_adam(discriminator_store(), training.discriminator_lr());
   adam.cls = make_adam(cls->store(), training.lr);
   rng = Rng(training.seed, 1);
   iteration = 0;

@@ -26,6 +26,11 @@ struct ActganTraining {
   int d_steps = 1;                          ///< discriminator steps per iteration (k)
   int g_steps = 2;                          ///< generator + classifier steps per iteration
   double lr = 1e-4, lr_pretrain = 1e-3;     ///< Adam, betas 0.5 / 0.9
+  /// The discriminator's Adam learning rate in the GAN phase (0: lr, as the paper). A slower
+  /// discriminator than generator (two time-scale updates, Heusel et al. 2017) keeps it from
+  /// winning before the generator has learned anything.
+  double disc_lr = 0;
+  double discriminator_lr() const { return disc_lr > 0 ? disc_lr : lr; }
   /// Train only the classifier, on the real clips (the paper's Baseline_T/G: a classifier
   /// trained alone, to compare with the one trained inside the bi-directional GAN)
   bool classifier_only = false;
@@ -60,8 +65,9 @@ struct ActganModel {
   int length = 0;           ///< frames of the training sequences (the default generation length)
   std::string data;         ///< the training file's name
   std::unique_ptr<ActganGenerator<float>> gen;
-  std::unique_ptr<SequenceNet<float>> disc, cls;
-  std::unique_ptr<FrameCritic<float>> critic;
+  std::unique_ptr<SequenceNet<float>> disc, cls;  ///< disc: with config.discriminator "bilstm"
+  std::unique_ptr<Critic<float>> clip_critic;      ///< the GAN's critic with config.discriminator "critic"
+  std::unique_ptr<Critic<float>> critic;           ///< the pre-training's critic of single poses
   ActganOptimizers adam;
   Rng rng;  ///< batches and noise
   std::int64_t iteration = 0;
@@ -75,6 +81,8 @@ struct ActganModel {
   /// The training log's columns: iteration, loss_columns(), then with validation subjects
   /// validation_columns().
   std::vector<std::string> log_columns() const;
+  /// The GAN's discriminator's parameters (disc or clip_critic).
+  nn::ParameterStore<float>& discriminator_store() const;
   /// Untrained networks (weights from Rng(seed, 0)) and fresh optimizers.
   void initialize();
 };

@@ -94,18 +94,18 @@ std::unique_ptr<SequenceNet<T>> make_discriminator(const ActganConfig& c, int le
 }
 
 template <class T>
-FrameCritic<T>::FrameCritic(const ActganConfig& c, Rng& rng) : pose_(c.pose) {
-  mlp_ = nn::Mlp<T>(store_, "critic", {c.pose + c.classes, c.fc, 1}, Activation::relu, rng);
+Critic<T>::Critic(const ActganConfig& c, Eigen::Index width, const std::string& name, Rng& rng) : width_(width) {
+  mlp_ = nn::Mlp<T>(store_, name, {width + c.classes, c.fc, 1}, Activation::relu, rng);
 }
 
 template <class T>
-nn::Var<T> FrameCritic<T>::operator()(const nn::Bound<T>& p, Var x, Var y) const {
+nn::Var<T> Critic<T>::operator()(const nn::Bound<T>& p, Var x, Var y) const {
   return mlp_(p, nn::concat_cols<T>({x, y}));
 }
 
 template <class T>
-nn::Var<T> FrameCritic<T>::gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const {
-  const Var g = nn::slice_cols(mlp_.input_gradient(p, nn::concat_cols<T>({x, y})), 0, pose_);
+nn::Var<T> Critic<T>::gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const {
+  const Var g = nn::slice_cols(mlp_.input_gradient(p, nn::concat_cols<T>({x, y})), 0, width_);
   const Var norm = nn::sqrt(nn::add_scalar(nn::sum_cols(nn::square(g)), T(1e-12)));
   return nn::mean(nn::square(nn::add_scalar(norm, T(-1))));
 }
@@ -182,7 +182,7 @@ nn::Matrix<T> one_hot(const std::vector<int>& labels, int classes) {
 #define DF_ACTGAN_NETWORK(T)                                                                 \
   template class ActganGenerator<T>;                                                         \
   template class SequenceNet<T>;                                                             \
-  template class FrameCritic<T>;                                                             \
+  template class Critic<T>;                                                                  \
   template std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>&, nn::Var<T>);   \
   template std::vector<nn::Var<T>> discriminator_input(const ActganConfig&, const std::vector<nn::Var<T>>&, nn::Var<T>); \
   template std::unique_ptr<SequenceNet<T>> make_discriminator<T>(const ActganConfig&, int, Rng&); \

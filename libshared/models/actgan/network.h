@@ -50,6 +50,11 @@ struct ActganConfig {
   /// BiLSTM [B, 2H], or "all", every step's forward and backward outputs [B, T·2H] (the authors'
   /// code; the head's size then fixes the sequence length T). The classifier stays "last".
   std::string disc_pool = "last";
+  /// The GAN's discriminator: "bilstm", the paper's bidirectional LSTM trained on binary
+  /// cross-entropy (disc_input, disc_pool), or "critic", a Wasserstein critic MLP on the whole
+  /// clip [x_1 .. x_T, y] trained with the gradient penalty (gp_lambda) as the pre-training's
+  /// (its gradient tells the generator where the data lies even where the two do not overlap)
+  std::string discriminator = "bilstm";
   double gamma = 0.1;      ///< weight of the classifier's cross-entropy (cycle loss, eq. 6)
   bool classifier = true;  ///< false: no classifier, no cycle loss (paper Table 2's ablation)
   double gp_lambda = 10;   ///< WGAN-GP gradient penalty
@@ -110,12 +115,14 @@ class SequenceNet {
 template <class T>
 std::unique_ptr<SequenceNet<T>> make_discriminator(const ActganConfig& c, int length, Rng& rng);
 
-/// The conditional WGAN critic on single frames.
+/// A conditional Wasserstein critic, an MLP on [x, y] (hidden layer c.fc): on single poses (width
+/// P) in the pre-training, and on whole clips, their frames side by side [x_1 .. x_T] (width T·P),
+/// as the GAN's discriminator with c.discriminator "critic".
 template <class T>
-class FrameCritic {
+class Critic {
  public:
   using Var = nn::Var<T>;
-  FrameCritic(const ActganConfig& c, Rng& rng);
+  Critic(const ActganConfig& c, Eigen::Index width, const std::string& name, Rng& rng);
   nn::ParameterStore<T>& store() { return store_; }
   const nn::ParameterStore<T>& store() const { return store_; }
   Var operator()(const nn::Bound<T>& p, Var x, Var y) const;  ///< scores [B, 1]
@@ -123,7 +130,7 @@ class FrameCritic {
   Var gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const;
 
  private:
-  int pose_ = 0;
+  Eigen::Index width_ = 0;
   nn::ParameterStore<T> store_;
   nn::Mlp<T> mlp_;
 };

@@ -22,10 +22,10 @@ void check_options(const ActganTrainOptions& opt) {
   const auto& c = opt.net;
   if (t.pretrain_iterations < 0 || t.iterations < 0 || t.batch < 2 || t.pretrain_batch < 2 ||
       t.critic_steps < 1 || t.d_steps < 1 || t.g_steps < 1 || !(t.lr > 0) || !(t.lr_pretrain > 0) ||
-      !(t.disc_noise >= 0))
+      !(t.disc_lr >= 0) || !(t.disc_noise >= 0))
     throw UsageError(
         "--iterations and --pretrain-iterations must not be negative, batches at least 2, steps "
-        "at least 1, learning rates positive, --disc-noise not negative");
+        "at least 1, learning rates positive (--disc-lr 0: --lr), --disc-noise not negative");
   if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
   if (c.generator == "pose" && t.pretrain_iterations > 0)
@@ -34,6 +34,8 @@ void check_options(const ActganTrainOptions& opt) {
     throw UsageError("--step-init sets the latent generator's steps v_t: the direct-pose baseline (--generator pose) has none");
   if (c.generator == "pose" && !t.train_decoder)
     throw UsageError("the direct-pose baseline (--generator pose) has no decoder to freeze: leave out --freeze-decoder");
+  if (c.discriminator == "critic" && (c.disc_input != "frames" || c.disc_pool != "last"))
+    throw UsageError("--disc-input and --disc-pool shape the BiLSTM discriminator: the critic (--discriminator critic) reads whole clips");
   if (t.classifier_only && (t.pretrain_iterations > 0 || !c.classifier))
     throw UsageError("--classifier-only trains the classifier alone: use --pretrain-iterations 0, not --no-classifier");
   opt.run.check();
@@ -54,6 +56,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("smoothness", a.smoothness, b.smoothness);
   differs("sigma1", a.sigma1, b.sigma1);
   differs("sigma2", a.sigma2, b.sigma2);
+  differs("discriminator", a.discriminator, b.discriminator);
   differs("disc-input", a.disc_input, b.disc_input);
   differs("disc-pool", a.disc_pool, b.disc_pool);
   differs("gamma", a.gamma, b.gamma);
@@ -68,6 +71,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("g-steps", s.g_steps, t.g_steps);
   differs("lr", s.lr, t.lr);
   differs("lr-pretrain", s.lr_pretrain, t.lr_pretrain);
+  differs("disc-lr", s.discriminator_lr(), t.discriminator_lr());
   differs("seed", s.seed, t.seed);
   differs("classifier-only", s.classifier_only, t.classifier_only);
   differs("freeze-decoder", !s.train_decoder, !t.train_decoder);
@@ -205,6 +209,62 @@ LossTerms classifier_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
 
 }  // namespace
 
+namespace {
+
+// The discriminator's loss on real and generated clips (frames as the discriminator sees them):
+// binary cross-entropy of the BiLSTM, or the critic's Wasserstein loss with the gradient penalty
+// at random points between the two (eps drawn from rng, one per clip).
+Var discriminator_loss(const ActganModel& m, const nn::Bound<float>& pd, const std::vector<Var>& real,
+                       const std::vector<Var>& fake, Var y, Rng& rng) {
+  const auto& c = m.config;
+  if (!m.clip_critic) {
+    const Eigen::Index n = y.rows();
+    return nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, real, y)), Matrix(Matrix::Ones(n, 1))),
+                   nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, fake, y)), Matrix(Matrix::Zero(n, 1))));
+  }
+  const Var x = nn::concat_cols<float>(real), g = nn::concat_cols<float>(fake);
+  Matrix eps(x.rows(), 1);
+  for (Eigen::Index i = 0; i < eps.rows(); ++i) eps(i) = static_cast<float>(rng.uniform());
+  const Matrix e = eps.replicate(1, x.cols());
+  const Matrix mixed = (e.array() * x.value().array() + (1 - e.array()) * g.value().array()).matrix();
+  const Var wasserstein = nn::sub(nn::mean((*m.clip_critic)(pd, g, y)), nn::mean((*m.clip_critic)(pd, x, y)));
+  const Var penalty = m.clip_critic->gradient_penalty(pd, x.tape->constant(mixed), y);
+  return nn::add(wasserstein, nn::scale(penalty, static_cast<float>(c.gp_lambda)));
+}
+
+// The generator's adversarial term for its frames: -log D (non-saturating), or -critic.
+Var adversarial_term(const ActganModel& m, const nn::Bound<float>& pd, const std::vector<Var>& frames, Var y) {
+  if (!m.clip_critic)
+    return nn::bce_with_logits((*m.disc)(pd, discriminator_input(m.config, frames, y)), Matrix(Matrix::Ones(y.rows(), 1)));
+  return nn::scale(nn::mean((*m.clip_critic)(pd, nn::concat_cols<float>(frames), y)), -1.0f);
+}
+
+// One discriminator update against a fresh batch of real and generated clips; its loss.
+double discriminator_step(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
+  const auto& c = m.config;
+  const int n = m.training.batch;
+  std::vector<Matrix> real;
+  std::vector<int> labels;
+  draw_clips(d, n, m.rng, real, labels);
+  const Matrix y = one_hot<float>(labels, c.classes);
+  const auto noise = draw_generator_noise<float>(c, n, d.length, m.rng);
+  tape.clear();
+  const std::vector<Matrix> fake = values(generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, y, noise).frames);
+  tape.clear();
+  auto& store = m.discriminator_store();
+  store.zero_grad();
+  const auto pd = store.bind(tape);
+  const auto real_seen = with_instance_noise(constants(tape, real), m.training.disc_noise, m.rng);  // real first
+  const auto fake_seen = with_instance_noise(constants(tape, fake), m.training.disc_noise, m.rng);
+  const Var loss = discriminator_loss(m, pd, real_seen, fake_seen, tape.constant(y), m.rng);
+  tape.backward(loss);
+  store.collect(pd);
+  m.adam.disc->step(store.values(), store.grads());
+  return mean_value(loss);
+}
+
+}  // namespace
+
 LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape) {
   if (m.training.classifier_only) return classifier_iteration(m, d, tape);
   const auto& tr = m.training;
@@ -213,26 +273,7 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
   std::vector<Matrix> real;
   std::vector<int> labels;
   double disc_loss = 0;
-  const Matrix ones = Matrix::Ones(n, 1), zeros = Matrix::Zero(n, 1);
-  for (int k = 0; k < tr.d_steps; ++k) {
-    draw_clips(d, n, m.rng, real, labels);
-    const Matrix y = one_hot<float>(labels, c.classes);
-    const auto noise = draw_generator_noise<float>(c, n, d.length, m.rng);
-    tape.clear();
-    const std::vector<Matrix> fake = values(generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, y, noise).frames);
-    tape.clear();
-    m.disc->store().zero_grad();
-    const auto pd = m.disc->store().bind(tape);
-    const Var yv = tape.constant(y);
-    const auto real_seen = with_instance_noise(constants(tape, real), tr.disc_noise, m.rng);  // real first
-    const auto fake_seen = with_instance_noise(constants(tape, fake), tr.disc_noise, m.rng);
-    const Var loss = nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, real_seen, yv)), ones),
-                             nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, fake_seen, yv)), zeros));
-    tape.backward(loss);
-    m.disc->store().collect(pd);
-    m.adam.disc->step(m.disc->store().values(), m.disc->store().grads());
-    disc_loss = mean_value(loss);
-  }
+  for (int k = 0; k < tr.d_steps; ++k) disc_loss = discriminator_step(m, d, tape);
   double total = 0, adv = 0, smooth = 0, cycle = 0;
   for (int k = 0; k < tr.g_steps; ++k) {
     draw_clips(d, n, m.rng, real, labels);
@@ -243,12 +284,11 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     m.cls->store().zero_grad();
     // --freeze-decoder (the authors' code): the pre-trained decoder stays as it is.
     const auto pg = tr.train_decoder ? m.gen->store().bind(tape) : m.gen->store().bind_except(tape, "gen.decoder.");
-    const auto pd = m.disc->store().bind_constant(tape);  // not trained in this step
+    const auto pd = m.discriminator_store().bind_constant(tape);  // not trained in this step
     const auto pc = m.cls->store().bind(tape);
     const Var yv = tape.constant(y);
     const GeneratedSequences<float> g = generate_from_noise(*m.gen, pg, tape, y, noise);
-    const Var a = nn::bce_with_logits(
-        (*m.disc)(pd, discriminator_input(c, with_instance_noise(g.frames, tr.disc_noise, m.rng), yv)), ones);
+    const Var a = adversarial_term(m, pd, with_instance_noise(g.frames, tr.disc_noise, m.rng), yv);
     const Var o = smoothness(c, g);
     Var loss = nn::add(a, o);
     Var cyc = tape.constant(Matrix::Zero(1, 1));
@@ -366,6 +406,7 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
     check_resumable(ck, m, ckpt);
     m.gen = std::move(ck.gen);  // the state; the settings (and --iterations) are this run's
     m.disc = std::move(ck.disc);
+    m.clip_critic = std::move(ck.clip_critic);
     m.cls = std::move(ck.cls);
     m.critic = std::move(ck.critic);
     m.adam = std::move(ck.adam);

@@ -1,6 +1,7 @@
 // Gradient checks (double) of ActGAN's networks on tiny sizes: the generator (frames and
 // smoothness), the discriminator and classifier, the generator's whole adversarial + cycle loss
-// through both, and the critic's gradient penalty (a gradient of a gradient).
+// through both or through a critic of whole clips, and the critic's gradient penalty (a gradient
+// of a gradient).
 #include <catch2/catch.hpp>
 
 #include "core/error.h"
@@ -156,7 +157,7 @@ TEST_CASE("ActGAN: the generator's loss through discriminator and classifier", "
 TEST_CASE("ActGAN: the critic's input gradient and its gradient penalty", "[models][actgan]") {
   ActganConfig c = tiny();
   Rng rng(4);
-  FrameCritic<double> critic(c, rng);
+  Critic<double> critic(c, c.pose, "critic", rng);
   const auto x = random(3, 6, 10), y = one_hot<double>({0, 1, 1}, 2);
   // the penalty's gradient w.r.t. the critic's weights (through the input gradient)
   auto r = nn::gradient_check(
@@ -186,6 +187,36 @@ TEST_CASE("ActGAN: the critic's input gradient and its gradient penalty", "[mode
     expected += (std::sqrt(sq) - 1) * (std::sqrt(sq) - 1) / 3;
   }
   CHECK(penalty == Approx(expected).epsilon(1e-6));
+}
+
+TEST_CASE("ActGAN: the generator's loss through a critic of whole clips", "[models][actgan]") {
+  // --discriminator critic: the critic reads the 4 generated frames side by side [B, 4 P]; the
+  // generator's term -mean critic(x_1..x_4, y) and the penalty at a clip, checked as above.
+  ActganConfig c = tiny();
+  Rng rng(5);
+  ActganGenerator<double> g(c, rng);
+  Critic<double> critic(c, 4 * c.pose, "disc", rng);
+  CHECK(critic.store().views().front().rows == 4 * c.pose + c.classes);
+  GenInputs in;
+  const auto pd = values(critic.store());
+  auto r = nn::gradient_check(
+      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& w) {
+        nn::Bound<double> bd;
+        for (const auto& m : pd) bd.vars.push_back(t.constant(m));
+        const auto s = in.run(g, t, nn::Bound<double>{w});
+        return nn::add(nn::scale(nn::mean(critic(bd, nn::concat_cols<double>(s.frames), t.constant(in.y))), -1.0),
+                       smoothness(c, s));
+      },
+      values(g.store()));
+  INFO(r.report);
+  CHECK(r.max_error <= 1e-6);
+  auto rp = nn::gradient_check(
+      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& w) {
+        return critic.gradient_penalty(nn::Bound<double>{w}, t.constant(random(2, 4 * c.pose, 11)), t.constant(in.y));
+      },
+      pd);
+  INFO(rp.report);
+  CHECK(rp.max_error <= 1e-6);
 }
 
 TEST_CASE("ActGAN: --step-init small starts the generator near its h_1", "[models][actgan]") {
