@@ -159,7 +159,7 @@ $(AG)/%/latent.png: $(AG)/%/model-latent2.h5
 $(AG)/%/curve.png: $(AG)/%/model.h5
 	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n 7 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; \
-	  set title '$*: ActGAN training (pre-training rows: critic loss and Wasserstein estimate)'; set xlabel 'iteration'; \
+	  set title '$*: ActGAN training (to $(AG_PRETRAIN): the pre-training critic; after: the GAN)'; set xlabel 'iteration'; \
 	  plot '$(@:.png=.txt)' using 1:3 with linespoints title 'discriminator / critic loss', \
 	       '' using 1:4 with linespoints title 'adversarial (G) / Wasserstein estimate', \
 	       '' using 1:5 with linespoints title 'smoothness', '' using 1:6 with linespoints title 'cycle (classifier CE)'"

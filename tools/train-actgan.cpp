@@ -124,7 +124,8 @@ int main(int argc, char** argv) {
       "  train-actgan --pretrain-iterations 500 --iterations 1000 --batch 16 utk.h5 -o utk-actgan.h5\n"
       "  train-actgan --smoothness none actions.h5 -o no-smooth.h5          # paper Table 5\n"
       "  train-actgan --direct-latent actions.h5 -o direct.h5               # paper Table 6\n"
-      "  train-actgan --validation-subjects 4 actions.h5 -o val.h5          # choose --iterations");
+      "  train-actgan --validation-subjects 4 actions.h5 -o val.h5          # choose --iterations\n"
+      "  train-actgan --discriminator critic --d-steps 5 actions.h5 -o c.h5 # the pipeline's choice");
   return tool.run(argc, argv, [&] {
     opt.net.smoothness = smoothness;
     opt.net.residual = !direct;

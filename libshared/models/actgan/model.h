@@ -26,9 +26,8 @@ struct ActganTraining {
   int d_steps = 1;                          ///< discriminator steps per iteration (k)
   int g_steps = 2;                          ///< generator + classifier steps per iteration
   double lr = 1e-4, lr_pretrain = 1e-3;     ///< Adam, betas 0.5 / 0.9
-  /// The discriminator's Adam learning rate in the GAN phase (0: lr, as the paper). A slower
-  /// discriminator than generator (two time-scale updates, Heusel et al. 2017) keeps it from
-  /// winning before the generator has learned anything.
+  /// The discriminator's Adam learning rate in the GAN phase (0: lr, as the paper); lower for a
+  /// discriminator slower than the generator (two time-scale updates, Heusel et al. 2017)
   double disc_lr = 0;
   double discriminator_lr() const { return disc_lr > 0 ? disc_lr : lr; }
   /// Train only the classifier, on the real clips (the paper's Baseline_T/G: a classifier

@@ -207,10 +207,6 @@ LossTerms classifier_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
   return {ce, 0, 0, 0, ce, 0};
 }
 
-}  // namespace
-
-namespace {
-
 // The discriminator's loss on real and generated clips (frames as the discriminator sees them):
 // binary cross-entropy of the BiLSTM, or the critic's Wasserstein loss with the gradient penalty
 // at random points between the two (eps drawn from rng, one per clip).
