@@ -31,7 +31,8 @@ AG_PRETRAIN ?= 1000
 # 2,300) and at 800 on UTKinect (subject 9 held out; every measure's minimum there). The
 # direct-pose baseline and the ablations train against the same critic.
 # AG_ITERATIONS, when set, overrides the per-set counts.
-AG_GAN ?= --discriminator critic --d-steps 5
+AG_CRITIC := --discriminator critic --d-steps 5
+AG_GAN ?= $(AG_CRITIC)
 synthetic_AG_ITERATIONS := 600
 utkinect_AG_ITERATIONS := 800
 AG_ITERATIONS ?=
@@ -146,13 +147,15 @@ $(AG)/%/mixed.png: $(AG)/%/model.h5
 	$(BIN)/gen-actgan -q -f --mix $($*_MIX) --count 3 --seed 8 $< -o $(AG)/$*/mixed.h5
 	$(BIN)/classify-actions --probabilities $< $(AG)/$*/mixed.h5 | sed -n '/^sequence/,$$p' > $(AG)/$*/mixed.md
 	$(BIN)/render-mesh -q -f $(AG)/$*/mixed.h5 --every 3 --size 100 --view 30,10 \
-	  --title "$*: generated for the mixture $($*_MIX)" -o $@
+	  --title "$*: generated for the mixture $($*_MIX) (in brackets: its stored label, the first strongest class)" -o $@
 $(AG)/%/latent.png: $(AG)/%/model-latent2.h5
 	$(BIN)/gen-actgan -q -f --count 5 --seed 9 --latents $(AG)/$*/latent.tsv $< -o $(AG)/$*/latent.h5
 	rm -f $(AG)/$*/latent-*.txt
 	awk -F'\t' '/^#/ || !NF { next } { split($$1, a, "~"); f = "$(AG)/$*/latent-" a[1] ".txt"; \
 	  if ($$1 != seen[f]) { if (seen[f] != "") print "" > f; seen[f] = $$1 } print $$3, $$4 > f }' $(AG)/$*/latent.tsv
 	gnuplot -e "set terminal pngcairo size 760,600; set output '$@'; set key outside right; \
+	  set linetype 9 lc rgb '#8c564b'; set linetype 10 lc rgb '#e377c2'; set linetype 11 lc rgb '#7f7f7f'; \
+	  set linetype 12 lc rgb '#bcbd22'; set linetype cycle 12; \
 	  set title '$*: 2-D latent trajectories h_t of one model, 5 per class (paper Fig. 3)'; \
 	  files = system('ls $(AG)/$*/latent-*.txt'); \
 	  plot for [f in files] f using 1:2 with lines title system('basename '.f.' .txt | sed s/latent-//')"
@@ -209,9 +212,9 @@ ours-noise0.3_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-noise 0.3
 ours-nocls_VAL := --pretrain-iterations $(AG_PRETRAIN) --no-classifier
 ours-dlr1e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-lr 1e-5
 ours-nocls-dlr1e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --no-classifier --disc-lr 1e-5
-ours-critic_VAL := --pretrain-iterations $(AG_PRETRAIN) --discriminator critic --d-steps 5
+ours-critic_VAL := --pretrain-iterations $(AG_PRETRAIN) $(AG_CRITIC)
 pose_VAL := --pretrain-iterations 0 --generator pose
-pose-critic_VAL := --pretrain-iterations 0 --generator pose --discriminator critic --d-steps 5
+pose-critic_VAL := --pretrain-iterations 0 --generator pose $(AG_CRITIC)
 ours_VAL_LABEL := ours (paper defaults: sigma1 0.05, the decoder learns on)
 ours-frozen_VAL_LABEL := decoder fixed (--freeze-decoder, the authors' code)
 ours-frozen-s1.6_VAL_LABEL := decoder fixed, sigma1 1.6 (0.05 summed over our batch of 32)

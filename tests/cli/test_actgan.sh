@@ -10,6 +10,9 @@ export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
 synth-actions -q --classes walk,wave,squat --per-class 8 --frames 24 --seed 1 -o raw.h5
 skel2h5 -q raw.h5 --length 12 --clip-stride 6 --test-fraction 0.25 --seed 2 -o clips.h5
 tiny=(--noise 4 --latent 3 --hidden 16 --fc 32 --batch 8 --pretrain-batch 16 --print-every 10 --seed 3)
+# A model's /config attribute: attr NAME FILE (a number), sattr NAME FILE (a string).
+attr() { h5dump -a /config/$1 $2 | grep -A1 DATA | tail -1 | sed 's/.*: *//'; }
+sattr() { h5dump -a /config/$1 -y $2 | sed -n 's/^ *"\(.*\)"$/\1/p'; }
 
 # --- thread independence and resume
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --threads 1 clips.h5 -o m1.h5
@@ -45,7 +48,7 @@ echo "ok (frozen decoder)"
 # --- --step-init small: the generator's output layer starts at 0.01 x its Glorot draw; stored,
 # checked on --resume, refused for the pose baseline
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 --step-init small clips.h5 -o m-small.h5
-[ "$(h5dump -a /config/step_init -y m-small.h5 | sed -n 's/^ *"\(.*\)"$/\1/p')" = small ] || fail "step_init not stored"
+[ "$(sattr step_init m-small.h5)" = small ] || fail "step_init not stored"
 run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --step-init small --resume --checkpoint m-half.h5 clips.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-actgan; expect_err "step-init"
 run train-actgan "${tiny[@]}" --generator pose --pretrain-iterations 0 --iterations 2 --step-init small clips.h5 -o x.h5
@@ -59,7 +62,7 @@ echo "ok (step init)"
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 5 --disc-input motion --disc-pool all clips.h5 -o m-authors.h5
 h5check -q --kind actgan-model m-authors.h5
 for a in disc_input:motion disc_pool:all; do
-  [ "$(h5dump -a /config/${a%%:*} -y m-authors.h5 | sed -n 's/^ *"\(.*\)"$/\1/p')" = "${a#*:}" ] || fail "${a%%:*} not stored"
+  [ "$(sattr ${a%%:*} m-authors.h5)" = "${a#*:}" ] || fail "${a%%:*} not stored"
 done
 h5dump -H -d /params/disc.head.0.weight m-authors.h5 | grep -q "( 384, 32 )" || fail "the head does not read every step"
 gen-actgan -q --seed 4 --count 2 --length 20 m-authors.h5 -o gen-authors.h5
@@ -79,7 +82,7 @@ train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-noi
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-noise 0.2 --threads 2 clips.h5 -o m-noise2.h5
 run h5diff m-noise1.h5 m-noise2.h5 /params; expect_rc 0
 run h5diff -q m1.h5 m-noise1.h5 /params/gen.lstm.wx; expect_rc 1
-[ "$(h5dump -a /config/disc_noise m-noise1.h5 | grep -A1 DATA | tail -1 | sed 's/.*: *//')" = 0.2 ] || fail "disc_noise not stored"
+[ "$(attr disc_noise m-noise1.h5)" = 0.2 ] || fail "disc_noise not stored"
 run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-noise 0.2 --resume --checkpoint m-half.h5 clips.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-actgan; expect_err "disc-noise"
 run train-actgan "${tiny[@]}" --disc-noise -1 clips.h5 -o x.h5
@@ -91,7 +94,6 @@ echo "ok (instance noise)"
 # changes the training, checked on --resume, not negative
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-lr 1e-5 clips.h5 -o m-dlr.h5
 run h5diff -q m1.h5 m-dlr.h5 /params/gen.lstm.wx; expect_rc 1
-attr() { h5dump -a /config/$1 $2 | grep -A1 DATA | tail -1 | sed 's/.*: *//'; }
 [ "$(attr disc_lr m-dlr.h5)" = 1e-05 ] || fail "disc_lr not stored: $(attr disc_lr m-dlr.h5)"
 [ "$(attr disc_lr m1.h5)" = "$(attr lr m1.h5)" ] || fail "disc_lr is not lr by default"
 run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --disc-lr 1e-5 --resume --checkpoint m-half.h5 clips.h5 -o x.h5
@@ -112,8 +114,8 @@ run h5diff m-crit1.h5 m-crit2.h5 /params; expect_rc 0
 train-actgan -q "${tiny[@]}" "${crit[@]}" --iterations 5 clips.h5 -o m-crit-half.h5
 train-actgan -q "${tiny[@]}" "${crit[@]}" --iterations 20 --resume --checkpoint m-crit-half.h5 clips.h5 -o m-crit-resumed.h5
 run h5diff m-crit1.h5 m-crit-resumed.h5 /params; expect_rc 0
-[ "$(h5dump -a /config/discriminator -y m-crit1.h5 | sed -n 's/^ *"\(.*\)"$/\1/p')" = critic ] || fail "discriminator not stored"
-frames=$(h5dump -a /config/length m-crit1.h5 | grep -A1 DATA | tail -1 | sed 's/.*: *//')
+[ "$(sattr discriminator m-crit1.h5)" = critic ] || fail "discriminator not stored"
+frames=$(attr length m-crit1.h5)
 h5dump -H -d /params/disc.0.weight m-crit1.h5 | grep -q "( $((frames * 60 + 3)), " || fail "the critic does not read whole clips"
 gen-actgan -q --seed 4 --count 2 m-crit1.h5 -o gen-crit.h5
 run train-actgan "${tiny[@]}" "${crit[@]}" --iterations 20 --resume --checkpoint m-half.h5 clips.h5 -o x.h5

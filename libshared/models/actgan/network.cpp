@@ -104,6 +104,19 @@ nn::Var<T> Critic<T>::operator()(const nn::Bound<T>& p, Var x, Var y) const {
 }
 
 template <class T>
+typename Critic<T>::Loss Critic<T>::wgan_gp_loss(const nn::Bound<T>& p, Var real, Var fake, Var y,
+                                                 const nn::Matrix<T>& eps, T lambda) const {
+  const nn::Matrix<T> e = eps.replicate(1, real.cols());
+  const nn::Matrix<T> mixed = (e.array() * real.value().array() + (1 - e.array()) * fake.value().array()).matrix();
+  Loss l;
+  l.real_score = nn::mean((*this)(p, real, y));
+  l.fake_score = nn::mean((*this)(p, fake, y));
+  l.penalty = gradient_penalty(p, real.tape->constant(mixed), y);
+  l.loss = nn::add(nn::sub(l.fake_score, l.real_score), nn::scale(l.penalty, lambda));
+  return l;
+}
+
+template <class T>
 nn::Var<T> Critic<T>::gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const {
   const Var g = nn::slice_cols(mlp_.input_gradient(p, nn::concat_cols<T>({x, y})), 0, width_);
   const Var norm = nn::sqrt(nn::add_scalar(nn::sum_cols(nn::square(g)), T(1e-12)));

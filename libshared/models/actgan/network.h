@@ -126,6 +126,13 @@ class Critic {
   nn::ParameterStore<T>& store() { return store_; }
   const nn::ParameterStore<T>& store() const { return store_; }
   Var operator()(const nn::Bound<T>& p, Var x, Var y) const;  ///< scores [B, 1]
+  /// The WGAN-GP loss mean critic(fake) - mean critic(real) + lambda x gradient_penalty at
+  /// eps_r real_r + (1 - eps_r) fake_r (eps [B, 1] in [0, 1]), and its parts; real and fake are
+  /// constants [B, width], scored in that order.
+  struct Loss {
+    Var loss, real_score, fake_score, penalty;
+  };
+  Loss wgan_gp_loss(const nn::Bound<T>& p, Var real, Var fake, Var y, const nn::Matrix<T>& eps, T lambda) const;
   /// mean over rows of (|grad_x critic(x, y)| - 1)^2, differentiable w.r.t. the critic's weights.
   Var gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const;
 

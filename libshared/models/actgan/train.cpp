@@ -127,6 +127,13 @@ std::vector<Matrix> values(const std::vector<Var>& v) {
 
 float mean_value(Var v) { return v.value().mean(); }
 
+// n draws of U(0, 1) as a column (the gradient penalty's interpolation weights).
+Matrix uniform_column(Eigen::Index n, Rng& rng) {
+  Matrix eps(n, 1);
+  for (Eigen::Index i = 0; i < n; ++i) eps(i) = static_cast<float>(rng.uniform());
+  return eps;
+}
+
 // Instance noise (--disc-noise): x_t + sigma N(0, I) per frame, the noise a constant drawn from
 // rng; x itself without noise (and nothing drawn) when sigma is 0.
 std::vector<Var> with_instance_noise(const std::vector<Var>& x, double sigma, Rng& rng) {
@@ -152,25 +159,20 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
     draw_frames(d, n, m.rng, x, labels);
     const Matrix y = one_hot<float>(labels, m.config.classes);
     for (Eigen::Index i = 0; i < h.size(); ++i) h.data()[i] = static_cast<float>(m.rng.normal());
-    Matrix eps(n, 1);
-    for (Eigen::Index i = 0; i < n; ++i) eps(i) = static_cast<float>(m.rng.uniform());
+    const Matrix eps = uniform_column(n, m.rng);
     tape.clear();
     const Matrix fake = m.gen->decode(m.gen->store().bind_constant(tape), tape.constant(h), tape.constant(y)).value();
-    const Matrix mixed = (eps.replicate(1, d.pose).array() * x.array() + (1 - eps.replicate(1, d.pose).array()) * fake.array()).matrix();
     tape.clear();
     m.critic->store().zero_grad();
     const auto pc = m.critic->store().bind(tape);
-    const Var yv = tape.constant(y);
-    const Var real_score = nn::mean((*m.critic)(pc, tape.constant(x), yv));
-    const Var fake_score = nn::mean((*m.critic)(pc, tape.constant(fake), yv));
-    const Var penalty = m.critic->gradient_penalty(pc, tape.constant(mixed), yv);
-    const Var loss = nn::add(nn::sub(fake_score, real_score), nn::scale(penalty, static_cast<float>(m.config.gp_lambda)));
-    tape.backward(loss);
+    const Var yv = tape.constant(y), real = tape.constant(x), generated = tape.constant(fake);
+    const auto l = m.critic->wgan_gp_loss(pc, real, generated, yv, eps, static_cast<float>(m.config.gp_lambda));
+    tape.backward(l.loss);
     m.critic->store().collect(pc);
     m.adam.critic->step(m.critic->store().values(), m.critic->store().grads());
-    critic_loss = mean_value(loss);
-    wasserstein = mean_value(real_score) - mean_value(fake_score);
-    gp = mean_value(penalty);
+    critic_loss = mean_value(l.loss);
+    wasserstein = mean_value(l.real_score) - mean_value(l.fake_score);
+    gp = mean_value(l.penalty);
   }
   const Matrix y = one_hot<float>(draw_labels(d, n, m.rng), m.config.classes);
   for (Eigen::Index i = 0; i < h.size(); ++i) h.data()[i] = static_cast<float>(m.rng.normal());
@@ -218,14 +220,8 @@ Var discriminator_loss(const ActganModel& m, const nn::Bound<float>& pd, const s
     return nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, real, y)), Matrix(Matrix::Ones(n, 1))),
                    nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, fake, y)), Matrix(Matrix::Zero(n, 1))));
   }
-  const Var x = nn::concat_cols<float>(real), g = nn::concat_cols<float>(fake);
-  Matrix eps(x.rows(), 1);
-  for (Eigen::Index i = 0; i < eps.rows(); ++i) eps(i) = static_cast<float>(rng.uniform());
-  const Matrix e = eps.replicate(1, x.cols());
-  const Matrix mixed = (e.array() * x.value().array() + (1 - e.array()) * g.value().array()).matrix();
-  const Var wasserstein = nn::sub(nn::mean((*m.clip_critic)(pd, g, y)), nn::mean((*m.clip_critic)(pd, x, y)));
-  const Var penalty = m.clip_critic->gradient_penalty(pd, x.tape->constant(mixed), y);
-  return nn::add(wasserstein, nn::scale(penalty, static_cast<float>(c.gp_lambda)));
+  const Var x = nn::concat_cols<float>(real), g = nn::concat_cols<float>(fake);  // [B, T·P]
+  return m.clip_critic->wgan_gp_loss(pd, x, g, y, uniform_column(y.rows(), rng), static_cast<float>(c.gp_lambda)).loss;
 }
 
 // The generator's adversarial term for its frames: -log D (non-saturating), or -critic.

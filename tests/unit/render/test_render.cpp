@@ -188,6 +188,21 @@ TEST_CASE(
   CHECK(bar_ticks(0, 0.25) == std::vector<double>{0, 0.0625, 0.125, 0.1875, 0.25});
 }
 
+TEST_CASE("render: a title longer than the grid widens the sheet instead of being cut", "[render]") {
+  SheetSpec spec;
+  spec.rows = 1, spec.cols = 2, spec.panel_width = 60, spec.panel_height = 60;
+  spec.row_labels = {"one"};
+  const SheetLayout plain = layout_sheet(spec);
+  spec.title = "a title that is clearly much longer than two panels of sixty pixels";
+  const SheetLayout L = layout_sheet(spec);
+  Canvas scratch(1, 1, spec.background);
+  CHECK(L.width > plain.width);
+  CHECK(L.width >= L.left + scratch.text_width(spec.title, 16, true));
+  CHECK(L.left == plain.left);  // the panels stay where they were
+  spec.title = "short";
+  CHECK(layout_sheet(spec).width == plain.width);  // a title that fits changes nothing
+}
+
 // The golden picture: a torus coloured by height, oblique view, smooth shading, no text (fonts
 // differ between machines). Regenerate only on purpose: `make update-golden` (sets
 // DF_UPDATE_GOLDEN=1 for this test) and review the new PNG.
