@@ -186,7 +186,7 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 AG_VAL_ITERATIONS ?= 1000
 AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 ours-small ours-small-s6.4 \
   ours-lr2e-5 ours-small-lr2e-5 ours-dmotion ours-dmotion-lr2e-5 ours-dall ours-dauthors ours-dauthors-lr2e-5 \
-  ours-noise0.1 ours-noise0.3 ours-nocls ours-dlr1e-5 ours-nocls-dlr1e-5 ours-critic pose pose-critic
+  ours-noise0.1 ours-noise0.3 ours-nocls ours-dlr1e-5 ours-nocls-dlr1e-5 ours-critic ours-critic-normal pose pose-critic
 synthetic_VAL_SUBJECTS := 4
 utkinect_VAL_SUBJECTS := 9
 # The data's own level: the real clips of the other training subjects against the held-out ones,
@@ -213,6 +213,7 @@ ours-nocls_VAL := --pretrain-iterations $(AG_PRETRAIN) --no-classifier
 ours-dlr1e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --disc-lr 1e-5
 ours-nocls-dlr1e-5_VAL := --pretrain-iterations $(AG_PRETRAIN) --no-classifier --disc-lr 1e-5
 ours-critic_VAL := --pretrain-iterations $(AG_PRETRAIN) $(AG_CRITIC)
+ours-critic-normal_VAL := --pretrain-iterations $(AG_PRETRAIN) $(AG_CRITIC) --start normal
 pose_VAL := --pretrain-iterations 0 --generator pose
 pose-critic_VAL := --pretrain-iterations 0 --generator pose $(AG_CRITIC)
 ours_VAL_LABEL := ours (paper defaults: sigma1 0.05, the decoder learns on)
@@ -235,6 +236,7 @@ ours-nocls_VAL_LABEL := no classifier and no cycle loss (--no-classifier)
 ours-dlr1e-5_VAL_LABEL := the discriminator 10x slower than the generator (--disc-lr 1e-5)
 ours-nocls-dlr1e-5_VAL_LABEL := no classifier, the discriminator 10x slower
 ours-critic_VAL_LABEL := a Wasserstein critic of whole clips with gradient penalty, 5 critic steps per iteration (--discriminator critic --d-steps 5)
+ours-critic-normal_VAL_LABEL := the critic, each sequence's latent starting at h_1 ~ N(0, I), the decoder's pre-training distribution (--start normal)
 pose_VAL_LABEL := $(AG_LABEL_pose)
 pose-critic_VAL_LABEL := direct-pose RNN baseline against the same critic (--discriminator critic --d-steps 5)
 # $(call ag_val_from,MODEL): its pre-training iterations (the GAN's rows come after them)

@@ -53,6 +53,12 @@ int main(int argc, char** argv) {
                 "decoder's N(0, I) range)")
       ->default_val(opt.net.step_init)
       ->check(CLI::IsMember({"glorot", "small"}));
+  n->add_option("--start", opt.net.start,
+                "Where each sequence's latent starts: uniform (h_1 ~ U(-1, 1) per dimension, the\n"
+                "authors' code) or normal (h_1 ~ N(0, I), the distribution the decoder was\n"
+                "pre-trained on); gen-actgan draws as the model was trained")
+      ->default_val(opt.net.start)
+      ->check(CLI::IsMember({"uniform", "normal"}));
   n->add_option("--discriminator", opt.net.discriminator,
                 "The GAN's discriminator: bilstm (the paper's bidirectional LSTM, binary\n"
                 "cross-entropy) or critic (a Wasserstein critic MLP on the whole clip [x_1..x_T, y]\n"

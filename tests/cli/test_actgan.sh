@@ -56,6 +56,25 @@ expect_rc 2; expect_one_error_line train-actgan; expect_err "step-init"
 [ -f x.h5 ] && fail "output written after an error"
 echo "ok (step init)"
 
+# --- --start normal: each sequence's latent starts at h_1 ~ N(0, I) instead of U(-1, 1); stored,
+# used by gen-actgan (first latents beyond +-1 appear with it and never without), checked on
+# --resume, refused when unknown
+train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 --start normal clips.h5 -o m-normal.h5
+[ "$(sattr start m-normal.h5)" = normal ] || fail "start not stored"
+[ "$(sattr start m1.h5)" = uniform ] || fail "start is not uniform by default"
+beyond_one() { awk -F'\t' '!/^#/ && $2 == 0 { for (i = 3; i <= NF; ++i) n += ($i > 1 || $i < -1) } END { print n + 0 }' "$1"; }
+gen-actgan -q --count 20 --latents lat-normal.tsv m-normal.h5 -o gen-normal.h5
+gen-actgan -q --count 20 --latents lat-uniform.tsv m1.h5 -o gen-uniform.h5
+n_normal=$(beyond_one lat-normal.tsv) n_uniform=$(beyond_one lat-uniform.tsv)
+[ "$n_uniform" = 0 ] && [ "$n_normal" -gt 20 ] ||
+  fail "first latents beyond +-1: $n_normal of 180 with --start normal (about 57 expected), $n_uniform without (0 expected)"
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --start normal --resume --checkpoint m-half.h5 clips.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-actgan; expect_err "start"
+run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 2 --start sideways clips.h5 -o x.h5
+expect_rc 2; expect_err "start: sideways not in"
+[ -f x.h5 ] && fail "output written after an error"
+echo "ok (start: $n_normal of 180 first latents beyond +-1 from N(0, I), $n_uniform from U(-1, 1))"
+
 # --- --disc-input motion --disc-pool all (the authors' discriminator): trains, stored, its head
 # reads all 12 steps of [x_t, x_t - x_{t-1}, y] (2 x 16 x 12 inputs), checked on --resume;
 # gen-actgan and classify-actions read the model (the classifier keeps any length)

@@ -47,6 +47,7 @@ void write_config(h5::File& f, const ActganModel& m) {
   f.set_attr("/config", "fc", c.fc);
   f.set_attr("/config", "residual", static_cast<int>(c.residual));
   f.set_attr("/config", "step_init", c.step_init);
+  f.set_attr("/config", "start", c.start);
   f.set_attr("/config", "generator", c.generator);
   f.set_attr("/config", "smoothness", c.smoothness);
   f.set_attr("/config", "sigma1", c.sigma1);
@@ -90,6 +91,8 @@ void read_config(const h5::File& f, ActganModel& m) {
   c.residual = i("residual") != 0;
   // Absent in files written before the option: those started from the Glorot draw.
   c.step_init = f.has_attr("/config", "step_init") ? f.attr_string("/config", "step_init") : "glorot";
+  // Absent before --start: every model started at U(-1, 1).
+  c.start = f.has_attr("/config", "start") ? f.attr_string("/config", "start") : "uniform";
   c.generator = f.has_attr("/config", "generator") ? f.attr_string("/config", "generator") : "latent";
   c.smoothness = f.attr_string("/config", "smoothness");
   c.sigma1 = d("sigma1");

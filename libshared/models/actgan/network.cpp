@@ -15,6 +15,7 @@ template <class T>
 ActganGenerator<T>::ActganGenerator(const ActganConfig& c, Rng& rng) : config_(c) {
   if (c.generator != "latent" && c.generator != "pose")
     throw UsageError("the generator must be 'latent' or 'pose'");
+  if (c.start != "uniform" && c.start != "normal") throw UsageError("--start must be uniform or normal");
   lstm_ = nn::LstmCell<T>(store_, "gen.lstm", c.noise + c.classes, c.hidden, rng);
   if (c.generator == "pose") {
     to_latent_ = nn::Linear<T>(store_, "gen.to_pose", c.hidden, c.pose, rng);
@@ -126,7 +127,9 @@ nn::Var<T> Critic<T>::gradient_penalty(const nn::Bound<T>& p, Var x, Var y) cons
 template <class T>
 GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, int length, Rng& rng) {
   GeneratorNoise<T> g{nn::Matrix<T>(n, c.latent), {}};
-  for (Eigen::Index k = 0; k < g.h1.size(); ++k) g.h1.data()[k] = static_cast<T>(rng.uniform(-1, 1));
+  const bool normal = c.start == "normal";
+  for (Eigen::Index k = 0; k < g.h1.size(); ++k)
+    g.h1.data()[k] = static_cast<T>(normal ? rng.normal() : rng.uniform(-1, 1));
   for (int t = c.generator == "pose" ? 0 : 1; t < length; ++t) {
     nn::Matrix<T> m(n, c.noise);
     for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<T>(rng.normal());

@@ -39,6 +39,11 @@ struct ActganConfig {
   /// growing from 0.57 to 2.5 over 30 frames before any training, out of the N(0, I) range the
   /// decoder was pre-trained on (its poses grow with the latent's radius)
   std::string step_init = "glorot";
+  /// Where each sequence's latent starts: h_1 ~ "uniform" U(-1, 1) per dimension (the authors'
+  /// code; RMS 0.58, inside the range the decoder was pre-trained on, so the first poses are
+  /// less varied than the data's) or "normal" N(0, I), the decoder's pre-training distribution.
+  /// The direct-pose baseline draws it too and does not use it.
+  std::string start = "uniform";
   /// Omega = sigma1 sum |h_t - h_{t-1}|^2 + sigma2 sum |x_t - x_{t-1}|^2 per sequence; which
   /// terms: "both", "latent", "action" or "none" (paper Table 5)
   std::string smoothness = "both";

@@ -52,6 +52,7 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   differs("fc", a.fc, b.fc);
   differs("direct-latent", !a.residual, !b.residual);
   differs("step-init", a.step_init, b.step_init);
+  differs("start", a.start, b.start);
   differs("generator", a.generator, b.generator);
   differs("smoothness", a.smoothness, b.smoothness);
   differs("sigma1", a.sigma1, b.sigma1);
