@@ -37,24 +37,29 @@ TRAIN_THREADS ?= 0
 # BD_REAL_ITERATIONS, by default the paper's 7,000 (about 3.5 hours each on 2 cores, side by side;
 # README); the validation runs (bdlstm-validation) stop at 1,500, where pcow's validation error is
 # still falling, so they give no smaller count. BD_REAL_ITERATIONS=1500 trains to their horizon.
-# S_SHAPE: the set's training options but the iteration count (the validation runs share them).
+# S_SHAPE: the set's training options but the iteration count (the validation runs share them);
+# S_WINDOW: its training window (validation candidates swap in their own).
 # Windows of 64 frames on the finger (the others keep 32): chosen on the finger's validation part
 # against 32 and 96 (bdlstm-validation; README, issue 18).
-finger_SHAPE := --window 64 --batch 8 --teacher-frames 3
+finger_WINDOW := 64
+finger_SHAPE := --window $(finger_WINDOW) --batch 8 --teacher-frames 3
 finger_TRAIN := --iterations 2000 $(finger_SHAPE)
 finger_LENGTH := 15
 finger_EVERY := 4
-faerie_SHAPE := --window 8 --batch 8 --test-fraction 0.5
+faerie_WINDOW := 8
+faerie_SHAPE := --window $(faerie_WINDOW) --batch 8 --test-fraction 0.5
 faerie_TRAIN := --iterations 1000 $(faerie_SHAPE)
 faerie_LENGTH := 5
 faerie_EVERY := 1
-pcow_SHAPE := --window 32 --batch 8 --teacher-frames 3 --test-part random
+pcow_WINDOW := 32
+pcow_SHAPE := --window $(pcow_WINDOW) --batch 8 --teacher-frames 3 --test-part random
 BD_REAL_ITERATIONS ?= 7000
 pcow_TRAIN := --iterations $(BD_REAL_ITERATIONS) $(pcow_SHAPE)
 pcow_LENGTH := 15
 pcow_EVERY := 2
 chickenCrossing_STRIDE := 2
-chickenCrossing_SHAPE := --window 32 --batch 8 --stride $(chickenCrossing_STRIDE) --teacher-frames 3 --test-part random
+chickenCrossing_WINDOW := 32
+chickenCrossing_SHAPE := --window $(chickenCrossing_WINDOW) --batch 8 --stride $(chickenCrossing_STRIDE) --teacher-frames 3 --test-part random
 chickenCrossing_TRAIN := --iterations $(BD_REAL_ITERATIONS) $(chickenCrossing_SHAPE)
 chickenCrossing_LENGTH := 15
 chickenCrossing_EVERY := 2
@@ -301,23 +306,24 @@ BD_CANDIDATES ?= paper remedies no-kl window64
 paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero
 remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small
 no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero
-paper_WINDOW := 32
-remedies_WINDOW := 32
-no-kl_WINDOW := 32
+paper_CANDIDATE_WINDOW := 32
+remedies_CANDIDATE_WINDOW := 32
+no-kl_CANDIDATE_WINDOW := 32
 # Longer training windows (the paper's form otherwise): a chain runs free at most a window's
 # length in training, while the long generation runs 300 frames.
 window64_CANDIDATE := $(paper_CANDIDATE)
-window64_WINDOW := 64
+window64_CANDIDATE_WINDOW := 64
 window96_CANDIDATE := $(paper_CANDIDATE)
-window96_WINDOW := 96
+window96_CANDIDATE_WINDOW := 96
 
 .PHONY: bdlstm-validation
 bdlstm-validation: $(foreach s,$(BD_VALIDATION_SETS),$(BD)/$(s)/validation.md)
 	@for s in $(BD_VALIDATION_SETS); do echo; cat $(BD)/$$s/validation.md; echo "plot: $(BD)/$$s/validation.png"; done
 
-validation_args = --iterations $(BD_VALIDATION_ITERATIONS) $(call shape_window,$(1),$($(2)_WINDOW)) --validation-fraction $(BD_VALIDATION_FRACTION) $($(2)_CANDIDATE)
-# $(call shape_window,SET,W): the set's training options with --window W.
-shape_window = $(shell echo '$($(1)_SHAPE)' | sed 's/--window [0-9]*/--window $(2)/')
+# The set's training options with the candidate's window in place of the set's.
+validation_args = --iterations $(BD_VALIDATION_ITERATIONS) \
+  $(subst --window $($(1)_WINDOW) ,--window $($(2)_CANDIDATE_WINDOW) ,$($(1)_SHAPE)) \
+  --validation-fraction $(BD_VALIDATION_FRACTION) $($(2)_CANDIDATE)
 define CANDIDATE_RULES
 $(BD)/%/validate/$(1).args: FORCE
 	@mkdir -p $$(@D)
