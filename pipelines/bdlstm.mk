@@ -34,9 +34,11 @@ TRAIN_THREADS ?= 0
 # keeps moving (feature change 0.016 per frame vs 0.0056 without, 2,000 iterations each). pcow and
 # chickenCrossing hold out 20% placed by the seed (--test-part random, default seed 1), as the
 # paper "randomly excludes a subsequence": pcow frames 144-184, chickenCrossing 77-156. They train
-# BD_REAL_ITERATIONS, by default the paper's 7,000 (about 3.5 hours each on 2 cores, side by side;
-# README); the validation runs (bdlstm-validation) stop at 1,500, where pcow's validation error is
-# still falling, so they give no smaller count. BD_REAL_ITERATIONS=1500 trains to their horizon.
+# BD_REAL_ITERATIONS, by default the paper's 7,000 (about 3.5 hours each on 2 cores, side by side,
+# on 32-frame windows; pcow's 64-frame windows take about twice as long per iteration; README);
+# the validation runs (bdlstm-validation) stop at 1,500 and give no smaller count (the finger's
+# and chickenCrossing's errors are lowest at 1,000-1,500; pcow's at iteration 100, where the network
+# still predicts almost no motion). BD_REAL_ITERATIONS=1500 trains to their horizon.
 # S_SHAPE: the set's training options but the iteration count (the validation runs share them);
 # S_WINDOW: its training window (validation candidates swap in their own).
 # Windows of 64 frames on the finger and pcow (chickenCrossing keeps 32, faerie 8): chosen on
