@@ -37,7 +37,7 @@ TRAIN_THREADS ?= 0
 # BD_REAL_ITERATIONS, by default the paper's 7,000 (about 3.5 hours each on 2 cores, side by side,
 # on 32-frame windows; pcow's 64-frame windows take about twice as long per iteration; README);
 # the validation runs (bdlstm-validation) stop at 1,500 and give no smaller count (the finger's
-# errors are lowest at 1,100-1,500; pcow's and chickenCrossing's never get below zero motion's and
+# errors are lowest late in the run; pcow's and chickenCrossing's never get below zero motion's and
 # are lowest at iteration 100, where the network still predicts almost no motion, but for
 # chickenCrossing's paper form, at 1,000). BD_REAL_ITERATIONS=1500 trains to their horizon.
 # S_SHAPE: the set's training options but the iteration count (the validation runs share them);
