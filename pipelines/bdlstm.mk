@@ -40,30 +40,35 @@ TRAIN_THREADS ?= 0
 # errors are lowest late in the run; pcow's and chickenCrossing's never get below zero motion's and
 # are lowest at iteration 100, where the network still predicts almost no motion, but for
 # chickenCrossing's paper form, at 1,000). BD_REAL_ITERATIONS=1500 trains to their horizon.
-# S_SHAPE: the set's training options but the iteration count (the validation runs share them);
-# S_WINDOW: its training window (validation candidates swap in their own).
+# S_WINDOW: the set's training window; S_OPTIONS: its other training options but the iteration
+# count (the validation runs share them, with each candidate's window in front).
+# S_SHAPE: both, as the set trains.
 # Windows of 64 frames on the finger and pcow (chickenCrossing keeps 32, faerie 8): chosen on
 # their validation parts, the finger's against 32 and 96, pcow's against 32 (bdlstm-validation;
 # README, issue 18).
 finger_WINDOW := 64
-finger_SHAPE := --window $(finger_WINDOW) --batch 8 --teacher-frames 3
+finger_OPTIONS := --batch 8 --teacher-frames 3
+finger_SHAPE := --window $(finger_WINDOW) $(finger_OPTIONS)
 finger_TRAIN := --iterations 2000 $(finger_SHAPE)
 finger_LENGTH := 15
 finger_EVERY := 4
 faerie_WINDOW := 8
-faerie_SHAPE := --window $(faerie_WINDOW) --batch 8 --test-fraction 0.5
+faerie_OPTIONS := --batch 8 --test-fraction 0.5
+faerie_SHAPE := --window $(faerie_WINDOW) $(faerie_OPTIONS)
 faerie_TRAIN := --iterations 1000 $(faerie_SHAPE)
 faerie_LENGTH := 5
 faerie_EVERY := 1
 pcow_WINDOW := 64
-pcow_SHAPE := --window $(pcow_WINDOW) --batch 8 --teacher-frames 3 --test-part random
+pcow_OPTIONS := --batch 8 --teacher-frames 3 --test-part random
+pcow_SHAPE := --window $(pcow_WINDOW) $(pcow_OPTIONS)
 BD_REAL_ITERATIONS ?= 7000
 pcow_TRAIN := --iterations $(BD_REAL_ITERATIONS) $(pcow_SHAPE)
 pcow_LENGTH := 15
 pcow_EVERY := 2
 chickenCrossing_STRIDE := 2
 chickenCrossing_WINDOW := 32
-chickenCrossing_SHAPE := --window $(chickenCrossing_WINDOW) --batch 8 --stride $(chickenCrossing_STRIDE) --teacher-frames 3 --test-part random
+chickenCrossing_OPTIONS := --batch 8 --stride $(chickenCrossing_STRIDE) --teacher-frames 3 --test-part random
+chickenCrossing_SHAPE := --window $(chickenCrossing_WINDOW) $(chickenCrossing_OPTIONS)
 chickenCrossing_TRAIN := --iterations $(BD_REAL_ITERATIONS) $(chickenCrossing_SHAPE)
 chickenCrossing_LENGTH := 15
 chickenCrossing_EVERY := 2
@@ -315,23 +320,20 @@ no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero
 paper_CANDIDATE_WINDOW := 32
 remedies_CANDIDATE_WINDOW := 32
 no-kl_CANDIDATE_WINDOW := 32
-# Longer training windows (the paper's form otherwise): a chain runs free at most a window's
-# length in training, while the long generation runs 300 frames.
-window64_CANDIDATE := $(paper_CANDIDATE)
-window64_CANDIDATE_WINDOW := 64
-window96_CANDIDATE := $(paper_CANDIDATE)
-window96_CANDIDATE_WINDOW := 96
-window48_CANDIDATE := $(paper_CANDIDATE)
-window48_CANDIDATE_WINDOW := 48
+# Longer training windows, windowN for any N: the paper's form with N-frame windows (a chain runs
+# free at most a window's length in training, while the long generation runs 300 frames).
+$(foreach c,$(filter window%,$(BD_CANDIDATES)),$(eval $(c)_CANDIDATE := $(paper_CANDIDATE))\
+  $(eval $(c)_CANDIDATE_WINDOW := $(patsubst window%,%,$(c))))
+$(foreach c,$(BD_CANDIDATES),$(if $($(c)_CANDIDATE_WINDOW),,\
+  $(error BD_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl or windowN, N frames))))
 
 .PHONY: bdlstm-validation
 bdlstm-validation: $(foreach s,$(BD_VALIDATION_SETS),$(BD)/$(s)/validation.md)
 	@for s in $(BD_VALIDATION_SETS); do echo; cat $(BD)/$$s/validation.md; echo "plot: $(BD)/$$s/validation.png"; done
 
-# The set's training options with the candidate's window in place of the set's.
-validation_args = --iterations $(BD_VALIDATION_ITERATIONS) \
-  $(subst --window $($(1)_WINDOW) ,--window $($(2)_CANDIDATE_WINDOW) ,$($(1)_SHAPE)) \
-  --validation-fraction $(BD_VALIDATION_FRACTION) $($(2)_CANDIDATE)
+# The set's training options with the candidate's window.
+validation_args = --iterations $(BD_VALIDATION_ITERATIONS) --window $($(2)_CANDIDATE_WINDOW) \
+  $($(1)_OPTIONS) --validation-fraction $(BD_VALIDATION_FRACTION) $($(2)_CANDIDATE)
 define CANDIDATE_RULES
 $(BD)/%/validate/$(1).args: FORCE
 	@mkdir -p $$(@D)

@@ -67,3 +67,24 @@ train "--iterations 6" model-no-kl
 train "--iterations 6" model-no-kl "--no-kl --seed 2"
 [ "$(runs)" = 4 ] || fail "new ablation flags did not retrain the ablation model ($(runs) runs in all)"
 echo "ok (retrain on new options)"
+
+# Validation candidates: windowN trains the paper's form on N-frame windows with the set's other
+# options, a named candidate keeps its own window, an unknown name is refused before anything runs.
+cat >fakebin/train-bdlstm <<'SH'
+#!/bin/sh
+for a; do [ "${prev:-}" = -o ] && out=$a; prev=$a; done
+echo "$*" >"$out.argv"; touch "$out"
+SH
+validate() { make -s -C "$DF_SOURCE" -f Makefile.data "$DF_TMP/out/bdlstm/tiny/validate/$1.h5" BIN="$DF_TMP/fakebin" \
+               OUT="$DF_TMP/out" DATA="$DF_TMP/data" tiny_OPTIONS="--batch 2 --stride 3" BD_CANDIDATES="$2"; }
+validate window48 "paper window48" >/dev/null 2>&1 || fail "the window48 candidate did not train"
+grep -q -- "--window 48 --batch 2 --stride 3 --validation-fraction" out/bdlstm/tiny/validate/window48.h5.argv &&
+  grep -q -- "--l2-scope all --l2-weight 1 --decoder-init zero" out/bdlstm/tiny/validate/window48.h5.argv ||
+  fail "window48 did not train the paper's form on 48-frame windows: $(cat out/bdlstm/tiny/validate/window48.h5.argv)"
+validate paper "paper window48" >/dev/null 2>&1 || fail "the paper candidate did not train"
+grep -q -- "--window 32 --batch 2 --stride 3 " out/bdlstm/tiny/validate/paper.h5.argv ||
+  fail "the paper candidate lost its 32-frame window: $(cat out/bdlstm/tiny/validate/paper.h5.argv)"
+msg=$(validate bogus "paper bogus" 2>&1) && fail "an unknown candidate was accepted"
+echo "$msg" | grep -q "no candidate 'bogus'" || fail "unknown candidate: unclear message: $msg"
+[ ! -e out/bdlstm/tiny/validate/bogus.h5 ] || fail "an unknown candidate trained"
+echo "ok (validation candidates)"
