@@ -1,17 +1,20 @@
 // One LSTM layer over a whole sequence as one tape node (see layers.h). Forward: the input
 // products of all steps are one matrix product, then the steps run in order, each adding
 // h_{t-1} W_h. Backward: back through time for the gate gradients dZ (each step one product
-// with W_hᵀ), then the weight and input gradients of all steps as one product each.
+// with W_hᵀ), then the weight and input gradients of all steps as one product each. The
+// per-step products use W_h (forward) and W_hᵀ (backward) packed once (packed_product.h).
 #include <fmt/format.h>
 
 #include "core/error.h"
 #include "nn/layers.h"
+#include "nn/packed_product.h"
 #include "nn/parallel_product.h"
 
 namespace df::nn {
 namespace {
-using detail::parallel_product;
-using detail::product_into_grad;
+using detail::pack_rhs;
+using detail::packed_product;
+using detail::packed_product_into_grad;
 using Eigen::Index;
 
 // Activates the pre-activations z [B, 4H] in place: i, f, o sigmoid; g tanh.
@@ -45,15 +48,16 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
   auto gates = std::make_shared<Matrix<T>>(TB, 4 * H);
   auto cells = std::make_shared<Matrix<T>>(TB, H);
   Matrix<T> out(TB, H);
-  parallel_product<T>(*gates, x.value(), wx.value(), false);
+  packed_product<T>(*gates, x.value(), pack_rhs(wx.value(), false), false);
   gates->rowwise() += b.value().row(0);
+  const auto wh_packed = pack_rhs(wh.value(), false);
   for (Index s = 0; s < order.steps; ++s) {
     const Index r = order(s) * B, rp = s ? order(s - 1) * B : -1;
     auto z = gates->middleRows(r, B);
     if (s)
-      parallel_product<T>(z, out.middleRows(rp, B), wh.value(), true);
+      packed_product<T>(z, out.middleRows(rp, B), wh_packed, true);
     else
-      parallel_product<T>(z, h0.value(), wh.value(), true);
+      packed_product<T>(z, h0.value(), wh_packed, true);
     activate_gates(z, H);
     const Eigen::Map<const Matrix<T>> c_prev(s ? cells->data() + rp * H : c0.value().data(), B, H);
     cells->middleRows(r, B) = z.middleCols(H, H).cwiseProduct(c_prev) +
@@ -71,6 +75,7 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
         const Matrix<T>& Hs = t.value(io);
         const Index TB = G.rows();
         Matrix<T> dZ(TB, 4 * H), dh = Matrix<T>::Zero(B, H), dc = Matrix<T>::Zero(B, H);
+        const auto wht_packed = pack_rhs(t.value(iwh), true);
         for (Index s = order.steps - 1; s >= 0; --s) {
           const Index r = order(s) * B, rp = s ? order(s - 1) * B : -1;
           const auto z = gates->middleRows(r, B);
@@ -89,21 +94,23 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
           dz.rightCols(H).array() = dh.array() * tc * o * (T(1) - o);
           dc.array() *= f;
           if (s || t.requires_grad(ih))
-            parallel_product<T>(dh, dz, t.value(iwh).transpose(), false);
+            packed_product<T>(dh, dz, wht_packed, false);
         }
         if (t.requires_grad(ih)) t.grad(ih) += dh;
         if (t.requires_grad(ic)) t.grad(ic) += dc;
+        const detail::PackedRhs<T> dz_packed =
+            t.requires_grad(iwh) || t.requires_grad(iwx) ? pack_rhs(dZ, false) : detail::PackedRhs<T>{};
         if (t.requires_grad(
                 iwh)) {  // Σ_t h_{t-1}ᵀ dZ_t as one product: the previous h of every step
           Matrix<T> h_prev(TB, H);
           for (Index s = 0; s < order.steps; ++s)
             h_prev.middleRows(order(s) * B, B) =
                 s ? Hs.middleRows(order(s - 1) * B, B) : t.value(ih);
-          product_into_grad(t, iwh, h_prev.transpose(), dZ);
+          packed_product_into_grad(t, iwh, h_prev.transpose(), dz_packed);
         }
-        if (t.requires_grad(iwx)) product_into_grad(t, iwx, t.value(ix).transpose(), dZ);
+        if (t.requires_grad(iwx)) packed_product_into_grad(t, iwx, t.value(ix).transpose(), dz_packed);
         if (t.requires_grad(ib)) t.add_to_grad(ib, dZ.colwise().sum());
-        if (t.requires_grad(ix)) product_into_grad(t, ix, dZ, t.value(iwx).transpose());
+        if (t.requires_grad(ix)) packed_product_into_grad(t, ix, dZ, pack_rhs(t.value(iwx), true));
       });
 }
 
