@@ -1,14 +1,14 @@
 // One LSTM layer over a whole sequence as one tape node (see layers.h). Forward: the input
 // products of all steps are one matrix product, then the steps run in order, each adding
 // h_{t-1} W_h. Backward: back through time for the gate gradients dZ (each step one product
-// with W_hᵀ), then the weight and input gradients of all steps as one product each. The
-// per-step products use W_h (forward) and W_hᵀ (backward) packed once (packed_product.h).
+// with W_hᵀ), then the weight and input gradients of all steps as one product each. Every
+// product's right-hand side is packed once (packed_product.h): W_x, W_h for the forward steps,
+// W_hᵀ for the backward steps, dZ for both weight gradients, W_xᵀ for the input gradient.
 #include <fmt/format.h>
 
 #include "core/error.h"
 #include "nn/layers.h"
 #include "nn/packed_product.h"
-#include "nn/parallel_product.h"
 
 namespace df::nn {
 namespace {
@@ -93,13 +93,13 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
           dz.middleCols(2 * H, H).array() = dc.array() * i * (T(1) - g.square());
           dz.rightCols(H).array() = dh.array() * tc * o * (T(1) - o);
           dc.array() *= f;
-          if (s || t.requires_grad(ih))
-            packed_product<T>(dh, dz, wht_packed, false);
+          if (s || t.requires_grad(ih)) packed_product<T>(dh, dz, wht_packed, false);
         }
         if (t.requires_grad(ih)) t.grad(ih) += dh;
         if (t.requires_grad(ic)) t.grad(ic) += dc;
-        const detail::PackedRhs<T> dz_packed =
-            t.requires_grad(iwh) || t.requires_grad(iwx) ? pack_rhs(dZ, false) : detail::PackedRhs<T>{};
+        const detail::PackedRhs<T> dz_packed = t.requires_grad(iwh) || t.requires_grad(iwx)
+                                                   ? pack_rhs(dZ, false)
+                                                   : detail::PackedRhs<T>{};
         if (t.requires_grad(
                 iwh)) {  // Σ_t h_{t-1}ᵀ dZ_t as one product: the previous h of every step
           Matrix<T> h_prev(TB, H);
@@ -108,7 +108,8 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
                 s ? Hs.middleRows(order(s - 1) * B, B) : t.value(ih);
           packed_product_into_grad(t, iwh, h_prev.transpose(), dz_packed);
         }
-        if (t.requires_grad(iwx)) packed_product_into_grad(t, iwx, t.value(ix).transpose(), dz_packed);
+        if (t.requires_grad(iwx))
+          packed_product_into_grad(t, iwx, t.value(ix).transpose(), dz_packed);
         if (t.requires_grad(ib)) t.add_to_grad(ib, dZ.colwise().sum());
         if (t.requires_grad(ix)) packed_product_into_grad(t, ix, dZ, pack_rhs(t.value(iwx), true));
       });

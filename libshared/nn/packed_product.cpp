@@ -92,8 +92,8 @@ void last_rows(T* c, Index ldc, const T* a, Index rs, Index cs, Index rows, cons
 
 // All rows of C against one panel, kTileRows at a time.
 template <class T>
-void panel_product(T* c, Index ldc, const T* a, Index rs, Index cs, Index m, const T* panel, Index K,
-                   Index cols, bool accumulate_into) {
+void panel_product(T* c, Index ldc, const T* a, Index rs, Index cs, Index m, const T* panel,
+                   Index K, Index cols, bool accumulate_into) {
   Index r = 0;
   for (; r + kTileRows <= m; r += kTileRows)
     tile<T, kTileRows>(c + r * ldc, ldc, a + r * rs, rs, cs, panel, K, cols, accumulate_into);
@@ -132,7 +132,8 @@ void packed_product(T* c, Index ldc, const T* a, Index rs, Index cs, Index m, co
     panel_product(c + j0, ldc, a, rs, cs, m, w.data.data() + q * w.k * w.width, w.k,
                   std::min(w.width, w.n - j0), accumulate_into);
   };
-  if (static_cast<double>(m) * static_cast<double>(w.k) * static_cast<double>(w.n) < kParallelWork) {
+  if (static_cast<double>(m) * static_cast<double>(w.k) * static_cast<double>(w.n) <
+      kParallelWork) {
     for (Index q = 0; q < panels; ++q) run(q);
     return;
   }
@@ -143,10 +144,9 @@ template struct PackedRhs<float>;
 template struct PackedRhs<double>;
 template PackedRhs<float> pack_rhs(const Matrix<float>&, bool);
 template PackedRhs<double> pack_rhs(const Matrix<double>&, bool);
-template void packed_product(float*, Index, const float*, Index, Index, Index, const PackedRhs<float>&,
-                             bool);
+template void packed_product(float*, Index, const float*, Index, Index, Index,
+                             const PackedRhs<float>&, bool);
 template void packed_product(double*, Index, const double*, Index, Index, Index,
-                             const PackedRhs<double>&,
-                             bool);
+                             const PackedRhs<double>&, bool);
 
 }  // namespace df::nn::detail

@@ -1,5 +1,6 @@
-#include <catch2/catch.hpp>
 #include <tbb/global_control.h>
+
+#include <catch2/catch.hpp>
 
 #include "core/rng.h"
 #include "nn/packed_product.h"
@@ -20,7 +21,8 @@ Matrix<T> random(Index r, Index c, std::uint64_t seed) {
 
 // C0 + A · op(W) summed in long double, one element at a time.
 template <class T>
-Matrix<long double> reference(const Matrix<T>& c0, const Matrix<T>& a, const Matrix<T>& w, bool transpose) {
+Matrix<long double> reference(const Matrix<T>& c0, const Matrix<T>& a, const Matrix<T>& w,
+                              bool transpose) {
   Matrix<long double> c = c0.template cast<long double>();
   for (Index i = 0; i < c.rows(); ++i)
     for (Index j = 0; j < c.cols(); ++j)
@@ -40,8 +42,8 @@ void check_against_reference(double tolerance) {
         for (bool transpose : {false, true})
           for (bool a_transposed : {false, true})
             for (bool accumulate : {false, true}) {
-              INFO("m " << m << " k " << k << " n " << n << " Wᵀ " << transpose << " Aᵀ " << a_transposed
-                        << " accumulate " << accumulate);
+              INFO("m " << m << " k " << k << " n " << n << " Wᵀ " << transpose << " Aᵀ "
+                        << a_transposed << " accumulate " << accumulate);
               const Matrix<T> w = transpose ? random<T>(n, k, ++seed) : random<T>(k, n, ++seed);
               const Matrix<T> a = random<T>(m, k, ++seed), at = a.transpose();
               const Matrix<T> c0 = random<T>(m, n, ++seed);
@@ -53,23 +55,28 @@ void check_against_reference(double tolerance) {
                 packed_product<T>(c, at.transpose(), packed, accumulate);
               else
                 packed_product<T>(c, a, packed, accumulate);
-              const Matrix<long double> expected = reference<T>(accumulate ? c0 : Matrix<T>::Zero(m, n), a, w, transpose);
-              const long double error = (c.template cast<long double>() - expected).cwiseAbs().maxCoeff();
+              const Matrix<long double> expected =
+                  reference<T>(accumulate ? c0 : Matrix<T>::Zero(m, n), a, w, transpose);
+              const long double error =
+                  (c.template cast<long double>() - expected).cwiseAbs().maxCoeff();
               CHECK(static_cast<double>(error) <= tolerance * std::sqrt(static_cast<double>(k)));
             }
 }
 }  // namespace
 
-TEST_CASE("nn packed product: A · W and A · Wᵀ against a long-double reference, every remainder", "[nn]") {
+TEST_CASE("nn packed product: A · W and A · Wᵀ against a long-double reference, every remainder",
+          "[nn]") {
   check_against_reference<double>(1e-13);
   check_against_reference<float>(1e-5);
 }
 
-TEST_CASE("nn packed product: writes only its block of a larger matrix (middle rows, strided A)", "[nn]") {
+TEST_CASE("nn packed product: writes only its block of a larger matrix (middle rows, strided A)",
+          "[nn]") {
   const Matrix<double> w = random<double>(20, 40, 1), big_a = random<double>(30, 20, 2);
   Matrix<double> big_c = random<double>(30, 40, 3);
   const Matrix<double> before = big_c;
-  packed_product<double>(big_c.middleRows(7, 13), big_a.middleRows(3, 13), pack_rhs(w, false), true);
+  packed_product<double>(big_c.middleRows(7, 13), big_a.middleRows(3, 13), pack_rhs(w, false),
+                         true);
   CHECK(big_c.topRows(7) == before.topRows(7));
   CHECK(big_c.bottomRows(10) == before.bottomRows(10));
   const Matrix<double> expected = before.middleRows(7, 13) + big_a.middleRows(3, 13) * w;
@@ -80,7 +87,8 @@ TEST_CASE("nn packed product: results do not depend on the thread count", "[nn]"
   const Matrix<float> a = random<float>(300, 257, 4), w = random<float>(257, 130, 5);
   const auto packed = pack_rhs(w, false);
   auto run = [&](int threads) {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism,
+                          static_cast<std::size_t>(threads));
     Matrix<float> out(300, 130);
     packed_product<float>(out, a, packed, false);
     return out;
