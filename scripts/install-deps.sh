@@ -4,6 +4,7 @@
 # Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm]
 set -euo pipefail
 
+bench=0
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libopenmesh-dev libhdf5-dev hdf5-tools
@@ -13,7 +14,9 @@ packages=(
 )
 for option in "$@"; do
   case $option in
-    --with-bench) packages+=(time python3-torch libjemalloc2) ;;  # GNU time (peak memory); the PyTorch timing peer
+    --with-bench)  # GNU time (peak memory); the PyTorch timing peer and its allocators
+      packages+=(time python3-torch libtcmalloc-minimal4 libjemalloc2)
+      bench=1 ;;
     --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;         # libFuzzer + sanitizer runtimes of clang 14
     --with-slurm) packages+=(slurmctld slurmd slurm-client munge) ;;  # the tests' one-node cluster
     *) echo "install-deps: unknown option $option" >&2; exit 2 ;;
@@ -25,7 +28,13 @@ for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
   [[ "$status" == "install ok installed" ]] || missing+=("$p")
 done
-if [[ ${#missing[@]} -eq 0 ]]; then
+# The PyTorch peer's BLAS (../shared/peers/torch/README.md): OpenBLAS's OpenMP build unpacked
+# beside the system, without switching the system's libblas (Debian's torch would otherwise run
+# on the reference BLAS, ~3 GFLOP/s, and every speed-up against it would be inflated).
+openblas=/opt/openblas-openmp
+need_openblas=0
+[[ $bench -eq 1 && ! -f $openblas/usr/lib/x86_64-linux-gnu/openblas-openmp/libblas.so.3 ]] && need_openblas=1
+if [[ ${#missing[@]} -eq 0 && $need_openblas -eq 0 ]]; then
   exit 0
 fi
 
@@ -34,7 +43,17 @@ if [[ $(id -u) -ne 0 ]]; then
   command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
   sudo=(sudo)
 fi
-echo "install-deps: installing ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
 "${sudo[@]}" apt-get update -q
-"${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+if [[ ${#missing[@]} -gt 0 ]]; then
+  echo "install-deps: installing ${missing[*]}" >&2
+  "${sudo[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+if [[ $need_openblas -eq 1 ]]; then
+  echo "install-deps: unpacking libopenblas0-openmp into $openblas (for the PyTorch peer)" >&2
+  tmp=$(mktemp -d) && chmod 755 "$tmp"  # apt-get download runs as _apt
+  (cd "$tmp" && apt-get download -q libopenblas0-openmp)
+  "${sudo[@]}" mkdir -p "$openblas"
+  "${sudo[@]}" dpkg -x "$tmp"/libopenblas0-openmp_*.deb "$openblas"
+  rm -rf "$tmp"
+fi
