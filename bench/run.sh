@@ -199,6 +199,10 @@ fi
     peer_timings actgan.py --iters 6 --warmup 2
   fi
   echo
+  echo "### The LSTM products: packed once (nn/packed_product.h) against Eigen's, one thread"
+  echo
+  "$bin/bench_packed_product" --threads 1
+  echo
   echo "### MMD_u^2 of eval-metrics (1000 x 1000 sequences of [50, 60], max over 14 bandwidths)"
   echo
   echo "| case | sequences | threads | median ms | min ms | peak MiB |"
