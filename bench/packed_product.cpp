@@ -6,11 +6,12 @@
 // GFLOP/s of each (2·m·k·n per product), median of --iters timed runs of --reps products each;
 // Eigen's figure includes its own packing, ours excludes the one-time pack (timed separately).
 //   bench_packed_product [--threads N] [--iters 9] [--reps 200]
+#include "nn/packed_product.h"
+
 #include <cstdio>
 
 #include "core/rng.h"
 #include "core/tool.h"
-#include "nn/packed_product.h"
 #include "timing.h"
 
 namespace {
@@ -25,11 +26,14 @@ Matrix<float> random(Index r, Index c, df::Rng& rng) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  df::Tool tool("bench_packed_product", "Time the packed product against Eigen's (see bench/run.sh).");
+  df::Tool tool("bench_packed_product",
+                "Time the packed product against Eigen's (see bench/run.sh).");
   tool.with_threads();
   int iters = 9, reps = 200;
   tool.app().add_option("--iters", iters, "Timed runs")->default_val(iters);
-  tool.app().add_option("--reps", reps, "Products per run (the weights case: reps / 50)")->default_val(reps);
+  tool.app()
+      .add_option("--reps", reps, "Products per run (the weights case: reps / 50)")
+      ->default_val(reps);
   return tool.run(argc, argv, [&] {
     df::Rng rng(5);
     struct Case {
@@ -37,8 +41,9 @@ int main(int argc, char** argv) {
       Index m, k, n;
       bool w_transposed, a_transposed;
     };
-    for (const Case& c : {Case{"step", 32, 256, 1024, false, false}, Case{"step-back", 32, 1024, 256, true, false},
-                          Case{"weights", 256, 1600, 1024, false, true}}) {
+    for (const Case& c :
+         {Case{"step", 32, 256, 1024, false, false}, Case{"step-back", 32, 1024, 256, true, false},
+          Case{"weights", 256, 1600, 1024, false, true}}) {
       const Matrix<float> w = c.w_transposed ? random(c.n, c.k, rng) : random(c.k, c.n, rng);
       const Matrix<float> a_stored = c.a_transposed ? random(c.k, c.m, rng) : random(c.m, c.k, rng);
       Matrix<float> out = Matrix<float>::Zero(c.m, c.n);
@@ -57,7 +62,8 @@ int main(int argc, char** argv) {
         }
       });
       df::nn::detail::PackedRhs<float> packed;
-      const auto pack = df::bench::time_iterations(1, iters, [&] { packed = df::nn::detail::pack_rhs(w, c.w_transposed); });
+      const auto pack = df::bench::time_iterations(
+          1, iters, [&] { packed = df::nn::detail::pack_rhs(w, c.w_transposed); });
       const auto ours = df::bench::time_iterations(1, iters, [&] {
         for (int r = 0; r < n; ++r) {
           if (c.a_transposed)
@@ -66,10 +72,12 @@ int main(int argc, char** argv) {
             df::nn::detail::packed_product<float>(out, a_stored, packed, false);
         }
       });
-      std::printf("| %s [%ld × %ld] · [%ld × %ld] | Eigen %.1f GFLOP/s | packed %.1f GFLOP/s | pack %.3f ms |\n",
-                  c.name, static_cast<long>(c.m), static_cast<long>(c.k), static_cast<long>(c.k),
-                  static_cast<long>(c.n), gflop / eigen.median_ms * 1e3, gflop / ours.median_ms * 1e3,
-                  pack.median_ms);
+      std::printf(
+          "| %s [%ld × %ld] · [%ld × %ld] | Eigen %.1f GFLOP/s | packed %.1f GFLOP/s | pack %.3f "
+          "ms |\n",
+          c.name, static_cast<long>(c.m), static_cast<long>(c.k), static_cast<long>(c.k),
+          static_cast<long>(c.n), gflop / eigen.median_ms * 1e3, gflop / ours.median_ms * 1e3,
+          pack.median_ms);
     }
   });
 }
