@@ -14,9 +14,11 @@
 #include "nn/layers.h"
 #include "nn/train_step.h"
 #include "synth/meshseq.h"
+#include "inputs.h"
 #include "timing.h"
 
 using namespace df::nn;
+using df::bench::randn;
 
 namespace {
 struct Case {
@@ -31,12 +33,6 @@ void time_case(Case& c, int iters) {
   const auto tm = df::bench::time_iterations(5, iters, [&] { train_step<float>(t, c.store, adam, c.loss); });
   std::printf("| %s | %zu | %.2f | %.2f |\n", c.name.c_str(), c.store.size(), tm.median_ms, tm.min_ms);
   std::fflush(stdout);
-}
-
-Matrix<float> randn(Eigen::Index r, Eigen::Index c, df::Rng& rng) {
-  Matrix<float> m(r, c);
-  for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<float>(rng.normal());
-  return m;
 }
 }  // namespace
 

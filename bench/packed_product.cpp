@@ -10,19 +10,14 @@
 
 #include <cstdio>
 
-#include "core/rng.h"
 #include "core/tool.h"
+#include "inputs.h"
 #include "timing.h"
 
 namespace {
+using df::bench::randn;
 using df::nn::Matrix;
 using Eigen::Index;
-
-Matrix<float> random(Index r, Index c, df::Rng& rng) {
-  Matrix<float> m(r, c);
-  for (Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<float>(rng.normal());
-  return m;
-}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,21 +34,19 @@ int main(int argc, char** argv) {
     struct Case {
       const char* name;
       Index m, k, n;
-      bool w_transposed, a_transposed;
+      bool w_transposed, a_transposed;  // not both: no LSTM product has both
     };
     for (const Case& c :
          {Case{"step", 32, 256, 1024, false, false}, Case{"step-back", 32, 1024, 256, true, false},
           Case{"weights", 256, 1600, 1024, false, true}}) {
-      const Matrix<float> w = c.w_transposed ? random(c.n, c.k, rng) : random(c.k, c.n, rng);
-      const Matrix<float> a_stored = c.a_transposed ? random(c.k, c.m, rng) : random(c.m, c.k, rng);
+      const Matrix<float> w = c.w_transposed ? randn(c.n, c.k, rng) : randn(c.k, c.n, rng);
+      const Matrix<float> a_stored = c.a_transposed ? randn(c.k, c.m, rng) : randn(c.m, c.k, rng);
       Matrix<float> out = Matrix<float>::Zero(c.m, c.n);
       const int n = c.m * c.k * c.n > 100'000'000 ? std::max(1, reps / 50) : reps;
       const double gflop = 2.0 * static_cast<double>(c.m * c.k * c.n) * n / 1e9;
       const auto eigen = df::bench::time_iterations(1, iters, [&] {
         for (int r = 0; r < n; ++r) {
-          if (c.a_transposed && c.w_transposed)
-            out.noalias() = a_stored.transpose() * w.transpose();
-          else if (c.a_transposed)
+          if (c.a_transposed)
             out.noalias() = a_stored.transpose() * w;
           else if (c.w_transposed)
             out.noalias() = a_stored * w.transpose();

@@ -1,11 +1,11 @@
 // The network engine's product with a right-hand matrix that is used many times in a row
 // (internal to libshared/nn): an LSTM's recurrent weights, multiplied at every step of a
 // sequence (forward h_{t-1} · W_h, backward dZ_t · W_hᵀ), and the sequence's input and weight
-// products. Eigen packs both operands into its own blocked layout at every product — for B = 32
-// rows against W_h [256 × 1024] that packing was a sixth of an ActGAN iteration — and its kernel
-// ran these shapes at about 75 GFLOP/s. Here op(W) is packed once into panels two vectors wide
+// products. Eigen packs both operands into its own blocked layout at every product — W_h [256 ×
+// 1024] again at each of 50 steps; packing was about 16% of an ActGAN iteration — and its kernel
+// ran these shapes at 64-82 GFLOP/s. Here op(W) is packed once into panels two vectors wide
 // (k-major, zero-padded), and each product runs register tiles of a few rows × one panel over k
-// (99-114 GFLOP/s on the same core; numbers in packed_product.cpp).
+// (104-114 GFLOP/s on the same core; bench_packed_product, numbers in packed_product.cpp).
 //
 // Every output element is one running sum over k in order, added to (or stored in) C at the
 // end, so results never depend on the thread count (threads share out whole panels).

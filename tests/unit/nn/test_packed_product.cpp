@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/rng.h"
+#include "nn/gradient_check.h"
 #include "nn/packed_product.h"
 
 using namespace df::nn;
@@ -14,9 +15,7 @@ namespace {
 template <class T>
 Matrix<T> random(Index r, Index c, std::uint64_t seed) {
   df::Rng rng(seed, 3);
-  Matrix<T> m(r, c);
-  for (Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<T>(rng.normal());
-  return m;
+  return random_matrix(r, c, rng).cast<T>();
 }
 
 // C0 + A · op(W) summed in long double, one element at a time.
