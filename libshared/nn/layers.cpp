@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "nn/narrow_product.h"
 
 namespace df::nn {
 using Eigen::Index;
@@ -32,6 +33,12 @@ Linear<T>::Linear(ParameterStore<T>& s, const std::string& name, Index in_, Inde
 template <class T>
 Var<T> Linear<T>::operator()(const Bound<T>& p, Var<T> x) const {
   Var<T> y = matmul(x, p[w]);
+  return b >= 0 ? add(y, p[b]) : y;
+}
+
+template <class T>
+Var<T> Linear<T>::repeated(const Bound<T>& p, Var<T> x) const {
+  Var<T> y = matmul_repeated(x, p[w]);
   return b >= 0 ? add(y, p[b]) : y;
 }
 
@@ -134,61 +141,89 @@ Matrix<T> sparse_rows_product(const SparseMatrix<T>& a, const Matrix<T>& x) {
 }
 }  // namespace
 
+// The per-vertex products run in fixed blocks of vertices, all samples of a block together: the
+// neighbour means are vertex-major, so a sample's rows lie B·c_in values apart (9 KB with MSAE's
+// batch of 256), and walking one sample over all vertices touched a new page per row. A block's
+// rows of every sample stay within a few hundred kilobytes.
+constexpr Index kVertexBlock = 256;
+
+template <class T, class F>
+void for_vertex_blocks(Index V, F f) {
+  tbb::parallel_for(Index{0}, (V + kVertexBlock - 1) / kVertexBlock, [&](Index k) {
+    const Index v0 = k * kVertexBlock;
+    f(k, v0, std::min(kVertexBlock, V - v0));
+  });
+}
+
 template <class T>
 Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<const SparseMatrix<T>> a) {
   Tape<T>& t = *x.tape;
   const Index V = a->rows(), cin = wp.rows(), cout = wp.cols(), B = x.rows();
-  if (x.cols() != V * cin || wn.rows() != cin || wn.cols() != cout || bias.rows() != 1 || bias.cols() != cout)
-    throw Error(fmt::format("internal: mesh_conv of x [{},{}] with V = {}, W [{},{}]/[{},{}], b [{},{}]", x.rows(),
-                            x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(), bias.cols()));
+  if (x.cols() != V * cin || wn.rows() != cin || wn.cols() != cout || bias.rows() != 1 || bias.cols() != cout ||
+      !detail::narrow_fits(cin, cout))
+    throw Error(fmt::format("internal: mesh_conv of x [{},{}] with V = {}, W [{},{}]/[{},{}], b [{},{}] (at most {} "
+                            "channels)",
+                            x.rows(), x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(),
+                            bias.cols(), detail::kNarrowMax));
   using ConstMap = Eigen::Map<const Matrix<T>>;
   ConstMap X(x.value().data(), B * V, cin);  // a sample row [V·cin] is V rows of cin
   // Neighbour means, vertex-major [V, B·cin] (sample s in columns s·cin ..), kept for backward.
   auto Nv = std::make_shared<const Matrix<T>>(sparse_rows_product(*a, vertex_major(X, B, V)));
+  const Index ldn = B * cin;
   Matrix<T> out(B, V * cout);
-  Eigen::Map<Matrix<T>> Y(out.data(), B * V, cout);
-  // Samples in parallel (each owns its V rows of Y).
-  tbb::parallel_for(Index{0}, B, [&](Index s) {
-    auto Ys = Y.middleRows(s * V, V);
-    Ys.noalias() = X.middleRows(s * V, V) * wp.value();
-    Ys.noalias() += Nv->middleCols(s * cin, cin) * wn.value();
-    Ys.rowwise() += bias.value().row(0);
-  });
+  {
+    const auto p = detail::pack_narrow(wp.value(), false), n = detail::pack_narrow(wn.value(), false);
+    // Y_s = b + X_s W_p + N_s W_n, row by row.
+    for_vertex_blocks<T>(V, [&](Index, Index v0, Index nv) {
+      for (Index s = 0; s < B; ++s)
+        detail::narrow_product<T>(out.data() + (s * V + v0) * cout, cout, nv, X.data() + (s * V + v0) * cin, cin,
+                                  p, Nv->data() + v0 * ldn + s * cin, ldn, &n, bias.value().data(), false);
+    });
+  }
   const int ix = x.id, ip = wp.id, in = wn.id, ib = bias.id, io = static_cast<int>(t.size());
   const bool rg = x.requires_grad() || wp.requires_grad() || wn.requires_grad() || bias.requires_grad();
-  return t.record(std::move(out), rg, [&t, a, Nv, ix, ip, in, ib, io, B, V, cin, cout] {
-    ConstMap G(t.grad(io).data(), B * V, cout);
-    ConstMap X(t.value(ix).data(), B * V, cin);
-    // Weight gradients: one partial per sample (in parallel), summed in sample order — the same
-    // bits at any thread count.
+  return t.record(std::move(out), rg, [&t, a, Nv, ix, ip, in, ib, io, B, V, cin, cout, ldn] {
+    const T* G = t.grad(io).data();
+    const T* X = t.value(ix).data();
+    // Weight gradients: one partial per vertex block (in parallel) over its samples in order,
+    // the partials summed in block order — the same bits at any thread count.
     const bool gp = t.requires_grad(ip), gn = t.requires_grad(in), gb = t.requires_grad(ib);
     if (gp || gn || gb) {
-      std::vector<Matrix<T>> dp(static_cast<std::size_t>(B)), dn(static_cast<std::size_t>(B)), db(static_cast<std::size_t>(B));
-      tbb::parallel_for(Index{0}, B, [&](Index s) {
-        const auto Gs = G.middleRows(s * V, V);
-        const auto k = static_cast<std::size_t>(s);
-        if (gp) dp[k].noalias() = X.middleRows(s * V, V).transpose() * Gs;
-        if (gn) dn[k].noalias() = Nv->middleCols(s * cin, cin).transpose() * Gs;
-        if (gb) db[k] = Gs.colwise().sum();
+      const auto blocks = static_cast<std::size_t>((V + kVertexBlock - 1) / kVertexBlock);
+      std::vector<Matrix<T>> dp(blocks, Matrix<T>::Zero(cin, cout)), dn(blocks, Matrix<T>::Zero(cin, cout)),
+          db(blocks, Matrix<T>::Zero(1, cout));
+      for_vertex_blocks<T>(V, [&](Index k, Index v0, Index nv) {
+        const auto b = static_cast<std::size_t>(k);
+        for (Index s = 0; s < B; ++s)
+          detail::narrow_weight_gradients<T>(dp[b].data(), dn[b].data(), db[b].data(), nv, cin, cout,
+                                             X + (s * V + v0) * cin, cin, Nv->data() + v0 * ldn + s * cin, ldn,
+                                             G + (s * V + v0) * cout, cout, true);
       });
-      for (std::size_t k = 0; k < static_cast<std::size_t>(B); ++k) {
-        if (gp) t.grad(ip) += dp[k];
-        if (gn) t.grad(in) += dn[k];
-        if (gb) t.grad(ib) += db[k];
+      for (std::size_t b = 0; b < blocks; ++b) {
+        if (gp) t.grad(ip) += dp[b];
+        if (gn) t.grad(in) += dn[b];
+        if (gb) t.grad(ib) += db[b];
       }
     }
     if (t.requires_grad(ix)) {
-      Eigen::Map<Matrix<T>> GX(t.grad(ix).data(), B * V, cin);
-      Matrix<T> GNv(V, B * cin);  // ∂/∂(neighbour means), vertex-major
-      tbb::parallel_for(Index{0}, B, [&](Index s) {
-        GX.middleRows(s * V, V).noalias() += G.middleRows(s * V, V) * t.value(ip).transpose();
-        GNv.middleCols(s * cin, cin).noalias() = G.middleRows(s * V, V) * t.value(in).transpose();
+      T* GX = t.grad(ix).data();
+      Matrix<T> GNv(V, ldn);  // ∂/∂(neighbour means), vertex-major
+      const auto pt = detail::pack_narrow(t.value(ip), true), nt = detail::pack_narrow(t.value(in), true);
+      for_vertex_blocks<T>(V, [&](Index, Index v0, Index nv) {
+        for (Index s = 0; s < B; ++s) {
+          const T* g = G + (s * V + v0) * cout;
+          detail::narrow_product<T>(GX + (s * V + v0) * cin, cin, nv, g, cout, pt, nullptr, 0, nullptr, nullptr,
+                                    true);
+          detail::narrow_product<T>(GNv.data() + v0 * ldn + s * cin, ldn, nv, g, cout, nt, nullptr, 0, nullptr,
+                                    nullptr, false);
+        }
       });
       // Aᵀ as its own row-major matrix: the product stays a gather per output row (a product
       // with a->transpose() scatters, 3x slower); transposing costs ~0.1% of it.
       const SparseMatrix<T> at = a->transpose();
       const Matrix<T> GXv = sparse_rows_product(at, GNv);
-      tbb::parallel_for(Index{0}, B, [&](Index s) { GX.middleRows(s * V, V) += GXv.middleCols(s * cin, cin); });
+      Eigen::Map<Matrix<T>> GXm(GX, B * V, cin);
+      tbb::parallel_for(Index{0}, B, [&](Index s) { GXm.middleRows(s * V, V) += GXv.middleCols(s * cin, cin); });
     }
   });
 }

@@ -23,6 +23,8 @@ struct Linear {
   Linear() = default;
   Linear(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index out, Rng& rng, bool bias = true);
   Var<T> operator()(const Bound<T>& p, Var<T> x) const;
+  /// The same for a layer applied at every step of a sequence on one tape (matmul_repeated).
+  Var<T> repeated(const Bound<T>& p, Var<T> x) const;
 };
 
 /// Linear layers with an activation after every hidden layer (none after the last).
@@ -48,7 +50,8 @@ std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(int n_vertices, c
 
 /// Mesh convolution (SPEC §5) as one fused op: for every sample row of x [B, V·cin] and vertex i,
 /// y_i = W_pointᵀ x_i + W_nbᵀ (1/d_i) Σ_{j∈N(i)} x_j + b  →  [B, V·cout].
-/// w_point, w_nb [cin, cout]; bias [1, cout]. A transposed/tied variant passes transpose(W).
+/// w_point, w_nb [cin, cout] (at most 16 channels each way: narrow_product.h); bias [1, cout]. A
+/// transposed/tied variant passes transpose(W).
 template <class T>
 Var<T> mesh_conv(Var<T> x, Var<T> w_point, Var<T> w_nb, Var<T> bias, std::shared_ptr<const SparseMatrix<T>> a);
 

@@ -21,6 +21,11 @@ using SparseMatrix = Eigen::SparseMatrix<T, Eigen::RowMajor>;
 template <class T> Var<T> matmul(Var<T> a, Var<T> b);
 /// a [n,k] × bᵀ (b [m,k]) without forming the transpose
 template <class T> Var<T> matmul_transposed(Var<T> a, Var<T> b);
+/// x [n,k] × w [k,m] for a w that the tape multiplies many times (a recurrent model's per-step
+/// layer): w is packed once per tape for the forward products and wᵀ once for the backward ones,
+/// and w's gradient from all of its products is one product over their stacked rows, run when
+/// backward() reaches w. Same values as matmul up to float rounding.
+template <class T> Var<T> matmul_repeated(Var<T> x, Var<T> w);
 /// Fixed sparse S [n,k] × x [k,m] (e.g. a mesh neighbourhood operator); no gradient for S.
 template <class T> Var<T> sparse_matmul(std::shared_ptr<const SparseMatrix<T>> s, Var<T> x);
 template <class T> Var<T> transpose(Var<T> a);

@@ -7,30 +7,11 @@
 #include <algorithm>
 #include <cstring>
 
+#include "nn/vector_types.h"
+
 namespace df::nn::detail {
 namespace {
 
-#if defined(__AVX512F__)
-constexpr int kVectorBytes = 64;
-#elif defined(__AVX__)
-constexpr int kVectorBytes = 32;
-#else
-constexpr int kVectorBytes = 16;
-#endif
-
-template <class T>
-struct Vector;
-template <>
-struct Vector<float> {
-  typedef float type __attribute__((vector_size(kVectorBytes)));
-};
-template <>
-struct Vector<double> {
-  typedef double type __attribute__((vector_size(kVectorBytes)));
-};
-
-template <class T>
-constexpr Index kLanes = kVectorBytes / static_cast<Index>(sizeof(T));
 // A panel is two vectors wide; a tile is kTileRows rows of it: 16 accumulators of AVX-512's 32
 // registers (12 of the 16 below it). Measured on the development machine (AMD EPYC, AVX-512,
 // one core: 116 GFLOP/s of bare multiply-adds), best of 5 runs, GFLOP/s for [32 × 256] ·

@@ -1,24 +1,26 @@
 #include "nn/tape.h"
 
+#include <utility>
+
 #include "core/error.h"
 
 namespace df::nn {
 
 template <class T>
 Var<T> Tape<T>::constant(Matrix<T> value) {
-  nodes_.push_back({std::move(value), {}, false, {}});
+  nodes_.push_back({std::move(value), {}, false, {}, {}, {}});
   return {this, static_cast<int>(nodes_.size()) - 1};
 }
 
 template <class T>
 Var<T> Tape<T>::variable(Matrix<T> value) {
-  nodes_.push_back({std::move(value), {}, true, {}});
+  nodes_.push_back({std::move(value), {}, true, {}, {}, {}});
   return {this, static_cast<int>(nodes_.size()) - 1};
 }
 
 template <class T>
 Var<T> Tape<T>::record(Matrix<T> value, bool requires_grad, std::function<void()> backward) {
-  nodes_.push_back({std::move(value), {}, requires_grad, requires_grad ? std::move(backward) : nullptr});
+  nodes_.push_back({std::move(value), {}, requires_grad, requires_grad ? std::move(backward) : nullptr, {}, {}});
   return {this, static_cast<int>(nodes_.size()) - 1};
 }
 
@@ -50,6 +52,7 @@ void Tape<T>::backward(Var<T> from, const Matrix<T>& seed) {
   grad(from.id) += seed;
   for (int id = from.id; id >= 0; --id) {
     Node& n = nodes_[static_cast<std::size_t>(id)];
+    if (n.pending) std::exchange(n.pending, nullptr)();
     if (n.backward && n.grad.size() > 0) n.backward();
   }
 }

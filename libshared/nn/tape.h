@@ -81,11 +81,25 @@ class Tape {
   bool requires_grad(int id) const { return nodes_[static_cast<std::size_t>(id)].requires_grad; }
   bool has_grad(int id) const { return nodes_[static_cast<std::size_t>(id)].grad.size() > 0; }
 
+  /// Data an op keeps with node id for as long as the node lives (matmul_repeated: the node's
+  /// value packed once for all of its products); empty until an op sets it.
+  std::shared_ptr<void>& op_state(int id) { return nodes_[static_cast<std::size_t>(id)].op_state; }
+  /// Runs `f` once when backward() reaches node id — after the backward of every later node,
+  /// before id's own — so that work adding into id's gradient from many uses can run as one
+  /// (matmul_repeated: one weight-gradient product over all the steps that used the weight).
+  /// A second call before backward() reaches id keeps the first `f`.
+  void when_backward_reaches(int id, std::function<void()> f) {
+    auto& pending = nodes_[static_cast<std::size_t>(id)].pending;
+    if (!pending) pending = std::move(f);
+  }
+
  private:
   struct Node {
     Matrix<T> value, grad;
     bool requires_grad = false;
     std::function<void()> backward;
+    std::shared_ptr<void> op_state;
+    std::function<void()> pending;
   };
   std::vector<Node> nodes_;
 };

@@ -92,7 +92,7 @@ std::pair<typename BdlstmNet<T>::Var, typename BdlstmNet<T>::Var> BdlstmNet<T>::
   const Chain& ch = chains_[static_cast<std::size_t>(chain)];
   Var h = x;
   for (const auto& conv : ch.enc) h = nn::tanh(conv(p, h));
-  Var ml = ch.fc_enc(p, h);
+  Var ml = ch.fc_enc.repeated(p, h);
   return {nn::slice_cols(ml, 0, config_.latent),
           nn::slice_cols(ml, config_.latent, config_.latent)};
 }
@@ -102,7 +102,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int 
                                                      States& states) const {
   const Chain& ch = chains_[static_cast<std::size_t>(chain)];
   Var out = ch.lstm.step(p, z, states);
-  Var d = nn::tanh(ch.fc_dec(p, out));
+  Var d = nn::tanh(ch.fc_dec.repeated(p, out));
   for (std::size_t l = 0; l < ch.dec.size(); ++l) {
     d = ch.dec[l](p, d);
     if (l + 1 < ch.dec.size()) d = nn::tanh(d);

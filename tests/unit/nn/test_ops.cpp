@@ -156,6 +156,62 @@ TEST_CASE("nn ops: losses", "[nn]") {
   CHECK(mse(t.constant(M::Ones(2, 2)), t.constant(M::Zero(2, 2))).value()(0, 0) == 1.0);
 }
 
+TEST_CASE("nn ops: matmul_repeated (a weight multiplied at every step) has matmul's gradients", "[nn]") {
+  // A recurrence h_{t+1} = tanh(h_t W + x_t U) over 4 steps: W and U are each used at every step,
+  // W also by a plain matmul and a penalty, so its gradient collects the deferred product over all
+  // steps and the others. U is computed (2·u), not a leaf: the deferred product must reach U's
+  // gradient before U's own backward passes it on to u.
+  auto recurrence = [](bool repeated) {
+    return [repeated](Tape<double>&, const Vars& x) {
+      auto mm = [repeated](Var<double> a, Var<double> b) { return repeated ? matmul_repeated(a, b) : matmul(a, b); };
+      Var<double> w = x[1], u = scale(x[2], 2.0), h = x[0];
+      for (int t = 0; t < 4; ++t) h = tanh(add(mm(h, w), mm(slice_rows(x[3], 3 * t, 3), u)));
+      return add(matmul(h, w), scale(sum(square(w)), 0.01));
+    };
+  };
+  const std::vector<M> inputs{rnd(3, 5, 1), rnd(5, 5, 2), rnd(4, 5, 3), rnd(12, 4, 4)};
+  require_gradients(recurrence(true), inputs);
+  // The same values and gradients as with matmul (float rounding apart).
+  auto run = [&](bool repeated) {
+    Tape<double> t;
+    Vars v;
+    for (const auto& x : inputs) v.push_back(t.variable(x));
+    Var<double> y = recurrence(repeated)(t, v);
+    t.backward(sum(y));
+    std::vector<M> out{y.value()};
+    for (auto& x : v) out.push_back(x.grad());
+    return out;
+  };
+  const auto a = run(true), b = run(false);
+  for (std::size_t k = 0; k < a.size(); ++k) CHECK((a[k] - b[k]).cwiseAbs().maxCoeff() < 1e-13);
+  // The weight as a constant (generation): only the input gets a gradient.
+  Tape<double> t;
+  Var<double> x = t.variable(inputs[0]), w = t.constant(inputs[1]);
+  t.backward(sum(matmul_repeated(matmul_repeated(x, w), w)));
+  CHECK((x.grad() - M::Ones(3, 5) * (inputs[1] * inputs[1]).transpose()).cwiseAbs().maxCoeff() < 1e-13);
+  CHECK_FALSE(t.has_grad(w.id));
+}
+
+TEST_CASE("nn ops: matmul_repeated does not depend on the thread count", "[nn]") {
+  auto run = [](int threads) {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    df::Rng rng(12);
+    const Matrix<float> x0 = random_matrix(16, 600, rng, -1.0, 1.0).cast<float>();
+    const Matrix<float> w0 = random_matrix(600, 600, rng, -0.05, 0.05).cast<float>();
+    Tape<float> t;
+    Var<float> h = t.variable(x0), w = t.variable(w0);
+    for (int s = 0; s < 5; ++s) h = tanh(matmul_repeated(h, w));
+    Var<float> l = mean(h);
+    t.backward(l);
+    return std::tuple{l.value()(0, 0), Matrix<float>(t.grad(0)), Matrix<float>(w.grad())};
+  };
+  auto [l1, gx1, gw1] = run(1);
+  auto [l2, gx2, gw2] = run(2);
+  CHECK(l1 == l2);
+  CHECK(gx1 == gx2);
+  CHECK(gw1 == gw2);
+}
+
 TEST_CASE("nn tape: composite graphs, gradients accumulate over uses, float instantiation", "[nn]") {
   // A small two-layer network with every kind of op chained.
   require_gradients(

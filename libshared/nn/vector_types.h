@@ -1,0 +1,32 @@
+// SIMD vectors for the engine's own product kernels (internal to libshared/nn): GCC/Clang vector
+// extensions, so the compiler picks the instructions for the build's -march (AVX-512 where the
+// machine has it, SSE2 at the least).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace df::nn::detail {
+
+#if defined(__AVX512F__)
+constexpr int kVectorBytes = 64;
+#elif defined(__AVX__)
+constexpr int kVectorBytes = 32;
+#else
+constexpr int kVectorBytes = 16;
+#endif
+
+template <class T>
+struct Vector;
+template <>
+struct Vector<float> {
+  typedef float type __attribute__((vector_size(kVectorBytes)));
+};
+template <>
+struct Vector<double> {
+  typedef double type __attribute__((vector_size(kVectorBytes)));
+};
+
+template <class T>
+constexpr Eigen::Index kLanes = kVectorBytes / static_cast<Eigen::Index>(sizeof(T));
+
+}  // namespace df::nn::detail
