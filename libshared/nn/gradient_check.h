@@ -82,4 +82,11 @@ inline Matrix<double> random_matrix(Eigen::Index rows, Eigen::Index cols, Rng& r
   return m;
 }
 
+/// The same in [-1, 1] as T from a seed of its own (tests of the product kernels).
+template <class T>
+Matrix<T> seeded_matrix(Eigen::Index rows, Eigen::Index cols, std::uint64_t seed) {
+  Rng rng(seed, 3);
+  return random_matrix(rows, cols, rng).cast<T>();
+}
+
 }  // namespace df::nn

@@ -15,12 +15,6 @@ using Eigen::Index;
 
 namespace {
 template <class T>
-Matrix<T> random(Index r, Index c, std::uint64_t seed) {
-  df::Rng rng(seed, 4);
-  return random_matrix(r, c, rng).cast<T>();
-}
-
-template <class T>
 long double max_error(const Matrix<T>& got, const Matrix<long double>& expected) {
   return (got.template cast<long double>() - expected).cwiseAbs().maxCoeff();
 }
@@ -37,10 +31,12 @@ void check_product(double tolerance) {
         const bool accumulate = n % 2 == 1, transpose = k % 2 == 0;
         INFO("k " << k << " n " << n << " m " << m << " two terms " << two_terms << " bias "
                   << with_bias << " accumulate " << accumulate << " Wᵀ " << transpose);
-        const Matrix<T> a = random<T>(m, k + 3, ++seed), b = random<T>(m, k + 5, ++seed);
-        const Matrix<T> w = transpose ? random<T>(n, k, ++seed) : random<T>(k, n, ++seed);
-        const Matrix<T> u = random<T>(k, n, ++seed), bias = random<T>(1, n, ++seed);
-        const Matrix<T> c0 = random<T>(m, n + 2, ++seed);
+        const Matrix<T> a = seeded_matrix<T>(m, k + 3, ++seed),
+                        b = seeded_matrix<T>(m, k + 5, ++seed);
+        const Matrix<T> w =
+            transpose ? seeded_matrix<T>(n, k, ++seed) : seeded_matrix<T>(k, n, ++seed);
+        const Matrix<T> u = seeded_matrix<T>(k, n, ++seed), bias = seeded_matrix<T>(1, n, ++seed);
+        const Matrix<T> c0 = seeded_matrix<T>(m, n + 2, ++seed);
         const auto pw = pack_narrow(w, transpose), pu = pack_narrow(u, false);
         Matrix<T> c = c0;
         narrow_product<T>(c.data(), c.cols(), m, a.data(), a.cols(), pw,
@@ -71,10 +67,11 @@ void check_weight_gradients(double tolerance) {
         const bool accumulate = (k + n + m) % 2 == 0, with_u = k % 3 != 0;
         INFO("k " << k << " n " << n << " m " << m << " accumulate " << accumulate << " dU "
                   << with_u);
-        const Matrix<T> a = random<T>(m, k + 2, ++seed), b = random<T>(m, k + 1, ++seed);
-        const Matrix<T> g = random<T>(m, n + 1, ++seed);
-        const Matrix<T> dw0 = random<T>(k, n, ++seed), du0 = random<T>(k, n, ++seed),
-                        db0 = random<T>(1, n, ++seed);
+        const Matrix<T> a = seeded_matrix<T>(m, k + 2, ++seed),
+                        b = seeded_matrix<T>(m, k + 1, ++seed);
+        const Matrix<T> g = seeded_matrix<T>(m, n + 1, ++seed);
+        const Matrix<T> dw0 = seeded_matrix<T>(k, n, ++seed), du0 = seeded_matrix<T>(k, n, ++seed),
+                        db0 = seeded_matrix<T>(1, n, ++seed);
         Matrix<T> dw = dw0, du = du0, db = db0;
         narrow_weight_gradients<T>(dw.data(), with_u ? du.data() : nullptr, db.data(), m, k, n,
                                    a.data(), a.cols(), b.data(), b.cols(), g.data(), g.cols(),

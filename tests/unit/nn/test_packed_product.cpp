@@ -12,12 +12,6 @@ using detail::packed_product;
 using Eigen::Index;
 
 namespace {
-template <class T>
-Matrix<T> random(Index r, Index c, std::uint64_t seed) {
-  df::Rng rng(seed, 3);
-  return random_matrix(r, c, rng).cast<T>();
-}
-
 // C0 + A · op(W) summed in long double, one element at a time.
 template <class T>
 Matrix<long double> reference(const Matrix<T>& c0, const Matrix<T>& a, const Matrix<T>& w,
@@ -43,9 +37,9 @@ void check_against_reference(double tolerance) {
             for (bool accumulate : {false, true}) {
               INFO("m " << m << " k " << k << " n " << n << " Wᵀ " << transpose << " Aᵀ "
                         << a_transposed << " accumulate " << accumulate);
-              const Matrix<T> w = transpose ? random<T>(n, k, ++seed) : random<T>(k, n, ++seed);
-              const Matrix<T> a = random<T>(m, k, ++seed), at = a.transpose();
-              const Matrix<T> c0 = random<T>(m, n, ++seed);
+              const Matrix<T> w = transpose ? seeded_matrix<T>(n, k, ++seed) : seeded_matrix<T>(k, n, ++seed);
+              const Matrix<T> a = seeded_matrix<T>(m, k, ++seed), at = a.transpose();
+              const Matrix<T> c0 = seeded_matrix<T>(m, n, ++seed);
               const auto packed = pack_rhs(w, transpose);
               REQUIRE(packed.k == k);
               REQUIRE(packed.n == n);
@@ -71,8 +65,8 @@ TEST_CASE("nn packed product: A · W and A · Wᵀ against a long-double referen
 
 TEST_CASE("nn packed product: writes only its block of a larger matrix (middle rows, strided A)",
           "[nn]") {
-  const Matrix<double> w = random<double>(20, 40, 1), big_a = random<double>(30, 20, 2);
-  Matrix<double> big_c = random<double>(30, 40, 3);
+  const Matrix<double> w = seeded_matrix<double>(20, 40, 1), big_a = seeded_matrix<double>(30, 20, 2);
+  Matrix<double> big_c = seeded_matrix<double>(30, 40, 3);
   const Matrix<double> before = big_c;
   packed_product<double>(big_c.middleRows(7, 13), big_a.middleRows(3, 13), pack_rhs(w, false),
                          true);
@@ -83,7 +77,7 @@ TEST_CASE("nn packed product: writes only its block of a larger matrix (middle r
 }
 
 TEST_CASE("nn packed product: results do not depend on the thread count", "[nn]") {
-  const Matrix<float> a = random<float>(300, 257, 4), w = random<float>(257, 130, 5);
+  const Matrix<float> a = seeded_matrix<float>(300, 257, 4), w = seeded_matrix<float>(257, 130, 5);
   const auto packed = pack_rhs(w, false);
   auto run = [&](int threads) {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism,
