@@ -34,8 +34,9 @@ TRAIN_THREADS ?= 0
 # keeps moving (feature change 0.016 per frame vs 0.0056 without, 2,000 iterations each). pcow and
 # chickenCrossing hold out 20% placed by the seed (--test-part random, default seed 1), as the
 # paper "randomly excludes a subsequence": pcow frames 144-184, chickenCrossing 77-156. They train
-# BD_REAL_ITERATIONS, by default the paper's 7,000 (about 3.5 hours each on 2 cores, side by side,
-# on 32-frame windows; pcow's 64-frame windows take about twice as long per iteration; README);
+# BD_REAL_ITERATIONS, by default the paper's 7,000 (side by side on 2 cores about 4.3 hours for
+# pcow's 64-frame windows and 2.3 for chickenCrossing, at the 2.2 and 1.2 s per iteration of the
+# 1,500-iteration run of 2026-11-25; README);
 # the validation runs (bdlstm-validation) stop at 1,500 and give no smaller count (the finger's
 # errors are lowest late in the run; pcow's and chickenCrossing's never get below zero motion's and
 # are lowest at iteration 100, where the network still predicts almost no motion, but for
