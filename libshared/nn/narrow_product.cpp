@@ -152,7 +152,7 @@ void with_sizes(Index k, Index nv, F&& f, std::integer_sequence<Index, Ks...>) {
   auto for_k = [&]<Index K>() {
     with_vectors<T>(nv, [&]<Index NV>() { f.template operator()<K, NV>(); });
   };
-  ((k == Ks + 1 ? (for_k.template operator()<Ks + 1>(), true) : false) || ...);
+  (void)((k == Ks + 1 ? (for_k.template operator()<Ks + 1>(), true) : false) || ...);
 }
 
 template <class T, class F>
@@ -163,7 +163,7 @@ void with_sizes(Index k, Index nv, F&& f) {
 // Calls f.template operator()<N>() for the runtime n (1..kNarrowMax).
 template <class F, Index... Ns>
 void with_width(Index n, F&& f, std::integer_sequence<Index, Ns...>) {
-  ((n == Ns + 1 ? (f.template operator()<Ns + 1>(), true) : false) || ...);
+  (void)((n == Ns + 1 ? (f.template operator()<Ns + 1>(), true) : false) || ...);
 }
 
 }  // namespace
