@@ -199,7 +199,8 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<co
       for_vertex_blocks(V, [&](Index k, Index v0, Index nv) {
         const auto b = static_cast<std::size_t>(k);
         for (Index s = 0; s < B; ++s)
-          detail::narrow_weight_gradients<T>(dp[b].data(), dn[b].data(), db[b].data(), nv, cin, cout,
+          detail::narrow_weight_gradients<T>(dp[b].data(), gn ? dn[b].data() : nullptr, gb ? db[b].data() : nullptr,
+                                             nv, cin, cout,
                                              X + (s * V + v0) * cin, cin, Nv->data() + v0 * ldn + s * cin, ldn,
                                              G + (s * V + v0) * cout, cout, true);
       });

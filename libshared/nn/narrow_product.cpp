@@ -18,13 +18,6 @@ using V = typename Vector<T>::type;
 // latency.
 constexpr Index kRows = 4;
 
-template <class T>
-V<T> load(const T* p) {
-  V<T> v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
-
 // The first `count` lanes of v into p (= or +=).
 template <class T>
 void store(T* p, const V<T>& v, Index count, bool accumulate_into) {
@@ -201,15 +194,7 @@ void narrow_product(T* c, Index ldc, Index m, const T* a, Index lda, const Narro
 template <class T>
 void narrow_weight_gradients(T* dw, T* du, T* db, Index m, Index k, Index n, const T* a, Index lda,
                              const T* b, Index ldb, const T* g, Index ldg, bool accumulate_into) {
-  eigen_assert(narrow_fits(k, n));
-  if (m == 0) {
-    if (!accumulate_into) {
-      std::fill_n(dw, k * n, T(0));
-      if (du) std::fill_n(du, k * n, T(0));
-      if (db) std::fill_n(db, n, T(0));
-    }
-    return;
-  }
+  eigen_assert(narrow_fits(k, n) && m >= 1);
   with_sizes<T>(k, vectors_for<T>(n), [&]<Index K, Index NV>() {
     weight_gradients<T, K, NV>(dw, du, db, m, n, a, lda, b, ldb, g, ldg, accumulate_into);
   });

@@ -43,8 +43,8 @@ void narrow_product(T* c, Index ldc, Index m, const T* a, Index lda, const Narro
                     const T* b, Index ldb, const NarrowRhs<T>* u, const T* bias,
                     bool accumulate_into);
 
-/// Over rows r < m (strides as above, G_r = n values at g + r·ldg): dW = Σ_r A_rᵀ G_r [k × n]
-/// and, where the pointers are not null, dU = Σ_r B_rᵀ G_r [k × n] and db = Σ_r G_r [n]; all
+/// Over rows r < m (m ≥ 1; strides as above, G_r = n values at g + r·ldg): dW = Σ_r A_rᵀ G_r [k ×
+/// n] and, where the pointers are not null, dU = Σ_r B_rᵀ G_r [k × n] and db = Σ_r G_r [n]; all
 /// row-major, each element one running sum over r in order, stored in (or added to) the outputs.
 template <class T>
 void narrow_weight_gradients(T* dw, T* du, T* db, Index m, Index k, Index n, const T* a, Index lda,

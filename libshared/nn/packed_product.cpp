@@ -33,9 +33,7 @@ void tile(T* c, Index ldc, const T* a, Index rs, Index cs, const T* panel, Index
   V acc[R][2];
   for (Index r = 0; r < R; ++r) acc[r][0] = acc[r][1] = V{};
   for (Index k = 0; k < K; ++k) {
-    V w0, w1;
-    std::memcpy(&w0, panel + k * 2 * L, sizeof(V));
-    std::memcpy(&w1, panel + k * 2 * L + L, sizeof(V));
+    V w0 = load(panel + k * 2 * L), w1 = load(panel + k * 2 * L + L);
 #if defined(__x86_64__)
     // Keep the panel's row in two registers: left alone, GCC re-reads it from memory in every
     // row's multiply-add, and the loads set the pace (tiles of 4 rows: 57 GFLOP/s instead of 109).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstring>
 
 namespace df::nn::detail {
 
@@ -25,6 +26,14 @@ template <>
 struct Vector<double> {
   typedef double type __attribute__((vector_size(kVectorBytes)));
 };
+
+/// One vector from (possibly unaligned) memory.
+template <class T>
+typename Vector<T>::type load(const T* p) {
+  typename Vector<T>::type v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
 
 template <class T>
 constexpr Eigen::Index kLanes = kVectorBytes / static_cast<Eigen::Index>(sizeof(T));
