@@ -147,7 +147,8 @@ $(AG)/%/mixed.png: $(AG)/%/model.h5
 	$(BIN)/gen-actgan -q -f --mix $($*_MIX) --count 3 --seed 8 $< -o $(AG)/$*/mixed.h5
 	$(BIN)/classify-actions --probabilities $< $(AG)/$*/mixed.h5 | sed -n '/^sequence/,$$p' > $(AG)/$*/mixed.md
 	$(BIN)/render-mesh -q -f $(AG)/$*/mixed.h5 --every 3 --size 100 --view 30,10 \
-	  --title "$*: generated for the mixture $($*_MIX) (in brackets: its stored label, the first strongest class)" -o $@
+	  --row-labels "$$($(DF_ROOT)/scripts/classified-labels < $(AG)/$*/mixed.md)" \
+	  --title "$*: generated for the mixture $($*_MIX), each with the trained classifier's verdict" -o $@
 $(AG)/%/latent.png: $(AG)/%/model-latent2.h5
 	$(BIN)/gen-actgan -q -f --count 5 --seed 9 --latents $(AG)/$*/latent.tsv $< -o $(AG)/$*/latent.h5
 	rm -f $(AG)/$*/latent-*.txt

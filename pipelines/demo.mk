@@ -38,7 +38,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@tail -n 1 $(DEMO)/actgan-mmd.txt | sed 's/^mean */     MMD_avg, MMD_seq, the same of motion: /'
 	@echo "   recognised by the trained classifier (classify-actions): real test clips / generated:"
 	@awk '/^all / { a[++n] = $$4 } END { printf "     %s / %s\n", a[1], a[2] }' $(DEMO)/actgan-accuracy.txt
-	@echo "   a mixture walk:0.5,wave:0.5, its class probabilities (walk wave jump kick squat):"
+	@echo "   a mixture walk:0.5,wave:0.5, its class probabilities (walk wave jump kick squat; most probable):"
 	@sed -n 's/^\(walk+wave~[0-9]\) */     \1  /p' $(DEMO)/actgan-mixed.txt
 	@echo "   (a short demo run with small networks; train-actgan's defaults are the authors' sizes)"
 	@echo
@@ -158,9 +158,10 @@ $(DEMO)/actgan-mixed.h5: $(DEMO)/actgan-model.h5
 $(DEMO)/actgan-generated.png: $(DEMO)/actgan-generated.h5
 	$(BIN)/render-mesh -q -f $< --sequence walk~0 --sequence wave~0 --sequence jump~0 --sequence kick~0 \
 	  --sequence squat~0 --every 3 --size 100 --view 30,10 --title "ActGAN: actions generated from noise" -o $@
-$(DEMO)/actgan-mixed.png: $(DEMO)/actgan-mixed.h5
+$(DEMO)/actgan-mixed.png: $(DEMO)/actgan-mixed.h5 $(DEMO)/actgan-accuracy.txt
 	$(BIN)/render-mesh -q -f $< --every 3 --size 100 --view 30,10 \
-	  --title "ActGAN: generated for the mixture walk 0.5 + wave 0.5" -o $@
+	  --row-labels "$$($(DF_ROOT)/scripts/classified-labels < $(DEMO)/actgan-mixed.txt)" \
+	  --title "ActGAN: generated for the mixture walk 0.5 + wave 0.5, with the classifier's verdict" -o $@
 $(DEMO)/actgan-mmd.txt: $(DEMO)/actgan-generated.h5 $(DEMO)/actions.h5
 	$(BIN)/eval-metrics $^ > $@.tmp && mv $@.tmp $@
 $(DEMO)/actgan-accuracy.txt: $(DEMO)/actgan-model.h5 $(DEMO)/actions.h5 $(DEMO)/actgan-generated.h5 $(DEMO)/actgan-mixed.h5

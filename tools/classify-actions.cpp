@@ -10,8 +10,9 @@ int main(int argc, char** argv) {
       "probable class is their own. Real data: the file's test part (skel2h5 --test-subjects /\n"
       "--test-fraction) unless --all; generated data (gen-actgan): every sequence, labelled by\n"
       "the class it was generated for. Poses are brought into the model's coordinates through\n"
-      "the stored normalizations. --probabilities prints every sequence's class probabilities\n"
-      "(for mixtures of classes).\n\n"
+      "the stored normalizations. Sequences generated for a mixture of classes (gen-actgan --mix)\n"
+      "have no right answer: they are not scored, and their class probabilities are printed.\n"
+      "--probabilities prints every sequence's class probabilities.\n\n"
       "OUTPUT: the table on stdout; --json FILE (or -) with accuracies and probabilities.");
   tool.with_threads().with_force();
   df::models::ClassifyOptions opt;

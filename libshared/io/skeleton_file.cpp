@@ -1,14 +1,57 @@
 #include "io/skeleton_file.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "core/error.h"
 #include "io/schema.h"
 
 namespace df::io {
+
+namespace {
+
+// Mixture weights: none negative and every row summing to 1 (to rounding); the schema has checked
+// shape and finiteness.
+std::vector<float> read_label_weights(const h5::File& f, std::size_t sequences, std::size_t classes) {
+  std::vector<float> w = f.read<float>("/sequences/label_weights").data;
+  for (std::size_t s = 0; s < sequences; ++s) {
+    double sum = 0;
+    for (std::size_t c = 0; c < classes; ++c) {
+      if (w[s * classes + c] < 0)
+        throw InvalidInput(fmt::format("a negative weight in row {}", s), f.where("/sequences/label_weights"));
+      sum += w[s * classes + c];
+    }
+    if (std::abs(sum - 1) > 1e-4)
+      throw InvalidInput(fmt::format("row {} sums to {:g}, not 1", s, sum), f.where("/sequences/label_weights"));
+  }
+  return w;
+}
+
+}  // namespace
 
 void SkeletonFile::joint(std::size_t t, std::size_t j, double out[3]) const {
   const float* p = poses.data() + (t * joints + j) * static_cast<std::size_t>(dims);
   out[0] = p[0];
   out[1] = p[1];
   out[2] = dims == 3 ? p[2] : 0.0;
+}
+
+bool SkeletonFile::is_mixture(std::size_t s) const {
+  if (label_weights.empty()) return false;
+  const float* w = label_weights.data() + s * class_names.size();
+  return std::count_if(w, w + class_names.size(), [](float x) { return x > 0; }) > 1;
+}
+
+std::string SkeletonFile::label_text(std::size_t s) const {
+  const auto label = static_cast<std::size_t>(labels[s]);
+  if (!is_mixture(s)) return label < class_names.size() ? class_names[label] : "?";
+  std::string text;
+  for (std::size_t c = 0; c < class_names.size(); ++c)
+    if (const float w = label_weights[s * class_names.size() + c]; w > 0)
+      text += fmt::format("{}{} {:.2f}", text.empty() ? "" : " + ", class_names[c], w);
+  return text;
 }
 
 SkeletonFile read_skeleton_file(const std::string& path) {
@@ -31,6 +74,8 @@ SkeletonFile read_skeleton_file(const std::string& path) {
   s.frame_rate = f.attr_double("/", "frame_rate");
   if (f.exists("/sequences/subjects")) s.subjects = f.read<std::int32_t>("/sequences/subjects").data;
   if (f.exists("/sequences/test")) s.test = f.read<std::int32_t>("/sequences/test").data;
+  if (f.exists("/sequences/label_weights"))
+    s.label_weights = read_label_weights(f, s.sequences(), s.class_names.size());
   if (f.exists("/normalization")) {
     s.normalization.root_joint = static_cast<int>(f.attr_int("/normalization", "root_joint"));
     s.normalization.scale = f.attr_double("/normalization", "scale");
@@ -51,6 +96,8 @@ void write_skeleton_data(h5::File& f, const SkeletonFile& s) {
   f.write_strings("/skeleton/joint_names", s.joint_names);
   if (!s.subjects.empty()) f.write<std::int32_t>("/sequences/subjects", s.subjects, {s.subjects.size()});
   if (!s.test.empty()) f.write<std::int32_t>("/sequences/test", s.test, {s.test.size()});
+  if (!s.label_weights.empty())
+    f.write<float>("/sequences/label_weights", s.label_weights, {s.sequences(), s.class_names.size()});
   if (s.normalization.present()) {
     const auto& n = s.normalization;
     const std::vector<std::size_t> shape{s.joints, static_cast<std::size_t>(s.dims)};

@@ -33,6 +33,9 @@ struct SkeletonFile {
   double frame_rate = 30;                   ///< frames per second
   std::vector<std::int32_t> subjects;       ///< [S] performer of each sequence (optional)
   std::vector<std::int32_t> test;           ///< [S] 1 = held out for testing (optional)
+  /// [S, C] the mixture of classes each sequence was generated for (optional; gen-actgan --mix):
+  /// weights summing to 1, labels[s] its strongest class.
+  std::vector<float> label_weights;
   SkeletonNormalization normalization;      ///< absent: poses are raw coordinates
   std::size_t sequences() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   /// Joint j of frame t, as (x, y, z) with z = 0 for 2-D data.
@@ -41,6 +44,10 @@ struct SkeletonFile {
   std::size_t length(std::size_t s) const {
     return static_cast<std::size_t>(offsets[s + 1] - offsets[s]);
   }
+  /// Whether sequence s was generated for a mixture of classes (more than one positive weight).
+  bool is_mixture(std::size_t s) const;
+  /// What sequence s shows: its class name, or its mixture ("walk 0.50 + wave 0.50").
+  std::string label_text(std::size_t s) const;
   /// The raw coordinates of the poses (normalization undone; a copy of poses without one).
   std::vector<float> raw_poses() const;
 };

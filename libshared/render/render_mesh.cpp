@@ -311,9 +311,7 @@ std::vector<Row> skeleton_rows(const std::vector<io::SkeletonFile>& files,
     for (std::size_t q : seqs) {
       Row r;
       r.input = k;
-      const auto label = static_cast<std::size_t>(s.labels[q]);
-      r.label = fmt::format("{}{} ({})", files.size() > 1 ? stem(paths[k]) + " / " : "", names[q],
-                            label < s.class_names.size() ? s.class_names[label] : "?");
+      r.label = fmt::format("{}{} ({})", files.size() > 1 ? stem(paths[k]) + " / " : "", names[q], s.label_text(q));
       const auto begin = static_cast<std::size_t>(s.offsets[q]);
       r.frames = select_frames(begin, static_cast<std::size_t>(s.offsets[q + 1]), {}, opt, r.label);
       for (std::size_t i : r.frames) r.captions.push_back(fmt::format("frame {}", i - begin));

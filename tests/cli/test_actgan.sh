@@ -185,8 +185,19 @@ gen-actgan -q --class wave --length 30 --count 2 --latents lat.tsv trained.h5 -o
 [ "$(grep -c '^wave~1' lat.tsv)" = 30 ] || fail "latents: 30 rows of wave~1 expected"
 gen-actgan -q --mix walk:1,wave:3 --count 3 trained.h5 -o mix.h5
 h5dump -d /sequences/names mix.h5 | grep -q '"walk+wave~2"' || fail "mixture names"
+h5dump -d /sequences/label_weights mix.h5 | grep -q '(2,0): 0.25, 0.75, 0$' || fail "mixture weights: $(h5dump -d /sequences/label_weights mix.h5)"
 run classify-actions trained.h5 mix.h5 --probabilities; expect_rc 0
 expect_out "walk\+wave~0 +[0-9.]+ +[0-9.]+ +[0-9.]+"
+# a mixture has no right answer: not scored, its probabilities printed without being asked for
+run classify-actions trained.h5 mix.h5 --json mix.json; expect_rc 0
+expect_out "^3 sequences generated for a mixture of classes \(walk 0.25 \+ wave 0.75\): not scored"
+expect_out "^walk\+wave~2 +[0-9.]+ +[0-9.]+ +[0-9.]+  (walk|wave|squat)$"
+! grep -qE '^(all|wave) +[0-9]' out.txt || fail "a mixture scored: $(cat out.txt)"
+labels=$(bash "$DF_ROOT/scripts/classified-labels" < out.txt)  # the pictures' row captions
+[[ $labels =~ ^walk\+wave~0:\ classified\ [a-z]+\ [01]\.[0-9]{2},walk\+wave~1:\ .*,walk\+wave~2:\ classified\ [a-z]+\ [01]\.[0-9]{2}$ ]] ||
+  fail "classified-labels: '$labels'"
+run bash "$DF_ROOT/scripts/classified-labels" < mix.json; expect_rc 1; expect_err "no probability table"
+grep -q '"walk+wave~1": "walk 0.25 + wave 0.75"' mix.json && ! grep -q '"overall"' mix.json || fail "mixture JSON: $(cat mix.json)"
 h5check -q --kind skeleton mix.h5
 # scripts/pose-norms (actgan-validation's pose sizes): two positive means, first and last frame
 norms=$(bash "$DF_ROOT/scripts/pose-norms" gen1.h5)

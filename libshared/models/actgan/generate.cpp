@@ -1,6 +1,7 @@
 #include "models/actgan/generate.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <fstream>
@@ -147,6 +148,10 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
   s.frames = names.size() * static_cast<std::size_t>(length);
   for (std::size_t k = 0; k <= names.size(); ++k) s.offsets.push_back(static_cast<std::int64_t>(k) * length);
   s.labels.assign(dominant.begin(), dominant.end());
+  if (!opt.mix.empty()) {  // stored, so that pictures and the classifier say what was asked for
+    const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> w = y;
+    s.label_weights.assign(w.data(), w.data() + w.size());
+  }
   s.sequence_names = names;
   s.class_names = m.class_names;
   s.parents = m.parents;
@@ -207,20 +212,28 @@ void classify_actions(const ClassifyOptions& opt, const CommonOptions&) {
   js["model"] = opt.model;
   js["input"] = opt.input;
   js["sequences"] = seqs.size();
+  std::size_t mixtures = 0;  // sequences generated for a mixture of classes: no right answer to score
+  std::vector<std::string> mixture_texts;
   for (std::size_t r = 0; r < seqs.size(); ++r) {
     const std::string& name = s.class_names.at(static_cast<std::size_t>(s.labels[seqs[r]]));
     const auto it = std::find(m.class_names.begin(), m.class_names.end(), name);
     Eigen::Index best = 0;
     prob.row(static_cast<Eigen::Index>(r)).maxCoeff(&best);
-    if (it != m.class_names.end()) {
+    const bool mixture = s.is_mixture(seqs[r]);
+    mixtures += mixture;
+    if (mixture && std::find(mixture_texts.begin(), mixture_texts.end(), s.label_text(seqs[r])) == mixture_texts.end())
+      mixture_texts.push_back(s.label_text(seqs[r]));
+    if (it != m.class_names.end() && !mixture) {
       const auto c = static_cast<std::size_t>(it - m.class_names.begin());
       ++total[c];
       correct[c] += static_cast<int>(best) == static_cast<int>(c);
     }
-    if (opt.probabilities || !opt.json.empty()) {
+    if (opt.probabilities || mixture || !opt.json.empty()) {
       nlohmann::ordered_json p;
       for (std::size_t c = 0; c < m.class_names.size(); ++c) p[m.class_names[c]] = prob(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
-      js["probabilities"][s.sequence_names[seqs[r]].empty() ? std::to_string(seqs[r]) : s.sequence_names[seqs[r]]] = p;
+      const std::string key = s.sequence_names[seqs[r]].empty() ? std::to_string(seqs[r]) : s.sequence_names[seqs[r]];
+      js["probabilities"][key] = p;
+      if (mixture) js["mixture"][key] = s.label_text(seqs[r]);
     }
   }
   int all_total = 0, all_correct = 0;
@@ -229,21 +242,29 @@ void classify_actions(const ClassifyOptions& opt, const CommonOptions&) {
     all_correct += correct[c];
     if (total[c]) js["accuracy"][m.class_names[c]] = {{"sequences", total[c]}, {"correct", correct[c]}, {"accuracy", double(correct[c]) / total[c]}};
   }
-  js["overall"] = all_total ? double(all_correct) / all_total : 0.0;
+  if (all_total) js["overall"] = double(all_correct) / all_total;
   if (opt.json != "-") {
     fmt::print("{} classified by {} ({} sequences{})\n", opt.input, opt.model, seqs.size(), test_only ? ", the test part" : "");
-    fmt::print("{:<16} {:>9} {:>8} {:>9}\n", "class", "sequences", "correct", "accuracy");
-    for (std::size_t c = 0; c < m.class_names.size(); ++c)
-      if (total[c]) fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", m.class_names[c], total[c], correct[c], double(correct[c]) / total[c]);
-    fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", "all", all_total, all_correct, all_total ? double(all_correct) / all_total : 0.0);
-    if (opt.probabilities) {
+    if (all_total) {
+      fmt::print("{:<16} {:>9} {:>8} {:>9}\n", "class", "sequences", "correct", "accuracy");
+      for (std::size_t c = 0; c < m.class_names.size(); ++c)
+        if (total[c]) fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", m.class_names[c], total[c], correct[c], double(correct[c]) / total[c]);
+      fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", "all", all_total, all_correct, double(all_correct) / all_total);
+    }
+    if (mixtures)
+      fmt::print("{} sequence{} generated for a mixture of classes ({}): not scored; class probabilities below\n", mixtures,
+                 mixtures == 1 ? "" : "s", fmt::join(mixture_texts, "; "));
+    if (opt.probabilities || mixtures) {
       fmt::print("\n{:<24}", "sequence");
       for (const auto& c : m.class_names) fmt::print(" {:>9.9}", c);
-      fmt::print("\n");
+      fmt::print("  most probable\n");
       for (std::size_t r = 0; r < seqs.size(); ++r) {
+        if (!opt.probabilities && !s.is_mixture(seqs[r])) continue;
         fmt::print("{:<24}", s.sequence_names[seqs[r]]);
         for (Eigen::Index c = 0; c < prob.cols(); ++c) fmt::print(" {:>9.3f}", prob(static_cast<Eigen::Index>(r), c));
-        fmt::print("\n");
+        Eigen::Index best = 0;
+        prob.row(static_cast<Eigen::Index>(r)).maxCoeff(&best);
+        fmt::print("  {}\n", m.class_names[static_cast<std::size_t>(best)]);
       }
     }
   }
