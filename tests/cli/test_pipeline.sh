@@ -87,4 +87,19 @@ grep -q -- "--window 32 --batch 2 --stride 3 " out/bdlstm/tiny/validate/paper.h5
 msg=$(validate bogus "paper bogus" 2>&1) && fail "an unknown candidate was accepted"
 echo "$msg" | grep -q "no candidate 'bogus'" || fail "unknown candidate: unclear message: $msg"
 [ ! -e out/bdlstm/tiny/validate/bogus.h5 ] || fail "an unknown candidate trained"
+validate no-kl-w48 "paper no-kl-w48" >/dev/null 2>&1 || fail "the no-kl-w48 candidate did not train"
+grep -qE -- "--window 48 --batch 2 --stride 3 --validation-fraction [0-9.]+ --no-kl " out/bdlstm/tiny/validate/no-kl-w48.h5.argv ||
+  fail "no-kl-w48 did not train no-kl on 48-frame windows: $(cat out/bdlstm/tiny/validate/no-kl-w48.h5.argv)"
 echo "ok (validation candidates)"
+
+# A set's remedies chosen on validation (S_CHOSEN) go to its model only: Table 2's variants,
+# the paper's form among them, train without them.
+make -s -C "$DF_SOURCE" -f Makefile.data "$DF_TMP/out/bdlstm/tiny/model.h5" "$DF_TMP/out/bdlstm/tiny/model-paper.h5" \
+  "$DF_TMP/out/bdlstm/tiny/model-no-l2.h5" BIN="$DF_TMP/fakebin" OUT="$DF_TMP/out" DATA="$DF_TMP/data" \
+  tiny_TRAIN="--iterations 7" tiny_CHOSEN="--no-kl" >/dev/null || fail "training rules with chosen remedies failed"
+grep -q -- "--iterations 7 --no-kl /" out/bdlstm/tiny/model.h5.argv ||
+  fail "the set's model lost its chosen remedies: $(cat out/bdlstm/tiny/model.h5.argv)"
+grep -q -- "--iterations 7 /" out/bdlstm/tiny/model-paper.h5.argv &&
+  grep -q -- "--iterations 7 --no-l2 /" out/bdlstm/tiny/model-no-l2.h5.argv ||
+  fail "a Table 2 variant got the chosen remedies: $(cat out/bdlstm/tiny/model-paper.h5.argv out/bdlstm/tiny/model-no-l2.h5.argv)"
+echo "ok (chosen remedies)"
