@@ -197,6 +197,105 @@ nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s, cons
   return prob;
 }
 
+namespace {
+
+// What classify-actions reports: per class of the model, the sequences of that (file) class name
+// and how many are recognised; sequences generated for a mixture of classes have no right answer
+// and are only counted.
+struct ClassScores {
+  std::vector<int> total, correct;
+  int all_total = 0, all_correct = 0;
+  std::size_t mixtures = 0;
+  std::vector<std::string> mixture_texts;  ///< the distinct mixtures, in order of appearance
+};
+
+Eigen::Index most_probable(const nn::Matrix<float>& prob, std::size_t r) {
+  Eigen::Index best = 0;
+  prob.row(static_cast<Eigen::Index>(r)).maxCoeff(&best);
+  return best;
+}
+
+ClassScores score_sequences(const ActganModel& m, const io::SkeletonFile& s, const std::vector<std::size_t>& seqs,
+                            const nn::Matrix<float>& prob) {
+  ClassScores sc;
+  sc.total.assign(m.class_names.size(), 0);
+  sc.correct.assign(m.class_names.size(), 0);
+  for (std::size_t r = 0; r < seqs.size(); ++r) {
+    if (s.is_mixture(seqs[r])) {
+      ++sc.mixtures;
+      const std::string text = s.label_text(seqs[r]);
+      if (std::find(sc.mixture_texts.begin(), sc.mixture_texts.end(), text) == sc.mixture_texts.end())
+        sc.mixture_texts.push_back(text);
+      continue;
+    }
+    const std::string& name = s.class_names.at(static_cast<std::size_t>(s.labels[seqs[r]]));
+    const auto it = std::find(m.class_names.begin(), m.class_names.end(), name);
+    if (it == m.class_names.end()) continue;
+    const auto c = static_cast<std::size_t>(it - m.class_names.begin());
+    ++sc.total[c];
+    sc.correct[c] += most_probable(prob, r) == static_cast<Eigen::Index>(c);
+  }
+  for (std::size_t c = 0; c < m.class_names.size(); ++c) sc.all_total += sc.total[c], sc.all_correct += sc.correct[c];
+  return sc;
+}
+
+std::string sequence_key(const io::SkeletonFile& s, std::size_t q) {
+  return s.sequence_names[q].empty() ? std::to_string(q) : s.sequence_names[q];
+}
+
+nlohmann::ordered_json classification_json(const ClassifyOptions& opt, const ActganModel& m, const io::SkeletonFile& s,
+                                           const std::vector<std::size_t>& seqs, const nn::Matrix<float>& prob,
+                                           const ClassScores& sc) {
+  nlohmann::ordered_json js;
+  js["model"] = opt.model;
+  js["input"] = opt.input;
+  js["sequences"] = seqs.size();
+  for (std::size_t r = 0; r < seqs.size(); ++r) {
+    nlohmann::ordered_json p;
+    for (std::size_t c = 0; c < m.class_names.size(); ++c)
+      p[m.class_names[c]] = prob(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
+    js["probabilities"][sequence_key(s, seqs[r])] = p;
+    if (s.is_mixture(seqs[r])) js["mixture"][sequence_key(s, seqs[r])] = s.label_text(seqs[r]);
+  }
+  for (std::size_t c = 0; c < m.class_names.size(); ++c)
+    if (sc.total[c])
+      js["accuracy"][m.class_names[c]] = {
+          {"sequences", sc.total[c]}, {"correct", sc.correct[c]}, {"accuracy", double(sc.correct[c]) / sc.total[c]}};
+  if (sc.all_total) js["overall"] = double(sc.all_correct) / sc.all_total;
+  return js;
+}
+
+// The table on stdout: accuracies of the scored sequences, then the class probabilities of every
+// sequence (--probabilities) or of the mixtures, each with its most probable class.
+void print_classification(const ClassifyOptions& opt, const ActganModel& m, const io::SkeletonFile& s,
+                          const std::vector<std::size_t>& seqs, const nn::Matrix<float>& prob, const ClassScores& sc,
+                          bool test_only) {
+  fmt::print("{} classified by {} ({} sequences{})\n", opt.input, opt.model, seqs.size(), test_only ? ", the test part" : "");
+  if (sc.all_total) {
+    fmt::print("{:<16} {:>9} {:>8} {:>9}\n", "class", "sequences", "correct", "accuracy");
+    for (std::size_t c = 0; c < m.class_names.size(); ++c)
+      if (sc.total[c])
+        fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", m.class_names[c], sc.total[c], sc.correct[c],
+                   double(sc.correct[c]) / sc.total[c]);
+    fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", "all", sc.all_total, sc.all_correct, double(sc.all_correct) / sc.all_total);
+  }
+  if (sc.mixtures)
+    fmt::print("{} sequence{} generated for a mixture of classes ({}): not scored; class probabilities below\n",
+               sc.mixtures, sc.mixtures == 1 ? "" : "s", fmt::join(sc.mixture_texts, "; "));
+  if (!opt.probabilities && !sc.mixtures) return;
+  fmt::print("\n{:<24}", "sequence");
+  for (const auto& c : m.class_names) fmt::print(" {:>9.9}", c);
+  fmt::print("  most probable\n");
+  for (std::size_t r = 0; r < seqs.size(); ++r) {
+    if (!opt.probabilities && !s.is_mixture(seqs[r])) continue;
+    fmt::print("{:<24}", s.sequence_names[seqs[r]]);
+    for (Eigen::Index c = 0; c < prob.cols(); ++c) fmt::print(" {:>9.3f}", prob(static_cast<Eigen::Index>(r), c));
+    fmt::print("  {}\n", m.class_names[static_cast<std::size_t>(most_probable(prob, r))]);
+  }
+}
+
+}  // namespace
+
 void classify_actions(const ClassifyOptions& opt, const CommonOptions&) {
   const ActganModel m = load_actgan_model(opt.model);
   if (!m.config.classifier) throw InvalidInput("the model was trained without a classifier (--no-classifier)", opt.model);
@@ -206,69 +305,10 @@ void classify_actions(const ClassifyOptions& opt, const CommonOptions&) {
   for (std::size_t q = 0; q < s.sequences(); ++q)
     if (!test_only || s.test[q]) seqs.push_back(q);
   const nn::Matrix<float> prob = classify(m, s, seqs);
-  // per class of the model: sequences of that (file) class name and how many are recognised
-  std::vector<int> total(m.class_names.size(), 0), correct(m.class_names.size(), 0);
-  nlohmann::ordered_json js;
-  js["model"] = opt.model;
-  js["input"] = opt.input;
-  js["sequences"] = seqs.size();
-  std::size_t mixtures = 0;  // sequences generated for a mixture of classes: no right answer to score
-  std::vector<std::string> mixture_texts;
-  for (std::size_t r = 0; r < seqs.size(); ++r) {
-    const std::string& name = s.class_names.at(static_cast<std::size_t>(s.labels[seqs[r]]));
-    const auto it = std::find(m.class_names.begin(), m.class_names.end(), name);
-    Eigen::Index best = 0;
-    prob.row(static_cast<Eigen::Index>(r)).maxCoeff(&best);
-    const bool mixture = s.is_mixture(seqs[r]);
-    mixtures += mixture;
-    if (mixture && std::find(mixture_texts.begin(), mixture_texts.end(), s.label_text(seqs[r])) == mixture_texts.end())
-      mixture_texts.push_back(s.label_text(seqs[r]));
-    if (it != m.class_names.end() && !mixture) {
-      const auto c = static_cast<std::size_t>(it - m.class_names.begin());
-      ++total[c];
-      correct[c] += static_cast<int>(best) == static_cast<int>(c);
-    }
-    if (opt.probabilities || mixture || !opt.json.empty()) {
-      nlohmann::ordered_json p;
-      for (std::size_t c = 0; c < m.class_names.size(); ++c) p[m.class_names[c]] = prob(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
-      const std::string key = s.sequence_names[seqs[r]].empty() ? std::to_string(seqs[r]) : s.sequence_names[seqs[r]];
-      js["probabilities"][key] = p;
-      if (mixture) js["mixture"][key] = s.label_text(seqs[r]);
-    }
-  }
-  int all_total = 0, all_correct = 0;
-  for (std::size_t c = 0; c < m.class_names.size(); ++c) {
-    all_total += total[c];
-    all_correct += correct[c];
-    if (total[c]) js["accuracy"][m.class_names[c]] = {{"sequences", total[c]}, {"correct", correct[c]}, {"accuracy", double(correct[c]) / total[c]}};
-  }
-  if (all_total) js["overall"] = double(all_correct) / all_total;
-  if (opt.json != "-") {
-    fmt::print("{} classified by {} ({} sequences{})\n", opt.input, opt.model, seqs.size(), test_only ? ", the test part" : "");
-    if (all_total) {
-      fmt::print("{:<16} {:>9} {:>8} {:>9}\n", "class", "sequences", "correct", "accuracy");
-      for (std::size_t c = 0; c < m.class_names.size(); ++c)
-        if (total[c]) fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", m.class_names[c], total[c], correct[c], double(correct[c]) / total[c]);
-      fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", "all", all_total, all_correct, double(all_correct) / all_total);
-    }
-    if (mixtures)
-      fmt::print("{} sequence{} generated for a mixture of classes ({}): not scored; class probabilities below\n", mixtures,
-                 mixtures == 1 ? "" : "s", fmt::join(mixture_texts, "; "));
-    if (opt.probabilities || mixtures) {
-      fmt::print("\n{:<24}", "sequence");
-      for (const auto& c : m.class_names) fmt::print(" {:>9.9}", c);
-      fmt::print("  most probable\n");
-      for (std::size_t r = 0; r < seqs.size(); ++r) {
-        if (!opt.probabilities && !s.is_mixture(seqs[r])) continue;
-        fmt::print("{:<24}", s.sequence_names[seqs[r]]);
-        for (Eigen::Index c = 0; c < prob.cols(); ++c) fmt::print(" {:>9.3f}", prob(static_cast<Eigen::Index>(r), c));
-        Eigen::Index best = 0;
-        prob.row(static_cast<Eigen::Index>(r)).maxCoeff(&best);
-        fmt::print("  {}\n", m.class_names[static_cast<std::size_t>(best)]);
-      }
-    }
-  }
+  const ClassScores sc = score_sequences(m, s, seqs, prob);
+  if (opt.json != "-") print_classification(opt, m, s, seqs, prob, sc, test_only);
   if (opt.json.empty()) return;
+  const auto js = classification_json(opt, m, s, seqs, prob, sc);
   if (opt.json == "-") {
     fmt::print("{}\n", js.dump(2));
     return;
