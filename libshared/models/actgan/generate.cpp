@@ -74,21 +74,26 @@ void write_latents(const std::string& path, const std::vector<std::string>& name
   out.commit();
 }
 
+// The column of row r's largest value (the first of equals): a probability row's most probable
+// class, a label row's strongest class.
+Eigen::Index most_probable(const nn::Matrix<float>& p, Eigen::Index r) {
+  Eigen::Index best = 0;
+  p.row(r).maxCoeff(&best);
+  return best;
+}
+
 }  // namespace
 
-nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& opt, std::vector<std::string>& names,
-                             std::vector<int>& dominant) {
+nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& opt, std::vector<std::string>& names) {
   if (opt.count < 1) throw UsageError("--count must be positive");
   std::vector<std::vector<float>> rows;
   if (!opt.mix.empty()) {
     if (!opt.classes.empty()) throw UsageError("--class and --mix exclude each other");
     std::string name;
     const auto w = parse_mix(m, opt.mix, name);
-    const int top = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
     for (int k = 0; k < opt.count; ++k) {
       rows.push_back(w);
       names.push_back(fmt::format("{}~{}", name, k));
-      dominant.push_back(top);
     }
   } else {
     const auto classes = opt.classes.empty() ? m.class_names : opt.classes;
@@ -99,7 +104,6 @@ nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& 
         w[static_cast<std::size_t>(c)] = 1;
         rows.push_back(w);
         names.push_back(fmt::format("{}~{}", cls, k));
-        dominant.push_back(c);
       }
     }
   }
@@ -137,8 +141,7 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
   if (length < 1) throw UsageError("--length must be positive");
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, {opt.model});
   std::vector<std::string> names;
-  std::vector<int> dominant;
-  const auto y = label_rows(m, opt, names, dominant);
+  const auto y = label_rows(m, opt, names);
   Rng rng(common.seed, 0);
   io::SkeletonFile s;
   std::vector<float> latents;
@@ -147,7 +150,7 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
   s.dims = 3;
   s.frames = names.size() * static_cast<std::size_t>(length);
   for (std::size_t k = 0; k <= names.size(); ++k) s.offsets.push_back(static_cast<std::int64_t>(k) * length);
-  s.labels.assign(dominant.begin(), dominant.end());
+  for (Eigen::Index r = 0; r < y.rows(); ++r) s.labels.push_back(static_cast<std::int32_t>(most_probable(y, r)));
   if (!opt.mix.empty()) {  // stored, so that pictures and the classifier say what was asked for
     const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> w = y;
     s.label_weights.assign(w.data(), w.data() + w.size());
@@ -209,12 +212,6 @@ struct ClassScores {
   std::vector<std::string> mixture_texts;  ///< the distinct mixtures, in order of appearance
 };
 
-Eigen::Index most_probable(const nn::Matrix<float>& prob, std::size_t r) {
-  Eigen::Index best = 0;
-  prob.row(static_cast<Eigen::Index>(r)).maxCoeff(&best);
-  return best;
-}
-
 ClassScores score_sequences(const ActganModel& m, const io::SkeletonFile& s, const std::vector<std::size_t>& seqs,
                             const nn::Matrix<float>& prob) {
   ClassScores sc;
@@ -233,7 +230,7 @@ ClassScores score_sequences(const ActganModel& m, const io::SkeletonFile& s, con
     if (it == m.class_names.end()) continue;
     const auto c = static_cast<std::size_t>(it - m.class_names.begin());
     ++sc.total[c];
-    sc.correct[c] += most_probable(prob, r) == static_cast<Eigen::Index>(c);
+    sc.correct[c] += most_probable(prob, static_cast<Eigen::Index>(r)) == static_cast<Eigen::Index>(c);
   }
   for (std::size_t c = 0; c < m.class_names.size(); ++c) sc.all_total += sc.total[c], sc.all_correct += sc.correct[c];
   return sc;
@@ -288,9 +285,9 @@ void print_classification(const ClassifyOptions& opt, const ActganModel& m, cons
   fmt::print("  most probable\n");
   for (std::size_t r = 0; r < seqs.size(); ++r) {
     if (!opt.probabilities && !s.is_mixture(seqs[r])) continue;
-    fmt::print("{:<24}", s.sequence_names[seqs[r]]);
+    fmt::print("{:<24}", sequence_key(s, seqs[r]));
     for (Eigen::Index c = 0; c < prob.cols(); ++c) fmt::print(" {:>9.3f}", prob(static_cast<Eigen::Index>(r), c));
-    fmt::print("  {}\n", m.class_names[static_cast<std::size_t>(most_probable(prob, r))]);
+    fmt::print("  {}\n", m.class_names[static_cast<std::size_t>(most_probable(prob, static_cast<Eigen::Index>(r)))]);
   }
 }
 

@@ -24,7 +24,7 @@ struct ActganGenerateOptions {
 /// The label vectors of the requested sequences: one-hot rows per class, or the mixture's
 /// weights (normalized to sum 1); `names` gets each row's name (class or "a+b").
 nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& opt,
-                             std::vector<std::string>& names, std::vector<int>& dominant);
+                             std::vector<std::string>& names);
 
 /// Generates one sequence per row of `y` (h_1 and the noise drawn from rng in a fixed order);
 /// returns poses [rows, length, P] and latents [rows, length, Z].
