@@ -157,8 +157,10 @@ $(MS)/%/curve.png: $(MS)/%/msae.h5
 	  set title '$*: MSAE training (validation shapes are held out, not test shapes)'; set xlabel 'iteration'; \
 	  plot '$(@:.png=.txt)' using 1:2 with lines title 'training loss (all blocks)', \
 	       '' using 1:6 with linespoints title 'validation: mean |X - X_hat|^2 per shape' noenhanced"
+# The localization table of the components in $(1) against bumps' planted regions, indented.
+ms_localization = $(BIN)/eval-metrics $(1) $(MS)/bumps/frames.h5 | sed -n '2,$$p' | sed 's/^/    /'
 $(MS)/bumps/localization.md: $(MS)/bumps/kept.h5 $(MS)/bumps/components.h5 $(MS)/bumps/frames.h5
 	{ echo "bumps — localization of the planted regions by the kept components (support: deformation >= 10% of the component's peak; IoU with the region's disc)"; echo; \
-	  $(BIN)/eval-metrics $< $(MS)/bumps/frames.h5 | sed -n '2,$$p' | sed 's/^/    /'; echo; \
+	  $(call ms_localization,$<); echo; \
 	  echo "the same by every component before pruning (prune-components drops those of strength < 0.01)"; echo; \
-	  $(BIN)/eval-metrics $(MS)/bumps/components.h5 $(MS)/bumps/frames.h5 | sed -n '2,$$p' | sed 's/^/    /'; } $(write_if_changed)
+	  $(call ms_localization,$(MS)/bumps/components.h5); } $(write_if_changed)
