@@ -117,17 +117,9 @@ $(BD)/finger/data.h5: $(BD)/finger/frames.h5
 $(BD)/faerie/data.h5: $(FAERIE)
 	@mkdir -p $(@D)
 	$(BIN)/obj2acap -q -f $< -o $@
-# Writes a recipe's output to $@ only when it differs, keeping an unchanged file's time.
-write_if_changed = > $@.new && if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
-# Real sets: unpacked from DATA into $(BD)/S/src/S/ (an archive's single top directory). The
-# archive is followed by its checksum, rewritten only when the bytes change: a fresh copy or mount
-# of DATA (new times, same archives) re-runs nothing downstream.
-$(BD)/%/src/.sha256: $(DATA)/meshseq/%.tar.zst
-	@mkdir -p $(@D)
-	@sha256sum < $< $(write_if_changed)
-$(BD)/%/src/.unpacked: $(BD)/%/src/.sha256
-	tar --zstd -xf $(DATA)/meshseq/$*.tar.zst -C $(@D)
-	touch $@
+# Real sets: unpacked from DATA into $(BD)/S/src/S/ (an archive's single top directory), once
+# per archive content (UNPACK_RULES, Makefile.data).
+$(eval $(call UNPACK_RULES,$(BD)/%/src,$(DATA)/meshseq/%.tar.zst))
 $(BD)/pcow/data.h5 $(BD)/chickenCrossing/data.h5: $(BD)/%/data.h5: $(BD)/%/src/.unpacked
 	$(BIN)/obj2acap -q -f $(<D)/$* -o $@
 

@@ -61,12 +61,7 @@ $(MS)/bumps/frames.h5:
 	$(BIN)/synth-meshseq -q --kind bumps $(MS_BUMPS) --seed 1 -f -o $@
 $(MS)/bumps/data.h5: $(MS)/bumps/frames.h5
 	$(BIN)/obj2acap -q -f $< -o $@
-$(MS)/%/src/.sha256: $(DATA)/meshseq/%.tar.zst
-	@mkdir -p $(@D)
-	@sha256sum < $< $(write_if_changed)
-$(MS)/%/src/.unpacked: $(MS)/%/src/.sha256
-	tar --zstd -xf $(DATA)/meshseq/$*.tar.zst -C $(@D)
-	touch $@
+$(eval $(call UNPACK_RULES,$(MS)/%/src,$(DATA)/meshseq/%.tar.zst))
 $(foreach s,pcow chickenCrossing cactus cat-poses lion-poses,$(MS)/$(s)/data.h5): $(MS)/%/data.h5: $(MS)/%/src/.unpacked
 	$(BIN)/obj2acap -q -f $$(find $(<D) -mindepth 1 -maxdepth 1 -type d | head -1) -o $@
 

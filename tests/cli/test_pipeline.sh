@@ -40,6 +40,22 @@ tar --zstd -cf data/meshseq/tiny.tar.zst -C pack tiny
 touch -d '+2 min' data/meshseq/tiny.tar.zst
 unpack
 [ -f out/bdlstm/tiny/src/tiny/b.obj ] || fail "a changed archive was not unpacked again"
+# ... and so does the ActGAN pipeline's UTKinect archive (its own path under DATA/skeleton)
+mkdir -p data/skeleton pack/UTKinect
+echo "1 2 3" >pack/UTKinect/a.txt
+tar --zstd -cf data/skeleton/UTKinect.tar.zst -C pack UTKinect
+unpacked="$DF_TMP/out/actgan/utkinect/src/.unpacked"
+unpack
+[ -f out/actgan/utkinect/src/UTKinect/a.txt ] || fail "UTKinect archive not unpacked"
+before=$(stat -c %y "$unpacked")
+touch -d '+1 min' data/skeleton/UTKinect.tar.zst
+unpack
+[ "$(stat -c %y "$unpacked")" = "$before" ] || fail "the UTKinect archive with a new time but the same bytes was unpacked again"
+echo "4 5 6" >pack/UTKinect/b.txt
+tar --zstd -cf data/skeleton/UTKinect.tar.zst -C pack UTKinect
+touch -d '+2 min' data/skeleton/UTKinect.tar.zst
+unpack
+[ -f out/actgan/utkinect/src/UTKinect/b.txt ] || fail "a changed UTKinect archive was not unpacked again"
 echo "ok (unpack once)"
 
 # A model retrains when its options (the set's, an ablation's) change, and only then (a stand-in
@@ -109,3 +125,35 @@ variants() { make -s -C "$DF_SOURCE" -f Makefile.data OUT="$DF_TMP/out" DATA="$D
 [ "$(variants tiny_CHOSEN=--no-kl)" = "paper unidirectional standard no-kl no-l2" ] ||
   fail "with chosen remedies Table 2 needs the paper's form: '$(variants tiny_CHOSEN=--no-kl)'"
 echo "ok (chosen remedies)"
+
+# ActGAN at other training seeds: each seed trains ours and the baseline with the set's options
+# and --seed N; seeds.md sets the two side by side and counts where ours is lower.
+cat >fakebin/train-actgan <<'SH'
+#!/bin/sh
+for a; do [ "${prev:-}" = -o ] && out=$a; prev=$a; done
+echo "$*" >"$out.argv"; touch "$out"
+SH
+chmod +x fakebin/train-actgan
+mkdir -p out/actgan/tiny/seeds
+touch out/actgan/tiny/data.h5
+agmake() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_TMP/fakebin" OUT="$DF_TMP/out" DATA="$DF_TMP/data" \
+             tiny_AG_ITERATIONS=7 AG_SEEDS=2 "$@" >/dev/null || fail "ActGAN seed rules failed: $*"; }
+agmake "$DF_TMP/out/actgan/tiny/seeds/model-2.h5" "$DF_TMP/out/actgan/tiny/seeds/model-pose-2.h5"
+grep -qE -- "--pretrain-iterations 1000 --iterations 7 .*--seed 2 " out/actgan/tiny/seeds/model-2.h5.argv ||
+  fail "seed 2's model: $(cat out/actgan/tiny/seeds/model-2.h5.argv)"
+grep -qE -- "--pretrain-iterations 0 --iterations 7 .*--generator pose --seed 2 " out/actgan/tiny/seeds/model-pose-2.h5.argv ||
+  fail "seed 2's baseline: $(cat out/actgan/tiny/seeds/model-pose-2.h5.argv)"
+mmd_json() { printf '{\n  "mmd_avg": %s,\n  "mmd_seq": %s,\n  "mmd_motion_avg": %s,\n  "mmd_motion_seq": %s,\n  "classes": {}\n}\n' "$2" "$3" "$4" "$5" >"$1"; }
+mmd_json out/actgan/tiny/gen.mmd.json 0.1 0.3 0.5 0.7                 # ours, seed 1
+mmd_json out/actgan/tiny/gen-pose.mmd.json 0.2 0.2 0.6 0.8            # the baseline, seed 1
+mmd_json out/actgan/tiny/seeds/gen-2.mmd.json 0.3 0.1 0.5 0.9         # ours, seed 2
+mmd_json out/actgan/tiny/seeds/gen-pose-2.mmd.json 0.4 0.2 0.5 0.8    # the baseline, seed 2 (a tie: not lower)
+j=out/actgan/tiny; J=$DF_TMP/$j
+agmake -o $J/gen.mmd.json -o $J/gen-pose.mmd.json -o $J/seeds/gen-2.mmd.json -o $J/seeds/gen-pose-2.mmd.json $J/seeds.md
+grep -qF "| 2 | 0.3000 | 0.1000 | 0.5000 | 0.9000 | 0.4000 | 0.2000 | 0.5000 | 0.8000 |" $j/seeds.md &&
+  grep -qF "| motion MMD_avg | 0.5000 (0.5000 - 0.5000) | 0.5500 (0.5000 - 0.6000) | 1 of 2 seeds |" $j/seeds.md &&
+  grep -qF "| MMD_avg | 0.2000 (0.1000 - 0.3000) | 0.3000 (0.2000 - 0.4000) | 2 of 2 seeds |" $j/seeds.md &&
+  grep -qF "| MMD_seq | 0.2000 (0.1000 - 0.3000) | 0.2000 (0.2000 - 0.2000) | 1 of 2 seeds |" $j/seeds.md &&
+  grep -qF "| motion MMD_seq | 0.8000 (0.7000 - 0.9000) | 0.8000 (0.8000 - 0.8000) | 1 of 2 seeds |" $j/seeds.md ||
+  fail "seeds.md: $(cat $j/seeds.md)"
+echo "ok (ActGAN seeds)"
