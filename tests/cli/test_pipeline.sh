@@ -21,41 +21,30 @@ run make -C "$DF_SOURCE" -q -f Makefile.data "$DF_TMP/out/demo/faerie-meshes/sta
 expect_rc 0
 echo "ok"
 
-# The BD-LSTM pipeline unpacks a data archive once: a fresh copy of DATA (new time, same bytes)
-# re-runs nothing, other bytes unpack again.
-mkdir -p data/meshseq pack/tiny
-echo "v 0 0 0" >pack/tiny/a.obj
-tar --zstd -cf data/meshseq/tiny.tar.zst -C pack tiny
-unpacked="$DF_TMP/out/bdlstm/tiny/src/.unpacked"
-unpack() { make -s -C "$DF_SOURCE" -f Makefile.data "$unpacked" BIN="$DF_BIN" OUT="$DF_TMP/out" DATA="$DF_TMP/data" ||
-             fail "unpacking failed"; }
-unpack
-[ -f out/bdlstm/tiny/src/tiny/a.obj ] || fail "archive not unpacked"
-before=$(stat -c %y "$unpacked")
-touch -d '+1 min' data/meshseq/tiny.tar.zst
-unpack
-[ "$(stat -c %y "$unpacked")" = "$before" ] || fail "an archive with a new time but the same bytes was unpacked again"
-echo "v 1 0 0" >pack/tiny/b.obj
-tar --zstd -cf data/meshseq/tiny.tar.zst -C pack tiny
-touch -d '+2 min' data/meshseq/tiny.tar.zst
-unpack
-[ -f out/bdlstm/tiny/src/tiny/b.obj ] || fail "a changed archive was not unpacked again"
-# ... and so does the ActGAN pipeline's UTKinect archive (its own path under DATA/skeleton)
-mkdir -p data/skeleton pack/UTKinect
-echo "1 2 3" >pack/UTKinect/a.txt
-tar --zstd -cf data/skeleton/UTKinect.tar.zst -C pack UTKinect
-unpacked="$DF_TMP/out/actgan/utkinect/src/.unpacked"
-unpack
-[ -f out/actgan/utkinect/src/UTKinect/a.txt ] || fail "UTKinect archive not unpacked"
-before=$(stat -c %y "$unpacked")
-touch -d '+1 min' data/skeleton/UTKinect.tar.zst
-unpack
-[ "$(stat -c %y "$unpacked")" = "$before" ] || fail "the UTKinect archive with a new time but the same bytes was unpacked again"
-echo "4 5 6" >pack/UTKinect/b.txt
-tar --zstd -cf data/skeleton/UTKinect.tar.zst -C pack UTKinect
-touch -d '+2 min' data/skeleton/UTKinect.tar.zst
-unpack
-[ -f out/actgan/utkinect/src/UTKinect/b.txt ] || fail "a changed UTKinect archive was not unpacked again"
+# A pipeline unpacks a data archive once: a fresh copy of DATA (new time, same bytes) re-runs
+# nothing, other bytes unpack again. unpack_once DIR NAME SRC: DATA/DIR/NAME.tar.zst, whose one
+# top directory is NAME, unpacks into out/SRC.
+unpack_once() {
+  local archive=data/$1/$2.tar.zst unpacked=$DF_TMP/out/$3/.unpacked before
+  unpack() { make -s -C "$DF_SOURCE" -f Makefile.data "$unpacked" BIN="$DF_BIN" OUT="$DF_TMP/out" DATA="$DF_TMP/data" ||
+               fail "unpacking $archive failed"; }
+  mkdir -p "data/$1" "pack/$2"
+  echo "v 0 0 0" >"pack/$2/a.obj"
+  tar --zstd -cf "$archive" -C pack "$2"
+  unpack
+  [ -f "out/$3/$2/a.obj" ] || fail "$archive not unpacked"
+  before=$(stat -c %y "$unpacked")
+  touch -d '+1 min' "$archive"
+  unpack
+  [ "$(stat -c %y "$unpacked")" = "$before" ] || fail "$archive with a new time but the same bytes was unpacked again"
+  echo "v 1 0 0" >"pack/$2/b.obj"
+  tar --zstd -cf "$archive" -C pack "$2"
+  touch -d '+2 min' "$archive"
+  unpack
+  [ -f "out/$3/$2/b.obj" ] || fail "a changed $archive was not unpacked again"
+}
+unpack_once meshseq tiny bdlstm/tiny/src                  # the BD-LSTM pipeline's (and MSAE's) mesh sequences
+unpack_once skeleton UTKinect actgan/utkinect/src         # the ActGAN pipeline's skeletons
 echo "ok (unpack once)"
 
 # A model retrains when its options (the set's, an ablation's) change, and only then (a stand-in
