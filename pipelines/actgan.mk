@@ -47,9 +47,14 @@ direct_AG := --direct-latent
 no-cls_AG := --no-classifier
 latent2_AG := --latent 2
 cls-alone_AG := --classifier-only
+# Ours and the baseline again at other training seeds (seedN, pose-seedN; seeds.md): how much of a
+# difference between the two is one training run's luck. AG_SEEDS= leaves them out.
+AG_SEEDS ?= 2 3 4 5
+AG_SEED_MODELS := $(foreach n,$(AG_SEEDS),seed$(n) pose-seed$(n))
+$(foreach n,$(AG_SEEDS),$(eval seed$(n)_AG := --seed $(n))$(eval pose-seed$(n)_AG := --generator pose --seed $(n)))
 # $(call ag_train,VARIANT): a model's training options in a rule of set $* (no pre-training without a
 # decoder to train)
-ag_train = --pretrain-iterations $(if $(filter pose cls-alone,$(1)),0,$(AG_PRETRAIN)) \
+ag_train = --pretrain-iterations $(if $(filter pose% cls-alone,$(1)),0,$(AG_PRETRAIN)) \
   --iterations $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) $(AG_GAN) $(AG_OPTIONS) $(if $(1),$($(1)_AG))
 # The training subjects (the data's own level in mmd.md: their real clips against the test clips)
 synthetic_TRAIN_SUBJECTS := 1,2,3,4
@@ -98,7 +103,7 @@ $(AG)/%/model-$(1).h5: $(AG)/%/data.h5 $(AG)/%/model-$(1).args
 	$$(call launch,train) $$(BIN)/train-actgan -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
 	  $$(call ag_train,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
 endef
-$(foreach v,$(AG_VARIANTS) latent2 cls-alone,$(eval $(call AG_VARIANT_RULES,$(v))))
+$(foreach v,$(AG_VARIANTS) latent2 cls-alone $(AG_SEED_MODELS),$(eval $(call AG_VARIANT_RULES,$(v))))
 
 # --- generation and measures
 $(AG)/%/gen.h5: $(AG)/%/model.h5
@@ -107,7 +112,7 @@ define AG_GEN_RULES
 $(AG)/%/gen-$(1).h5: $(AG)/%/model-$(1).h5
 	$$(call launch,generate) $$(BIN)/gen-actgan -q -f --count $$(AG_COUNT) --seed 7 $$< -o $$@
 endef
-$(foreach v,$(AG_VARIANTS),$(eval $(call AG_GEN_RULES,$(v))))
+$(foreach v,$(AG_VARIANTS) $(AG_SEED_MODELS),$(eval $(call AG_GEN_RULES,$(v))))
 $(AG)/%.mmd.json: $(AG)/%.h5
 	$(call launch,eval) $(BIN)/eval-metrics -q $< $(dir $<)data.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
 ag_mmd = sed -n 's/^  "mmd_$(2)": \([^,]*\),*$$/\1/p' $(1) | awk '{ printf "%.4f", $$1 }'
@@ -124,40 +129,24 @@ $(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v)
 	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; esac; \
 	    echo "| $$l | $(call ag_mmd_row,$$f) |"; done; \
 	} $(write_if_changed)
-# --- the same comparison at other training seeds: how much of a difference between ours and the
-# baseline is the training run's luck (seeds.md; AG_SEEDS= leaves it out). Seed 1 is the models
-# above; each other seed trains ours and the baseline once more, generation seed 7 as above.
-AG_SEEDS ?= 2 3 4 5
-define AG_SEED_RULES
-$(AG)/%/seeds/model-$(1).args: FORCE
-	@mkdir -p $$(@D)
-	@echo '$$(call ag_train,$(2)) --seed $(3)' $$(write_if_changed)
-$(AG)/%/seeds/model-$(1).h5: $(AG)/%/data.h5 $(AG)/%/seeds/model-$(1).args
-	$$(call launch,train) $$(BIN)/train-actgan -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
-	  $$(call ag_train,$(2)) --seed $(3) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
-$(AG)/%/seeds/gen-$(1).h5: $(AG)/%/seeds/model-$(1).h5
-	$$(call launch,generate) $$(BIN)/gen-actgan -q -f --count $$(AG_COUNT) --seed 7 $$< -o $$@
-$(AG)/%/seeds/gen-$(1).mmd.json: $(AG)/%/seeds/gen-$(1).h5
-	$$(call launch,eval) $$(BIN)/eval-metrics -q $$< $$(AG)/$$*/data.h5 --json $$@.tmp > /dev/null && mv $$@.tmp $$@
-endef
-# $(1) = the files' name (model-N.h5: ours, model-pose-N.h5: the baseline), $(2) = the variant, $(3) = the seed
-$(foreach n,$(AG_SEEDS),$(eval $(call AG_SEED_RULES,$(n),,$(n))))
-$(foreach n,$(AG_SEEDS),$(eval $(call AG_SEED_RULES,pose-$(n),pose,$(n))))
-ag_seed_json = $(if $(filter 1,$(2)),$(AG)/$(1)/gen$(3:%=-%).mmd.json,$(AG)/$(1)/seeds/gen$(3:%=-%)-$(2).mmd.json)
-$(AG)/%/seeds.md: $(AG)/%/gen.mmd.json $(AG)/%/gen-pose.mmd.json \
-    $(foreach n,$(AG_SEEDS),$(AG)/%/seeds/gen-$(n).mmd.json $(AG)/%/seeds/gen-pose-$(n).mmd.json)
+# seeds.md: ours against the baseline at training seed 1 (the models above) and AG_SEEDS, then per
+# measure the mean, the range and at how many seeds ours is lower.
+# $(call ag_seed_model,VARIANT,SEED): the model's name in gen-NAME ('' = ours at seed 1)
+ag_seed_model = $(if $(filter 1,$(2)),$(1),$(1:%=%-)seed$(2))
+ag_seed_json = $(AG)/$(1)/gen$(patsubst %,-%,$(call ag_seed_model,$(2),$(3))).mmd.json
+$(AG)/%/seeds.md: $(foreach n,1 $(AG_SEEDS),$(call ag_seed_json,%,,$(n)) $(call ag_seed_json,%,pose,$(n)))
+	rows=$$($(foreach n,1 $(AG_SEEDS),echo "| $(n) | $(call ag_mmd_row,$(call ag_seed_json,$*,,$(n))) | $(call ag_mmd_row,$(call ag_seed_json,$*,pose,$(n))) |";)); \
 	{ echo "$* — ours against the $(AG_LABEL_pose) at training seeds 1 $(AG_SEEDS) (seed 1: mmd.md's models; generation seed 7, $(AG_COUNT) sequences per class, the real test clips)"; echo; \
 	  echo "| training seed | ours MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | baseline MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq |"; \
-	  echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"; \
-	  $(foreach n,1 $(AG_SEEDS),echo "| $(n) | $(call ag_mmd_row,$(call ag_seed_json,$*,$(n),)) | $(call ag_mmd_row,$(call ag_seed_json,$*,$(n),pose)) |";) \
-	} > $@.rows && { cat $@.rows; echo; echo "| over the seeds | ours: mean (lowest - highest) | baseline: mean (lowest - highest) | ours lower at |"; \
-	  echo "|---|---:|---:|---:|"; awk -F'|' 'NR > 4 && NF > 9 { n++; for (c = 3; c <= 10; c++) { s[c] += $$c; \
+	  echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"; echo "$$rows"; echo; \
+	  echo "| over the seeds | ours: mean (lowest - highest) | baseline: mean (lowest - highest) | ours lower at |"; echo "|---|---:|---:|---:|"; \
+	  echo "$$rows" | awk -F'|' '{ n++; for (c = 3; c <= 10; c++) { s[c] += $$c; \
 	    if (n == 1 || $$c < lo[c]) lo[c] = $$c; if (n == 1 || $$c > hi[c]) hi[c] = $$c } \
 	    for (c = 3; c <= 6; c++) if ($$c < $$(c + 4)) w[c]++ } \
 	  END { split("MMD_avg,MMD_seq,motion MMD_avg,motion MMD_seq", m, ","); for (c = 3; c <= 6; c++) \
 	    printf "| %s | %.4f (%.4f - %.4f) | %.4f (%.4f - %.4f) | %d of %d seeds |\n", \
-	      m[c - 2], s[c] / n, lo[c], hi[c], s[c + 4] / n, lo[c + 4], hi[c + 4], w[c], n }' $@.rows; } $(write_if_changed)
-	rm -f $@.rows
+	      m[c - 2], s[c] / n, lo[c], hi[c], s[c + 4] / n, lo[c + 4], hi[c + 4], w[c], n }'; \
+	} $(write_if_changed)
 
 ag_acc = sed -n "s/^$(2) *[0-9]* *[0-9]* *\([0-9.]*\)\$$/\1/p" $(1)
 $(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 $(AG)/%/data.h5

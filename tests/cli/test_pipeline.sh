@@ -123,22 +123,22 @@ for a; do [ "${prev:-}" = -o ] && out=$a; prev=$a; done
 echo "$*" >"$out.argv"; touch "$out"
 SH
 chmod +x fakebin/train-actgan
-mkdir -p out/actgan/tiny/seeds
+mkdir -p out/actgan/tiny
 touch out/actgan/tiny/data.h5
 agmake() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_TMP/fakebin" OUT="$DF_TMP/out" DATA="$DF_TMP/data" \
              tiny_AG_ITERATIONS=7 AG_SEEDS=2 "$@" >/dev/null || fail "ActGAN seed rules failed: $*"; }
-agmake "$DF_TMP/out/actgan/tiny/seeds/model-2.h5" "$DF_TMP/out/actgan/tiny/seeds/model-pose-2.h5"
-grep -qE -- "--pretrain-iterations 1000 --iterations 7 .*--seed 2 " out/actgan/tiny/seeds/model-2.h5.argv ||
-  fail "seed 2's model: $(cat out/actgan/tiny/seeds/model-2.h5.argv)"
-grep -qE -- "--pretrain-iterations 0 --iterations 7 .*--generator pose --seed 2 " out/actgan/tiny/seeds/model-pose-2.h5.argv ||
-  fail "seed 2's baseline: $(cat out/actgan/tiny/seeds/model-pose-2.h5.argv)"
+agmake "$DF_TMP/out/actgan/tiny/model-seed2.h5" "$DF_TMP/out/actgan/tiny/model-pose-seed2.h5"
+grep -qE -- "--pretrain-iterations 1000 --iterations 7 .*--seed 2 " out/actgan/tiny/model-seed2.h5.argv ||
+  fail "seed 2's model: $(cat out/actgan/tiny/model-seed2.h5.argv)"
+grep -qE -- "--pretrain-iterations 0 --iterations 7 .*--generator pose --seed 2 " out/actgan/tiny/model-pose-seed2.h5.argv ||
+  fail "seed 2's baseline: $(cat out/actgan/tiny/model-pose-seed2.h5.argv)"
 mmd_json() { printf '{\n  "mmd_avg": %s,\n  "mmd_seq": %s,\n  "mmd_motion_avg": %s,\n  "mmd_motion_seq": %s,\n  "classes": {}\n}\n' "$2" "$3" "$4" "$5" >"$1"; }
 mmd_json out/actgan/tiny/gen.mmd.json 0.1 0.3 0.5 0.7                 # ours, seed 1
 mmd_json out/actgan/tiny/gen-pose.mmd.json 0.2 0.2 0.6 0.8            # the baseline, seed 1
-mmd_json out/actgan/tiny/seeds/gen-2.mmd.json 0.3 0.1 0.5 0.9         # ours, seed 2
-mmd_json out/actgan/tiny/seeds/gen-pose-2.mmd.json 0.4 0.2 0.5 0.8    # the baseline, seed 2 (a tie: not lower)
+mmd_json out/actgan/tiny/gen-seed2.mmd.json 0.3 0.1 0.5 0.9         # ours, seed 2
+mmd_json out/actgan/tiny/gen-pose-seed2.mmd.json 0.4 0.2 0.5 0.8    # the baseline, seed 2 (a tie: not lower)
 j=out/actgan/tiny; J=$DF_TMP/$j
-agmake -o $J/gen.mmd.json -o $J/gen-pose.mmd.json -o $J/seeds/gen-2.mmd.json -o $J/seeds/gen-pose-2.mmd.json $J/seeds.md
+agmake -o $J/gen.mmd.json -o $J/gen-pose.mmd.json -o $J/gen-seed2.mmd.json -o $J/gen-pose-seed2.mmd.json $J/seeds.md
 grep -qF "| 2 | 0.3000 | 0.1000 | 0.5000 | 0.9000 | 0.4000 | 0.2000 | 0.5000 | 0.8000 |" $j/seeds.md &&
   grep -qF "| motion MMD_avg | 0.5000 (0.5000 - 0.5000) | 0.5500 (0.5000 - 0.6000) | 1 of 2 seeds |" $j/seeds.md &&
   grep -qF "| MMD_avg | 0.2000 (0.1000 - 0.3000) | 0.3000 (0.2000 - 0.4000) | 2 of 2 seeds |" $j/seeds.md &&
