@@ -16,7 +16,7 @@
 # ones, 25% for the 9-pose collections) are excluded from every test number.
 MS := $(OUT)/msae
 MS_SETS ?= bumps $(if $(HAVE_DATA),pcow chickenCrossing cactus cat-poses lion-poses)
-MS_LEVEL3_SETS ?= bumps
+MS_LEVEL3_SETS ?= $(MS_SETS)
 MS_BUMPS ?= --frames 200 --resolution 40
 MS_VARIANTS := tan separate noatt separate-noatt
 TRAIN_THREADS ?= 0
