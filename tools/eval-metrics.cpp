@@ -42,7 +42,8 @@ int main(int argc, char** argv) {
                 "                             against itself (the level a generator could reach).\n"
                 "Frames pair through PRED's /frames/source (gen-bdlstm output) or by index. Positions\n"
                 "are reconstructed from features (exact solver) when a file stores none; one\n"
-                "translation per connected component is removed before measuring.\n\n"
+                "translation per connected component is removed before measuring (--align rigid:\n"
+                "the best rotation too, Kabsch, as the MSAE paper aligns models before E_rms).\n\n"
                 "INPUT: PRED [TRUTH]: acap .h5 files or mesh directories (or two skeleton files, or\n"
                 "a components file and a bumps file); with PRED alone only the\n"
                 "feature change is measured. OUTPUT: the table on stdout; --json FILE (or -).");
@@ -75,6 +76,11 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   app.add_option("--change-span", opt.change_span, "Feature change between frames K apart (1 = consecutive)")
       ->default_val(opt.change_span);
+  app.add_option("--align", opt.align,
+                 "Before measuring, move each connected part of PRED onto TRUTH by: translation (the\n"
+                 "reconstruction's own freedom) or rigid (rotation and translation, Kabsch)")
+      ->check(CLI::IsMember({"translation", "rigid"}))
+      ->default_val(opt.align);
   app.add_option("--sted-rings", opt.sted_rings, "STED neighbourhood in rings")->default_val(opt.sted_rings);
   app.add_option("--sted-dt", opt.sted_dt, "STED frame interval")->default_val(opt.sted_dt);
   app.add_option("--sted-c", opt.sted_c, "STED weight of the temporal part")->default_val(opt.sted_c);
@@ -83,6 +89,7 @@ int main(int argc, char** argv) {
               "  eval-metrics long.h5 --json change.json     # freezing / jerks of a generation\n"
               "  eval-metrics long.h5 --change-span 10       # motion over 10 frames\n"
               "  eval-metrics recon.h5 test.h5 --json -\n"
+              "  eval-metrics recon.h5 data.h5 --align rigid  # E_rms as the MSAE paper measures it\n"
               "  eval-metrics gen.h5 clips.h5                 # MMD of generated actions (test part)\n"
               "  eval-metrics clips.h5 clips.h5 --pred-subjects 1,2,3 --truth-subjects 4\n"
               "                                  # the data's own level: training subjects vs one held out");

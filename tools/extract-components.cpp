@@ -22,9 +22,17 @@ int main(int argc, char** argv) {
   app.add_option("DATA", opt.data, "the acap .h5 the model was trained on")->required();
   app.add_option("-o,--output", opt.output, "Output components file (.h5)")->required();
   app.add_option("--acap", opt.acap, "Also write every component as a frame of an acap file");
+  app.add_option("--report", opt.report,
+                 "Also print what the model learned, measured on its validation or test shapes:\n"
+                 "per component its centre, how much of its weight lies within Omega's radius,\n"
+                 "its decoded support and strength, its code range and its share of the shapes'\n"
+                 "reconstruction; per level the distinct centres and the effective rank of the\n"
+                 "decoded directions against PCA's")
+      ->check(CLI::IsMember({"validation", "test"}));
   tool.footer(
       "Examples:\n"
       "  extract-components bumps-msae.h5 bumps.h5 -o comps.h5\n"
+      "  extract-components pcow-msae.h5 pcow.h5 -o comps.h5 --report validation\n"
       "  prune-components comps.h5 -o kept.h5 --acap kept-acap.h5\n"
       "  render-mesh kept-acap.h5 --sequence level0 --color deformation -o level0.png");
   return tool.run(argc, argv, [&] { df::models::extract_components_tool(opt, tool.common()); });

@@ -25,10 +25,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"train", "validation", "test", "all"}));
   app.add_option("--levels", opt.levels, "Decode through the first L levels (default: all)")
       ->default_str("all");
+  app.add_option("--fit-codes", opt.fit_codes,
+                 "Fit each shape's codes through the decoders in N Adam steps (least squares,\n"
+                 "starting from the encoder's codes) instead of encoding: the protocol PCA and\n"
+                 "SPLOCS are measured under, and a diagnostic of the encoder (both feature errors\n"
+                 "are printed). 0 = the encoder's codes (the paper's protocol)")
+      ->default_val(opt.fit_codes);
+  app.add_option("--fit-lr", opt.fit_lr, "--fit-codes: Adam's initial rate (decays tenfold)")
+      ->default_val(opt.fit_lr);
   tool.footer(
       "Examples:\n"
       "  recon-msae pcow-msae.h5 pcow.h5 -o pcow-recon.h5 && eval-metrics pcow-recon.h5 pcow.h5\n"
       "  recon-msae --levels 1 pcow-msae.h5 pcow.h5 -o pcow-level0.h5   # coarse level only\n"
+      "  recon-msae --fit-codes 300 pcow-msae.h5 pcow.h5 -o fitted.h5   # least-squares codes\n"
       "  recon-msae --part all pcow-msae.h5 other-pcow.h5 -o r.h5");
   return tool.run(argc, argv, [&] { df::models::recon_msae(opt, tool.common()); });
 }

@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "core/tool.h"
+#include "eval/shape_error.h"
 #include "models/msae/train.h"
 
 int main(int argc, char** argv) {
@@ -49,9 +50,32 @@ int main(int argc, char** argv) {
   n->add_option("--latent", opt.net.latent,
                 "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: the\n"
                 "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real meshes\n"
-                "and V(Z) never acts; see the README)")
+                "and V(Z) never acts; see docs/msae.md)")
       ->default_val(opt.net.latent)
       ->check(CLI::IsMember({"tanh", "linear"}));
+  n->add_option("--decoder-fc", opt.net.decoder_fc,
+                "The decoder's fully connected layer: y = tanh(z C) (tanh, the paper's 'tanh\n"
+                "everywhere') or y = z C (linear, as the convMesh code of Tan et al.)")
+      ->default_val(opt.net.decoder_fc)
+      ->check(CLI::IsMember({"tanh", "linear"}));
+  n->add_option("--decoder-conv", opt.net.decoder_conv,
+                "The decoder's mesh convolution uses the encoder's weights transposed, or shared as\n"
+                "they are (as the convMesh code)")
+      ->default_val(opt.net.decoder_conv)
+      ->check(CLI::IsMember({"transposed", "shared"}));
+  n->add_option("--init", opt.net.init,
+                "Initial weights: glorot (uniform), normal (N(0, 0.02^2), as the convMesh code) or\n"
+                "small (C at glorot x 0.01: components no training shape asks for stay near zero\n"
+                "instead of projecting unseen shapes onto random directions)")
+      ->default_val(opt.net.init)
+      ->check(CLI::IsMember({"glorot", "normal", "small"}));
+  n->add_option("--centres", opt.net.centres,
+                "Where the components' centres start: random (where the initial weights peak; the\n"
+                "reconstruction gradient then draws most to the same vertices) or spread (farthest-\n"
+                "point sampling: level 0 over the mesh, a child within its parent's radius); then\n"
+                "c_k = argmax_i |C_k,i| every iteration, as the paper")
+      ->default_val(opt.net.centres)
+      ->check(CLI::IsMember({"random", "spread"}));
   n->add_option("--lambda-recon", opt.net.lambda_recon, "Weight of the reconstruction MSE")
       ->default_val(opt.net.lambda_recon);
   n->add_option("--lambda-sparse", opt.net.lambda_sparse, "Weight of Omega(C)")
@@ -76,6 +100,12 @@ int main(int argc, char** argv) {
       "--separate", opt.training.separate,
       "Train level by level (iterations divided equally; earlier levels frozen) instead of\n"
       "jointly (paper Table 4)");
+  g->add_option("--separate-rate", opt.training.separate_rate,
+                "With --separate: each level's new Adam starts at --lr (restart) or at the rate the\n"
+                "schedule has reached when the level starts (continue: the rate joint training has\n"
+                "there, so that joint and separate differ in strategy only)")
+      ->default_val(opt.training.separate_rate)
+      ->check(CLI::IsMember({"restart", "continue"}));
   g->add_option("--split", opt.training.split,
                 "sequence: every --every-th shape of each sequence trains, the rest is held out;\n"
                 "collection: a random --train-fraction trains (placed by --seed)")
@@ -94,7 +124,8 @@ int main(int argc, char** argv) {
   g->add_option(
        "--validation-fraction", opt.training.validation_fraction,
        "This fraction of the held-out shapes (drawn by --seed) validates instead of testing; its\n"
-       "error is logged at every loss line. Choose iteration counts and options on it, never on\n"
+       "error is logged at every loss line (features, and E_rms x 1000 of positions as\n"
+       "eval-metrics measures it). Choose iteration counts and options on it, never on\n"
        "the test shapes")
       ->default_val(opt.training.validation_fraction);
   df::models::add_training_run_options(*g, opt.run);
@@ -123,6 +154,11 @@ int main(int argc, char** argv) {
       opt.net.d.resize(opt.net.kz.size());
     }
     opt.net.attention = !no_attention;
+    opt.position_error = [](const df::models::MsaeModel& m, const std::vector<std::int64_t>& frames) {
+      auto measure = std::make_shared<df::eval::ShapeErms>(m.split.data, frames, m.normalization);
+      return df::models::MsaeShapeMeasure(
+          [measure](const df::nn::Matrix<float>& normalized) { return (*measure)(normalized); });
+    };
     df::models::train_msae(opt, tool.common());
   });
 }

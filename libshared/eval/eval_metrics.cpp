@@ -44,6 +44,8 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
   if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
   if (opt.change_span < 1) throw UsageError("--change-span must be at least 1");
+  if (opt.align != "translation" && opt.align != "rigid")
+    throw UsageError("--align must be translation or rigid");
   const std::string kind = io::is_hdf5_path(opt.pred)
                                ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
                                : std::string();
@@ -130,7 +132,8 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
     tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
       const auto [i, j] = pairs[k];
       const io::Vertices& gt = truth->positions[j];
-      aligned[k] = align_translation(pred.positions[i], gt, component, n_components);
+      aligned[k] = opt.align == "rigid" ? align_rigid(pred.positions[i], gt, component, n_components)
+                                        : align_translation(pred.positions[i], gt, component, n_components);
       PairResult& r = results[k];
       r.error = mean_vertex_error(aligned[k], gt);
       r.unit_ball = unit_ball_squared_error(aligned[k], gt);
@@ -228,6 +231,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   if (truth) {
     js["truth"] = opt.truth;
     js["frame_pairs"] = results.size();
+    if (opt.align != "translation") js["align"] = opt.align;
     js["frames_measured"] = counted;
     js["diagonal"] = diag;
     js["vertex_error"] = {{"mean", err / np}, {"mean_relative", err / np / diag}};
@@ -295,8 +299,9 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   // The human table.
   std::string t = fmt::format(
       "{}{}\n", opt.pred,
-      truth ? fmt::format(" vs {} ({} frame pairs{})", opt.truth, results.size(),
-                          skip_given ? fmt::format("; totals over the {} generated frames", counted) : "")
+      truth ? fmt::format(" vs {} ({} frame pairs{}{})", opt.truth, results.size(),
+                          skip_given ? fmt::format("; totals over the {} generated frames", counted) : "",
+                          opt.align == "rigid" ? "; each part aligned by a rotation and translation" : "")
             : "");
   if (truth) {
     t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n", "per-vertex position error", err / np,

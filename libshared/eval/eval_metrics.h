@@ -29,6 +29,9 @@ struct EvalOptions {
   std::string json;         ///< "" = none; "-" = stdout (then no table)
   std::string tsv;          ///< "" = none; else per-step errors and feature change per index, for gnuplot
   std::vector<int> steps;   ///< steps shown in the table (empty = all when few)
+  /// How PRED is aligned to TRUTH before measuring, per connected part: "translation" (the
+  /// reconstruction's own freedom) or "rigid" (rotation too, Kabsch; the MSAE paper's protocol)
+  std::string align = "translation";
   int sted_rings = 1;
   double sted_dt = 1.0;  ///< frame interval for STED's temporal part
   double sted_c = 1.0;   ///< STED = sqrt(STED_s² + c² STED_t²)

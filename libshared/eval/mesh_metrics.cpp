@@ -1,5 +1,7 @@
 #include "eval/mesh_metrics.h"
 
+#include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -18,6 +20,38 @@ io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& tru
   for (Eigen::Index v = 0; v < pred.rows(); ++v) {
     const int c = component[static_cast<std::size_t>(v)];
     out.row(v) += shift.row(c) / count[c];
+  }
+  return out;
+}
+
+io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
+                         int n_components) {
+  const auto nc = static_cast<std::size_t>(n_components);
+  std::vector<Eigen::RowVector3d> cp(nc, Eigen::RowVector3d::Zero()), ct(nc, Eigen::RowVector3d::Zero());
+  std::vector<double> count(nc, 0.0);
+  for (Eigen::Index v = 0; v < pred.rows(); ++v) {
+    const auto c = static_cast<std::size_t>(component[static_cast<std::size_t>(v)]);
+    cp[c] += pred.row(v), ct[c] += truth.row(v), count[c] += 1;
+  }
+  std::vector<Eigen::Matrix3d> cross(nc, Eigen::Matrix3d::Zero());
+  for (std::size_t c = 0; c < nc; ++c)
+    if (count[c] > 0) cp[c] /= count[c], ct[c] /= count[c];
+  for (Eigen::Index v = 0; v < pred.rows(); ++v) {
+    const auto c = static_cast<std::size_t>(component[static_cast<std::size_t>(v)]);
+    cross[c] += (pred.row(v) - cp[c]).transpose() * (truth.row(v) - ct[c]);
+  }
+  // Row vectors: aligned = (p − p̄) R + t̄ with R = U diag(1, 1, ±1) Vᵀ of cross = U Σ Vᵀ.
+  std::vector<Eigen::Matrix3d> rot(nc, Eigen::Matrix3d::Identity());
+  for (std::size_t c = 0; c < nc; ++c) {
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cross[c], Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+    d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+    rot[c] = svd.matrixU() * d * svd.matrixV().transpose();
+  }
+  io::Vertices out(pred.rows(), 3);
+  for (Eigen::Index v = 0; v < pred.rows(); ++v) {
+    const auto c = static_cast<std::size_t>(component[static_cast<std::size_t>(v)]);
+    out.row(v) = (pred.row(v) - cp[c]) * rot[c] + ct[c];
   }
   return out;
 }

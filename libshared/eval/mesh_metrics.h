@@ -17,6 +17,14 @@ namespace df::eval {
 io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
                                int n_components);
 
+/// Moves each connected component of `pred` by the rotation and translation that best fit it to
+/// `truth`'s (Kabsch: least squares over the component's vertices, no reflection): the paper's
+/// "align all the models" before E_rms (MSAE paper §5.1). A reconstruction from ACAP features is
+/// fixed up to one translation per component only, but an error in the features can turn a whole
+/// part; this alignment forgives that turn, translation-only does not.
+io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
+                         int n_components);
+
 /// Mean over vertices of ‖pred_i − truth_i‖.
 double mean_vertex_error(const io::Vertices& pred, const io::Vertices& truth);
 

@@ -22,6 +22,26 @@ read -r -a v <<<"$log"
 [ "${#v[@]}" = 24 ] || fail "training log has ${#v[@]} numbers, expected 4 rows x 6"
 echo "ok (train log: loss ${v[1]} -> ${v[19]})"
 
+# --- the collapse warning: a run forced to collapse (the paper's form with the KL term 1000x)
+# warns at its loss lines and at the end, in one line naming the remedies, and records it; the
+# defaults (KL warm-up: no check before it ends) and a live latent do not warn.
+attr() { h5dump -a "/training/log/$2" "$1" | awk '/\(0\):/ { print $2 }'; }
+train-bdlstm "${tiny[@]}" --iterations 40 --paper-form --alpha-reg 100 data.h5 -o collapsed.h5 2>collapse.log
+[ "$(grep -c 'warning: the latent has collapsed' collapse.log)" -ge 2 ] ||
+  fail "a collapsed latent did not warn at a loss line and at the end: $(cat collapse.log)"
+grep 'warning: the latent has collapsed' collapse.log | head -n 1 | grep -q -- "--kl-free-bits.*inspect-bdlstm" ||
+  fail "the warning does not name the remedies and inspect-bdlstm: $(cat collapse.log)"
+[ "$(attr collapsed.h5 latent_collapsed)" = 1 ] || fail "the model file does not record the collapse"
+awk -v k="$(attr collapsed.h5 kl_per_frame)" 'BEGIN { exit !(k < 0.5) }' || fail "KL per frame not below the threshold"
+train-bdlstm "${tiny[@]}" --iterations 40 --paper-form --collapse-threshold 0 data.h5 -o alive.h5 2>alive.log
+! grep -q "collapsed" alive.log || fail "--collapse-threshold 0 still warned: $(cat alive.log)"
+[ "$(attr alive.h5 latent_collapsed)" = 0 ] || fail "a model without the warning records a collapse"
+train-bdlstm "${tiny[@]}" --iterations 40 data.h5 -o defaults.h5 2>defaults.log
+! grep -q "collapsed" defaults.log || fail "the defaults warned during the KL warm-up: $(cat defaults.log)"
+run train-bdlstm "${tiny[@]}" --iterations 4 --collapse-threshold -1 data.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-bdlstm
+echo "ok (collapse warning)"
+
 # --- resume: a 20-iteration model is a checkpoint; resuming to 40 equals the straight run
 train-bdlstm -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
 cp m20.h5 ck.h5

@@ -1,4 +1,4 @@
-# inspect-bdlstm: the latent report of a BD-LSTM. An untrained network predicts no change (its
+# inspect-bdlstm: the latent report of a BD-LSTM. An untrained network of the paper's form predicts no change (its
 # last decoder layer starts at zero), so every latent input gives exactly zero motion's error; the
 # KL table has one sorted row per latent dimension; bad inputs give one error line.
 source "$(dirname "$0")/lib.sh"
@@ -8,7 +8,7 @@ export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
 synth-meshseq -q --frames 60 --resolution 4 --periods 2 -o finger.h5
 obj2acap -q finger.h5 -o data.h5
 tiny=(--window 8 --batch 2 --latent 6 --hidden 8 --lstm-layers 1 --print-every 10 --seed 3)
-train-bdlstm -q "${tiny[@]}" --iterations 0 data.h5 -o untrained.h5
+train-bdlstm -q "${tiny[@]}" --iterations 0 --paper-form data.h5 -o untrained.h5
 inspect-bdlstm untrained.h5 data.h5 --initial 2 --length 4 --tsv u.tsv > u.txt
 grep -q "0 iterations, latent 6 (VAE encoder with KL)" u.txt || fail "header: $(cat u.txt)"
 mean=$(sed -n 's/^ *z = encoder mean *//p' u.txt)

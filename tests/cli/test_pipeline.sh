@@ -104,13 +104,15 @@ make -s -C "$DF_SOURCE" -f Makefile.data "$DF_TMP/out/bdlstm/tiny/model.h5" "$DF
   tiny_TRAIN="--iterations 7" tiny_CHOSEN="--no-kl" >/dev/null || fail "training rules with chosen remedies failed"
 grep -q -- "--iterations 7 --no-kl /" out/bdlstm/tiny/model.h5.argv ||
   fail "the set's model lost its chosen remedies: $(cat out/bdlstm/tiny/model.h5.argv)"
-grep -q -- "--iterations 7 /" out/bdlstm/tiny/model-paper.h5.argv &&
-  grep -q -- "--iterations 7 --no-l2 /" out/bdlstm/tiny/model-no-l2.h5.argv ||
+grep -q -- "--iterations 7 --paper-form /" out/bdlstm/tiny/model-paper.h5.argv &&
+  grep -q -- "--iterations 7 --paper-form --no-l2 /" out/bdlstm/tiny/model-no-l2.h5.argv ||
   fail "a Table 2 variant got the chosen remedies: $(cat out/bdlstm/tiny/model-paper.h5.argv out/bdlstm/tiny/model-no-l2.h5.argv)"
 variants() { make -s -C "$DF_SOURCE" -f Makefile.data OUT="$DF_TMP/out" DATA="$DF_TMP/data" BD_ABLATION_SETS=tiny "$@" \
                --eval 'print-variants: ; @echo $(call fig2_variants,tiny)' print-variants; }
-[ "$(variants)" = "unidirectional standard no-kl no-l2" ] ||
-  fail "without chosen remedies the paper's form is the set's model, not a variant: '$(variants)'"
+[ "$(variants tiny_CHOSEN=--paper-form)" = "unidirectional standard no-kl no-l2" ] ||
+  fail "when the paper's form is the set's model it is not a variant too: '$(variants tiny_CHOSEN=--paper-form)'"
+[ "$(variants)" = "paper unidirectional standard no-kl no-l2" ] ||
+  fail "with train-bdlstm's defaults (the remedies) Table 2 needs the paper's form: '$(variants)'"
 [ "$(variants tiny_CHOSEN=--no-kl)" = "paper unidirectional standard no-kl no-l2" ] ||
   fail "with chosen remedies Table 2 needs the paper's form: '$(variants tiny_CHOSEN=--no-kl)'"
 echo "ok (chosen remedies)"

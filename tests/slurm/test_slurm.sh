@@ -48,8 +48,9 @@ done < <(cd run-local && find . -type f ! -name '*.log' | sort)
 [ "$(cd run && find . -type f ! -name '*.log' | wc -l)" = "$compared" ] ||
   fail "the Slurm run wrote other files than the local run"
 jobs=$(slurm_jobs 'df-bumps-[^ ]*' | grep -c COMPLETED)
-# 7 trainings (5 MSAE models, PCA, SPLOCS), 5 reconstructions, 7 evaluations
-[ "$jobs" = 19 ] || fail "expected the 19 expensive steps as Slurm jobs, saw $jobs: $(slurm_jobs 'df-[^ ]*')"
+# 7 trainings (5 MSAE models, PCA, SPLOCS), 6 reconstructions (one with codes fitted through the
+# decoders), 16 evaluations (8 reconstructions, each aligned by a translation and rigidly)
+[ "$jobs" = 29 ] || fail "expected the 29 expensive steps as Slurm jobs, saw $jobs: $(slurm_jobs 'df-[^ ]*')"
 grep -q "df-bumps-msae.h5 COMPLETED" <<<"$(slurm_jobs 'df-bumps-msae.h5')" ||
   fail "the training step did not run as a Slurm job"
 echo "ok (pipeline: $compared files byte-identical to the local run; $jobs steps ran as Slurm jobs)"

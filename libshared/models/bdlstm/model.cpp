@@ -68,6 +68,10 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(),
                             m.unprinted);
+    if (!m.log.empty() && m.kl_per_frame >= 0) {
+      f.set_attr("/training/log", "kl_per_frame", m.kl_per_frame);
+      f.set_attr("/training/log", "latent_collapsed", static_cast<int>(m.latent_collapsed));
+    }
     const std::size_t s = m.split.sequences.size();
     f.create_groups("/split");
     f.set_attr("/split", "data", m.split.data);
@@ -133,6 +137,10 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
+  if (f.exists("/training/log") && f.has_attr("/training/log", "kl_per_frame")) {
+    m.kl_per_frame = f.attr_double("/training/log", "kl_per_frame");
+    m.latent_collapsed = f.attr_int("/training/log", "latent_collapsed") != 0;
+  }
   m.split.data = f.attr_string("/split", "data");
   m.split.sequences = f.read_strings("/split/sequences");
   auto train = f.read<std::int64_t>("/split/train").data,

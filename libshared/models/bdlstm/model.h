@@ -36,6 +36,10 @@ struct BdlstmTraining {
   /// The KL weight rises linearly from 0 to 1 over this many iterations (0 = always 1, the
   /// paper), a common remedy when the latent collapses to the prior.
   std::int64_t kl_warmup = 0;
+  /// A loss line warns that the latent has collapsed when the KL per encoded frame (nats, before
+  /// free bits and warm-up) is below this while the reconstruction has not improved by 10% over
+  /// the first loss line (not stored: a check, not a setting of the model)
+  double collapse_threshold = 0.5;
   std::uint64_t seed = 0;
 };
 
@@ -62,6 +66,10 @@ struct BdlstmModel {
   std::vector<std::string> log_columns() const;
   std::vector<double> log;  ///< rows of log_columns(), flat
   std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
+  /// The latent's KL in nats per encoded frame over the last printing interval (−1: not
+  /// measured) and whether the latent had collapsed then (train-bdlstm's warning).
+  double kl_per_frame = -1;
+  bool latent_collapsed = false;
   std::unique_ptr<BdlstmNet<float>> net;
   std::unique_ptr<nn::Adam<float>> adam;
   Rng rng;  ///< windows and reparameterisation noise

@@ -113,7 +113,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int 
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x,
                                               States& states, const Matrix* eps,
-                                              Var* kl_sum) const {
+                                              KlSum<T>* kl_sum) const {
   auto [mu, logvar] = encode(p, chain, x);
   Var z = mu;
   if (config_.kl && eps) {
@@ -122,13 +122,17 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, 
       const T rows = static_cast<T>(x.rows());
       Var kl;  // Σ over rows
       if (config_.free_bits > 0) {  // Σ_d max(λ, mean_rows KL_d), times the rows
-        Var per_dim = nn::clamp(nn::mean_rows(nn::gaussian_kl_elements(mu, logvar)),
-                                static_cast<T>(config_.free_bits), std::numeric_limits<T>::max());
+        Var elements = nn::gaussian_kl_elements(mu, logvar);
+        kl_sum->nats += static_cast<double>(elements.value().sum());
+        Var per_dim = nn::clamp(nn::mean_rows(elements), static_cast<T>(config_.free_bits),
+                                std::numeric_limits<T>::max());
         kl = nn::scale(nn::sum(per_dim), rows);
       } else {
         kl = nn::scale(nn::gaussian_kl(mu, logvar), rows);
+        kl_sum->nats += static_cast<double>(kl.value()(0, 0));
       }
-      *kl_sum = kl_sum->tape ? nn::add(*kl_sum, kl) : kl;
+      kl_sum->encodings += static_cast<long>(x.rows());
+      kl_sum->penalised = kl_sum->penalised.tape ? nn::add(kl_sum->penalised, kl) : kl;
     }
   }
   return decode_step(p, chain, x, z, states);
@@ -138,7 +142,7 @@ template <class T>
 std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<T>& p, int chain,
                                                                 const std::vector<Var>& given,
                                                                 States states, int steps, Rng& rng,
-                                                                Var* kl_sum) const {
+                                                                KlSum<T>* kl_sum) const {
   std::vector<Var> frames{given.front()};
   Matrix eps(given.front().rows(), config_.latent);
   for (int t = 0; t < steps; ++t) {
@@ -168,7 +172,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
   const T inv_batch = T(1) / static_cast<T>(batch);
   auto frame_norms = [&](Var a) { return nn::sum(nn::group_norm(a, v9)); };  // Σ_rows ‖row‖₂
 
-  Var kl_sum;                 // Σ over steps and rows
+  KlSum<T> kl_sum;            // Σ over steps and rows
   std::vector<Var> fwd, bwd;  // fwd[t] ≈ X_t, bwd[t] ≈ X_{n−1−t}, each [batch, 9V]
   if (config_.directions == Directions::shared) {
     // Both chains as one batch of 2B rows: forward rows first.
@@ -231,8 +235,8 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
     total = nn::add(total, nn::scale(l_bidir, static_cast<T>(config_.alpha_bidir)));
   }
   Var reg;
-  if (kl_sum.tape) {
-    l_kl = nn::scale(kl_sum, inv_batch);
+  if (kl_sum.penalised.tape) {
+    l_kl = nn::scale(kl_sum.penalised, inv_batch);
     reg = kl_weight == T(1) ? l_kl : nn::scale(l_kl, kl_weight);
   }
   if (config_.l2) {
@@ -270,6 +274,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
     terms->bidir = value(l_bidir);
     terms->kl = value(l_kl);
     terms->l2 = value(l_2);
+    terms->kl_per_frame = kl_sum.encodings ? kl_sum.nats / static_cast<double>(kl_sum.encodings) : 0.0;
   }
   return total;
 }

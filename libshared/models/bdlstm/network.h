@@ -64,6 +64,17 @@ struct BdlstmConfig {
 /// The loss of one batch of windows, by term (each averaged over the windows of the batch).
 struct BdlstmLossTerms {
   double total = 0, recon = 0, bidir = 0, kl = 0, l2 = 0;
+  /// The KL of q(z|x) in nats per encoded frame, before free bits and the warm-up's weight (the
+  /// latent's information: near 0 when it has collapsed to the prior); 0 without the KL term.
+  double kl_per_frame = 0;
+};
+
+/// What a training loss gathers of the latent's KL term over the steps of its chains.
+template <class T>
+struct KlSum {
+  nn::Var<T> penalised;  ///< Σ over steps and rows of the KL as the loss counts it (free bits)
+  double nats = 0;       ///< Σ over steps and rows of the plain KL (a value, no gradient)
+  long encodings = 0;    ///< rows encoded (frames × chains)
 };
 
 template <class T>
@@ -97,7 +108,7 @@ class BdlstmNet {
   /// ([rows, latent] standard normal) z is sampled and Σ_rows KL is added to *kl_sum
   /// (when the config has KL); without, z is the mean.
   Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps,
-           Var* kl_sum) const;
+           KlSum<T>* kl_sum) const;
 
   /// The encoder of chain `chain`: the latent mean and log-variance of frames x [rows, 9V]
   /// (each [rows, latent]; the log-variance is meaningless without KL).
@@ -122,7 +133,7 @@ class BdlstmNet {
   /// Runs `steps` steps of `chain`: the inputs are given[0..] (ground truth), then its own
   /// outputs; returns the frames (given[0] first, then every step's output).
   std::vector<Var> run_chain(const nn::Bound<T>& p, int chain, const std::vector<Var>& given,
-                             States states, int steps, Rng& rng, Var* kl_sum) const;
+                             States states, int steps, Rng& rng, KlSum<T>* kl_sum) const;
 
   BdlstmConfig config_;
   int n_vertices_;

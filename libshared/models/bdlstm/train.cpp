@@ -173,6 +173,38 @@ std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::strin
   return starts;
 }
 
+bool latent_collapsed(double kl_per_frame, double recon, double first_recon, double threshold) {
+  return kl_per_frame < threshold && !(recon < 0.9 * first_recon);
+}
+
+namespace {
+void warn_collapse(const BdlstmModel& m, double first_recon, double recon) {
+  log::warn(
+      "the latent has collapsed: {:.3g} nats per frame (below --collapse-threshold {}) and the "
+      "reconstruction has not improved ({:.4g} -> {:.4g}), so the model predicts what the prior does "
+      "(little or no motion). Train with the remedies (the defaults: --kl-warmup 500 --kl-free-bits "
+      "0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small; not --paper-form) and see what "
+      "z carries with inspect-bdlstm MODEL DATA",
+      m.kl_per_frame, m.training.collapse_threshold, first_recon, recon);
+}
+}  // namespace
+
+void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training) {
+  training.kl_warmup = 500;
+  net.free_bits = 0.1;
+  net.l2_scope = "weights";
+  net.l2_weight = 0.125;
+  net.decoder_init = "small";
+}
+
+void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
+  training.kl_warmup = 0;
+  net.free_bits = 0;
+  net.l2_scope = "all";
+  net.l2_weight = 1;
+  net.decoder_init = "zero";
+}
+
 void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (opt.training.window < 2) throw UsageError("--window must be at least 2");
   if (opt.training.batch < 1 || opt.training.stride < 1 || opt.training.iterations < 0)
@@ -181,6 +213,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (opt.training.teacher_frames < 1 || opt.training.teacher_frames >= opt.training.window)
     throw UsageError("--teacher-frames must be at least 1 and smaller than --window");
   if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
+  if (!(opt.training.collapse_threshold >= 0))
+    throw UsageError("--collapse-threshold must not be negative");
 
   check_training_output(opt.output, opt.input, common.force);
   io::Dimensions dims;
@@ -260,6 +294,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   const auto evaluate = validation_evaluation(m, data);
 
   nn::Tape<float> tape;
+  double kl_nats = 0;  // Σ of the iterations' KL per frame since the last loss line
+  long kl_steps = 0;
   std::vector<nn::Matrix<float>> window(static_cast<std::size_t>(m.training.window),
                                         nn::Matrix<float>(m.training.batch, v9));
   // One iteration: a batch of windows and the number of teacher frames drawn with the model's
@@ -284,13 +320,27 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
                           [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
                             return m.net->loss(t, p, window, m.rng, &terms, given, kl_weight);
                           });
+    kl_nats += terms.kl_per_frame, ++kl_steps;
     return {terms.total, terms.recon, terms.bidir, terms.kl, terms.l2};
+  };
+  // The collapse check at every loss line (the KL per frame of the iterations since the last).
+  const std::size_t width = m.log_columns().size();
+  auto check_collapse = [&](const std::vector<double>& row) {
+    if (!m.config.kl || kl_steps == 0) return;
+    m.kl_per_frame = kl_nats / static_cast<double>(kl_steps);
+    kl_nats = 0, kl_steps = 0;
+    const double first_recon = m.log.size() >= width ? m.log[2] : row[2];
+    const bool after_warmup = static_cast<std::int64_t>(row[0]) > m.training.kl_warmup;
+    m.latent_collapsed = after_warmup && m.log.size() > width &&
+                         latent_collapsed(m.kl_per_frame, row[2], first_recon, m.training.collapse_threshold);
+    if (m.latent_collapsed) warn_collapse(m, first_recon, row[2]);
   };
   auto checkpoint = [&] {
     save_bdlstm_model(ckpt, m, {opt.input}, true);
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
-  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt},
+  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt,
+                     check_collapse},
                     {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, m.unprinted, step,
                     checkpoint, evaluate ? std::vector<std::string>{"validation"}
                                          : std::vector<std::string>{},
@@ -298,6 +348,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   save_bdlstm_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);
+  if (m.latent_collapsed) warn_collapse(m, m.log[2], m.log[m.log.size() - width + 2]);
 }
 
 }  // namespace df::models

@@ -99,6 +99,10 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
                 loop.iterations, names[0], interval.sum[0] / static_cast<double>(interval.iterations),
                 detail, per, per * static_cast<double>(loop.iterations - done));
       interval = Interval(names.size(), {});
+      if (loop.after_row) {
+        const std::size_t width = names.size() + 1 + evaluate_names.size();
+        loop.after_row(std::vector<double>(log.end() - static_cast<std::ptrdiff_t>(width), log.end()));
+      }
       if (loop.checkpoint_every &&
           done / loop.checkpoint_every > last_checkpoint / loop.checkpoint_every &&
           done < loop.iterations) {

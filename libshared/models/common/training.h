@@ -24,6 +24,9 @@ struct TrainingLoop {
   int print_every = 100;        ///< average and print the loss terms every K iterations
   int checkpoint_every = 0;     ///< 0 = no checkpoints during the run
   std::string checkpoint_path;  ///< where checkpoint() writes (for messages)
+  /// When set, called after each loss line with its log row [k, means..., evaluated...]
+  /// (e.g. a check of what the model has learned so far that warns)
+  std::function<void(const std::vector<double>& row)> after_row = {};
 };
 
 /// What every trainer's run shares: where and how often it checkpoints, --resume, loss lines.

@@ -13,6 +13,7 @@
 #include "io/file_header.h"
 #include "io/schema.h"
 #include "models/msae/data.h"
+#include "models/msae/diagnosis.h"
 
 namespace df::models {
 
@@ -254,6 +255,12 @@ void extract_components_tool(const ExtractOptions& opt, const CommonOptions& com
   for (const auto& L : c.levels) n += static_cast<std::size_t>(L.features.rows());
   log::info("wrote {} components in {} levels to {}{}", n, c.levels.size(), opt.output,
             opt.acap.empty() ? "" : " and " + opt.acap);
+  if (!opt.report.empty()) {
+    const MsaeShapes held = read_msae_shapes(m, opt.data, opt.report);
+    if (held.x.rows() == 0)
+      throw InvalidInput(fmt::format("the model's {} part is empty", opt.report), opt.model);
+    fmt::print("{}", format_diagnosis(diagnose_msae(m, train.x, held.x), opt.report));
+  }
 }
 
 void prune_components_tool(const PruneOptions& opt, const CommonOptions& common) {

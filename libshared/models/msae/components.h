@@ -66,6 +66,8 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
 
 struct ExtractOptions {
   std::string model, data, output, acap;
+  /// "" = none; validation or test: print diagnose_msae's table for that held-out part
+  std::string report;
 };
 void extract_components_tool(const ExtractOptions& opt, const CommonOptions& common);
 

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "geometry/mesh_topology.h"
@@ -15,6 +17,7 @@ namespace df::models {
 std::vector<std::string> MsaeModel::log_columns() const {
   std::vector<std::string> c = {"iteration", "total", "recon", "sparsity", "latent"};
   if (!split.validation.empty()) c.push_back("validation");
+  if (!split.validation.empty() && log_validation_erms) c.push_back("validation_erms");
   return c;
 }
 
@@ -29,9 +32,11 @@ void MsaeModel::initialize() {
   unprinted.clear();
 }
 
-std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam() const {
+std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam(std::int64_t start) const {
   nn::AdamOptions ao;
   ao.lr = training.lr;
+  if (training.separate_rate == "continue")
+    ao.lr *= std::pow(training.lr_decay, static_cast<double>(start) / training.lr_decay_steps);
   ao.schedule = nn::AdamOptions::Schedule::exponential;
   ao.decay_rate = training.lr_decay;
   ao.decay_steps = training.lr_decay_steps;
@@ -61,6 +66,10 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     f.set_attr("/config", "lambda_sparse", c.lambda_sparse);
     f.set_attr("/config", "theta", c.theta);
     f.set_attr("/config", "latent", c.latent);
+    f.set_attr("/config", "decoder_fc", c.decoder_fc);
+    f.set_attr("/config", "decoder_conv", c.decoder_conv);
+    f.set_attr("/config", "init", c.init);
+    f.set_attr("/config", "centres", c.centres);
     const auto& t = m.training;
     f.set_attr("/config", "iterations", t.iterations);
     f.set_attr("/config", "batch", t.batch);
@@ -72,6 +81,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     f.set_attr("/config", "train_fraction", t.train_fraction);
     f.set_attr("/config", "validation_fraction", t.validation_fraction);
     f.set_attr("/config", "separate", static_cast<int>(t.separate));
+    f.set_attr("/config", "separate_rate", t.separate_rate);
     f.set_attr("/config", "seed", fmt::format("{}", t.seed));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
     f.create_groups("/split");
@@ -111,6 +121,14 @@ MsaeModel load_msae_model(const std::string& path) {
   c.lambda_sparse = f.attr_double("/config", "lambda_sparse");
   c.theta = f.attr_double("/config", "theta");
   c.latent = f.attr_string("/config", "latent");
+  // Files written before these settings existed have the network they describe by default.
+  auto optional_string = [&](const char* name, const std::string& fallback) {
+    return f.has_attr("/config", name) ? f.attr_string("/config", name) : fallback;
+  };
+  c.decoder_fc = optional_string("decoder_fc", "tanh");
+  c.decoder_conv = optional_string("decoder_conv", "transposed");
+  c.init = optional_string("init", "glorot");
+  c.centres = optional_string("centres", "random");
   auto& t = m.training;
   t.iterations = f.attr_int("/config", "iterations");
   t.batch = static_cast<int>(f.attr_int("/config", "batch"));
@@ -122,9 +140,12 @@ MsaeModel load_msae_model(const std::string& path) {
   t.train_fraction = f.attr_double("/config", "train_fraction");
   t.validation_fraction = f.attr_double("/config", "validation_fraction");
   t.separate = f.attr_int("/config", "separate") != 0;
+  t.separate_rate = optional_string("separate_rate", "restart");
   t.seed = std::stoull(f.attr_string("/config", "seed"));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
+  m.log_validation_erms = f.exists("/training/log") &&
+                          f.attr_string("/training/log", "columns").find("validation_erms") != std::string::npos;
   m.split.data = f.attr_string("/split", "data");
   m.split.train = f.read<std::int64_t>("/split/train").data;
   m.split.validation = f.read<std::int64_t>("/split/validation").data;

@@ -36,6 +36,10 @@ struct MsaeTraining {
   /// Train the levels one after another (iterations shared equally, earlier levels frozen)
   /// instead of jointly (paper Table 4).
   bool separate = false;
+  /// Separate training: each level's new Adam starts at `lr` ("restart") or at the rate the
+  /// run's schedule has reached when the level starts ("continue": the rate joint training has
+  /// there, so that Table 4 compares strategies rather than schedules).
+  std::string separate_rate = "restart";
   std::uint64_t seed = 0;
 };
 
@@ -56,6 +60,8 @@ struct MsaeModel {
   double geodesic_diameter = 0;
   std::vector<int> geodesic_sources;
   std::vector<Eigen::VectorXf> geodesic_rows;
+  /// The log has a validation_erms column (E_rms × 1000 of the validation shapes' positions).
+  bool log_validation_erms = false;
   std::vector<double> log;  ///< rows of log_columns(), flat
   std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   std::unique_ptr<MsaeNet<float>> net;
@@ -64,14 +70,15 @@ struct MsaeModel {
   std::int64_t iteration = 0;
   std::string history;  ///< inherited provenance (the data file's)
 
-  /// The training log's columns: iteration total recon sparsity latent, and validation when the
-  /// split has a validation part.
+  /// The training log's columns: iteration total recon sparsity latent, and validation (and
+  /// validation_erms when measured) when the split has a validation part.
   std::vector<std::string> log_columns() const;
   /// A new, untrained model (weights from the seed) for a template.
   void initialize();
   /// A fresh Adam with the configured learning rate and decay (separate training starts one per
-  /// level).
-  std::unique_ptr<nn::Adam<float>> make_adam() const;
+  /// level, at iteration `start`: with separate_rate "continue" its rate starts where the
+  /// schedule is at that iteration).
+  std::unique_ptr<nn::Adam<float>> make_adam(std::int64_t start = 0) const;
 };
 
 /// Writes the whole model (header included) to `path` atomically.

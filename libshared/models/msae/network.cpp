@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/rng.h"
+#include "nn/adam.h"
 #include "nn/ops.h"
 
 namespace df::models {
@@ -21,6 +22,14 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     if (k < 1) throw UsageError("--kz values must be positive");
   if (config_.latent != "tanh" && config_.latent != "linear")
     throw UsageError("--latent must be tanh or linear");
+  if (config_.decoder_fc != "tanh" && config_.decoder_fc != "linear")
+    throw UsageError("--decoder-fc must be tanh or linear");
+  if (config_.decoder_conv != "transposed" && config_.decoder_conv != "shared")
+    throw UsageError("--decoder-conv must be transposed or shared");
+  if (config_.init != "glorot" && config_.init != "normal" && config_.init != "small")
+    throw UsageError("--init must be glorot, normal or small");
+  if (config_.centres != "random" && config_.centres != "spread")
+    throw UsageError("--centres must be random or spread");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
   Rng rng(seed, 0);
   // The tree, level by level: with attention every block has kz children; without, one block
@@ -47,6 +56,9 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
       b.conv = nn::MeshConv<T>(store_, name + ".conv", 9, 9, adjacency_, rng);
       b.c = store_.add(name + ".C", b.kz, 9 * Index{n_vertices});
       store_.glorot_uniform(b.c, rng);
+      if (config_.init == "normal")  // drawn after Glorot's, so "glorot" models keep their weights
+        for (int w : {b.conv.w_point, b.conv.w_nb, b.c}) store_.normal(w, rng, 0.02);
+      if (config_.init == "small") store_.value(b.c) *= T(0.01);
       b.b_dec = store_.add(name + ".decoder_bias", 1, 9);
       blocks_.push_back(std::move(b));
     }
@@ -79,8 +91,11 @@ nn::Bound<T> MsaeNet<T>::bind_block(nn::Tape<T>& tape, int b, bool variables) co
 template <class T>
 nn::Var<T> MsaeNet<T>::decoder(const nn::Bound<T>& p, int b, Var z) const {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
-  Var y = nn::tanh(nn::matmul(z, p[bl.c]));
-  return nn::tanh(bl.conv.tied_transpose(p, y, p[bl.b_dec]));
+  Var y = nn::matmul(z, p[bl.c]);
+  if (config_.decoder_fc == "tanh") y = nn::tanh(y);
+  return nn::tanh(config_.decoder_conv == "shared" ? nn::mesh_conv(y, p[bl.conv.w_point], p[bl.conv.w_nb],
+                                                                   p[bl.b_dec], bl.conv.adjacency)
+                                                   : bl.conv.tied_transpose(p, y, p[bl.b_dec]));
 }
 
 template <class T>
@@ -99,6 +114,22 @@ std::vector<std::vector<int>> MsaeNet<T>::centres() const {
     out.push_back(std::move(c));
   }
   return out;
+}
+
+template <class T>
+void MsaeNet<T>::place_centres(const std::vector<std::vector<int>>& vertices) {
+  if (vertices.size() != blocks_.size()) throw Error("internal: place_centres needs every block");
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    auto C = store_.value(blocks_[b].c);
+    for (int k = 0; k < blocks_[b].kz; ++k) {
+      T top = 0;
+      for (int i = 0; i < n_vertices_; ++i) top = std::max(top, C.row(k).segment(9 * Index{i}, 9).norm());
+      auto group = C.row(k).segment(9 * Index{vertices[b].at(static_cast<std::size_t>(k))}, 9);
+      const T norm = group.norm();
+      if (norm > 0) group *= 2 * top / norm;
+      else group.setConstant(2 * top / 3);
+    }
+  }
 }
 
 template <class T>
@@ -306,6 +337,70 @@ template <class T>
 typename MsaeNet<T>::Matrix MsaeNet<T>::decode(int block, const Matrix& z) const {
   nn::Tape<T> tape;
   return decoder(bind_block(tape, block, false), block, tape.constant(z)).value();
+}
+
+template <class T>
+typename MsaeNet<T>::Matrix MsaeNet<T>::fit_codes(const Matrix& x, int levels,
+                                                  std::vector<Matrix>& codes, int iterations,
+                                                  double lr) const {
+  if (levels < 1 || levels > config_.levels())
+    throw UsageError(fmt::format("the model has levels 1..{}, not {}", config_.levels(), levels));
+  const int n_blocks = level_begin_[static_cast<std::size_t>(levels)];
+  if (static_cast<int>(codes.size()) < n_blocks) throw Error("internal: fit_codes needs every block's codes");
+  // The codes of all blocks as one flat vector for Adam.
+  Eigen::Index n_codes = 0;
+  for (int b = 0; b < n_blocks; ++b) n_codes += codes[static_cast<std::size_t>(b)].size();
+  nn::Vector<T> flat(n_codes), grad(n_codes);
+  auto gather_codes = [&] {
+    Eigen::Index at = 0;
+    for (int b = 0; b < n_blocks; ++b) {
+      const Matrix& z = codes[static_cast<std::size_t>(b)];
+      flat.segment(at, z.size()) = Eigen::Map<const nn::Vector<T>>(z.data(), z.size());
+      at += z.size();
+    }
+  };
+  auto scatter_codes = [&] {
+    Eigen::Index at = 0;
+    for (int b = 0; b < n_blocks; ++b) {
+      Matrix& z = codes[static_cast<std::size_t>(b)];
+      Eigen::Map<nn::Vector<T>>(z.data(), z.size()) = flat.segment(at, z.size());
+      at += z.size();
+    }
+  };
+  gather_codes();
+  nn::AdamOptions ao;
+  ao.lr = lr;
+  ao.schedule = nn::AdamOptions::Schedule::exponential;
+  ao.decay_rate = 0.1;
+  ao.decay_steps = std::max(1, iterations);
+  nn::Adam<T> adam(static_cast<std::size_t>(n_codes), ao);
+  Matrix recon;
+  for (int it = 0; it <= iterations; ++it) {
+    nn::Tape<T> tape;
+    nn::Bound<T> p;
+    p.vars.resize(store_.views().size());
+    std::vector<Var> z(static_cast<std::size_t>(n_blocks));
+    Var sum;
+    for (int b = 0; b < n_blocks; ++b) {
+      for (int k : blocks_[static_cast<std::size_t>(b)].parameters())
+        p.vars[static_cast<std::size_t>(k)] = tape.constant(store_.value(k));
+      z[static_cast<std::size_t>(b)] = tape.variable(codes[static_cast<std::size_t>(b)]);
+      Var out = decoder(p, b, z[static_cast<std::size_t>(b)]);
+      sum = b == 0 ? out : nn::add(sum, out);
+    }
+    recon = sum.value();
+    if (it == iterations) break;
+    tape.backward(nn::sum_squares(nn::sub(tape.constant(x), sum)));
+    Eigen::Index at = 0;
+    for (int b = 0; b < n_blocks; ++b) {
+      const Matrix& g = z[static_cast<std::size_t>(b)].grad();
+      grad.segment(at, g.size()) = Eigen::Map<const nn::Vector<T>>(g.data(), g.size());
+      at += g.size();
+    }
+    adam.step(flat, grad);
+    scatter_codes();
+  }
+  return recon;
 }
 
 template class MsaeNet<float>;

@@ -4,10 +4,11 @@
 //
 // An AE block with K_z components (§4.1):
 //   h = tanh(conv(x))   z = h Cᵀ   y = tanh(z C)   x̂ = tanh(conv'(y))
-// (z = tanh(h Cᵀ) with --latent tanh, the paper's "tanh everywhere" taken literally)
+// (z = tanh(h Cᵀ) with --latent tanh, the paper's "tanh everywhere" taken literally; y = z C with
+// --decoder-fc linear, as the convMesh code of Tan et al.)
 // C [K_z, 9V] has no bias and is shared by encoder and decoder; conv' is the mesh convolution
-// with the encoder's weights transposed (tied, as in the convMesh code the paper builds on) and
-// its own bias. Loss of a block: λ₁ L_recon + λ₂ Ω(C) + V(Z), with
+// with the encoder's weights transposed (--decoder-conv transposed) or as they are (shared, as the
+// convMesh code the paper builds on reuses them) and its own bias. Loss of a block: λ₁ L_recon + λ₂ Ω(C) + V(Z), with
 //   L_recon = mean over the batch of ‖x − x̂‖²,
 //   Ω(C) = (1/K_z) Σ_k Σ_i Λ_ik ‖C_{k,i}‖ (Λ_ik = 1 where d(i, c_k) ≥ d, c_k = argmax_i ‖C_{k,i}‖),
 //   V(Z) = (1/K_z) Σ_j max(max_batch |z_j| − θ, 0).
@@ -43,8 +44,24 @@ struct MsaeConfig {
   bool attention = true;               ///< false: one block per level on the whole residual
   /// The codes z = act(h Cᵀ): "linear" (unbounded codes, which V(Z)'s θ = 5 bounds) or "tanh"
   /// (the paper's "tanh everywhere" taken literally: V(Z) can never act, and on real meshes AE₀'s
-  /// codes saturate at ±1 and stop learning — chosen on validation parts, README)
+  /// codes saturate at ±1 and stop learning — chosen on validation parts, docs/msae.md)
   std::string latent = "linear";
+  /// The decoder's fully connected layer y = act(z C): "tanh" (the paper's "tanh everywhere") or
+  /// "linear" (as the convMesh code of Tan et al. has it: only the convolutions end in tanh)
+  std::string decoder_fc = "tanh";
+  /// The decoder's convolution: "transposed" (the encoder's weights transposed) or "shared" (the
+  /// encoder's weights as they are, as the convMesh code reuses them; both are 9 × 9)
+  std::string decoder_conv = "transposed";
+  /// Initial weights: "glorot" (uniform ±sqrt(6 / (fan_in + fan_out))), "normal" (N(0, 0.02²)
+  /// for C and the convolutions, as the convMesh code) or "small" (C at Glorot × 0.01: a
+  /// component that no training shape asks for stays near zero instead of projecting unseen
+  /// shapes onto a random direction)
+  std::string init = "glorot";
+  /// Where the components' centres start: "random" (wherever the initial weights peak; the
+  /// reconstruction gradient then draws them to the most deforming vertices, often all to one)
+  /// or "spread" (farthest-point sampling by geodesic distance: level 0 over the whole mesh, a
+  /// child block within its parent component's radius), after which c_k = argmax as the paper
+  std::string centres = "random";
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
   int levels() const { return static_cast<int>(kz.size()); }
 };
@@ -108,6 +125,9 @@ class MsaeNet {
     }
     return masks;
   }
+  /// Makes vertex `vertices[b][k]` the centre of component k of block b (its group of C becomes
+  /// twice the row's largest group norm): where the centres start with --centres spread.
+  void place_centres(const std::vector<std::vector<int>>& vertices);
   /// The attention masks AM [kz, V] of a block from its C (eq. 5-6): each column sums to 1.
   Matrix attention_masks(int block) const;
 
@@ -131,6 +151,13 @@ class MsaeNet {
   Matrix reconstruct(const Matrix& x, int levels, std::vector<Matrix>* codes = nullptr) const;
   /// The decoder of one block applied to latent codes z [rows, kz] → [rows, 9V].
   Matrix decode(int block, const Matrix& z) const;
+  /// The codes that reconstruct x [B, 9V] best through the decoders of the first `levels` levels
+  /// (least squares: min over every block's z_b of ‖x − Σ_b Dec_b(z_b)‖², each shape on its own),
+  /// a diagnostic and the baselines' protocol (PCA and SPLOCS fit each test shape). `codes` come
+  /// in as the starting point (reconstruct()'s encoder codes) and go out fitted; `iterations`
+  /// Adam steps (rate `lr`, decayed tenfold over the run). Returns the fitted reconstruction.
+  Matrix fit_codes(const Matrix& x, int levels, std::vector<Matrix>& codes, int iterations,
+                   double lr) const;
 
  private:
   struct BlockOutput {
@@ -143,7 +170,7 @@ class MsaeNet {
   BlockOutput forward_block(const nn::Bound<T>& p, int b, Var x, const Matrix* lambda, Var* loss,
                             MsaeLossTerms* terms, const Matrix* weights = nullptr) const;
   Var masks_of(const nn::Bound<T>& p, int b) const;
-  /// The decoder of block b on codes z: tanh(conv'(tanh(z C))).
+  /// The decoder of block b on codes z: tanh(conv'(act(z C))).
   Var decoder(const nn::Bound<T>& p, int b, Var z) const;
   /// Only block b's parameters as leaves of `tape` (variables when gradients are wanted, else
   /// constants); the other entries stay empty — binding the whole store would copy every block's

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numeric>
 
@@ -36,6 +37,8 @@ void check_options(const MsaeTrainOptions& opt) {
     throw UsageError("--kz and --d need one value per level");
   for (double d : opt.net.d)
     if (!(d > 0 && d <= 1)) throw UsageError("--d values are normalized geodesic radii in (0, 1]");
+  if (t.separate_rate != "restart" && t.separate_rate != "continue")
+    throw UsageError("--separate-rate must be restart or continue");
   if (t.separate && t.iterations < static_cast<std::int64_t>(opt.net.kz.size()))
     throw UsageError("--separate needs at least one iteration per level");
   if (!opt.test_list.empty() && opt.train_list.empty()) throw UsageError("--test needs --train");
@@ -54,12 +57,17 @@ void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::stri
   differs("lambda-sparse", a.lambda_sparse, b.lambda_sparse);
   differs("theta", a.theta, b.theta);
   differs("latent", a.latent, b.latent);
+  differs("decoder-fc", a.decoder_fc, b.decoder_fc);
+  differs("decoder-conv", a.decoder_conv, b.decoder_conv);
+  differs("init", a.init, b.init);
+  differs("centres", a.centres, b.centres);
   const auto &s = ck.training, &t = want.training;
   differs("batch", s.batch, t.batch);
   differs("lr", s.lr, t.lr);
   differs("lr-decay", s.lr_decay, t.lr_decay);
   differs("lr-decay-steps", s.lr_decay_steps, t.lr_decay_steps);
   differs("separate", s.separate, t.separate);
+  differs("separate-rate", s.separate_rate, t.separate_rate);
   differs("seed", s.seed, t.seed);
   if (s.separate)
     differs("iterations (separate training divides them among the levels)", s.iterations,
@@ -125,14 +133,18 @@ nn::Matrix<float> gather(const nn::Matrix<float>& data, const std::vector<std::i
   return out;
 }
 
-// Mean over shapes of ‖X − X̂‖² through every level (the recon term's units), in chunks.
-double reconstruction_error(const MsaeNet<float>& net, const nn::Matrix<float>& shapes) {
+// Mean over shapes of ‖X − X̂‖² through every level (the recon term's units), in chunks; the
+// reconstructions land in *recon.
+double reconstruction_error(const MsaeNet<float>& net, const nn::Matrix<float>& shapes,
+                            nn::Matrix<float>* recon) {
   double sum = 0;
+  recon->resize(shapes.rows(), shapes.cols());
   constexpr Eigen::Index kChunk = 64;
   for (Eigen::Index r = 0; r < shapes.rows(); r += kChunk) {
     const Eigen::Index n = std::min(kChunk, shapes.rows() - r);
     const nn::Matrix<float> x = shapes.middleRows(r, n);
-    sum += static_cast<double>((x - net.reconstruct(x, net.config().levels())).squaredNorm());
+    recon->middleRows(r, n) = net.reconstruct(x, net.config().levels());
+    sum += static_cast<double>((x - recon->middleRows(r, n)).squaredNorm());
   }
   return sum / static_cast<double>(shapes.rows());
 }
@@ -245,6 +257,53 @@ MsaeModel describe_model(const MsaeTrainOptions& opt, const CommonOptions& commo
   return m;
 }
 
+// `count` vertices by farthest-point sampling among `allowed` (geodesic distance), starting at
+// `first` (a vertex of `allowed`).
+std::vector<int> farthest_points(geometry::GeodesicRows& geodesic, const std::vector<int>& allowed,
+                                 int first, int count) {
+  std::vector<int> chosen{first};
+  std::vector<float> nearest(allowed.size(), std::numeric_limits<float>::max());
+  while (static_cast<int>(chosen.size()) < count) {
+    const auto& row = geodesic.row(chosen.back());
+    std::size_t best = 0;
+    for (std::size_t a = 0; a < allowed.size(); ++a) {
+      nearest[a] = std::min(nearest[a], row[allowed[a]]);
+      if (nearest[a] > nearest[best]) best = a;
+    }
+    chosen.push_back(allowed[best]);  // a repeat only when every allowed vertex is chosen
+  }
+  return chosen;
+}
+
+// --centres spread: level-0 blocks' centres by farthest-point sampling over the mesh (from the
+// vertex farthest from vertex 0); an attention child's within its parent component's radius
+// (from the parent's centre); a level block without attention over the whole mesh.
+std::vector<std::vector<int>> spread_centres(const MsaeNet<float>& net, geometry::GeodesicRows& geodesic) {
+  const int V = net.n_vertices();
+  std::vector<int> all(static_cast<std::size_t>(V));
+  std::iota(all.begin(), all.end(), 0);
+  const auto& row0 = geodesic.row(0);
+  int far = 0;
+  for (int i = 0; i < V; ++i)
+    if (row0[i] > row0[far]) far = i;
+  std::vector<std::vector<int>> out(net.blocks().size());
+  for (std::size_t b = 0; b < net.blocks().size(); ++b) {
+    const auto& bl = net.blocks()[b];
+    if (bl.parent < 0 || !net.config().attention) {
+      out[b] = farthest_points(geodesic, all, far, bl.kz);
+      continue;
+    }
+    const int centre = out[static_cast<std::size_t>(bl.parent)][static_cast<std::size_t>(bl.slot)];
+    const double radius = net.config().d[static_cast<std::size_t>(bl.level - 1)];
+    const auto& row = geodesic.row(centre);
+    std::vector<int> region;
+    for (int i = 0; i < V; ++i)
+      if (row[i] < radius) region.push_back(i);
+    out[b] = farthest_points(geodesic, region, centre, bl.kz);
+  }
+  return out;
+}
+
 // Continues the checkpoint (weights, Adam, RNG, log, geodesic rows) when resuming and one exists,
 // else starts afresh; returns the geodesic distances on the template either way.
 std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool resume,
@@ -257,6 +316,7 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
     m.rng = ck.rng;
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
+    m.log_validation_erms = ck.log_validation_erms;  // its log's columns go on as they began
     m.unprinted = std::move(ck.unprinted);
     m.geodesic_diameter = ck.geodesic_diameter;
     auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
@@ -271,6 +331,7 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
             m.tmpl.vertices.rows());
   auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces);
   m.geodesic_diameter = geodesic->diameter();
+  if (m.config.centres == "spread") m.net->place_centres(spread_centres(*m.net, *geodesic));
   return geodesic;
 }
 
@@ -339,9 +400,9 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     const auto lambda = current_sparsity_masks(m, *geodesic);
     const int stage = stage_of(m, done);
     if (stage > 0 && stage_of(m, done - 1) != stage) {
-      m.adam = m.make_adam();
-      log::info("separate training: level {} from iteration {} (levels below it frozen)", stage,
-                done);
+      m.adam = m.make_adam(done - 1);
+      log::info("separate training: level {} from iteration {} (levels below it frozen; rate {:.3g})",
+                stage, done, m.adam->learning_rate());
     }
     m.net->store().zero_grad();
     const MsaeLossTerms terms = m.net->loss_and_gradient(
@@ -358,12 +419,24 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
   std::function<LossTerms()> evaluate;
+  std::vector<std::string> evaluate_names = {"validation"};
+  MsaeShapeMeasure erms;
+  if (validation.rows() > 0 && opt.position_error && (m.iteration == 0 || m.log_validation_erms)) {
+    m.log_validation_erms = true;
+    erms = opt.position_error(m, m.split.validation);
+    evaluate_names.push_back("validation_erms");
+  }
   if (validation.rows() > 0)
-    evaluate = [&]() -> LossTerms { return {reconstruction_error(*m.net, validation)}; };
+    evaluate = [&]() -> LossTerms {
+      nn::Matrix<float> recon;
+      LossTerms values = {reconstruction_error(*m.net, validation, &recon)};
+      if (erms) values.push_back(erms(recon));
+      return values;
+    };
   run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt},
                     {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, m.unprinted, step,
                     checkpoint,
-                    {"validation"}, evaluate);
+                    evaluate_names, evaluate);
   remember_geodesics(m, *geodesic);
   save_msae_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);

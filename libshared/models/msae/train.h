@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,12 +15,22 @@
 
 namespace df::models {
 
+/// Measures reconstructed validation shapes in positions (E_rms × 1000 of their normalized
+/// features, rows in the order of `frames`), the tables' measure; made once per run from the model
+/// (its data file, split and normalization). Supplied by the caller (eval::ShapeErms), as the
+/// measures live above the models.
+using MsaeShapeMeasure = std::function<double(const nn::Matrix<float>& normalized)>;
+using MsaeShapeMeasureFactory =
+    std::function<MsaeShapeMeasure(const MsaeModel&, const std::vector<std::int64_t>& frames)>;
+
 struct MsaeTrainOptions {
   std::string input, output;
   std::string train_list, test_list;  ///< explicit split: files of frame names or indices
   TrainingRun run;  ///< checkpoints, --resume, loss lines
   MsaeConfig net;
   MsaeTraining training;
+  /// When set and there are validation shapes, every loss line also logs their E_rms.
+  MsaeShapeMeasureFactory position_error;
 };
 
 /// The paper's split of the frames of an acap file (offsets as in its /sequences/offsets):

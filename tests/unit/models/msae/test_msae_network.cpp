@@ -2,6 +2,8 @@
 #include <cmath>
 
 #include "geometry/mesh_topology.h"
+#include "core/error.h"
+#include "models/msae/model.h"
 #include "models/msae/network.h"
 #include "nn/gradient_check.h"
 
@@ -177,4 +179,111 @@ TEST_CASE("MSAE: a batch with repeated shapes equals its distinct shapes weighte
   CHECK(b.latent == Approx(a.latent).margin(1e-12));
   REQUIRE((net.store().grads() - ga).cwiseAbs().maxCoeff() <=
           1e-10 * (1 + ga.cwiseAbs().maxCoeff()));
+}
+
+TEST_CASE("MSAE: the convMesh variants (linear decoder FC, shared decoder convolution, N(0, 0.02) "
+          "initialisation) are gradient-checked and change what they say",
+          "[models][msae]") {
+  MsaeConfig c = tiny({3, 2}, true);
+  c.decoder_fc = "linear";
+  c.decoder_conv = "shared";
+  c.init = "normal";
+  MsaeNet<double> net(c, 9, grid_edges(), 3);
+  // N(0, 0.02²): every weight of C and of the convolutions is small; Glorot's are not all.
+  const auto& C = net.store().value(net.blocks()[0].c);
+  CHECK(C.cwiseAbs().maxCoeff() < 0.02 * 6);
+  CHECK(std::sqrt(C.squaredNorm() / static_cast<double>(C.size())) == Approx(0.02).epsilon(0.35));
+  MsaeNet<double> glorot(tiny({3, 2}, true), 9, grid_edges(), 3);
+  CHECK(glorot.store().value(glorot.blocks()[0].conv.w_point).cwiseAbs().maxCoeff() > 0.2);
+  // The decoder: y = z C (no tanh) and the encoder's convolution weights as they are.
+  const auto& b = net.blocks()[0];
+  nn::Matrix<double> z(1, 3);
+  z << 30, -20, 10;  // large codes: a tanh after z C would saturate at ±1
+  nn::Matrix<double> y = z * net.store().value(b.c);
+  nn::Tape<double> t;
+  const auto a = nn::neighbour_mean_operator<double>(9, grid_edges());
+  const nn::Matrix<double> expect =
+      nn::tanh(nn::mesh_conv(t.constant(y), t.constant(net.store().value(b.conv.w_point)),
+                             t.constant(net.store().value(b.conv.w_nb)),
+                             t.constant(net.store().value(b.b_dec)), a))
+          .value();
+  CHECK((net.decode(0, z) - expect).cwiseAbs().maxCoeff() < 1e-12);
+  // Gradients of every parameter through the variant (Glorot weights: N(0, 0.02²) ones make
+  // gradients so small that finite differences, not the formula, limit the check).
+  MsaeConfig g = c;
+  g.init = "glorot";
+  MsaeNet<double> checked(g, 9, grid_edges(), 3);
+  const auto x = random_shapes(4, 1);
+  const auto lambda = random_lambda(checked, 2);
+  std::vector<nn::Matrix<double>> params;
+  for (std::size_t i = 0; i < checked.store().views().size(); ++i)
+    params.push_back(checked.store().value(static_cast<int>(i)));
+  auto r = nn::gradient_check(
+      [&](nn::Tape<double>& tape, const std::vector<nn::Var<double>>& v) {
+        return checked.loss(tape, nn::Bound<double>{v}, x, lambda);
+      },
+      params);
+  INFO(r.report);
+  REQUIRE(r.max_error <= 1e-6);
+  // "small": C at Glorot × 0.01, the convolutions as Glorot's.
+  MsaeConfig sm = tiny({3, 2}, true);
+  sm.init = "small";
+  MsaeNet<double> small(sm, 9, grid_edges(), 3);
+  CHECK((small.store().value(small.blocks()[0].c) - 0.01 * glorot.store().value(glorot.blocks()[0].c))
+            .cwiseAbs()
+            .maxCoeff() < 1e-15);
+  CHECK(small.store().value(small.blocks()[0].conv.w_point) ==
+        glorot.store().value(glorot.blocks()[0].conv.w_point));
+  c.init = "uniform";
+  CHECK_THROWS_AS(MsaeNet<double>(c, 9, grid_edges(), 3), UsageError);
+}
+
+TEST_CASE("MSAE: fitted codes reconstruct at least as well as the encoder's and recover a "
+          "decoded shape",
+          "[models][msae]") {
+  MsaeConfig c = tiny({3, 2}, true);
+  c.decoder_fc = "linear";
+  MsaeNet<double> net(c, 9, grid_edges(), 11);
+  const auto x = random_shapes(3, 12);
+  std::vector<nn::Matrix<double>> codes;
+  const auto encoded = net.reconstruct(x, 2, &codes);
+  auto fitted_codes = codes;
+  const auto fitted = net.fit_codes(x, 2, fitted_codes, 400, 0.05);
+  CHECK((x - fitted).squaredNorm() < (x - encoded).squaredNorm());
+  // A shape the decoders make from known codes is found again from the encoder's codes.
+  std::vector<nn::Matrix<double>> truth = codes;
+  nn::Matrix<double> target = nn::Matrix<double>::Zero(3, 81);
+  for (std::size_t b = 0; b < truth.size(); ++b) {
+    truth[b] = truth[b] * 0.7 + nn::Matrix<double>::Constant(truth[b].rows(), truth[b].cols(), 0.2);
+    target += net.decode(static_cast<int>(b), truth[b]);
+  }
+  auto start = codes;
+  const auto found = net.fit_codes(target, 2, start, 3000, 0.05);
+  CHECK((found - target).cwiseAbs().maxCoeff() < 1e-3);
+  CHECK_THROWS(net.fit_codes(x, 3, start, 10, 0.05));
+}
+
+TEST_CASE("MSAE: place_centres makes the given vertices the centres", "[models][msae]") {
+  MsaeNet<float> net(tiny({3, 2}, true), 9, grid_edges(), 7);
+  std::vector<std::vector<int>> want = {{8, 0, 4}, {1, 2}, {3, 5}, {6, 7}};
+  net.place_centres(want);
+  CHECK(net.centres() == want);
+}
+
+TEST_CASE("MSAE: separate training's levels restart the rate or continue the schedule",
+          "[models][msae]") {
+  MsaeModel m;
+  io::Faces f(8, 3);
+  f << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7;
+  m.tmpl.faces = f;
+  m.tmpl.vertices = io::Vertices::Zero(9, 3);
+  m.config = tiny({3, 2}, true);
+  m.training.lr = 1e-3;
+  m.training.lr_decay = 0.5;
+  m.training.lr_decay_steps = 1000;
+  m.initialize();
+  CHECK(m.make_adam(2000)->learning_rate() == Approx(1e-3));  // restart (the default)
+  m.training.separate_rate = "continue";
+  CHECK(m.make_adam(2000)->learning_rate() == Approx(2.5e-4));
+  CHECK(m.make_adam(0)->learning_rate() == Approx(1e-3));
 }

@@ -1,0 +1,50 @@
+// What a trained MSAE learned, per component and per level (issue 45's diagnosis): where each
+// component sits and how local it is, how strong, how much of the held-out shapes' reconstruction
+// it carries, and how many independent directions each level's decoder spans against PCA's.
+// extract-components --report prints it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "models/msae/model.h"
+
+namespace df::models {
+
+struct ComponentDiagnosis {
+  int block = 0, k = 0, centre = 0;
+  double weight_norm = 0;  ///< ‖C_k‖
+  /// Share of ‖C_k‖² on vertices within Ω's radius d of the centre (1 = as local as Ω asks);
+  /// −1 when the model file has no distances from that centre
+  double inside = -1;
+  int support = 0;          ///< vertices where the decoded deformation reaches 10% of its peak
+  double strength = 0;      ///< eq. 7 of the decoded component at its extreme training code
+  double code_min = 0, code_max = 0;  ///< over the training shapes
+  double share = 0;  ///< mean over the held-out shapes of its part of its block's deformation
+};
+
+struct LevelDiagnosis {
+  int level = 0;
+  std::vector<ComponentDiagnosis> components;
+  int distinct_centres = 0;
+  /// Singular values of the level's decoded deformation directions (X_k − X_r), largest first,
+  /// relative to the largest; the effective rank counts those above 1%.
+  std::vector<double> singular_values;
+  int effective_rank = 0;
+};
+
+struct MsaeDiagnosis {
+  std::vector<LevelDiagnosis> levels;
+  int n_training = 0, n_heldout = 0;
+  int pca_rank = 0;  ///< rank of the centred training shapes: what PCA can span
+};
+
+/// @param training  the training shapes [n, 9V] (normalized): code ranges, strengths
+/// @param heldout   shapes not trained on (validation or test part): each component's share
+MsaeDiagnosis diagnose_msae(const MsaeModel& m, const nn::Matrix<float>& training,
+                            const nn::Matrix<float>& heldout);
+
+/// The diagnosis as a text table (one row per component, a summary per level).
+std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_part);
+
+}  // namespace df::models
