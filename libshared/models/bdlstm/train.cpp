@@ -268,6 +268,10 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
     m.unprinted = std::move(ck.unprinted);
+    // The last check's verdict (a stop between loss lines keeps no partial KL sum: the next
+    // line's KL per frame then covers the iterations after the resume).
+    m.kl_per_frame = ck.kl_per_frame;
+    m.latent_collapsed = ck.latent_collapsed;
     log::info("resuming from {} at iteration {}", ckpt, m.iteration);
   } else {
     m.initialize();
