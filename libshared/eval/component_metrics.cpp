@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -26,18 +27,8 @@ std::vector<RegionMatch> localization_scores(const models::Components& c,
     const auto& L = c.levels[static_cast<std::size_t>(m.level)];
     for (Eigen::Index k = 0; k < L.features.rows(); ++k) {
       if (!L.kept[static_cast<std::size_t>(k)]) continue;
-      std::vector<double> mag(V);
-      double top = 0;
-      for (std::size_t i = 0; i < V; ++i) {
-        double sq = 0;
-        for (std::size_t d = 0; d < 9; ++d) {
-          const double x =
-              static_cast<double>(L.features(k, static_cast<Eigen::Index>(9 * i + d))) - ref[d];
-          sq += x * x;
-        }
-        mag[i] = std::sqrt(sq);
-        top = std::max(top, mag[i]);
-      }
+      const auto mag = models::deformation_per_vertex(L.features.row(k).data(), static_cast<int>(V), ref);
+      const double top = *std::max_element(mag.begin(), mag.end());
       int inter = 0, uni = 0, support = 0;
       for (std::size_t i = 0; i < V; ++i) {
         const bool in_c = top > 0 && mag[i] >= threshold * top, in_r = regions[r][i] != 0;

@@ -244,7 +244,7 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
       frames.push_back({{"pred", pairs[k].first}, {"truth", pairs[k].second}, {"error", results[k].error},
                         {"sted_spatial", results[k].sted_s}});
     js["vertex_error"]["per_frame"] = frames;
-    js["erms"] = 1000.0 * std::sqrt(ub / (3.0 * np * static_cast<double>(nv)));
+    js["erms"] = erms_from_sum(ub, np, static_cast<double>(nv));
     const double st = sted_t_n ? sted_t / static_cast<double>(sted_t_n) : 0.0;
     js["sted"] = {{"spatial", sted_s / np}, {"rings", opt.sted_rings}};
     if (sted_t_n) {

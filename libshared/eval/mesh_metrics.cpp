@@ -67,6 +67,10 @@ double unit_ball_squared_error(const io::Vertices& pred, const io::Vertices& tru
   return ((pred - truth) * s).squaredNorm();
 }
 
+double erms_from_sum(double unit_ball_sum, double frames, double vertices) {
+  return 1000.0 * std::sqrt(unit_ball_sum / (3.0 * frames * vertices));
+}
+
 std::vector<std::vector<int>> edge_neighbourhoods(const geometry::MeshTopology& topo, int rings) {
   std::vector<std::vector<int>> out(static_cast<std::size_t>(topo.n_vertices));
   for (int i = 0; i < topo.n_vertices; ++i) {

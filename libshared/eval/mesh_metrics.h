@@ -33,6 +33,9 @@ double mean_vertex_error(const io::Vertices& pred, const io::Vertices& truth);
 /// 1000 · sqrt(Σ_frames / (3 N V)).
 double unit_ball_squared_error(const io::Vertices& pred, const io::Vertices& truth);
 
+/// E_rms × 1000 from unit_ball_squared_error summed over `frames` frames of `vertices` vertices.
+double erms_from_sum(double unit_ball_sum, double frames, double vertices);
+
 /// Edges within k rings of each vertex (k = 1: the incident edges), for STED's neighbourhoods.
 std::vector<std::vector<int>> edge_neighbourhoods(const geometry::MeshTopology& topo, int rings);
 

@@ -3,8 +3,6 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include <cmath>
-
 #include "convert/frame_set.h"
 #include "core/error.h"
 #include "eval/mesh_metrics.h"
@@ -48,7 +46,7 @@ double ShapeErms::operator()(
   });
   double sum = 0;
   for (double s : squared) sum += s;
-  return 1000.0 * std::sqrt(sum / (3.0 * static_cast<double>(truth_.size()) * static_cast<double>(nv)));
+  return erms_from_sum(sum, static_cast<double>(truth_.size()), static_cast<double>(nv));
 }
 
 }  // namespace df::eval

@@ -327,17 +327,18 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     kl_nats += terms.kl_per_frame, ++kl_steps;
     return {terms.total, terms.recon, terms.bidir, terms.kl, terms.l2};
   };
-  // The collapse check at every loss line (the KL per frame of the iterations since the last).
+  // The collapse check at every loss line (the KL per frame of the iterations since the last),
+  // against the first line's reconstruction (the row is already in the log: log[2] is the first
+  // row's recon); not before the KL warm-up has ended, nor at the first line.
   const std::size_t width = m.log_columns().size();
   auto check_collapse = [&](const std::vector<double>& row) {
     if (!m.config.kl || kl_steps == 0) return;
     m.kl_per_frame = kl_nats / static_cast<double>(kl_steps);
     kl_nats = 0, kl_steps = 0;
-    const double first_recon = m.log.size() >= width ? m.log[2] : row[2];
     const bool after_warmup = static_cast<std::int64_t>(row[0]) > m.training.kl_warmup;
     m.latent_collapsed = after_warmup && m.log.size() > width &&
-                         latent_collapsed(m.kl_per_frame, row[2], first_recon, m.training.collapse_threshold);
-    if (m.latent_collapsed) warn_collapse(m, first_recon, row[2]);
+                         latent_collapsed(m.kl_per_frame, row[2], m.log[2], m.training.collapse_threshold);
+    if (m.latent_collapsed) warn_collapse(m, m.log[2], row[2]);
   };
   auto checkpoint = [&] {
     save_bdlstm_model(ckpt, m, {opt.input}, true);

@@ -19,10 +19,9 @@ namespace df::models {
 
 using Eigen::Index;
 
-double component_strength(const float* x, int n_vertices, const std::array<double, 9>& reference,
-                          double eps1) {
-  double sum = 0;
-  int n = 0;
+std::vector<double> deformation_per_vertex(const float* x, int n_vertices,
+                                           const std::array<double, 9>& reference) {
+  std::vector<double> out(static_cast<std::size_t>(n_vertices));
   for (int i = 0; i < n_vertices; ++i) {
     double sq = 0;
     for (int d = 0; d < 9; ++d) {
@@ -30,10 +29,32 @@ double component_strength(const float* x, int n_vertices, const std::array<doubl
           static_cast<double>(x[9 * i + d]) - reference[static_cast<std::size_t>(d)];
       sq += diff * diff;
     }
-    const double norm = std::sqrt(sq);
-    if (norm > eps1) sum += norm, ++n;
+    out[static_cast<std::size_t>(i)] = std::sqrt(sq);
   }
+  return out;
+}
+
+double component_strength(const float* x, int n_vertices, const std::array<double, 9>& reference,
+                          double eps1) {
+  double sum = 0;
+  int n = 0;
+  for (double norm : deformation_per_vertex(x, n_vertices, reference))
+    if (norm > eps1) sum += norm, ++n;
   return n ? sum / n : 0.0;
+}
+
+std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& shapes) {
+  std::vector<nn::Matrix<float>> codes(net.blocks().size());
+  for (Index r = 0; r < shapes.rows(); r += 64) {
+    std::vector<nn::Matrix<float>> chunk;
+    net.reconstruct(shapes.middleRows(r, std::min<Index>(64, shapes.rows() - r)),
+                    net.config().levels(), &chunk);
+    for (std::size_t b = 0; b < codes.size(); ++b) {
+      codes[b].conservativeResize(codes[b].rows() + chunk[b].rows(), chunk[b].cols());
+      codes[b].bottomRows(chunk[b].rows()) = chunk[b];
+    }
+  }
+  return codes;
 }
 
 namespace {
@@ -84,24 +105,13 @@ nn::Matrix<double> level0_similarity(const ComponentLevel& level0,
 
 }  // namespace
 
-Components extract_components(const MsaeModel& m, const nn::Matrix<float>& training) {
+Components extract_components(const MsaeModel& m, const std::vector<nn::Matrix<float>>& codes) {
   const MsaeNet<float>& net = *m.net;
   Components c;
   c.tmpl = m.tmpl;
   c.normalization = m.normalization;
   c.history = m.history;
   const auto ref = geometry::identity_features(&m.normalization);
-  // Codes of the training shapes through every block (in chunks), for the latent ranges.
-  std::vector<nn::Matrix<float>> codes(net.blocks().size());
-  for (Index r = 0; r < training.rows(); r += 64) {
-    std::vector<nn::Matrix<float>> chunk;
-    net.reconstruct(training.middleRows(r, std::min<Index>(64, training.rows() - r)),
-                    net.config().levels(), &chunk);
-    for (std::size_t b = 0; b < codes.size(); ++b) {
-      codes[b].conservativeResize(codes[b].rows() + chunk[b].rows(), chunk[b].cols());
-      codes[b].bottomRows(chunk[b].rows()) = chunk[b];
-    }
-  }
   c.levels.resize(static_cast<std::size_t>(net.config().levels()));
   const auto centres = net.centres();
   for (std::size_t b = 0; b < net.blocks().size(); ++b)
@@ -246,7 +256,8 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
 void extract_components_tool(const ExtractOptions& opt, const CommonOptions& common) {
   const MsaeModel m = load_msae_model(opt.model);
   const MsaeShapes train = read_msae_shapes(m, opt.data, "train");
-  Components c = extract_components(m, train.x);
+  const auto codes = block_codes(*m.net, train.x);
+  Components c = extract_components(m, codes);
   c.model = opt.model;
   write_components(opt.output, c, {opt.model, opt.data}, common.force);
   if (!opt.acap.empty())
@@ -259,7 +270,7 @@ void extract_components_tool(const ExtractOptions& opt, const CommonOptions& com
     const MsaeShapes held = read_msae_shapes(m, opt.data, opt.report);
     if (held.x.rows() == 0)
       throw InvalidInput(fmt::format("the model's {} part is empty", opt.report), opt.model);
-    fmt::print("{}", format_diagnosis(diagnose_msae(m, train.x, held.x), opt.report));
+    fmt::print("{}", format_diagnosis(diagnose_msae(m, c, train.x, codes, held.x), opt.report));
   }
 }
 

@@ -43,13 +43,20 @@ struct Components {
   double eps1 = 1e-6, eps2 = 0.01;
 };
 
+/// ‖(X − X_r)_i‖ per vertex of features x [9V]: how much a component deforms each vertex.
+std::vector<double> deformation_per_vertex(const float* x, int n_vertices,
+                                           const std::array<double, 9>& reference);
+
 /// Eq. 7 for a component's features x [9V] and the reference's X_r.
 double component_strength(const float* x, int n_vertices, const std::array<double, 9>& reference,
                           double eps1);
 
-/// The components of every block; `training` are the training shapes ([N, 9V] normalized), whose
-/// codes give the scale of each one-hot code. All components start kept.
-Components extract_components(const MsaeModel& m, const nn::Matrix<float>& training);
+/// Every block's codes of `shapes` [n, 9V] through all levels (in chunks): [n, kz] per block.
+std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& shapes);
+
+/// The components of every block; `training_codes` are the training shapes' codes
+/// (block_codes), which give the scale of each one-hot code. All components start kept.
+Components extract_components(const MsaeModel& m, const std::vector<nn::Matrix<float>>& training_codes);
 
 /// Recomputes strengths with eps1 and keeps those with strength ≥ eps2.
 void prune_components(Components& c, double eps1, double eps2);

@@ -15,20 +15,6 @@ using Eigen::Index;
 
 namespace {
 
-// Every block's codes of `shapes` through all levels, in chunks.
-std::vector<nn::Matrix<float>> all_codes(const MsaeNet<float>& net, const nn::Matrix<float>& shapes) {
-  std::vector<nn::Matrix<float>> codes(net.blocks().size());
-  for (Index r = 0; r < shapes.rows(); r += 64) {
-    std::vector<nn::Matrix<float>> chunk;
-    net.reconstruct(shapes.middleRows(r, std::min<Index>(64, shapes.rows() - r)), net.config().levels(), &chunk);
-    for (std::size_t b = 0; b < codes.size(); ++b) {
-      codes[b].conservativeResize(codes[b].rows() + chunk[b].rows(), chunk[b].cols());
-      codes[b].bottomRows(chunk[b].rows()) = chunk[b];
-    }
-  }
-  return codes;
-}
-
 // Singular values of the rows of `d` (relative to the largest, largest first) and how many
 // exceed `floor` of the largest.
 std::vector<double> relative_singular_values(const nn::Matrix<double>& d, double floor, int* rank) {
@@ -66,7 +52,8 @@ std::vector<double> shares(const MsaeNet<float>& net, int b, const nn::Matrix<fl
 
 }  // namespace
 
-MsaeDiagnosis diagnose_msae(const MsaeModel& m, const nn::Matrix<float>& training, const nn::Matrix<float>& heldout) {
+MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const nn::Matrix<float>& training,
+                            const std::vector<nn::Matrix<float>>& codes, const nn::Matrix<float>& heldout) {
   const MsaeNet<float>& net = *m.net;
   const int V = net.n_vertices();
   MsaeDiagnosis d;
@@ -78,9 +65,7 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const nn::Matrix<float>& trainin
     centred.rowwise() -= mean;
     relative_singular_values(centred, 1e-6, &d.pca_rank);
   }
-  const Components comps = extract_components(m, training);
-  const auto codes = all_codes(net, training);
-  const auto held_codes = all_codes(net, heldout);
+  const auto held_codes = block_codes(net, heldout);
   const auto centres = net.centres();
   const auto ref = geometry::identity_features(&m.normalization);
   d.levels.resize(static_cast<std::size_t>(net.config().levels()));
@@ -109,16 +94,8 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const nn::Matrix<float>& trainin
       const auto& lv = comps.levels[static_cast<std::size_t>(block.level)];
       const int row = next[static_cast<std::size_t>(block.level)]++;
       c.strength = lv.strength[static_cast<std::size_t>(row)];
-      std::vector<double> dev(static_cast<std::size_t>(V));
-      double peak = 0;
-      for (int i = 0; i < V; ++i) {
-        double sq = 0;
-        for (int j = 0; j < 9; ++j) {
-          const double diff = static_cast<double>(lv.features(row, 9 * i + j)) - ref[static_cast<std::size_t>(j)];
-          sq += diff * diff;
-        }
-        peak = std::max(peak, dev[static_cast<std::size_t>(i)] = std::sqrt(sq));
-      }
+      const auto dev = deformation_per_vertex(lv.features.row(row).data(), V, ref);
+      const double peak = *std::max_element(dev.begin(), dev.end());
       for (double v : dev) c.support += peak > 0 && v >= 0.1 * peak ? 1 : 0;
       if (codes[b].rows()) c.code_min = codes[b].col(k).minCoeff(), c.code_max = codes[b].col(k).maxCoeff();
       c.share = share[static_cast<std::size_t>(k)];

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "models/msae/components.h"
 #include "models/msae/model.h"
 
 namespace df::models {
@@ -39,9 +40,12 @@ struct MsaeDiagnosis {
   int pca_rank = 0;  ///< rank of the centred training shapes: what PCA can span
 };
 
-/// @param training  the training shapes [n, 9V] (normalized): code ranges, strengths
-/// @param heldout   shapes not trained on (validation or test part): each component's share
-MsaeDiagnosis diagnose_msae(const MsaeModel& m, const nn::Matrix<float>& training,
+/// @param comps           the model's components (extract_components of training_codes)
+/// @param training        the training shapes [n, 9V] (normalized): PCA's rank
+/// @param training_codes  every block's codes of them (block_codes): the code ranges
+/// @param heldout         shapes not trained on (validation or test part): each component's share
+MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const nn::Matrix<float>& training,
+                            const std::vector<nn::Matrix<float>>& training_codes,
                             const nn::Matrix<float>& heldout);
 
 /// The diagnosis as a text table (one row per component, a summary per level).
