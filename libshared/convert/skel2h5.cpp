@@ -1,16 +1,20 @@
 #include "convert/skel2h5.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <numeric>
 #include <regex>
 
+#include "convert/bone_lengths.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/natural_sort.h"
 #include "core/rng.h"
 #include "io/file_header.h"
 
@@ -25,40 +29,105 @@ std::string lower_extension(const std::string& path) {
   return e;
 }
 
-// The format of the inputs when --format auto: a directory or actionLabel*.txt is UTKinect,
-// *_skeleton3D.txt MSR-Action3D, .bvh BVH, .h5 a skeleton file.
-std::string detect_format(const std::vector<std::string>& inputs) {
-  const std::string& first = inputs.front();
-  const std::string base = fs::path(first).filename().string();
-  if (fs::is_directory(first) || base.rfind("actionLabel", 0) == 0) return "utkinect";
-  if (base.size() > 15 && base.ends_with("_skeleton3D.txt")) return "msr";
-  const std::string ext = lower_extension(first);
+// The UTKinect label file in directory `dir` (or its joints/ folder), "" when there is none.
+std::string utkinect_labels_in(const fs::path& dir) {
+  for (const auto& d : std::array<fs::path, 2>{dir, dir / "joints"})
+    if (fs::exists(d / "actionLabel.txt")) return (d / "actionLabel.txt").string();
+  return {};
+}
+
+// The format a file's name says, "" when it says none.
+std::string format_of_file(const std::string& path) {
+  const std::string base = fs::path(path).filename().string();
+  if (base.rfind("actionLabel", 0) == 0) return "utkinect";
+  if (is_msr_action3d_name(path)) return "msr";
+  const std::string ext = lower_extension(path);
   if (ext == ".bvh") return "bvh";
   if (ext == ".h5" || ext == ".hdf5") return "skeleton";
-  throw InvalidInput(
-      "cannot tell the format (a UTKinect directory or actionLabel.txt, aXX_sYY_eZZ_skeleton3D.txt, "
-      ".bvh, or a skeleton .h5); use --format",
-      first);
+  return {};
+}
+
+struct ResolvedInputs {
+  std::string format;
+  std::vector<std::string> files;
+};
+
+// The inputs as files of one format. A directory is recognised by what it holds: a UTKinect label
+// file, else its files whose names say one format (natural order). A file named on the command
+// line is taken by its name under --format auto, as it is under an explicit --format (but for
+// MSR-Action3D, whose files are always told by their names: the dataset ships other .txt files
+// beside them). Files of no recognised kind beside recognised ones are left out with a warning;
+// two kinds at once are an error.
+ResolvedInputs resolve_inputs(const Skel2h5Options& opt) {
+  struct Input {
+    std::string path;
+    bool listed;  ///< named on the command line, not found in a directory
+  };
+  std::vector<Input> files;
+  for (const auto& in : opt.inputs) {
+    if (!fs::is_directory(in)) {
+      files.push_back({in, true});
+      continue;
+    }
+    if (const std::string labels = utkinect_labels_in(in);
+        !labels.empty() && (opt.format == "auto" || opt.format == "utkinect")) {
+      files.push_back({labels, true});
+      continue;
+    }
+    std::vector<std::string> inside;
+    for (const auto& e : fs::directory_iterator(in))
+      if (e.is_regular_file()) inside.push_back(e.path().string());
+    if (inside.empty()) throw InvalidInput("an empty directory", in);
+    natural_sort(inside);
+    for (auto& f : inside) files.push_back({std::move(f), false});
+  }
+  const auto kind = [&](const Input& f) {
+    const std::string named = format_of_file(f.path);
+    if (opt.format == "auto") return named;
+    if (opt.format == "msr") return is_msr_action3d_name(f.path) ? opt.format : std::string();
+    return f.listed || named == opt.format ? opt.format : std::string();
+  };
+  ResolvedInputs r;
+  std::vector<std::string> kinds, ignored;  // the recognised kinds, in order of appearance
+  for (const auto& f : files) {
+    const std::string k = kind(f);
+    if (k.empty()) {
+      ignored.push_back(f.path);
+      continue;
+    }
+    if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
+    r.files.push_back(f.path);
+  }
+  if (kinds.empty())
+    throw InvalidInput(
+        opt.format == "auto"
+            ? "cannot tell the format (a UTKinect directory or actionLabel.txt, aXX_sYY_eZZ_skeleton3D.txt "
+              "files or a directory of them, .bvh, or a skeleton .h5); use --format"
+            : fmt::format("no input file of --format {}", opt.format),
+        files.front().path);
+  if (kinds.size() > 1)
+    throw InvalidInput(fmt::format("inputs of more than one format ({}): give one kind at a time",
+                                   fmt::join(kinds, ", ")),
+                       opt.inputs.front());
+  r.format = kinds.front();
+  if (!ignored.empty())
+    log::warn("{} input file(s) not of format {} left out: {}{}", ignored.size(), r.format,
+              fmt::join(ignored.begin(), ignored.begin() + std::min<std::ptrdiff_t>(3, std::ssize(ignored)), ", "),
+              ignored.size() > 3 ? ", ..." : "");
+  return r;
 }
 
 RawSkeletonCollection read_inputs(const Skel2h5Options& opt) {
-  const std::string format = opt.format == "auto" ? detect_format(opt.inputs) : opt.format;
+  const ResolvedInputs in = resolve_inputs(opt);
   const auto one = [&](const char* what) {
-    if (opt.inputs.size() != 1)
-      throw UsageError(fmt::format("--format {} reads one input ({} given)", what, opt.inputs.size()));
-    return opt.inputs.front();
+    if (in.files.size() != 1)
+      throw UsageError(fmt::format("--format {} reads one input ({} given)", what, in.files.size()));
+    return in.files.front();
   };
-  if (format == "utkinect") {
-    std::string path = one("utkinect");
-    if (fs::is_directory(path)) {
-      const fs::path dir = fs::exists(fs::path(path) / "joints" / "actionLabel.txt") ? fs::path(path) / "joints" : fs::path(path);
-      path = (dir / "actionLabel.txt").string();
-    }
-    return read_utkinect(path);
-  }
-  if (format == "msr") return read_msr_action3d(opt.inputs);
-  if (format == "bvh") return read_bvh(opt.inputs, opt.label);
-  if (format == "skeleton") return read_skeleton_h5(one("skeleton"));
+  if (in.format == "utkinect") return read_utkinect(one("utkinect"));
+  if (in.format == "msr") return read_msr_action3d(in.files);
+  if (in.format == "bvh") return read_bvh(in.files, opt.label);
+  if (in.format == "skeleton") return read_skeleton_h5(one("skeleton"));
   throw UsageError("--format must be auto, utkinect, msr, bvh or skeleton");
 }
 
@@ -210,7 +279,9 @@ void skel2h5(const Skel2h5Options& opt, const CommonOptions& common) {
     throw UsageError("--test-subjects and --test-fraction exclude each other");
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force,
                    {opt.inputs.begin(), opt.inputs.end()});
+  if (!(opt.bone_tolerance > 0)) throw UsageError("--bone-tolerance must be positive");
   RawSkeletonCollection c = read_inputs(opt);
+  check_bone_lengths(c, opt.bone_tolerance, opt.strict, opt.inputs.front());
   if (opt.root_joint < 0 || static_cast<std::size_t>(opt.root_joint) >= c.joints())
     throw UsageError(fmt::format("--root-joint {} is not one of the {} joints", opt.root_joint, c.joints()));
   resample(c, opt.fps > 0 ? opt.fps : c.frame_rate);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -175,6 +176,95 @@ const std::vector<std::string>& msr_action_names() {
   return names;
 }
 
+namespace {
+
+// MSR-Action3D lists its 20 joints in its own order (1-based, as the dataset's drawing script
+// connects them: 20-3, 1-3, 2-3, 1-8, 8-10, 10-12, 2-9, 9-11, 11-13, 3-4, 4-7, 7-5, 7-6, 5-14,
+// 14-16, 16-18, 6-15, 15-17, 17-19): 3 shoulder centre, 4 spine, 7 hip centre, 20 head, and two
+// arm chains (shoulder, elbow, wrist, hand) 1-8-10-12 and 2-9-11-13, two leg chains (hip, knee,
+// ankle, foot) 5-14-16-18 and 6-15-17-19. Which chain is the subject's left is told from the
+// geometry. 0-based here.
+constexpr int kMsrHead = 19, kMsrShoulderCentre = 2, kMsrSpine = 3, kMsrHipCentre = 6;
+using Chain = std::array<int, 4>;
+constexpr Chain kMsrArmA{0, 7, 9, 11}, kMsrArmB{1, 8, 10, 12};
+constexpr Chain kMsrLegA{4, 13, 15, 17}, kMsrLegB{5, 14, 16, 18};
+
+// +1 when joint a lies on the subject's left of joint b over the recording, -1 on the right, 0
+// when it cannot be told. The subject faces the camera, which looks along the depth axis z (the
+// Kinect's camera space and the image frame (x right, y down, z depth) are both right-handed):
+// facing = -sign(mean z) z, up = head - hip centre, and the subject's left = up x facing.
+int side_vote(const RawSkeletonSequence& s, int a, int b) {
+  const std::size_t fs = 60, frames = s.poses.size() / fs;
+  double mean_z = 0;
+  for (std::size_t t = 0; t < frames; ++t) mean_z += s.poses[t * fs + kMsrHipCentre * 3 + 2];
+  if (mean_z == 0) return 0;
+  const double facing_z = mean_z > 0 ? -1 : 1;
+  double score = 0;
+  for (std::size_t t = 0; t < frames; ++t) {
+    const float* p = s.poses.data() + t * fs;
+    const double up[2] = {double(p[kMsrHead * 3]) - p[kMsrHipCentre * 3],
+                          double(p[kMsrHead * 3 + 1]) - p[kMsrHipCentre * 3 + 1]};
+    // up x (0, 0, facing_z) = (up_y facing_z, -up_x facing_z, 0)
+    const double left[2] = {up[1] * facing_z, -up[0] * facing_z};
+    const double norm = std::hypot(left[0], left[1]);
+    if (norm == 0) continue;
+    score += ((double(p[a * 3]) - p[b * 3]) * left[0] + (double(p[a * 3 + 1]) - p[b * 3 + 1]) * left[1]) / norm;
+  }
+  return score > 0 ? 1 : score < 0 ? -1 : 0;
+}
+
+// Whether chain `a` is the subject's left in most recordings (ties: yes, the order the dataset's
+// users publish), with one line saying how clear the geometry was.
+bool chain_a_is_left(const RawSkeletonCollection& c, const Chain& a, const Chain& b, const char* what) {
+  std::size_t left = 0, right = 0;
+  for (const auto& s : c.sequences) {
+    const int v = side_vote(s, a[0], b[0]);
+    left += v > 0;
+    right += v < 0;
+  }
+  const bool a_left = left >= right;
+  const Chain& l = a_left ? a : b;
+  log::info("MSR-Action3D: joints {}, {}, {}, {} taken as the {} (on the subject's left in {} of {} "
+            "recordings, subjects facing the camera)",
+            l[0] + 1, l[1] + 1, l[2] + 1, l[3] + 1, what, a_left ? left : right, c.sequences.size());
+  if (std::min(left, right) * 5 > left + right)
+    log::warn("MSR-Action3D: the {}'s side is unclear ({} recordings one way, {} the other)", what,
+              left, right);
+  return a_left;
+}
+
+// The recordings' joints from MSR-Action3D's order into the Kinect order (io::kinect_joint_names).
+void reorder_msr_joints(RawSkeletonCollection& c) {
+  const bool arm_a = chain_a_is_left(c, kMsrArmA, kMsrArmB, "left arm");
+  const bool leg_a = chain_a_is_left(c, kMsrLegA, kMsrLegB, "left leg");
+  const Chain& arm_l = arm_a ? kMsrArmA : kMsrArmB;
+  const Chain& arm_r = arm_a ? kMsrArmB : kMsrArmA;
+  const Chain& leg_l = leg_a ? kMsrLegA : kMsrLegB;
+  const Chain& leg_r = leg_a ? kMsrLegB : kMsrLegA;
+  std::array<int, 20> from{kMsrHipCentre, kMsrSpine, kMsrShoulderCentre, kMsrHead};
+  for (std::size_t k = 0; k < 4; ++k) {
+    from[4 + k] = arm_l[k];
+    from[8 + k] = arm_r[k];
+    from[12 + k] = leg_l[k];
+    from[16 + k] = leg_r[k];
+  }
+  for (auto& s : c.sequences) {
+    std::vector<float> kinect(s.poses.size());
+    for (std::size_t t = 0; t * 60 < s.poses.size(); ++t)
+      for (std::size_t j = 0; j < 20; ++j)
+        for (std::size_t d = 0; d < 3; ++d)
+          kinect[t * 60 + j * 3 + d] = s.poses[t * 60 + static_cast<std::size_t>(from[j]) * 3 + d];
+    s.poses = std::move(kinect);
+  }
+}
+
+}  // namespace
+
+bool is_msr_action3d_name(const std::string& path) {
+  static const std::regex name_re(R"(^a\d+_s\d+_e\d+_skeleton3D\.txt$)");
+  return std::regex_match(fs::path(path).filename().string(), name_re);
+}
+
 RawSkeletonCollection read_msr_action3d(const std::vector<std::string>& files) {
   RawSkeletonCollection c = kinect_collection(kMsrRate);
   static const std::regex name_re(R"(^a(\d+)_s(\d+)_e(\d+)_skeleton3D\.txt$)");
@@ -210,6 +300,7 @@ RawSkeletonCollection read_msr_action3d(const std::vector<std::string>& files) {
     if (s.times.size() < 2) throw InvalidInput(fmt::format("{} frame(s)", s.times.size()), path);
     c.sequences.push_back(std::move(s));
   }
+  reorder_msr_joints(c);
   return c;
 }
 

@@ -4,8 +4,9 @@
 //                      (per take "sXX_eYY", then "class: start end" by frame id); segments are the
 //                      frames whose id lies in [start, end]; time = id / 30 s
 //   MSR-Action3D       aXX_sYY_eZZ_skeleton3D.txt: 20 lines "x y z confidence" per frame (15 fps);
-//                      action, subject and take from the name; joints reordered to the Kinect
-//                      order of UTKinect (io::kinect_joint_names)
+//                      action, subject and take from the name; joints reordered from the
+//                      dataset's own order to the Kinect order of UTKinect
+//                      (io::kinect_joint_names), left and right told from the geometry
 //   BVH                forward kinematics of every joint's channels (assimp), one sequence per file
 //   skeleton .h5       the project's own files (synth-actions; raw coordinates, or de-normalized)
 #pragma once
@@ -38,8 +39,17 @@ struct RawSkeletonCollection {
 /// InvalidInput naming file and line.
 RawSkeletonCollection read_utkinect(const std::string& labels);
 
-/// MSR-Action3D skeleton files (any number, one sequence each).
+/// MSR-Action3D skeleton files (any number, one sequence each), joints in the Kinect order. The
+/// dataset's order (1-based): 1, 2 shoulders; 3 shoulder centre; 4 spine; 5, 6 hips; 7 hip
+/// centre; 8, 9 elbows; 10, 11 wrists; 12, 13 hands; 14, 15 knees; 16, 17 ankles; 18, 19 feet;
+/// 20 head, the chains 1-8-10-12 / 2-9-11-13 (arms) and 5-14-16-18 / 6-15-17-19 (legs) on
+/// opposite sides. Which chain is the left one is decided once for all files, by most
+/// recordings: the subjects face the camera, so the subject's left is (head - hip centre) x
+/// (towards the camera) in a right-handed frame whose depth axis is z.
 RawSkeletonCollection read_msr_action3d(const std::vector<std::string>& files);
+
+/// Whether a file name has MSR-Action3D's form aXX_sYY_eZZ_skeleton3D.txt.
+bool is_msr_action3d_name(const std::string& path);
 
 /// BVH motion capture (one sequence per file, labelled `label` or by the file's stem); every
 /// file must have the same joint hierarchy.

@@ -4,7 +4,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 
+#include "convert/bone_lengths.h"
 #include "convert/skel2h5.h"
 #include "convert/skeleton_import.h"
 #include "helpers.h"
@@ -22,6 +24,47 @@ std::string utk_line(int id) {
   std::string s = std::to_string(id);
   for (int j = 0; j < 20; ++j) s += fmt::format(" {} {} {}", (id + j) / 100.0, 2 * j / 100.0, -j / 100.0);
   return s + "\n";
+}
+
+// MSR-Action3D's file order: the Kinect joint (io::kinect_joint_names) at each of its 20 lines.
+constexpr int kMsrFromKinect[20] = {4, 8, 2, 1, 12, 16, 0, 5, 9, 6, 10, 7, 11, 13, 17, 14, 18, 15, 19, 3};
+
+// synth-actions' walkers (Kinect order; x to the figure's left, y up, facing +z) seen by a camera
+// at the origin looking along +z, the figure 3 m away facing it: (x, y, z) -> (-x, y, 3 - z), a
+// rotation (right-handed stays right-handed). `image`: then turned 180 degrees about z, as image
+// coordinates (x right, y down, depth z) have it.
+std::vector<std::vector<float>> camera_walkers(bool image) {
+  synth::ActionParams p;
+  p.classes = {};  // every class: walk, wave, jump, kick, squat
+  p.per_class = 1;
+  p.frames = 30;
+  p.seed = 3;
+  const io::SkeletonFile made = synth::make_actions(p);
+  std::vector<std::vector<float>> out;
+  for (std::size_t s = 0; s < made.sequences(); ++s) {
+    std::vector<float> q(made.poses.begin() + made.offsets[s] * 60, made.poses.begin() + made.offsets[s + 1] * 60);
+    for (std::size_t k = 0; k < q.size(); k += 3) {
+      const float x = -q[k], y = q[k + 1], z = 3 - q[k + 2];
+      q[k] = image ? -x : x;
+      q[k + 1] = image ? -y : y;
+      q[k + 2] = z;
+    }
+    out.push_back(std::move(q));
+  }
+  return out;
+}
+
+// One MSR-Action3D file of Kinect-order frames: the file's 20 lines per frame in the dataset's
+// order (or, `as_is`, in the Kinect order: what a reader that ignores the difference would need).
+std::string msr_text(const std::vector<float>& kinect, bool as_is = false) {
+  std::string text;
+  for (std::size_t t = 0; t * 60 < kinect.size(); ++t)
+    for (int line = 0; line < 20; ++line) {
+      const std::size_t j = as_is ? static_cast<std::size_t>(line) : static_cast<std::size_t>(kMsrFromKinect[line]);
+      const float* p = kinect.data() + t * 60 + j * 3;
+      text += fmt::format("{} {} {} 1\n", p[0], p[1], p[2]);
+    }
+  return text;
 }
 
 }  // namespace
@@ -67,7 +110,9 @@ TEST_CASE("skeleton import: MSR-Action3D files, 20 lines per frame, names give a
   CHECK(c.sequences[0].subject == 2);
   CHECK(c.sequences[0].times.size() == 3);
   CHECK(c.sequences[0].times[2] == Approx(2 / 15.0));
-  CHECK(c.sequences[0].poses[(2 * 20 + 7) * 3 + 1] == 7);
+  // no side can be told from this geometry (shoulders level): joint 12 of the file (the chain
+  // 1-8-10-12's hand) becomes hand_left
+  CHECK(c.sequences[0].poses[(2 * 20 + 7) * 3 + 1] == 11);
   write_text(dir / "a01_s01_e01_skeleton3D.txt", text + "1 2 3 1\n");
   CHECK(error_message([&] { convert::read_msr_action3d({dir / "a01_s01_e01_skeleton3D.txt"}); }) ==
         "the last frame has 1 of 20 joint lines (" + (dir / "a01_s01_e01_skeleton3D.txt") + ":61)");
@@ -76,6 +121,86 @@ TEST_CASE("skeleton import: MSR-Action3D files, 20 lines per frame, names give a
         "expected 'x y z confidence', found 3 numbers (" + (dir / "a01_s01_e01_skeleton3D.txt") + ":1)");
   write_text(dir / "walk.txt", text);
   CHECK(error_message([&] { convert::read_msr_action3d({dir / "walk.txt"}); }).find("not an MSR-Action3D skeleton file name") == 0);
+}
+
+TEST_CASE("skeleton import: MSR-Action3D's joint order becomes the Kinect order, sides from the geometry", "[convert]") {
+  for (const bool image : {false, true}) {
+    TempDir dir;
+    const auto walkers = camera_walkers(image);
+    std::vector<std::string> files;
+    for (std::size_t s = 0; s < walkers.size(); ++s) {
+      files.push_back(dir / fmt::format("a{:02}_s01_e{:02}_skeleton3D.txt", s + 1, s + 1));
+      write_text(files.back(), msr_text(walkers[s]));
+    }
+    const auto c = convert::read_msr_action3d(files);
+    REQUIRE(c.sequences.size() == walkers.size());
+    CHECK(c.joint_names == io::kinect_joint_names());
+    for (std::size_t s = 0; s < walkers.size(); ++s) {
+      REQUIRE(c.sequences[s].poses.size() == walkers[s].size());
+      for (std::size_t k = 0; k < walkers[s].size(); ++k)
+        REQUIRE(c.sequences[s].poses[k] == Approx(walkers[s][k]).margin(1e-5));
+    }
+    // the import's bones are the figure's: lengths constant, well inside the default tolerance
+    const auto bones = convert::bone_length_spread(c);
+    REQUIRE(bones.size() == 19);
+    CHECK(bones.front().typical < 0.01);
+  }
+}
+
+TEST_CASE("bone-length check: a shuffled joint order fails it, a right one passes", "[convert]") {
+  const auto walkers = camera_walkers(false);
+  convert::RawSkeletonCollection c;
+  c.joint_names = io::kinect_joint_names();
+  c.parents = io::kinect_joint_parents();
+  for (std::size_t s = 0; s < walkers.size(); ++s)
+    c.sequences.push_back({fmt::format("walker{}", s), "walk", 1, std::vector<double>(30), walkers[s]});
+  CHECK_NOTHROW(convert::check_bone_lengths(c, 0.3, true, "walkers"));
+  // the file read in the wrong order: MSR-Action3D's lines taken as Kinect joints
+  convert::RawSkeletonCollection shuffled = c;
+  for (auto& s : shuffled.sequences)
+    for (std::size_t t = 0; t * 60 < s.poses.size(); ++t)
+      for (std::size_t j = 0; j < 20; ++j)
+        for (std::size_t d = 0; d < 3; ++d)
+          s.poses[t * 60 + j * 3 + d] = c.sequences[&s - shuffled.sequences.data()].poses[t * 60 + static_cast<std::size_t>(kMsrFromKinect[j]) * 3 + d];
+  const auto bones = convert::bone_length_spread(shuffled);
+  CHECK(bones.front().typical > 0.3);
+  const std::string e = error_message([&] { convert::check_bone_lengths(shuffled, 0.3, true, "walkers"); });
+  CHECK(e.find("bones change length within a recording by more than --bone-tolerance 0.3") != std::string::npos);
+  CHECK(e.find(bones.front().name) != std::string::npos);
+  CHECK(e.find("is the joint order right") != std::string::npos);
+  CHECK_NOTHROW(convert::check_bone_lengths(shuffled, 0.3, false, "walkers"));  // a warning only
+}
+
+TEST_CASE("skel2h5: a directory of MSR-Action3D files imports as it is, other files left out", "[convert]") {
+  TempDir dir;
+  const auto walkers = camera_walkers(false);
+  std::filesystem::create_directory(dir / "msr");
+  for (std::size_t s = 0; s < walkers.size(); ++s)
+    write_text(dir / fmt::format("msr/a{:02}_s{:02}_e01_skeleton3D.txt", s % 2 + 1, s + 1), msr_text(walkers[s]));
+  write_text(dir / "msr/readme.txt", "the dataset's notes\n");
+  convert::Skel2h5Options opt;
+  opt.inputs = {dir / "msr"};
+  opt.output = dir / "m.h5";
+  opt.normalize = false;
+  CommonOptions common;
+  convert::skel2h5(opt, common);
+  const io::SkeletonFile f = io::read_skeleton_file(dir / "m.h5");
+  CHECK(f.sequences() == walkers.size());
+  CHECK(f.sequence_names[0] == "a01_s01_e01");
+  CHECK(f.joint_names == io::kinect_joint_names());
+  CHECK(f.poses[3 * 3 + 1] == Approx(walkers[0][3 * 3 + 1]));  // the head
+
+  // the same files in Kinect order under MSR names: --strict stops the import
+  for (std::size_t s = 0; s < walkers.size(); ++s)
+    write_text(dir / fmt::format("msr/a{:02}_s{:02}_e01_skeleton3D.txt", s % 2 + 1, s + 1), msr_text(walkers[s], true));
+  opt.strict = true;
+  opt.output = dir / "bad.h5";
+  CHECK(error_message([&] { convert::skel2h5(opt, common); }).find("is the joint order right") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "bad.h5"));
+  std::filesystem::remove_all(dir / "msr");
+  std::filesystem::create_directory(dir / "msr");
+  write_text(dir / "msr/readme.txt", "notes\n");
+  CHECK(error_message([&] { convert::skel2h5(opt, common); }).find("cannot tell the format") == 0);
 }
 
 TEST_CASE("skeleton import: BVH forward kinematics through assimp", "[convert]") {
