@@ -119,15 +119,19 @@ ag_mmd = sed -n 's/^  "mmd_$(2)": \([^,]*\),*$$/\1/p' $(1) | awk '{ printf "%.4f
 $(AG)/%/real.mmd.json: $(AG)/%/data.h5
 	$(call launch,eval) $(BIN)/eval-metrics -q $< $< --pred-subjects $($*_TRAIN_SUBJECTS) --json $@.tmp > /dev/null && mv $@.tmp $@
 ag_mmd_row = $$($(call ag_mmd,$(1),avg)) | $$($(call ag_mmd,$(1),seq)) | $$($(call ag_mmd,$(1),motion_avg)) | $$($(call ag_mmd,$(1),motion_seq))
+# variety: the mean distance between two sequences of a class over the real test clips' (1: as
+# varied as the data; eval-metrics' pairwise_ratio, averaged over the classes)
+ag_variety = $$(sed -n 's/^  "pairwise_ratio": \([^,]*\),*$$/\1/p' $(1) | awk '{ printf "%.3f", $$1 }')
 $(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json) $(AG)/%/real.mmd.json
-	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences. Every model trained against the same discriminator ($(or $(AG_GAN),the paper's BiLSTM)), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) GAN iterations."; echo; \
-	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq |"; echo "|---|---:|---:|---:|---:|"; \
-	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) |"; \
-	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_mmd_row,$<) |"; \
+	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences; variety: see below the table. Every model trained against the same discriminator ($(or $(AG_GAN),the paper's BiLSTM)), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) GAN iterations."; echo; \
+	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | variety |"; echo "|---|---:|---:|---:|---:|---:|"; \
+	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) | $(call ag_variety,$(AG)/$*/real.mmd.json) |"; \
+	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) |"; \
 	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.mmd.json; \
 	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
 	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; esac; \
-	    echo "| $$l | $(call ag_mmd_row,$$f) |"; done; \
+	    echo "| $$l | $(call ag_mmd_row,$$f) | $(call ag_variety,$$f) |"; done; \
+	  echo; echo "variety: per class, the mean distance between two generated sequences over that of two real test clips, averaged over the classes (1: as varied as the data; per class in gen*.mmd.json, eval-metrics' variety table). The classifier's view of the same: accuracy.md."; \
 	} $(write_if_changed)
 # seeds.md: ours against the baseline at training seed 1 (the models above) and AG_SEEDS, then per
 # measure the mean, the range and at how many seeds ours is lower.

@@ -186,6 +186,23 @@ MmdResult mmd2_max_reference(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y)
   return best;
 }
 
+double mean_pairwise_distance(const RowMatrixF& X) {
+  const Eigen::Index n = X.rows();
+  if (n < 2) return 0;
+  const Eigen::MatrixXd D = X.cast<double>();
+  double sum = 0;
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j) sum += (D.row(i) - D.row(j)).norm();
+  return sum / (static_cast<double>(n) * static_cast<double>(n - 1) / 2);
+}
+
+double halves_mmd(const RowMatrixF& X) {
+  if (X.rows() < 4) return std::numeric_limits<double>::quiet_NaN();
+  RowMatrixF even((X.rows() + 1) / 2, X.cols()), odd(X.rows() / 2, X.cols());
+  for (Eigen::Index r = 0; r < X.rows(); ++r) (r % 2 ? odd.row(r / 2) : even.row(r / 2)) = X.row(r);
+  return mmd2_max(even, odd).mmd2;
+}
+
 namespace {
 
 // The first `frames` frames of the listed sequences, one row per sequence.
@@ -240,6 +257,10 @@ ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std
   else
     m.mmd_motion_seq = m.mmd_motion_avg = std::numeric_limits<double>::quiet_NaN();  // one frame: no motion
   spread(X, m.spread_mean, m.spread_sd);
+  m.pairwise_generated = mean_pairwise_distance(X);
+  m.pairwise_real = mean_pairwise_distance(Y);
+  m.halves_generated = halves_mmd(X);
+  m.halves_real = halves_mmd(Y);
   return m;
 }
 
@@ -309,6 +330,7 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     out.mmd_seq += m.mmd_seq / n;
     out.mmd_motion_avg += m.mmd_motion_avg / n;
     out.mmd_motion_seq += m.mmd_motion_seq / n;
+    out.pairwise_ratio += m.pairwise_generated / m.pairwise_real / n;
   }
   return out;
 }
@@ -359,11 +381,15 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
   js["mmd_seq"] = r.mmd_seq;
   js["mmd_motion_avg"] = r.mmd_motion_avg;
   js["mmd_motion_seq"] = r.mmd_motion_seq;
+  js["pairwise_ratio"] = r.pairwise_ratio;
   for (const auto& m : r.classes)
     js["classes"][m.name] = {{"generated", m.generated}, {"real", m.real},
                              {"mmd_avg", m.mmd_avg},     {"mmd_seq", m.mmd_seq},
                              {"mmd_motion_avg", m.mmd_motion_avg}, {"mmd_motion_seq", m.mmd_motion_seq},
-                             {"spread_mean", m.spread_mean}, {"spread_sd", m.spread_sd}};
+                             {"spread_mean", m.spread_mean}, {"spread_sd", m.spread_sd},
+                             {"pairwise_generated", m.pairwise_generated}, {"pairwise_real", m.pairwise_real},
+                             {"halves_generated", m.halves_generated},
+                             {"halves_real", m.halves_real}};
   if (json != "-") {
     fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
                pred_path, truth_path, r.frames);
@@ -375,6 +401,13 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
                  m.spread_sd);
     fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq,
                r.mmd_motion_avg, r.mmd_motion_seq);
+    fmt::print("\nvariety: mean distance between two sequences, and MMD_seq of one half of a set against the other\n");
+    fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real", "ratio",
+               "halves gen.", "halves real");
+    for (const auto& m : r.classes)
+      fmt::print("{:<16} {:>14.5g} {:>14.5g} {:>8.3f} {:>14.5g} {:>14.5g}\n", m.name, m.pairwise_generated,
+                 m.pairwise_real, m.pairwise_generated / m.pairwise_real, m.halves_generated, m.halves_real);
+    fmt::print("{:<16} {:>14} {:>14} {:>8.3f}\n", "mean", "", "", r.pairwise_ratio);
   }
   if (json.empty()) return;
   if (json == "-") {

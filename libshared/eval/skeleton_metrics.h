@@ -10,6 +10,11 @@
 //            themselves — while these tell them apart by an order of magnitude
 //   spread   per class: mean and standard deviation of the distance of each generated sequence
 //            to the class's mean sequence (paper Table 4's diversity statistic)
+//   variety  per class, of the generated and of the real sequences alike: the mean distance
+//            between two sequences (flattened, in TRUTH's normalized coordinates) and MMD_seq
+//            between the even- and the odd-numbered halves of the set (the level MMD_seq cannot
+//            go below at that many sequences); generated clips as varied as the real ones have a
+//            distance ratio near 1
 #pragma once
 
 #include <Eigen/Core>
@@ -46,6 +51,8 @@ struct ClassSkeletonMetrics {
   double mmd_avg = 0, mmd_seq = 0;
   double mmd_motion_avg = 0, mmd_motion_seq = 0;  ///< of frame differences (NaN for 1-frame sequences)
   double spread_mean = 0, spread_sd = 0;  ///< distance of generated sequences to their mean
+  double pairwise_generated = 0, pairwise_real = 0;  ///< mean distance between two sequences
+  double halves_generated = 0, halves_real = 0;      ///< MMD_seq of one half against the other (NaN below 4)
 };
 
 struct SkeletonMetrics {
@@ -53,7 +60,14 @@ struct SkeletonMetrics {
   std::vector<ClassSkeletonMetrics> classes;
   double mmd_avg = 0, mmd_seq = 0;  ///< averages over the classes both files have
   double mmd_motion_avg = 0, mmd_motion_seq = 0;
+  double pairwise_ratio = 0;  ///< mean over the classes of pairwise_generated / pairwise_real
 };
+
+/// The mean Euclidean distance between two different rows of X (double sums; 0 below 2 rows).
+double mean_pairwise_distance(const RowMatrixF& X);
+
+/// MMD_u^2 (mmd2_max) between the even- and the odd-numbered rows of X; NaN below 4 rows.
+double halves_mmd(const RowMatrixF& X);
 
 /// Which sequences of the two files are compared.
 struct SkeletonSelection {

@@ -1,6 +1,9 @@
 #include <catch2/catch.hpp>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "core/rng.h"
 #include "eval/skeleton_metrics.h"
 #include "synth/actions.h"
@@ -145,4 +148,35 @@ TEST_CASE("skeleton metrics: the motion MMD tells sequences held still from movi
   one.poses.resize(one.sequences() * fs);
   one.frames = one.sequences();
   CHECK(std::isnan(eval::skeleton_metrics(one, real).mmd_motion_seq));
+}
+
+TEST_CASE("variety: mean distance between two sequences and MMD of a set's halves", "[eval]") {
+  // three rows at 0, 3 and 4 along one axis: distances 3, 4, 1 -> mean 8/3
+  RowMatrixF X = RowMatrixF::Zero(3, 2);
+  X(1, 0) = 3;
+  X(2, 0) = 4;
+  CHECK(eval::mean_pairwise_distance(X) == Approx(8.0 / 3));
+  CHECK(eval::mean_pairwise_distance(X.topRows(1)) == 0);
+  CHECK(std::isnan(eval::halves_mmd(X)));  // below 4 rows
+  // the halves of one sample: near 0; of a set whose even rows differ from its odd ones: large
+  const RowMatrixF same = gaussian(40, 6, 0, 1, 3);
+  RowMatrixF split = same;
+  for (Eigen::Index r = 1; r < split.rows(); r += 2) split.row(r).array() += 3;
+  CHECK(std::abs(eval::halves_mmd(same)) < 0.1);
+  CHECK(eval::halves_mmd(split) > 10 * std::abs(eval::halves_mmd(same)));
+
+  // in skeleton_metrics: copies of one generated sequence have no variety, the real clips some
+  io::SkeletonFile real = actions({"walk", "wave"}, 12, 20, 1);
+  io::SkeletonFile gen = actions({"walk", "wave"}, 12, 20, 2);
+  const auto r = eval::skeleton_metrics(gen, real);
+  CHECK(r.classes[0].pairwise_real > 0);
+  CHECK(r.classes[0].pairwise_generated / r.classes[0].pairwise_real == Approx(1).margin(0.5));
+  for (std::size_t s = 0; s < gen.sequences(); ++s) {  // every sequence a copy of its class's first
+    const auto first = static_cast<std::size_t>(
+        std::find(gen.labels.begin(), gen.labels.end(), gen.labels[s]) - gen.labels.begin());
+    std::copy_n(gen.poses.begin() + gen.offsets[first] * 60, 20 * 60, gen.poses.begin() + gen.offsets[s] * 60);
+  }
+  const auto copies = eval::skeleton_metrics(gen, real);
+  CHECK(copies.classes[0].pairwise_generated == Approx(0).margin(1e-6));
+  CHECK(copies.pairwise_ratio < 0.01);
 }
