@@ -1,5 +1,5 @@
 # deformflow — the two set-up commands and a few helpers.
-#   make demo    install what is missing, build, run the demo pipeline, show where results are
+#   make demo    install what is missing, build the tools, run the demo pipeline, show where results are
 #   make test    install what is missing, build, run the test suite (ctest)
 #   make bench   benchmarks (bench/), results under $(BUILD)/bench
 #   make golden-update [CASE=tool/case]  rewrites the expected files of the golden-file cases
@@ -17,7 +17,7 @@ ifeq ($(CI),true)
   CMAKE_FLAGS += -DDEFORMFLOW_WERROR=ON
 endif
 
-.PHONY: all deps configure build test demo bench clean update-golden golden-update test-sanitize fuzz
+.PHONY: all deps configure build tools test demo bench clean update-golden golden-update test-sanitize fuzz
 all: build
 
 deps:
@@ -29,10 +29,14 @@ configure: deps
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
 
+# The tools and the HDF5 plugin only (no tests, no benchmarks): what the demo runs.
+tools: configure
+	cmake --build $(BUILD) -j$(JOBS) --target tools
+
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) $(CTEST_ARGS)
 
-demo: build
+demo: tools
 	$(MAKE) --no-print-directory -f Makefile.data demo BIN=$(abspath $(BUILD))/bin OUT=$(OUT)
 
 bench: build

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "geometry/acap_consistency.h"
 #include "geometry/acap_features.h"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "convert/skeleton_import.h"
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "io/skeleton_file.h"
 
 namespace df::convert {

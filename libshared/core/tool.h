@@ -8,20 +8,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include "core/common_options.h"
+
 #include <cstdint>
 #include <functional>
 #include <string>
 
 namespace df {
-
-/// Options every tool shares (samtools' global options): declared once, same everywhere.
-struct CommonOptions {
-  int threads = 0;          ///< 0 = all cores
-  std::uint64_t seed = 0;   ///< only for tools that draw random numbers
-  bool quiet = false;
-  bool verbose = false;
-  bool force = false;       ///< overwrite an existing output
-};
 
 class Tool {
  public:

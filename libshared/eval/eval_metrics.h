@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "eval/skeleton_metrics.h"
 
 namespace df::eval {

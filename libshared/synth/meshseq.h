@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "io/mesh_io.h"
 
 namespace df::synth {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "io/skeleton_file.h"
 #include "models/actgan/model.h"
 

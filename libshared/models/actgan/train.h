@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "models/actgan/model.h"
 #include "models/common/training.h"
 

@@ -14,7 +14,7 @@
 
 #include <string>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "nn/tape.h"
 
 namespace df::models {

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "core/common_options.h"
 #include "core/rng.h"
-#include "core/tool.h"
 #include "models/bdlstm/model.h"
 
 namespace df::models {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "models/bdlstm/model.h"
 #include "models/common/training.h"
 

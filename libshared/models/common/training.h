@@ -1,4 +1,4 @@
-// What every trainer of the toolkit shares (train-bdlstm now, train-msae and train-actgan next):
+// What every trainer of the toolkit shares (train-bdlstm, train-msae, train-actgan):
 // the iteration loop with its loss printing, the training log, checkpoints on printing
 // boundaries, and the early output check. A trainer supplies one step (draw a batch with the
 // model's RNG, take an optimizer step, return the loss terms) and one checkpoint writer.

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 #include "geometry/acap_features.h"
 #include "io/mesh_io.h"
 #include "models/msae/model.h"

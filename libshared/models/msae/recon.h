@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "core/tool.h"
+#include "core/common_options.h"
 
 namespace df::models {
 

@@ -1,3 +1,8 @@
+// The definitions of nn/ops.h, included only by ops_float.cpp and ops_double.cpp, each of which
+// instantiates them for one element type with DF_NN_OPS: two translation units that compile in
+// parallel (as one they were the library's longest compile, 86 s of a 2-core build's path).
+#pragma once
+
 #include "nn/ops.h"
 
 #include <fmt/format.h>
@@ -676,9 +681,5 @@ Var<T> reparameterize(Var<T> mu, Var<T> logvar, const Matrix<T>& eps) {
   template Var<T> gaussian_kl(Var<T>, Var<T>);                                                \
   template Var<T> reparameterize(Var<T>, Var<T>, const Matrix<T>&);                           \
   template Matrix<T> softmax(const Matrix<T>&);
-
-DF_NN_OPS(float)
-DF_NN_OPS(double)
-#undef DF_NN_OPS
 
 }  // namespace df::nn
