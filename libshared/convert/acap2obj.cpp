@@ -15,8 +15,7 @@
 #include "core/progress.h"
 #include "geometry/acap_features.h"
 #include "geometry/reconstruction.h"
-#include "io/file_header.h"
-#include "io/h5.h"
+#include "io/acap_file.h"
 #include "io/mesh_io.h"
 #include "io/schema.h"
 
@@ -82,9 +81,8 @@ std::vector<std::size_t> parse_frame_selection(const std::string& spec, std::siz
 
 void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   auto t0 = std::chrono::steady_clock::now();
-  io::Dimensions dims;
-  h5::File in = io::open_input(opt.input, "acap", &dims);
-  const bool has_raw = in.exists("/features/raw"), has_norm = in.exists("/features/normalized");
+  const io::AcapReader in(opt.input);
+  const bool has_raw = in.has_raw(), has_norm = in.has_normalized();
   if (!has_raw && !has_norm)
     throw InvalidInput("has no features (/features/raw or /features/normalized); run obj2acap first", opt.input);
   bool use_raw = opt.features == "raw" || (opt.features == "auto" && has_raw);
@@ -92,13 +90,12 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   if (opt.features == "normalized" && !has_norm) throw InvalidInput("has no /features/normalized", opt.input);
   if (opt.features != "raw" && opt.features != "normalized" && opt.features != "auto")
     throw UsageError("--features must be raw, normalized or auto");
-  const std::string dataset = use_raw ? "/features/raw" : "/features/normalized";
   geometry::Normalization nz;
-  if (!use_raw) nz = geometry::read_normalization(in);
+  if (!use_raw) nz = in.normalization();
 
-  io::Mesh tmpl{in.read_matrix<double>("/template/vertices"), in.read_matrix<int>("/template/faces")};
-  const std::size_t nv = dims.at("V"), n_all = dims.at("N");
-  const bool has_positions = in.exists("/frames/positions");
+  const io::Mesh tmpl = in.read_template();
+  const std::size_t nv = in.vertices(), n_all = in.frames();
+  const bool has_positions = in.has_positions();
   if (opt.anchor_positions != "auto" && opt.anchor_positions != "reference" && opt.anchor_positions != "frames")
     throw UsageError("--anchor-positions must be auto, reference or frames");
   if (opt.anchor_positions == "frames" && !has_positions)
@@ -106,9 +103,9 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   const bool pin_to_frames = has_positions && opt.anchor_positions != "reference";
 
   // Frame selection: --frames and --sequence.
-  auto names = in.read_strings("/frames/names");
-  auto seq_names = in.read_strings("/sequences/names");
-  auto offsets = in.read<std::int64_t>("/sequences/offsets").data;
+  const auto names = in.frame_names();
+  const auto seq_names = in.sequence_names();
+  const auto offsets = in.offsets();
   std::vector<std::size_t> seq_of(n_all);
   for (std::size_t s = 0; s + 1 < offsets.size(); ++s)
     for (auto f = offsets[s]; f < offsets[s + 1]; ++f) seq_of[static_cast<std::size_t>(f)] = s;
@@ -158,17 +155,15 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
       file_names.push_back(name);
     }
   }
-  std::unique_ptr<h5::File> f;
+  std::unique_ptr<io::AcapWriter> f;
   if (h5out) {
-    f = std::make_unique<h5::File>(out.temp_path(), h5::File::Mode::create, opt.output);
-    io::write_header(*f, "acap", {io::read_history(in)});
-    f->write_matrix("/template/vertices", tmpl.vertices);
-    f->write_matrix("/template/faces", tmpl.faces);
+    f = std::make_unique<io::AcapWriter>(out.temp_path(), opt.output, std::vector<std::string>{in.history()});
+    f->write_template(tmpl);
     std::vector<std::string> sel_names, sel_seqs;
     std::vector<std::int64_t> sel_offsets{0};
     std::vector<std::int32_t> sel_labels;
-    const bool labelled = in.exists("/sequences/labels");
-    auto labels = labelled ? in.read<std::int32_t>("/sequences/labels").data : std::vector<std::int32_t>{};
+    const bool labelled = in.labelled();
+    const auto labels = labelled ? in.labels() : std::vector<std::int32_t>{};
     for (std::size_t k = 0; k < frames.size(); ++k) {
       std::size_t s = seq_of[frames[k]];
       if (k == 0 || seq_of[frames[k - 1]] != s) {
@@ -179,14 +174,10 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
       sel_names.push_back(names[frames[k]]);
     }
     sel_offsets.push_back(static_cast<std::int64_t>(frames.size()));
-    f->write_strings("/frames/names", sel_names);
-    f->write<std::int64_t>("/sequences/offsets", sel_offsets, {sel_offsets.size()});
-    f->write_strings("/sequences/names", sel_seqs);
-    if (labelled) {
-      f->write<std::int32_t>("/sequences/labels", sel_labels, {sel_labels.size()});
-      f->write_strings("/classes/names", in.read_strings("/classes/names"));
-    }
-    f->create<float>("/frames/positions", {frames.size(), nv, 3});
+    f->write_frame_names(sel_names);
+    f->write_sequences(sel_offsets, sel_seqs);
+    if (labelled) f->write_labels(sel_labels, in.class_names());
+    f->create_positions(frames.size(), nv);
   }
 
   io::MeshWriter writer(tmpl.faces, nv);
@@ -202,18 +193,16 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   auto read_run = [&](std::size_t k0, std::size_t len) {  // frames[k0..k0+len) are consecutive
     const std::size_t i = frames[k0], b = k0 % block;
     if (use_raw) {
-      in.read_rows<double>(dataset, i, len, feat.data() + b * row);
-      io::check_finite_rows(feat.data() + b * row, i, len, row, in.where(dataset));
+      in.read_raw(i, len, feat.data() + b * row);
     } else {
       featf.resize(len * row);
-      in.read_rows<float>(dataset, i, len, featf.data());
-      io::check_finite_rows(featf.data(), i, len, row, in.where(dataset));
+      in.read_normalized(i, len, featf.data());
       for (std::size_t k = 0; k < featf.size(); ++k)
         feat[b * row + k] = nz.denormalize(static_cast<int>(k % kFeatureDims), featf[k]);
     }
     if (has_positions) {
       pos_in.resize(len * nv * 3);
-      in.read_rows<float>("/frames/positions", i, len, pos_in.data());
+      in.read_positions_unchecked(i, len, pos_in.data());
       for (std::size_t q = 0; q < len; ++q)
         truth[b + q] = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
                            pos_in.data() + q * nv * 3, static_cast<Eigen::Index>(nv), 3)
@@ -237,7 +226,7 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
         writer.write((out.temp_path() / file_names[first + b]).string(), result[b]);
       progress.advance();
     });
-    if (h5out) f->write_rows<float>("/frames/positions", first, count, pos_out.data());
+    if (h5out) f->write_positions_rows(first, count, pos_out.data());
   }
   progress.finish();
   if (f) f->close();

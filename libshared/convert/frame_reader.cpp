@@ -5,9 +5,8 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "io/file_header.h"
+#include "io/acap_file.h"
 #include "io/frame_list.h"
-#include "io/h5.h"
 #include "io/md2.h"
 #include "io/mesh_io.h"
 #include "io/schema.h"
@@ -21,7 +20,7 @@ struct FrameReader::Source {
   std::string path;
   std::vector<io::FrameSource> files;       // mesh_files
   io::Md2Model md2;                         // md2
-  std::unique_ptr<h5::File> file;           // hdf5
+  std::unique_ptr<io::AcapReader> file;     // hdf5
   io::Faces faces;                          // md2, hdf5: the connectivity of every frame
   std::size_t n_vertices = 0;
   std::string history;
@@ -66,22 +65,16 @@ FrameReader::FrameReader(const std::vector<std::string>& inputs) {
     } else if (input[0] != '@' && io::is_hdf5_path(input)) {
       pending = -1;
       src->kind = Source::Kind::hdf5;
-      io::Dimensions dims;
-      src->file = std::make_unique<h5::File>(io::open_input(input, "acap", &dims));
-      if (!src->file->exists("/frames/positions"))
+      src->file = std::make_unique<io::AcapReader>(input);
+      if (!src->file->has_positions())
         throw InvalidInput("has no /frames/positions to compute features from", input);
-      src->faces = src->file->read_matrix<int>("/template/faces");
-      src->n_vertices = dims.at("V");
-      src->history = io::read_history(*src->file);
-      auto names = src->file->read_strings("/frames/names");
-      auto seq_names = src->file->read_strings("/sequences/names");
-      auto offsets = src->file->read<std::int64_t>("/sequences/offsets").data;
-      std::vector<std::string> labels(seq_names.size());
-      if (src->file->exists("/sequences/labels")) {
-        auto l = src->file->read<std::int32_t>("/sequences/labels").data;
-        auto classes = src->file->read_strings("/classes/names");
-        for (std::size_t s = 0; s < l.size(); ++s) labels[s] = classes[static_cast<std::size_t>(l[s])];
-      }
+      src->faces = src->file->read_faces();
+      src->n_vertices = src->file->vertices();
+      src->history = src->file->history();
+      const auto names = src->file->frame_names();
+      const auto seq_names = src->file->sequence_names();
+      const auto offsets = src->file->offsets();
+      const auto labels = src->file->sequence_labels();
       for (std::size_t s = 0; s < seq_names.size(); ++s) {
         add_sequence(seq_names[s], labels[s]);
         for (auto f = offsets[s]; f < offsets[s + 1]; ++f)
@@ -141,9 +134,9 @@ io::Mesh FrameReader::read(std::size_t i) const {
       std::vector<float> buf(s.n_vertices * 3);
       {
         std::lock_guard lock(hdf5_mutex_);
-        s.file->read_rows<float>("/frames/positions", f.index, 1, buf.data());
+        s.file->read_positions_unchecked(f.index, 1, buf.data());
       }
-      io::check_finite_rows(buf.data(), f.index, 1, buf.size(), s.file->where("/frames/positions"));
+      io::check_finite_rows(buf.data(), f.index, 1, buf.size(), s.file->where("positions"));
       m.vertices = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
                        buf.data(), static_cast<Eigen::Index>(s.n_vertices), 3)
                        .cast<double>();

@@ -6,8 +6,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "geometry/reconstruction.h"
-#include "io/h5.h"
-#include "io/schema.h"
+#include "io/acap_file.h"
 
 namespace df::convert {
 
@@ -45,25 +44,21 @@ FrameSet read_frame_set(const std::string& path) {
   if (!io::is_hdf5_path(path)) return read_mesh_files(path);
   FrameSet fs;
   fs.path = path;
-  io::Dimensions dims;
-  h5::File f = io::open_input(path, "acap", &dims);
-  fs.tmpl.vertices = f.read_matrix<double>("/template/vertices");
-  fs.tmpl.faces = f.read_matrix<int>("/template/faces");
-  fs.offsets = f.read<std::int64_t>("/sequences/offsets").data;
-  fs.sequences = f.read_strings("/sequences/names");
-  fs.names = f.read_strings("/frames/names");
-  const std::size_t n = dims.at("N"), nv = dims.at("V"), row = nv * kFeatureDims;
-  if (f.exists("/normalization/min")) fs.normalization = geometry::read_normalization(f);
-  if (f.exists("/features/raw")) {
+  const io::AcapReader f(path);
+  fs.tmpl = f.read_template();
+  fs.offsets = f.offsets();
+  fs.sequences = f.sequence_names();
+  fs.names = f.frame_names();
+  const std::size_t n = f.frames(), nv = f.vertices(), row = nv * kFeatureDims;
+  if (f.has_normalization()) fs.normalization = f.normalization();
+  if (f.has_raw()) {
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(
         static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
-    f.read_rows<double>("/features/raw", 0, n, m.data());
-    io::check_finite_rows(m.data(), 0, n, row, f.where("/features/raw"));
+    f.read_raw(0, n, m.data());
     fs.raw = m;
-  } else if (f.exists("/features/normalized")) {
+  } else if (f.has_normalized()) {
     std::vector<float> v(n * row);
-    f.read_rows<float>("/features/normalized", 0, n, v.data());
-    io::check_finite_rows(v.data(), 0, n, row, f.where("/features/normalized"));
+    f.read_normalized(0, n, v.data());
     fs.raw.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t k = 0; k < row; ++k)
@@ -71,18 +66,17 @@ FrameSet read_frame_set(const std::string& path) {
             fs.normalization->denormalize(static_cast<int>(k % kFeatureDims), v[i * row + k]);
   }
   fs.positions.resize(n);
-  if (f.exists("/frames/positions")) {
+  if (f.has_positions()) {
     std::vector<float> p(n * nv * 3);
-    f.read_rows<float>("/frames/positions", 0, n, p.data());
-    io::check_finite_rows(p.data(), 0, n, nv * 3, f.where("/frames/positions"));
+    f.read_positions(0, n, p.data());
     for (std::size_t i = 0; i < n; ++i)
       fs.positions[i] = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
                             p.data() + i * nv * 3, static_cast<Eigen::Index>(nv), 3)
                             .cast<double>();
     fs.positions_stored = true;
   }
-  if (f.exists("/frames/source")) fs.source = f.read<std::int64_t>("/frames/source").data;
-  if (f.exists("/frames/step")) fs.step = f.read<std::int32_t>("/frames/step").data;
+  if (f.has_source()) fs.source = f.source();
+  if (f.has_steps()) fs.step = f.steps();
   return fs;
 }
 

@@ -14,8 +14,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/progress.h"
-#include "io/file_header.h"
-#include "io/h5.h"
+#include "io/acap_file.h"
 
 namespace fs = std::filesystem;
 
@@ -81,10 +80,8 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
   geometry::AcapFeatureExtractor extractor(reference.vertices, reference.faces, opt.consistency_options);
   log::debug("template: {} edges", extractor.topology().edges.size());
 
-  h5::File f(out.temp_path(), h5::File::Mode::create, opt.output);
-  io::write_header(f, "acap", reader.histories());
-  f.write_matrix("/template/vertices", reference.vertices);
-  f.write_matrix("/template/faces", reference.faces);
+  io::AcapWriter f(out.temp_path(), opt.output, reader.histories());
+  f.write_template(reference);
   std::vector<std::string> frame_names, seq_names;
   std::vector<std::int64_t> offsets{0};
   for (std::size_t i = 0; i < n; ++i) frame_names.push_back(reader.frame_name(i));
@@ -92,16 +89,14 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
     seq_names.push_back(s.name);
     offsets.push_back(static_cast<std::int64_t>(s.first + s.count));
   }
-  f.write_strings("/frames/names", frame_names);
-  f.write<std::int64_t>("/sequences/offsets", offsets, {offsets.size()});
-  f.write_strings("/sequences/names", seq_names);
+  f.write_frame_names(frame_names);
+  f.write_sequences(offsets, seq_names);
   if (!classes.empty()) {
-    f.write<std::int32_t>("/sequences/labels", label_index, {label_index.size()});
-    f.write_strings("/classes/names", classes);
+    f.write_labels(label_index, classes);
   }
-  f.create<float>("/frames/positions", {n, nv, 3});
-  f.create<double>("/features/raw", {n, nv, static_cast<std::size_t>(kFeatureDims)});
-  f.create<float>("/features/normalized", {n, nv, static_cast<std::size_t>(kFeatureDims)});
+  f.create_positions(n, nv);
+  f.create_raw(n, nv);
+  f.create_normalized(n, nv);
 
   // First frame of each sequence starts without a temporal prior.
   std::vector<char> starts(n, 0);
@@ -195,8 +190,8 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
                   for (std::size_t c = 0; c < nv * 3; ++c) pos[k * nv * 3 + c] = static_cast<float>(p[c]);
                 }
                 norm.add(raw.data(), count * nv);
-                f.write_rows<float>("/frames/positions", first, count, pos.data());
-                f.write_rows<double>("/features/raw", first, count, raw.data());
+                f.write_positions_rows(first, count, pos.data());
+                f.write_raw_rows(first, count, raw.data());
                 progress.advance(count);
                 *b = Block{};  // its frames are written
               }));
@@ -207,16 +202,16 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
 
   // Normalization over all frames, then the normalized copy.
   const geometry::Normalization nz = norm.finish();
-  geometry::write_normalization(f, nz);
+  f.write_normalization(nz);
   std::vector<float> normalized;
   for (std::size_t first = 0; first < n; first += block) {
     const std::size_t count = std::min(block, n - first);
     raw.resize(count * nv * kFeatureDims);
-    f.read_rows<double>("/features/raw", first, count, raw.data());
+    f.read_raw_rows(first, count, raw.data());
     normalized.resize(raw.size());
     for (std::size_t k = 0; k < raw.size(); ++k)
       normalized[k] = static_cast<float>(nz.normalize(static_cast<int>(k % kFeatureDims), raw[k]));
-    f.write_rows<float>("/features/normalized", first, count, normalized.data());
+    f.write_normalized_rows(first, count, normalized.data());
   }
   f.close();
   out.commit();

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "io/schema.h"
+#include "io/acap_file.h"
 
 namespace df::eval {
 
@@ -53,24 +53,19 @@ void eval_components(const std::string& components, const std::string& truth,
                      const std::string& json, double threshold) {
   if (!(threshold > 0 && threshold < 1)) throw UsageError("--support-threshold must be in (0, 1)");
   const models::Components c = models::read_components(components);
-  io::Dimensions dims;
-  h5::File t = io::open_input(truth, "acap", &dims);
-  if (!t.exists("/synthetic/regions"))
+  const io::AcapReader t(truth);
+  if (!t.has_regions())
     throw InvalidInput(
         "has no /synthetic/regions: localization needs planted regions (synth-meshseq --kind "
         "bumps)",
         truth);
-  if (dims.at("V") != static_cast<std::size_t>(c.tmpl.vertices.rows()))
+  if (t.vertices() != static_cast<std::size_t>(c.tmpl.vertices.rows()))
     throw InvalidInput(
-        fmt::format("has {} vertices, the components {}", dims.at("V"), c.tmpl.vertices.rows()),
+        fmt::format("has {} vertices, the components {}", t.vertices(), c.tmpl.vertices.rows()),
         truth);
-  const auto masks = t.read<std::uint8_t>("/synthetic/regions");
-  const auto scale = t.read<std::int32_t>("/synthetic/region_scale").data;
-  const std::size_t R = masks.dims[0], V = masks.dims[1];
-  std::vector<std::vector<std::uint8_t>> regions(R);
-  for (std::size_t r = 0; r < R; ++r)
-    regions[r].assign(masks.data.begin() + static_cast<std::ptrdiff_t>(r * V),
-                      masks.data.begin() + static_cast<std::ptrdiff_t>((r + 1) * V));
+  std::vector<std::vector<std::uint8_t>> regions;
+  std::vector<std::int32_t> scale;
+  t.read_regions(regions, scale);
   const auto matches =
       localization_scores(c, regions, std::vector<int>(scale.begin(), scale.end()), threshold);
   nlohmann::ordered_json js;

@@ -95,29 +95,6 @@ Normalization NormalizationBuilder::finish() const {
   return n;
 }
 
-void write_normalization(h5::File& f, const Normalization& nz) {
-  f.create_groups("/normalization");
-  f.set_attr("/normalization", "mode", nz.mode == NormalizationMode::group ? "group" : "per-dim");
-  f.set_attr("/normalization", "range", std::string("[-0.95, 0.95]"));
-  f.write<double>("/normalization/min", std::span<const double>(nz.min), {static_cast<std::size_t>(kFeatureDims)});
-  f.write<double>("/normalization/max", std::span<const double>(nz.max), {static_cast<std::size_t>(kFeatureDims)});
-}
-
-Normalization read_normalization(const h5::File& f) {
-  if (!f.exists("/normalization/min") || !f.exists("/normalization/max"))
-    throw InvalidInput("has no /normalization (min and max)", f.name());
-  Normalization nz;
-  nz.mode = f.has_attr("/normalization", "mode") && f.attr_string("/normalization", "mode") == "per-dim"
-                ? NormalizationMode::per_dim
-                : NormalizationMode::group;
-  auto lo = f.read<double>("/normalization/min").data, hi = f.read<double>("/normalization/max").data;
-  if (lo.size() != kFeatureDims || hi.size() != kFeatureDims)
-    throw InvalidInput("/normalization/min and max must hold 9 numbers", f.name());
-  std::copy(lo.begin(), lo.end(), nz.min.begin());
-  std::copy(hi.begin(), hi.end(), nz.max.begin());
-  return nz;
-}
-
 std::array<double, kFeatureDims> identity_features(const Normalization* nz) {
   std::array<double, kFeatureDims> id = {0, 0, 0, 1, 0, 0, 1, 0, 1};
   if (nz)

@@ -14,11 +14,11 @@
 #include "geometry/deformation_gradient.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/rotation.h"
-#include "io/h5.h"
+#include "io/acap_file.h"
 
 namespace df::geometry {
 
-inline constexpr int kFeatureDims = 9;
+inline constexpr int kFeatureDims = io::kAcapFeatureDims;
 
 /// The rotations (principal axis-angle) and stretches of one frame, before consistency.
 struct FrameDecomposition {
@@ -64,16 +64,9 @@ std::vector<Eigen::Vector3d> principal_rotation_vectors(const FrameDecomposition
 
 // --- normalization to [−0.95, 0.95] for tanh networks (SPEC §4.7)
 
-enum class NormalizationMode { group, per_dim };
-
-struct Normalization {
-  NormalizationMode mode = NormalizationMode::group;
-  std::array<double, kFeatureDims> min{}, max{};
-
-  /// x_norm = −0.95 + 1.9 (x − min_d) / (max_d − min_d)
-  double normalize(int d, double x) const { return -0.95 + 1.9 * (x - min[d]) / (max[d] - min[d]); }
-  double denormalize(int d, double y) const { return min[d] + (y + 0.95) * (max[d] - min[d]) / 1.9; }
-};
+// The numbers themselves belong to the files that carry them (io/acap_file.h).
+using NormalizationMode = io::NormalizationMode;
+using Normalization = io::FeatureNormalization;
 
 /// The reference's own features (r = 0, S = I), normalized by `nz` when given: X_r of the MSAE
 /// paper, the zero of "deformation".
@@ -94,10 +87,5 @@ class NormalizationBuilder {
   NormalizationMode mode_;
   std::array<double, kFeatureDims> lo_, hi_;
 };
-
-/// Writes /normalization (mode, range, min, max) into a file of any kind that carries it.
-void write_normalization(h5::File& f, const Normalization& nz);
-/// Reads /normalization; InvalidInput naming the file when it is absent.
-Normalization read_normalization(const h5::File& f);
 
 }  // namespace df::geometry

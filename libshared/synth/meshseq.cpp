@@ -12,8 +12,7 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/rng.h"
-#include "io/file_header.h"
-#include "io/h5.h"
+#include "io/acap_file.h"
 
 namespace fs = std::filesystem;
 
@@ -224,10 +223,8 @@ void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
   const MeshSeqParams& p = gen.params();
   const int n = gen.total_frames();
   const auto nv = static_cast<std::size_t>(gen.rest().vertices.rows());
-  h5::File f(out.temp_path(), h5::File::Mode::create, out.final_path().string());
-  io::write_header(f, "acap");
-  f.write_matrix("/template/vertices", gen.rest().vertices);
-  f.write_matrix("/template/faces", gen.rest().faces);
+  io::AcapWriter f(out.temp_path(), out.final_path().string());
+  f.write_template(gen.rest());
 
   std::vector<std::string> names, seq_names;
   std::vector<std::int64_t> offsets{0};
@@ -237,12 +234,11 @@ void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
     offsets.push_back(static_cast<std::int64_t>(k + 1) * p.frames);
     for (int t = 0; t < p.frames; ++t) names.push_back(fmt::format("{}-{:04d}", seq_names.back(), t));
   }
-  f.write_strings("/frames/names", names);
-  f.write<std::int64_t>("/sequences/offsets", offsets, {offsets.size()});
-  f.write_strings("/sequences/names", seq_names);
+  f.write_frame_names(names);
+  f.write_sequences(offsets, seq_names);
 
   // Frames in parallel blocks, written in order.
-  f.create<float>("/frames/positions", {static_cast<std::size_t>(n), nv, 3});
+  f.create_positions(static_cast<std::size_t>(n), nv);
   Progress progress("generating frames", static_cast<std::size_t>(n));
   const int block = 64;
   std::vector<float> buf;
@@ -255,36 +251,26 @@ void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
       for (std::size_t k = 0; k < nv * 3; ++k) dst[k] = static_cast<float>(V.data()[k]);
       progress.advance();
     });
-    f.write_rows<float>("/frames/positions", static_cast<std::size_t>(first),
-                        static_cast<std::size_t>(count), buf.data());
+    f.write_positions_rows(static_cast<std::size_t>(first), static_cast<std::size_t>(count), buf.data());
   }
   progress.finish();
 
-  f.create_groups("/synthetic");
-  f.set_attr("/synthetic", "generator", std::string("synth-meshseq"));
-  f.set_attr("/synthetic", "kind", std::string(mesh_seq_kind_name(p.kind)));
-  f.set_attr("/synthetic", "amplitude", p.amplitude);
-  f.set_attr("/synthetic", "twist_degrees", p.twist_degrees);
-  f.set_attr("/synthetic", "periods", p.periods);
-  f.set_attr("/synthetic", "resolution", static_cast<std::int64_t>(p.resolution));
-  f.set_attr("/synthetic", "seed", static_cast<std::int64_t>(p.seed));
-  if (!gen.regions().empty()) {
-    const auto& regs = gen.regions();
-    h5::Array<std::uint8_t> masks{{regs.size(), nv}, {}};
-    std::vector<std::int32_t> scales, centers;
-    for (const auto& r : regs) {
-      masks.data.insert(masks.data.end(), r.mask.begin(), r.mask.end());
-      scales.push_back(r.scale);
-      centers.push_back(r.center);
-    }
-    f.write("/synthetic/regions", masks);
-    f.write<std::int32_t>("/synthetic/region_scale", scales, {scales.size()});
-    f.write<std::int32_t>("/synthetic/region_center", centers, {centers.size()});
-    h5::Array<float> weights{{static_cast<std::size_t>(n), regs.size()}, {}};
-    for (int t = 0; t < n; ++t)
-      for (double w : gen.region_weights(t)) weights.data.push_back(static_cast<float>(w));
-    f.write("/synthetic/weights", weights);
+  io::SyntheticTruth truth;
+  truth.kind = mesh_seq_kind_name(p.kind);
+  truth.amplitude = p.amplitude;
+  truth.twist_degrees = p.twist_degrees;
+  truth.periods = p.periods;
+  truth.resolution = p.resolution;
+  truth.seed = static_cast<std::int64_t>(p.seed);
+  for (const auto& r : gen.regions()) {
+    truth.regions.push_back(r.mask);
+    truth.region_scale.push_back(r.scale);
+    truth.region_center.push_back(r.center);
   }
+  if (!truth.regions.empty())
+    for (int t = 0; t < n; ++t)
+      for (double w : gen.region_weights(t)) truth.weights.push_back(static_cast<float>(w));
+  f.write_synthetic(truth);
   f.close();
 }
 

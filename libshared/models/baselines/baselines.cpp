@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
-#include "io/schema.h"
+#include "io/acap_file.h"
 #include "models/msae/data.h"
 
 namespace df::models {
@@ -156,14 +156,14 @@ namespace {
 
 // Stored positions of some frames as rows [n, 3V].
 Mat read_positions(const std::string& data, const std::vector<std::int64_t>& frames, Index V) {
-  h5::File in = io::open_input(data, "acap");
-  if (!in.exists("/frames/positions"))
+  const io::AcapReader in(data);
+  if (!in.has_positions())
     throw InvalidInput(
         "has no /frames/positions: SPLOCS works on vertex positions (obj2acap keeps them)", data);
   Mat out(static_cast<Index>(frames.size()), 3 * V);
   std::vector<float> row(static_cast<std::size_t>(3 * V));
   for (std::size_t k = 0; k < frames.size(); ++k) {
-    in.read_rows<float>("/frames/positions", static_cast<std::size_t>(frames[k]), 1, row.data());
+    in.read_positions(static_cast<std::size_t>(frames[k]), 1, row.data());
     for (Index j = 0; j < 3 * V; ++j)
       out(static_cast<Index>(k), j) = row[static_cast<std::size_t>(j)];
   }

@@ -10,9 +10,9 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/progress.h"
-#include "io/file_header.h"
-#include "io/schema.h"
+#include "io/acap_file.h"
 #include "models/bdlstm/model.h"
+#include "models/common/model_data.h"
 
 namespace df::models {
 namespace {
@@ -174,46 +174,12 @@ std::size_t GenerationData::sequence_of(std::int64_t f) const {
 }
 
 GenerationData read_generation_data(const std::string& path, const BdlstmModel& m) {
-  io::Dimensions dims;
-  h5::File in = io::open_input(path, "acap", &dims);
+  const ModelData data(path, m.tmpl);
   GenerationData d;
-  const auto nv = m.tmpl.vertices.rows();
-  if (static_cast<Index>(dims.at("V")) != nv)
-    throw InvalidInput(
-        fmt::format(
-            "has {} vertices, the model's template {}: model and data must share the template",
-            dims.at("V"), nv),
-        path);
-  if (in.read_matrix<int>("/template/faces") != m.tmpl.faces)
-    throw InvalidInput(
-        "its template faces differ from the model's: model and data must share the template", path);
-  d.offsets = in.read<std::int64_t>("/sequences/offsets").data;
-  d.sequences = in.read_strings("/sequences/names");
-  d.history = io::read_history(in);
-  const auto n = static_cast<Index>(dims.at("N"));
-  d.features.resize(n, 9 * nv);
-  const bool has_norm = in.exists("/features/normalized");
-  bool same = false;
-  if (has_norm) {
-    auto nz = geometry::read_normalization(in);
-    same = nz.min == m.normalization.min && nz.max == m.normalization.max;
-  }
-  if (same) {
-    in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(n), d.features.data());
-  } else if (in.exists("/features/raw")) {  // renormalize with the model's numbers
-    std::vector<double> raw(static_cast<std::size_t>(d.features.size()));
-    in.read_rows<double>("/features/raw", 0, static_cast<std::size_t>(n), raw.data());
-    for (std::size_t k = 0; k < raw.size(); ++k)
-      d.features.data()[k] =
-          static_cast<float>(m.normalization.normalize(static_cast<int>(k % 9), raw[k]));
-  } else {
-    throw InvalidInput(
-        "its features are normalized with other numbers than the model's and it has no "
-        "/features/raw to renormalize",
-        path);
-  }
-  io::check_finite_rows(d.features.data(), 0, static_cast<std::size_t>(n),
-                        static_cast<std::size_t>(d.features.cols()), in.where("/features"));
+  d.offsets = data.file().offsets();
+  d.sequences = data.file().sequence_names();
+  d.history = data.file().history();
+  d.features = data.all_features(m.normalization);
   return d;
 }
 
@@ -506,12 +472,10 @@ void write_generated(const std::vector<GeneratedSequence>& out, const BdlstmGene
                      const BdlstmModel& m, const GenerationData& d, const CommonOptions& common) {
   AtomicOutput dest(opt.output, AtomicOutput::Kind::file, common.force, {opt.model, opt.data});
   {
-    h5::File f(dest.temp_path(), h5::File::Mode::create, opt.output);
-    io::write_header(f, "acap",
+    io::AcapWriter f(dest.temp_path(), opt.output,
                      {m.history == d.history ? d.history : m.history + "\n" + d.history});
-    f.write_matrix("/template/vertices", m.tmpl.vertices);
-    f.write_matrix("/template/faces", m.tmpl.faces);
-    geometry::write_normalization(f, m.normalization);
+    f.write_template(m.tmpl);
+    f.write_normalization(m.normalization);
     std::vector<std::string> names, seqs;
     std::vector<std::int64_t> offsets{0}, source;
     std::vector<std::int32_t> step;
@@ -524,17 +488,14 @@ void write_generated(const std::vector<GeneratedSequence>& out, const BdlstmGene
     }
     const auto n = static_cast<std::size_t>(offsets.back()),
                nv = static_cast<std::size_t>(m.tmpl.vertices.rows());
-    f.write_strings("/frames/names", names);
-    f.write<std::int64_t>("/frames/source", source, {n});
-    f.write<std::int32_t>("/frames/step", step, {n});
-    f.set_attr("/frames/source", "data", opt.data);
-    f.write<std::int64_t>("/sequences/offsets", offsets, {offsets.size()});
-    f.write_strings("/sequences/names", seqs);
-    f.create<float>("/features/normalized", {n, nv, 9});
+    f.write_frame_names(names);
+    f.write_source(source, opt.data);
+    f.write_steps(step);
+    f.write_sequences(offsets, seqs);
+    f.create_normalized(n, nv);
     std::size_t row = 0;
     for (const auto& s : out)
-      for (const auto& fr : s.frames)
-        f.write_rows<float>("/features/normalized", row++, 1, fr.data());
+      for (const auto& fr : s.frames) f.write_normalized_rows(row++, 1, fr.data());
     f.close();
   }
   dest.commit();

@@ -11,8 +11,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/rng.h"
-#include "io/file_header.h"
-#include "io/schema.h"
+#include "io/acap_file.h"
 #include "models/bdlstm/generate.h"
 #include "models/common/training.h"
 #include "nn/train_step.h"
@@ -217,21 +216,19 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     throw UsageError("--collapse-threshold must not be negative");
 
   check_training_output(opt.output, opt.input, common.force);
-  io::Dimensions dims;
-  h5::File in = io::open_input(opt.input, "acap", &dims);
-  if (!in.exists("/features/normalized"))
+  const io::AcapReader in(opt.input);
+  if (!in.has_normalized())
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
   BdlstmModel m;
   m.config = opt.net;
   m.training = opt.training;
   m.training.seed = common.seed;
-  m.history = io::read_history(in);
-  m.tmpl.vertices = in.read_matrix<double>("/template/vertices");
-  m.tmpl.faces = in.read_matrix<int>("/template/faces");
-  m.normalization = geometry::read_normalization(in);
-  const auto offsets = in.read<std::int64_t>("/sequences/offsets").data;
+  m.history = in.history();
+  m.tmpl = in.read_template();
+  m.normalization = in.normalization();
+  const auto offsets = in.offsets();
   m.split.data = opt.input;
-  m.split.sequences = in.read_strings("/sequences/names");
+  m.split.sequences = in.sequence_names();
   split_sequences(offsets, m.training.test_fraction, m.training.test_part, common.seed, m.split,
                   m.training.validation_fraction);
 
@@ -282,11 +279,8 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
 
   // The normalized features of all frames, one row per frame.
   const Eigen::Index v9 = m.net->frame_size();
-  nn::Matrix<float> data(static_cast<Eigen::Index>(dims.at("N")), v9);
-  in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(data.rows()),
-                      data.data());
-  io::check_finite_rows(data.data(), 0, static_cast<std::size_t>(data.rows()),
-                        static_cast<std::size_t>(v9), in.where("/features/normalized"));
+  nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
+  in.read_normalized(0, in.frames(), data.data());
   log::info(
       "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, "
       "stride {}), "

@@ -6,9 +6,8 @@ void write_mesh_model_common(h5::File& f, const io::Mesh& tmpl, const geometry::
                              const std::vector<double>& log,
                              const std::vector<std::string>& columns,
                              const std::vector<double>& unprinted) {
-  f.write_matrix("/template/vertices", tmpl.vertices);
-  f.write_matrix("/template/faces", tmpl.faces);
-  geometry::write_normalization(f, nz);
+  io::write_template(f, tmpl);
+  io::write_normalization(f, nz);
   if (!unprinted.empty()) f.write<double>("/training/unprinted", unprinted, {unprinted.size()});
   if (log.empty()) return;
   f.write<double>("/training/log", log, {log.size() / columns.size(), columns.size()});
@@ -19,9 +18,8 @@ void write_mesh_model_common(h5::File& f, const io::Mesh& tmpl, const geometry::
 
 void read_mesh_model_common(const h5::File& f, io::Mesh& tmpl, geometry::Normalization& nz,
                             std::vector<double>& log, std::vector<double>& unprinted) {
-  tmpl.vertices = f.read_matrix<double>("/template/vertices");
-  tmpl.faces = f.read_matrix<int>("/template/faces");
-  nz = geometry::read_normalization(f);
+  tmpl = io::read_template(f);
+  nz = io::read_normalization(f);
   log = f.exists("/training/log") ? f.read<double>("/training/log").data : std::vector<double>{};
   unprinted = f.exists("/training/unprinted") ? f.read<double>("/training/unprinted").data
                                               : std::vector<double>{};

@@ -147,9 +147,8 @@ void write_components(const std::string& path, const Components& c,
     f.set_attr("/", "model", c.model);
     f.set_attr("/", "eps1", c.eps1);
     f.set_attr("/", "eps2", c.eps2);
-    f.write_matrix("/template/vertices", c.tmpl.vertices);
-    f.write_matrix("/template/faces", c.tmpl.faces);
-    geometry::write_normalization(f, c.normalization);
+    io::write_template(f, c.tmpl);
+    io::write_normalization(f, c.normalization);
     const auto V = static_cast<std::size_t>(c.tmpl.vertices.rows());
     for (std::size_t l = 0; l < c.levels.size(); ++l) {
       const auto& L = c.levels[l];
@@ -180,9 +179,8 @@ Components read_components(const std::string& path) {
   c.model = f.attr_string("/", "model");
   c.eps1 = f.attr_double("/", "eps1");
   c.eps2 = f.attr_double("/", "eps2");
-  c.tmpl.vertices = f.read_matrix<double>("/template/vertices");
-  c.tmpl.faces = f.read_matrix<int>("/template/faces");
-  c.normalization = geometry::read_normalization(f);
+  c.tmpl = io::read_template(f);
+  c.normalization = io::read_normalization(f);
   const auto V = static_cast<std::size_t>(c.tmpl.vertices.rows());
   for (int l = 0; f.exists(fmt::format("/level{}", l)); ++l) {
     const std::string g = fmt::format("/level{}", l);
@@ -217,11 +215,9 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
   std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
   AtomicOutput out(path, AtomicOutput::Kind::file, force, in);
   {
-    h5::File f(out.temp_path(), h5::File::Mode::create, path);
-    io::write_header(f, "acap", {c.history});
-    f.write_matrix("/template/vertices", c.tmpl.vertices);
-    f.write_matrix("/template/faces", c.tmpl.faces);
-    geometry::write_normalization(f, c.normalization);
+    io::AcapWriter f(out.temp_path(), path, {c.history});
+    f.write_template(c.tmpl);
+    f.write_normalization(c.normalization);
     std::vector<std::string> names, seqs;
     std::vector<std::int64_t> offsets{0};
     std::vector<const float*> rows;
@@ -243,11 +239,10 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
     }
     if (rows.empty()) throw InvalidInput("no component is kept: nothing to write", path);
     const auto n = rows.size(), V = static_cast<std::size_t>(c.tmpl.vertices.rows());
-    f.write_strings("/frames/names", names);
-    f.write<std::int64_t>("/sequences/offsets", offsets, {offsets.size()});
-    f.write_strings("/sequences/names", seqs);
-    f.create<float>("/features/normalized", {n, V, 9});
-    for (std::size_t k = 0; k < n; ++k) f.write_rows<float>("/features/normalized", k, 1, rows[k]);
+    f.write_frame_names(names);
+    f.write_sequences(offsets, seqs);
+    f.create_normalized(n, V);
+    for (std::size_t k = 0; k < n; ++k) f.write_normalized_rows(k, 1, rows[k]);
     f.close();
   }
   out.commit();

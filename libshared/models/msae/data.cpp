@@ -6,26 +6,14 @@
 
 #include "core/atomic_output.h"
 #include "core/error.h"
-#include "io/file_header.h"
-#include "io/schema.h"
+#include "io/acap_file.h"
+#include "models/common/model_data.h"
 
 namespace df::models {
 
 MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const std::string& part) {
-  io::Dimensions dims;
-  h5::File in = io::open_input(path, "acap", &dims);
-  if (!in.exists("/features/normalized"))
-    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", path);
-  const io::Faces faces = in.read_matrix<int>("/template/faces");
-  const auto V = static_cast<std::size_t>(m.tmpl.vertices.rows());
-  if (dims.at("V") != V || faces.rows() != m.tmpl.faces.rows() || faces != m.tmpl.faces)
-    throw InvalidInput(
-        fmt::format(
-            "has another template than the model ({} vertices, {} triangles; the model's: {}, "
-            "{}): the model only works on shapes of its own template",
-            dims.at("V"), faces.rows(), V, m.tmpl.faces.rows()),
-        path);
-  const auto n = static_cast<std::int64_t>(dims.at("N"));
+  const ModelData data(path, m.tmpl);
+  const auto n = static_cast<std::int64_t>(data.frames());
   MsaeShapes s;
   if (part == "all") {
     for (std::int64_t f = 0; f < n; ++f) s.frames.push_back(f);
@@ -47,29 +35,16 @@ MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const s
                 n, part, f, m.split.data),
             path);
   }
-  s.history = io::read_history(in);
-  const auto offsets = in.read<std::int64_t>("/sequences/offsets").data;
-  const auto sequences = in.read_strings("/sequences/names");
-  const auto names = in.read_strings("/frames/names");
-  const geometry::Normalization nz = geometry::read_normalization(in);
-  const bool renormalize = nz.min != m.normalization.min || nz.max != m.normalization.max;
-  s.x.resize(static_cast<Eigen::Index>(s.frames.size()), 9 * static_cast<Eigen::Index>(V));
-  for (std::size_t k = 0; k < s.frames.size(); ++k) {
-    const auto f = s.frames[k];
-    in.read_rows<float>("/features/normalized", static_cast<std::size_t>(f), 1,
-                        s.x.row(static_cast<Eigen::Index>(k)).data());
-    io::check_finite_rows(s.x.row(static_cast<Eigen::Index>(k)).data(), static_cast<std::size_t>(f),
-                          1, 9 * V, in.where("/features/normalized"));
-    if (renormalize)
-      for (Eigen::Index j = 0; j < s.x.cols(); ++j) {
-        const int d = static_cast<int>(j % 9);
-        float& v = s.x(static_cast<Eigen::Index>(k), j);
-        v = static_cast<float>(m.normalization.normalize(d, nz.denormalize(d, v)));
-      }
+  s.history = data.file().history();
+  s.offsets = data.file().offsets();
+  s.sequences = data.file().sequence_names();
+  const auto names = data.file().frame_names();
+  s.x = data.features(s.frames, m.normalization);
+  for (const auto f : s.frames) {
     s.names.push_back(names[static_cast<std::size_t>(f)]);
     // The sequence whose [offsets[q], offsets[q + 1]) holds frame f.
-    const auto q = std::upper_bound(offsets.begin(), offsets.end(), f) - offsets.begin() - 1;
-    s.sequence.push_back(sequences[static_cast<std::size_t>(q)]);
+    const auto q = std::upper_bound(s.offsets.begin(), s.offsets.end(), f) - s.offsets.begin() - 1;
+    s.sequence.push_back(s.sequences[static_cast<std::size_t>(q)]);
   }
   return s;
 }
@@ -81,12 +56,10 @@ void write_shapes(const std::string& path, const MsaeModel& m, const MsaeShapes&
   std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
   AtomicOutput dest(path, AtomicOutput::Kind::file, force, in);
   {
-    h5::File f(dest.temp_path(), h5::File::Mode::create, path);
-    io::write_header(f, "acap",
+    io::AcapWriter f(dest.temp_path(), path,
                      {m.history == shapes.history ? m.history : m.history + "\n" + shapes.history});
-    f.write_matrix("/template/vertices", m.tmpl.vertices);
-    f.write_matrix("/template/faces", m.tmpl.faces);
-    geometry::write_normalization(f, m.normalization);
+    f.write_template(m.tmpl);
+    f.write_normalization(m.normalization);
     // One sequence per data sequence that has frames here, in file order.
     std::vector<std::string> seqs;
     std::vector<std::int64_t> offsets{0};
@@ -98,18 +71,11 @@ void write_shapes(const std::string& path, const MsaeModel& m, const MsaeShapes&
     }
     offsets.push_back(static_cast<std::int64_t>(shapes.sequence.size()));
     const auto n = shapes.frames.size(), V = static_cast<std::size_t>(m.tmpl.vertices.rows());
-    f.write_strings("/frames/names", shapes.names);
-    f.write<std::int64_t>("/frames/source", shapes.frames, {n});
-    f.set_attr("/frames/source", "data", data);
-    f.set_attr("/frames/source", "method", method);
-    f.write<std::int64_t>("/sequences/offsets", offsets, {offsets.size()});
-    f.write_strings("/sequences/names", seqs);
-    if (features)
-      f.write<float>("/features/normalized", std::span<const float>(features->data(), n * V * 9),
-                     {n, V, 9});
-    if (positions)
-      f.write<float>("/frames/positions", std::span<const float>(positions->data(), n * V * 3),
-                     {n, V, 3});
+    f.write_frame_names(shapes.names);
+    f.write_source(shapes.frames, data, method);
+    f.write_sequences(offsets, seqs);
+    if (features) f.write_normalized(n, V, features->data());
+    if (positions) f.write_positions(n, V, positions->data());
     f.close();
   }
   dest.commit();

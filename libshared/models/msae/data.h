@@ -29,7 +29,7 @@ MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const s
 /// Writes reconstructions of `shapes` as an acap file on the model's template: normalized
 /// features [n, 9V] and/or positions [n, 3V] (at least one), one sequence per data sequence,
 /// /frames/source pairing each with its frame of `data` (for eval-metrics); `method` is recorded
-/// as the attribute /frames/method.
+/// as the attribute `method` of /frames/source.
 void write_shapes(const std::string& path, const MsaeModel& m, const MsaeShapes& shapes,
                   const nn::Matrix<float>* features, const nn::Matrix<float>* positions,
                   const std::string& data, const std::vector<std::string>& inputs, bool force,

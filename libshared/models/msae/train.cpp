@@ -14,8 +14,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
-#include "io/file_header.h"
-#include "io/schema.h"
+#include "io/acap_file.h"
 #include "models/common/training.h"
 
 namespace df::models {
@@ -232,19 +231,17 @@ namespace {
 
 // The model's configuration, template, normalization and split, from the options and the data.
 MsaeModel describe_model(const MsaeTrainOptions& opt, const CommonOptions& common,
-                         const h5::File& in) {
+                         const io::AcapReader& in) {
   MsaeModel m;
   m.config = opt.net;
   m.training = opt.training;
   m.training.seed = common.seed;
   if (!opt.train_list.empty()) m.training.split = "lists";
-  m.history = io::read_history(in);
-  m.tmpl.vertices = in.read_matrix<double>("/template/vertices");
-  m.tmpl.faces = in.read_matrix<int>("/template/faces");
-  m.normalization = geometry::read_normalization(in);
-  m.split = opt.train_list.empty()
-                ? split_shapes(in.read<std::int64_t>("/sequences/offsets").data, m.training)
-                : split_from_lists(in.read_strings("/frames/names"), opt.train_list, opt.test_list);
+  m.history = in.history();
+  m.tmpl = in.read_template();
+  m.normalization = in.normalization();
+  m.split = opt.train_list.empty() ? split_shapes(in.offsets(), m.training)
+                                   : split_from_lists(in.frame_names(), opt.train_list, opt.test_list);
   if (!opt.train_list.empty())
     carve_validation(m.split, m.training.validation_fraction, m.training.seed);
   m.split.data = opt.input;
@@ -364,9 +361,8 @@ void remember_geodesics(MsaeModel& m, geometry::GeodesicRows& geodesic) {
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
   check_training_output(opt.output, opt.input, common.force);
-  io::Dimensions dims;
-  h5::File in = io::open_input(opt.input, "acap", &dims);
-  if (!in.exists("/features/normalized"))
+  const io::AcapReader in(opt.input);
+  if (!in.has_normalized())
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
   MsaeModel m = describe_model(opt, common, in);
   const std::string ckpt = opt.run.checkpoint_path(opt.output);
@@ -376,11 +372,8 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
                                  m.iteration, m.training.iterations));
 
   const Eigen::Index v9 = m.net->frame_size();
-  nn::Matrix<float> data(static_cast<Eigen::Index>(dims.at("N")), v9);
-  in.read_rows<float>("/features/normalized", 0, static_cast<std::size_t>(data.rows()),
-                      data.data());
-  io::check_finite_rows(data.data(), 0, static_cast<std::size_t>(data.rows()),
-                        static_cast<std::size_t>(v9), in.where("/features/normalized"));
+  nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
+  in.read_normalized(0, in.frames(), data.data());
   const nn::Matrix<float> validation = gather(data, m.split.validation);
   log::info(
       "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "

@@ -1,0 +1,64 @@
+#include "models/common/model_data.h"
+
+#include <fmt/format.h>
+
+#include <numeric>
+
+#include "core/error.h"
+
+namespace df::models {
+
+ModelData::ModelData(const std::string& path, const io::Mesh& tmpl) : file_(path) {
+  const io::Faces faces = file_.read_faces();
+  if (file_.vertices() != static_cast<std::size_t>(tmpl.vertices.rows()) || faces.rows() != tmpl.faces.rows() ||
+      faces != tmpl.faces)
+    throw InvalidInput(
+        fmt::format("has another template than the model ({} vertices, {} triangles; the model's: {}, {}): "
+                    "model and data must share the template",
+                    file_.vertices(), faces.rows(), tmpl.vertices.rows(), tmpl.faces.rows()),
+        path);
+}
+
+nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
+                                      const io::FeatureNormalization& nz) const {
+  const std::size_t row = file_.vertices() * io::kAcapFeatureDims;
+  nn::Matrix<float> x(static_cast<Eigen::Index>(frames.size()), static_cast<Eigen::Index>(row));
+  const bool normalized = file_.has_normalized();
+  const bool same = normalized && file_.has_normalization() && file_.normalization().same_numbers(nz);
+  if (!same && !file_.has_raw() && !normalized)
+    throw InvalidInput("has no features (/features/raw or /features/normalized); run obj2acap on the meshes first",
+                       file_.path());
+  const io::FeatureNormalization stored = !same && !file_.has_raw() ? file_.normalization() : nz;
+  const bool from_raw = !same && file_.has_raw();
+  std::vector<double> raw;
+  // Runs of consecutive frames are read in one call (a chunk is decompressed once per run).
+  for (std::size_t k = 0; k < frames.size();) {
+    std::size_t run = 1;
+    while (k + run < frames.size() && frames[k + run] == frames[k] + static_cast<std::int64_t>(run)) ++run;
+    const auto first = static_cast<std::size_t>(frames[k]);
+    float* out = x.row(static_cast<Eigen::Index>(k)).data();
+    if (from_raw) {
+      raw.resize(run * row);
+      file_.read_raw(first, run, raw.data());
+      for (std::size_t j = 0; j < run * row; ++j)
+        out[j] = static_cast<float>(nz.normalize(static_cast<int>(j % io::kAcapFeatureDims), raw[j]));
+    } else {
+      file_.read_normalized(first, run, out);
+      if (!same)  // through the file's own numbers
+        for (std::size_t j = 0; j < run * row; ++j) {
+          const int d = static_cast<int>(j % io::kAcapFeatureDims);
+          out[j] = static_cast<float>(nz.normalize(d, stored.denormalize(d, out[j])));
+        }
+    }
+    k += run;
+  }
+  return x;
+}
+
+nn::Matrix<float> ModelData::all_features(const io::FeatureNormalization& nz) const {
+  std::vector<std::int64_t> all(frames());
+  std::iota(all.begin(), all.end(), std::int64_t{0});
+  return features(all, nz);
+}
+
+}  // namespace df::models

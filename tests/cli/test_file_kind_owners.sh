@@ -1,0 +1,21 @@
+# One owner per file kind (issue 43): the ACAP kind's datasets and the skeleton kind's are named
+# only in libshared/io/ (io/acap_file, io/skeleton_file); every other module reads and writes
+# them through those. The model kinds' (/params, /training, the ActGAN model's copy of the
+# skeleton) belong to their models/ files and are not checked here.
+source "$(dirname "$0")/lib.sh"
+: "${DF_SOURCE:?}"
+# a dataset name given to a call: f.read<float>("/features/raw"), f.exists("/frames/source"), ...
+acap='[(,] *"/(template|frames|features|sequences|classes|normalization|synthetic)[/"]'
+found=$(grep -rnE "$acap" "$DF_SOURCE/libshared" --include='*.cpp' --include='*.h' | grep -v "^$DF_SOURCE/libshared/io/" |
+  grep -v "libshared/models/actgan/model.cpp" | grep -vE '^[^:]*:[0-9]+: *//' || true)
+[ -z "$found" ] || fail "ACAP datasets named outside libshared/io (use io/acap_file.h):
+$found"
+# The ActGAN model file stores its class names and skeleton beside its networks: its own kind.
+found=$(grep -rnE '[(,] *"/(poses|skeleton)[/"]' "$DF_SOURCE/libshared" --include='*.cpp' --include='*.h' |
+  grep -v "^$DF_SOURCE/libshared/io/" | grep -v "libshared/models/actgan/model.cpp" || true)
+[ -z "$found" ] || fail "skeleton datasets named outside libshared/io (use io/skeleton_file.h):
+$found"
+# and the check can fail: a line naming one outside io is found
+mkdir -p probe/models && echo 'auto x = f.read<float>("/features/raw");' >probe/models/x.cpp
+grep -rqE "$acap" probe || fail "the pattern misses a dataset name"
+echo "ok"
