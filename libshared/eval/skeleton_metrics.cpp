@@ -123,7 +123,7 @@ const std::vector<double>& mmd_bandwidths() {
   return s;
 }
 
-MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y) {
+MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y, const std::vector<double>& bandwidths) {
   check_samples(X.rows(), Y.rows(), X.cols(), Y.cols());
   const Distances d = squared_distances(X, Y);
   const std::array<const RowMatrixF*, 3> D{&d.xx, &d.yy, &d.xy};
@@ -142,7 +142,7 @@ MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y) {
   const double m = static_cast<double>(X.rows()), n = static_cast<double>(Y.rows());
   const std::array<double, 3> pairs{m * (m - 1) / 2, n * (n - 1) / 2, m * n};
   MmdResult best{-std::numeric_limits<double>::infinity(), 0};
-  for (double s : mmd_bandwidths()) {
+  for (double s : bandwidths) {
     const double g = 1 / (2 * s * s);
     std::array<double, 3> k{0, 0, 0};
     if (g * dmin > 700) {
@@ -196,11 +196,11 @@ double mean_pairwise_distance(const RowMatrixF& X) {
   return sum / (static_cast<double>(n) * static_cast<double>(n - 1) / 2);
 }
 
-double halves_mmd(const RowMatrixF& X) {
+double halves_mmd(const RowMatrixF& X, double s) {
   if (X.rows() < 4) return std::numeric_limits<double>::quiet_NaN();
   RowMatrixF even((X.rows() + 1) / 2, X.cols()), odd(X.rows() / 2, X.cols());
   for (Eigen::Index r = 0; r < X.rows(); ++r) (r % 2 ? odd.row(r / 2) : even.row(r / 2)) = X.row(r);
-  return mmd2_max(even, odd).mmd2;
+  return mmd2_max(even, odd, {s}).mmd2;
 }
 
 namespace {
@@ -234,14 +234,17 @@ RowMatrixF frame_differences(const RowMatrixF& M, std::size_t frame_size) {
   return M.rightCols(M.cols() - cols) - M.leftCols(M.cols() - cols);
 }
 
-// MMD_seq (whole rows) and MMD_avg (per frame index, averaged) of X against Y.
-void mmd_seq_avg(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size, double& seq, double& avg) {
-  seq = mmd2_max(X, Y).mmd2;
+// MMD_seq (whole rows) and MMD_avg (per frame index, averaged) of X against Y; the bandwidth of
+// MMD_seq's maximum.
+double mmd_seq_avg(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size, double& seq, double& avg) {
+  const MmdResult whole = mmd2_max(X, Y);
+  seq = whole.mmd2;
   const auto cols = static_cast<Eigen::Index>(frame_size);
   const Eigen::Index frames = X.cols() / cols;
   avg = 0;
   for (Eigen::Index t = 0; t < frames; ++t)
     avg += mmd2_max(X.middleCols(t * cols, cols), Y.middleCols(t * cols, cols)).mmd2 / static_cast<double>(frames);
+  return whole.bandwidth;
 }
 
 // One class's MMD_seq, MMD_avg, the same of frame differences, and spread: generated sequences X
@@ -250,7 +253,7 @@ ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std
   ClassSkeletonMetrics m;
   m.generated = static_cast<std::size_t>(X.rows());
   m.real = static_cast<std::size_t>(Y.rows());
-  mmd_seq_avg(X, Y, frame_size, m.mmd_seq, m.mmd_avg);
+  const double seq_bandwidth = mmd_seq_avg(X, Y, frame_size, m.mmd_seq, m.mmd_avg);
   if (X.cols() > static_cast<Eigen::Index>(frame_size))
     mmd_seq_avg(frame_differences(X, frame_size), frame_differences(Y, frame_size), frame_size, m.mmd_motion_seq,
                 m.mmd_motion_avg);
@@ -259,8 +262,8 @@ ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std
   spread(X, m.spread_mean, m.spread_sd);
   m.pairwise_generated = mean_pairwise_distance(X);
   m.pairwise_real = mean_pairwise_distance(Y);
-  m.halves_generated = halves_mmd(X);
-  m.halves_real = halves_mmd(Y);
+  m.halves_generated = halves_mmd(X, seq_bandwidth);
+  m.halves_real = halves_mmd(Y, seq_bandwidth);
   return m;
 }
 
@@ -401,7 +404,8 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
                  m.spread_sd);
     fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq,
                r.mmd_motion_avg, r.mmd_motion_seq);
-    fmt::print("\nvariety: mean distance between two sequences, and MMD_seq of one half of a set against the other\n");
+    fmt::print("\nvariety: mean distance between two sequences, and MMD_u^2 of one half of a set against the other\n"
+               "(at the bandwidth of the class's MMD_seq: its sampling noise)\n");
     fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real", "ratio",
                "halves gen.", "halves real");
     for (const auto& m : r.classes)

@@ -12,9 +12,9 @@
 //            to the class's mean sequence (paper Table 4's diversity statistic)
 //   variety  per class, of the generated and of the real sequences alike: the mean distance
 //            between two sequences (flattened, in TRUTH's normalized coordinates) and MMD_seq
-//            between the even- and the odd-numbered halves of the set (the level MMD_seq cannot
-//            go below at that many sequences); generated clips as varied as the real ones have a
-//            distance ratio near 1
+//            between the even- and the odd-numbered halves of the set at the bandwidth where the
+//            class's MMD_seq peaked (the sampling noise of MMD_seq at that many sequences);
+//            generated clips as varied as the real ones have a distance ratio near 1
 #pragma once
 
 #include <Eigen/Core>
@@ -36,11 +36,13 @@ struct MmdResult {
   double bandwidth = 0;  ///< where it is reached
 };
 
-/// MMD_u^2 between the rows of X (m samples) and of Y (n samples), m, n >= 2, same columns.
+/// MMD_u^2 between the rows of X (m samples) and of Y (n samples), m, n >= 2, same columns,
+/// maximised over `bandwidths` (by default mmd_bandwidths()).
 /// Squared distances from one Gram matrix (float GEMM in row blocks, in parallel); exponentials
 /// only where a bandwidth makes them neither all 0 nor all within 1e-7 of 1 (there a second-order
 /// expansion is exact to float precision). Deterministic: the same at any thread count.
-MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y);
+MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y,
+                   const std::vector<double>& bandwidths = mmd_bandwidths());
 
 /// The same in double with the brute-force double sum over every pair (tests' reference).
 MmdResult mmd2_max_reference(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y);
@@ -66,8 +68,9 @@ struct SkeletonMetrics {
 /// The mean Euclidean distance between two different rows of X (double sums; 0 below 2 rows).
 double mean_pairwise_distance(const RowMatrixF& X);
 
-/// MMD_u^2 (mmd2_max) between the even- and the odd-numbered rows of X; NaN below 4 rows.
-double halves_mmd(const RowMatrixF& X);
+/// MMD_u^2 at bandwidth s between the even- and the odd-numbered rows of X (at one bandwidth:
+/// maximised over all, two halves of one sample score 0 at the widest); NaN below 4 rows.
+double halves_mmd(const RowMatrixF& X, double s);
 
 /// Which sequences of the two files are compared.
 struct SkeletonSelection {

@@ -157,13 +157,13 @@ TEST_CASE("variety: mean distance between two sequences and MMD of a set's halve
   X(2, 0) = 4;
   CHECK(eval::mean_pairwise_distance(X) == Approx(8.0 / 3));
   CHECK(eval::mean_pairwise_distance(X.topRows(1)) == 0);
-  CHECK(std::isnan(eval::halves_mmd(X)));  // below 4 rows
+  CHECK(std::isnan(eval::halves_mmd(X, 1)));  // below 4 rows
   // the halves of one sample: near 0; of a set whose even rows differ from its odd ones: large
   const RowMatrixF same = gaussian(40, 6, 0, 1, 3);
   RowMatrixF split = same;
   for (Eigen::Index r = 1; r < split.rows(); r += 2) split.row(r).array() += 3;
-  CHECK(std::abs(eval::halves_mmd(same)) < 0.1);
-  CHECK(eval::halves_mmd(split) > 10 * std::abs(eval::halves_mmd(same)));
+  CHECK(std::abs(eval::halves_mmd(same, 3)) < 0.1);
+  CHECK(eval::halves_mmd(split, 3) > 10 * std::abs(eval::halves_mmd(same, 3)));
 
   // in skeleton_metrics: copies of one generated sequence have no variety, the real clips some
   io::SkeletonFile real = actions({"walk", "wave"}, 12, 20, 1);
