@@ -12,7 +12,7 @@
 #include "core/log.h"
 #include "core/rng.h"
 #include "io/acap_file.h"
-#include "models/bdlstm/generate.h"
+#include "models/bdlstm/chain.h"
 #include "models/common/training.h"
 #include "nn/train_step.h"
 
