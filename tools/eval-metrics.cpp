@@ -1,6 +1,6 @@
 // eval-metrics: error measures of generated / reconstructed meshes against ground truth.
 #include "core/tool.h"
-#include "eval/eval_metrics.h"
+#include "apps/eval_metrics.h"
 
 int main(int argc, char** argv) {
   df::Tool tool("eval-metrics",
@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
                 "a components file and a bumps file); with PRED alone only the\n"
                 "feature change is measured. OUTPUT: the table on stdout; --json FILE (or -).");
   tool.with_threads();
-  df::eval::EvalOptions opt;
+  df::apps::EvalOptions opt;
   auto& app = tool.app();
   app.add_option("PRED", opt.pred, "Predicted / generated frames")->required();
   app.add_option("TRUTH", opt.truth, "Ground truth on the same template");
@@ -93,5 +93,5 @@ int main(int argc, char** argv) {
               "  eval-metrics gen.h5 clips.h5                 # MMD of generated actions (test part)\n"
               "  eval-metrics clips.h5 clips.h5 --pred-subjects 1,2,3 --truth-subjects 4\n"
               "                                  # the data's own level: training subjects vs one held out");
-  return tool.run(argc, argv, [&] { df::eval::eval_metrics(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::eval_metrics(opt, tool.common()); });
 }

@@ -1,6 +1,6 @@
 // render-mesh: pictures (PNG) of mesh frames and skeleton poses, without a display or GPU.
 #include "core/tool.h"
-#include "render/render_mesh.h"
+#include "apps/render_mesh.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
       "  ffmpeg -i frames/%04d.png -pix_fmt yuv420p movie.mp4\n"
       "The same input gives byte-identical PNGs at any --threads.");
   tool.with_threads().with_force();
-  df::render::RenderOptions opt;
+  df::apps::RenderOptions opt;
   auto& app = tool.app();
   app.add_option("INPUT", opt.inputs, "Files to draw, one row each (or one per --sequence)")
       ->required();
@@ -105,6 +105,6 @@ int main(int argc, char** argv) {
       "  render-mesh actions.h5 --every 10 -o actions.png           # stick figures");
   return tool.run(argc, argv, [&] {
     if (app.count("--height") == 0) opt.height = opt.width;
-    df::render::render_mesh(opt, tool.common());
+    df::apps::render_mesh(opt, tool.common());
   });
 }

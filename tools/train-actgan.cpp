@@ -1,7 +1,6 @@
 // train-actgan: train the action generator with smooth latent transitions (paper 3).
+#include "apps/train_actgan.h"
 #include "core/tool.h"
-#include "eval/skeleton_metrics.h"
-#include "models/actgan/train.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -138,9 +137,6 @@ int main(int argc, char** argv) {
     opt.net.classifier = !no_classifier;
     opt.training.train_decoder = !freeze_decoder;
     opt.training.seed = tool.common().seed;
-    opt.validate = [](const df::models::ActganModel& m, const df::models::ActionClips& clips) {
-      return df::eval::actgan_validation_mmd(m, clips);
-    };
-    df::models::train_actgan(opt, tool.common());
+    df::apps::train_actgan(opt, tool.common());
   });
 }

@@ -13,7 +13,6 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "core/rng.h"
-#include "models/actgan/generate.h"
 
 namespace df::eval {
 namespace {
@@ -247,25 +246,6 @@ double mmd_seq_avg(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_s
   return whole.bandwidth;
 }
 
-// One class's MMD_seq, MMD_avg, the same of frame differences, and spread: generated sequences X
-// against real ones Y, one flattened sequence per row, `frame_size` values per frame.
-ClassSkeletonMetrics class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size) {
-  ClassSkeletonMetrics m;
-  m.generated = static_cast<std::size_t>(X.rows());
-  m.real = static_cast<std::size_t>(Y.rows());
-  const double seq_bandwidth = mmd_seq_avg(X, Y, frame_size, m.mmd_seq, m.mmd_avg);
-  if (X.cols() > static_cast<Eigen::Index>(frame_size))
-    mmd_seq_avg(frame_differences(X, frame_size), frame_differences(Y, frame_size), frame_size, m.mmd_motion_seq,
-                m.mmd_motion_avg);
-  else
-    m.mmd_motion_seq = m.mmd_motion_avg = std::numeric_limits<double>::quiet_NaN();  // one frame: no motion
-  spread(X, m.spread_mean, m.spread_sd);
-  m.pairwise_generated = mean_pairwise_distance(X);
-  m.pairwise_real = mean_pairwise_distance(Y);
-  m.halves_generated = halves_mmd(X, seq_bandwidth);
-  m.halves_real = halves_mmd(Y, seq_bandwidth);
-  return m;
-}
 
 // Per sequence of `f` (named `what` in errors): 1 when its subject is one of `subjects`.
 std::vector<char> of_subjects(const io::SkeletonFile& f, const std::vector<std::int32_t>& subjects,
@@ -283,6 +263,26 @@ std::vector<char> of_subjects(const io::SkeletonFile& f, const std::vector<std::
 }
 
 }  // namespace
+
+// One class's MMD_seq, MMD_avg, the same of frame differences, and spread: generated sequences X
+// against real ones Y, one flattened sequence per row, `frame_size` values per frame.
+ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size) {
+  ClassSkeletonMetrics m;
+  m.generated = static_cast<std::size_t>(X.rows());
+  m.real = static_cast<std::size_t>(Y.rows());
+  const double seq_bandwidth = mmd_seq_avg(X, Y, frame_size, m.mmd_seq, m.mmd_avg);
+  if (X.cols() > static_cast<Eigen::Index>(frame_size))
+    mmd_seq_avg(frame_differences(X, frame_size), frame_differences(Y, frame_size), frame_size, m.mmd_motion_seq,
+                m.mmd_motion_avg);
+  else
+    m.mmd_motion_seq = m.mmd_motion_avg = std::numeric_limits<double>::quiet_NaN();  // one frame: no motion
+  spread(X, m.spread_mean, m.spread_sd);
+  m.pairwise_generated = mean_pairwise_distance(X);
+  m.pairwise_real = mean_pairwise_distance(Y);
+  m.halves_generated = halves_mmd(X, seq_bandwidth);
+  m.halves_real = halves_mmd(Y, seq_bandwidth);
+  return m;
+}
 
 SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
                                  const SkeletonSelection& select) {
@@ -322,7 +322,7 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     }
     const RowMatrixF X = sequence_rows(pred, pred_poses, gen, out.frames);
     const RowMatrixF Y = sequence_rows(truth, truth.poses, real, out.frames);
-    ClassSkeletonMetrics m = class_metrics(X, Y, fs);
+    ClassSkeletonMetrics m = skeleton_class_metrics(X, Y, fs);
     m.name = pred.class_names[c];
     out.classes.push_back(m);
   }
@@ -336,91 +336,6 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     out.pairwise_ratio += m.pairwise_generated / m.pairwise_real / n;
   }
   return out;
-}
-
-std::vector<double> actgan_validation_mmd(const models::ActganModel& model, const models::ActionClips& clips,
-                                          int per_class) {
-  const auto classes = static_cast<Eigen::Index>(model.class_names.size());
-  const auto fs = static_cast<std::size_t>(clips.pose);
-  const auto row = static_cast<Eigen::Index>(static_cast<std::size_t>(clips.length) * fs);
-  Rng rng(model.training.seed, 2);  // the same noise at every evaluation: the curve shows the model, not the draw
-  double avg = 0, seq = 0, motion_avg = 0, motion_seq = 0;
-  int measured = 0;
-  for (Eigen::Index c = 0; c < classes; ++c) {
-    std::vector<std::size_t> real;
-    for (std::size_t k = 0; k < clips.size(); ++k)
-      if (clips.labels[k] == c) real.push_back(k);
-    if (real.size() < 2) continue;
-    nn::Matrix<float> y = nn::Matrix<float>::Zero(per_class, classes);
-    y.col(c).setOnes();
-    std::vector<float> poses, latents;
-    models::generate_actions(model, y, clips.length, rng, poses, latents);
-    const RowMatrixF X = Eigen::Map<const RowMatrixF>(poses.data(), per_class, row);
-    RowMatrixF Y(static_cast<Eigen::Index>(real.size()), row);
-    for (std::size_t r = 0; r < real.size(); ++r)
-      std::copy_n(clips.frame(real[r], 0), static_cast<std::size_t>(row), Y.row(static_cast<Eigen::Index>(r)).data());
-    const ClassSkeletonMetrics m = class_metrics(X, Y, fs);
-    avg += m.mmd_avg;
-    seq += m.mmd_seq;
-    motion_avg += m.mmd_motion_avg;
-    motion_seq += m.mmd_motion_seq;
-    ++measured;
-  }
-  if (measured == 0) throw InvalidInput("no class has 2 validation clips: MMD needs 2 of each");
-  return {avg / measured, seq / measured, motion_avg / measured, motion_seq / measured};
-}
-
-void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
-                    const std::string& json, const SkeletonSelection& select) {
-  if (truth_path.empty()) throw UsageError("skeleton files are measured against TRUTH (real sequences)");
-  const io::SkeletonFile pred = io::read_skeleton_file(pred_path);
-  const io::SkeletonFile truth = io::read_skeleton_file(truth_path);
-  const SkeletonMetrics r = skeleton_metrics(pred, truth, select);
-  nlohmann::ordered_json js;
-  js["pred"] = pred_path;
-  js["truth"] = truth_path;
-  js["frames"] = r.frames;
-  js["mmd_avg"] = r.mmd_avg;
-  js["mmd_seq"] = r.mmd_seq;
-  js["mmd_motion_avg"] = r.mmd_motion_avg;
-  js["mmd_motion_seq"] = r.mmd_motion_seq;
-  js["pairwise_ratio"] = r.pairwise_ratio;
-  for (const auto& m : r.classes)
-    js["classes"][m.name] = {{"generated", m.generated}, {"real", m.real},
-                             {"mmd_avg", m.mmd_avg},     {"mmd_seq", m.mmd_seq},
-                             {"mmd_motion_avg", m.mmd_motion_avg}, {"mmd_motion_seq", m.mmd_motion_seq},
-                             {"spread_mean", m.spread_mean}, {"spread_sd", m.spread_sd},
-                             {"pairwise_generated", m.pairwise_generated}, {"pairwise_real", m.pairwise_real},
-                             {"halves_generated", m.halves_generated},
-                             {"halves_real", m.halves_real}};
-  if (json != "-") {
-    fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
-               pred_path, truth_path, r.frames);
-    fmt::print("{:<16} {:>9} {:>6} {:>11} {:>11} {:>11} {:>11} {:>12} {:>10}\n", "class", "generated", "real",
-               "MMD_avg", "MMD_seq", "motion_avg", "motion_seq", "spread mean", "spread sd");
-    for (const auto& m : r.classes)
-      fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>12.5g} {:>10.5g}\n", m.name,
-                 m.generated, m.real, m.mmd_avg, m.mmd_seq, m.mmd_motion_avg, m.mmd_motion_seq, m.spread_mean,
-                 m.spread_sd);
-    fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq,
-               r.mmd_motion_avg, r.mmd_motion_seq);
-    fmt::print("\nvariety: mean distance between two sequences, and MMD_u^2 of one half of a set against the other\n"
-               "(at the bandwidth of the class's MMD_seq: its sampling noise)\n");
-    fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real", "ratio",
-               "halves gen.", "halves real");
-    for (const auto& m : r.classes)
-      fmt::print("{:<16} {:>14.5g} {:>14.5g} {:>8.3f} {:>14.5g} {:>14.5g}\n", m.name, m.pairwise_generated,
-                 m.pairwise_real, m.pairwise_generated / m.pairwise_real, m.halves_generated, m.halves_real);
-    fmt::print("{:<16} {:>14} {:>14} {:>8.3f}\n", "mean", "", "", r.pairwise_ratio);
-  }
-  if (json.empty()) return;
-  if (json == "-") {
-    fmt::print("{}\n", js.dump(2));
-    return;
-  }
-  std::ofstream out(json);
-  out << js.dump(2) << "\n";
-  if (!out) throw IOError("cannot write", json);
 }
 
 }  // namespace df::eval

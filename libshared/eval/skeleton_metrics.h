@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "io/skeleton_file.h"
-#include "models/actgan/train.h"
 
 namespace df::eval {
 
@@ -72,6 +71,10 @@ double mean_pairwise_distance(const RowMatrixF& X);
 /// maximised over all, two halves of one sample score 0 at the widest); NaN below 4 rows.
 double halves_mmd(const RowMatrixF& X, double s);
 
+/// One class's measures of generated sequences X against real ones Y (one flattened sequence per
+/// row, `frame_size` values per frame): MMD_seq, MMD_avg, their motion forms, spread, variety.
+ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size);
+
 /// Which sequences of the two files are compared.
 struct SkeletonSelection {
   bool all_truth = false;                    ///< all of TRUTH's sequences, not only its test part
@@ -89,16 +92,5 @@ struct SkeletonSelection {
 /// generator that reproduced its training data exactly.
 SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
                                  const SkeletonSelection& select = {});
-
-/// train-actgan's validation columns: MMD_avg, MMD_seq and their motion forms (as skeleton_metrics, in the model's
-/// normalized coordinates) of `per_class` sequences generated for each class against the held-out
-/// clips of that class (classes with fewer than 2 clips are left out), averaged over classes. The
-/// noise is drawn from Rng(seed, 2) afresh at every call: the same draw at every evaluation.
-std::vector<double> actgan_validation_mmd(const models::ActganModel& model, const models::ActionClips& clips,
-                                          int per_class = 100);
-
-/// eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
-void eval_skeletons(const std::string& pred, const std::string& truth, const std::string& json,
-                    const SkeletonSelection& select);
 
 }  // namespace df::eval

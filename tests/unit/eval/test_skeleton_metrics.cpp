@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
 #include "core/rng.h"
 #include "eval/skeleton_metrics.h"
 #include "synth/actions.h"

@@ -14,10 +14,11 @@
 #include "render/canvas.h"
 #include "render/color.h"
 #include "render/rasterizer.h"
-#include "render/render_mesh.h"
+#include "apps/render_mesh.h"
 #include "render/sheet.h"
 
 using namespace df::render;
+using namespace df::apps;
 
 namespace {
 

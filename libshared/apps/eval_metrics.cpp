@@ -1,5 +1,5 @@
-#include "eval/eval_metrics.h"
-#include "eval/component_metrics.h"
+#include "apps/eval_metrics.h"
+#include "apps/component_metrics.h"
 #include "eval/skeleton_metrics.h"
 
 #include <fmt/format.h>
@@ -24,8 +24,63 @@
 #include "io/h5.h"
 #include "io/schema.h"
 
-namespace df::eval {
+namespace df::apps {
+using namespace df::eval;
 namespace {
+
+// eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
+void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
+                    const std::string& json, const SkeletonSelection& select) {
+  if (truth_path.empty()) throw UsageError("skeleton files are measured against TRUTH (real sequences)");
+  const io::SkeletonFile pred = io::read_skeleton_file(pred_path);
+  const io::SkeletonFile truth = io::read_skeleton_file(truth_path);
+  const SkeletonMetrics r = skeleton_metrics(pred, truth, select);
+  nlohmann::ordered_json js;
+  js["pred"] = pred_path;
+  js["truth"] = truth_path;
+  js["frames"] = r.frames;
+  js["mmd_avg"] = r.mmd_avg;
+  js["mmd_seq"] = r.mmd_seq;
+  js["mmd_motion_avg"] = r.mmd_motion_avg;
+  js["mmd_motion_seq"] = r.mmd_motion_seq;
+  js["pairwise_ratio"] = r.pairwise_ratio;
+  for (const auto& m : r.classes)
+    js["classes"][m.name] = {{"generated", m.generated}, {"real", m.real},
+                             {"mmd_avg", m.mmd_avg},     {"mmd_seq", m.mmd_seq},
+                             {"mmd_motion_avg", m.mmd_motion_avg}, {"mmd_motion_seq", m.mmd_motion_seq},
+                             {"spread_mean", m.spread_mean}, {"spread_sd", m.spread_sd},
+                             {"pairwise_generated", m.pairwise_generated}, {"pairwise_real", m.pairwise_real},
+                             {"halves_generated", m.halves_generated},
+                             {"halves_real", m.halves_real}};
+  if (json != "-") {
+    fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
+               pred_path, truth_path, r.frames);
+    fmt::print("{:<16} {:>9} {:>6} {:>11} {:>11} {:>11} {:>11} {:>12} {:>10}\n", "class", "generated", "real",
+               "MMD_avg", "MMD_seq", "motion_avg", "motion_seq", "spread mean", "spread sd");
+    for (const auto& m : r.classes)
+      fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>12.5g} {:>10.5g}\n", m.name,
+                 m.generated, m.real, m.mmd_avg, m.mmd_seq, m.mmd_motion_avg, m.mmd_motion_seq, m.spread_mean,
+                 m.spread_sd);
+    fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq,
+               r.mmd_motion_avg, r.mmd_motion_seq);
+    fmt::print("\nvariety: mean distance between two sequences, and MMD_u^2 of one half of a set against the other\n"
+               "(at the bandwidth of the class's MMD_seq: its sampling noise)\n");
+    fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real", "ratio",
+               "halves gen.", "halves real");
+    for (const auto& m : r.classes)
+      fmt::print("{:<16} {:>14.5g} {:>14.5g} {:>8.3f} {:>14.5g} {:>14.5g}\n", m.name, m.pairwise_generated,
+                 m.pairwise_real, m.pairwise_generated / m.pairwise_real, m.halves_generated, m.halves_real);
+    fmt::print("{:<16} {:>14} {:>14} {:>8.3f}\n", "mean", "", "", r.pairwise_ratio);
+  }
+  if (json.empty()) return;
+  if (json == "-") {
+    fmt::print("{}\n", js.dump(2));
+    return;
+  }
+  std::ofstream out(json);
+  out << js.dump(2) << "\n";
+  if (!out) throw IOError("cannot write", json);
+}
 
 using geometry::kFeatureDims;
 
@@ -338,4 +393,4 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
   std::cout << t << std::flush;
 }
 
-}  // namespace df::eval
+}  // namespace df::apps

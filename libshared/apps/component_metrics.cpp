@@ -1,4 +1,4 @@
-#include "eval/component_metrics.h"
+#include "apps/component_metrics.h"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "io/acap_file.h"
 
-namespace df::eval {
+namespace df::apps {
 
 std::vector<RegionMatch> localization_scores(const models::Components& c,
                                              const std::vector<std::vector<std::uint8_t>>& regions,
@@ -101,4 +101,4 @@ void eval_components(const std::string& components, const std::string& truth,
   }
 }
 
-}  // namespace df::eval
+}  // namespace df::apps

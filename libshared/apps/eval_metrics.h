@@ -22,7 +22,7 @@
 #include "core/common_options.h"
 #include "eval/skeleton_metrics.h"
 
-namespace df::eval {
+namespace df::apps {
 
 struct EvalOptions {
   std::string pred, truth;  ///< truth "" = only single-file measures (feature change)
@@ -43,9 +43,9 @@ struct EvalOptions {
   double support_threshold = 0.1;
   /// PRED and TRUTH skeleton files: which sequences are compared (all of TRUTH's, or some
   /// subjects' of either file)
-  SkeletonSelection skeletons;
+  eval::SkeletonSelection skeletons;
 };
 
 void eval_metrics(const EvalOptions& opt, const CommonOptions& common);
 
-}  // namespace df::eval
+}  // namespace df::apps

@@ -11,7 +11,7 @@
 
 #include "core/common_options.h"
 
-namespace df::render {
+namespace df::apps {
 
 struct RenderOptions {
   std::vector<std::string> inputs;  ///< acap .h5, mesh directories / @lists / files, skeleton .h5
@@ -43,4 +43,4 @@ struct RenderOptions {
 
 void render_mesh(const RenderOptions& opt, const CommonOptions& common);
 
-}  // namespace df::render
+}  // namespace df::apps

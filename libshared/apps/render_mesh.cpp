@@ -1,4 +1,4 @@
-#include "render/render_mesh.h"
+#include "apps/render_mesh.h"
 
 #include <fmt/args.h>
 #include <fmt/format.h>
@@ -29,7 +29,8 @@
 
 namespace fs = std::filesystem;
 
-namespace df::render {
+namespace df::apps {
+using namespace df::render;
 namespace {
 
 constexpr int kMaxColumns = 64, kMaxPanels = 1024;
@@ -588,4 +589,4 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
                       : "");
 }
 
-}  // namespace df::render
+}  // namespace df::apps

@@ -12,7 +12,7 @@
 
 #include "models/msae/components.h"
 
-namespace df::eval {
+namespace df::apps {
 
 struct RegionMatch {
   int region = 0, scale = 0;  ///< scale 0 coarse, 1 fine
@@ -34,4 +34,4 @@ std::vector<RegionMatch> localization_scores(const models::Components& c,
 void eval_components(const std::string& components, const std::string& truth,
                      const std::string& json, double threshold);
 
-}  // namespace df::eval
+}  // namespace df::apps
