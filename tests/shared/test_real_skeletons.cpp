@@ -24,7 +24,7 @@ namespace {
 
 // MSR-Action3D's file order: the Kinect joint at each of its 20 lines.
 constexpr int kMsrFromKinect[20] = {4, 8, 2, 1, 12, 16, 0, 5, 9, 6, 10, 7, 11, 13, 17, 14, 18, 15, 19, 3};
-constexpr double kDefaultTolerance = convert::Skel2h5Options{}.bone_tolerance;
+const double kDefaultTolerance = convert::Skel2h5Options{}.bone_tolerance;
 
 // Every UTKinect take: its frames' 20 joints (x y z), Kinect order, as the file prints them.
 std::vector<std::vector<std::string>> utkinect_takes() {
