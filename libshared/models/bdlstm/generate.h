@@ -89,8 +89,8 @@ struct GenerationData {
   std::string history;
   std::size_t sequence_of(std::int64_t frame) const;
 };
-/// Reads DATA, checking that it shares the model's template; renormalizes from raw features
-/// when its normalization differs from the model's.
+/// Reads DATA through ModelData (models/common/model_data.h): the template checked, every frame's
+/// features in the model's normalization.
 GenerationData read_generation_data(const std::string& path, const BdlstmModel& m);
 
 /// One case: predict: its given frames (global, in time order, `stride` apart); complete: its

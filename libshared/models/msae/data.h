@@ -21,9 +21,9 @@ struct MsaeShapes {
 };
 
 /// The frames of `part` (train, validation, test: the model's split, which needs the training
-/// data file; all: every frame). InvalidInput when the file's template has another vertex count
-/// or connectivity than the model's, when a split frame lies beyond the file, or when it has no
-/// normalized features; features normalized with other bounds are brought to the model's.
+/// data file; all: every frame), read through ModelData (models/common/model_data.h: the
+/// template check, the features in the model's normalization). InvalidInput also when a split
+/// frame lies beyond the file.
 MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const std::string& part);
 
 /// Writes reconstructions of `shapes` as an acap file on the model's template: normalized
