@@ -202,7 +202,7 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
     }
     if (has_positions) {
       pos_in.resize(len * nv * 3);
-      in.read_positions_unchecked(i, len, pos_in.data());
+      in.read_positions(i, len, pos_in.data());
       for (std::size_t q = 0; q < len; ++q)
         truth[b + q] = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
                            pos_in.data() + q * nv * 3, static_cast<Eigen::Index>(nv), 3)

@@ -134,9 +134,8 @@ io::Mesh FrameReader::read(std::size_t i) const {
       std::vector<float> buf(s.n_vertices * 3);
       {
         std::lock_guard lock(hdf5_mutex_);
-        s.file->read_positions_unchecked(f.index, 1, buf.data());
+        s.file->read_positions(f.index, 1, buf.data());
       }
-      io::check_finite_rows(buf.data(), f.index, 1, buf.size(), s.file->where("positions"));
       m.vertices = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
                        buf.data(), static_cast<Eigen::Index>(s.n_vertices), 3)
                        .cast<double>();

@@ -109,10 +109,6 @@ void AcapReader::read_regions(std::vector<std::vector<std::uint8_t>>& masks, std
   scale = file_.read<std::int32_t>(kRegionScale).data;
 }
 
-void AcapReader::read_positions_unchecked(std::size_t first, std::size_t count, float* out) const {
-  file_.read_rows<float>(kPositions, first, count, out);
-}
-
 void AcapReader::read_positions(std::size_t first, std::size_t count, float* out) const {
   file_.read_rows<float>(kPositions, first, count, out);
   check_finite_rows(out, first, count, vertices() * 3, file_.where(kPositions));
@@ -126,13 +122,6 @@ void AcapReader::read_raw(std::size_t first, std::size_t count, double* out) con
 void AcapReader::read_normalized(std::size_t first, std::size_t count, float* out) const {
   file_.read_rows<float>(kNormalized, first, count, out);
   check_finite_rows(out, first, count, vertices() * kDims, file_.where(kNormalized));
-}
-
-std::string AcapReader::where(const std::string& what) const {
-  if (what == "positions") return file_.where(kPositions);
-  if (what == "raw") return file_.where(kRaw);
-  if (what == "normalized") return file_.where(kNormalized);
-  return file_.where("/" + what);
 }
 
 // --- AcapWriter

@@ -62,7 +62,6 @@ class AcapReader {
   explicit AcapReader(const std::string& path);
 
   const std::string& path() const { return path_; }
-  const Dimensions& dimensions() const { return dims_; }
   std::size_t frames() const { return dims_.at("N"); }
   std::size_t vertices() const { return dims_.at("V"); }
   std::string history() const;
@@ -95,11 +94,6 @@ class AcapReader {
   void read_positions(std::size_t first, std::size_t count, float* out) const;
   void read_raw(std::size_t first, std::size_t count, double* out) const;
   void read_normalized(std::size_t first, std::size_t count, float* out) const;
-  /// The same without the finiteness check (a caller that checks after converting).
-  void read_positions_unchecked(std::size_t first, std::size_t count, float* out) const;
-
-  /// "FILE:/features" style locations for messages: what = positions, raw, normalized, features.
-  std::string where(const std::string& what) const;
 
  private:
   std::string path_;

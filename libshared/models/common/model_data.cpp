@@ -23,13 +23,17 @@ nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
                                       const io::FeatureNormalization& nz) const {
   const std::size_t row = file_.vertices() * io::kAcapFeatureDims;
   nn::Matrix<float> x(static_cast<Eigen::Index>(frames.size()), static_cast<Eigen::Index>(row));
+  // Where the rows come from: the stored normalized features as they are (the same numbers), the
+  // raw ones normalized, or the stored ones renormalized through the file's own numbers.
+  enum class From { stored, raw, renormalized };
   const bool normalized = file_.has_normalized();
-  const bool same = normalized && file_.has_normalization() && file_.normalization().same_numbers(nz);
-  if (!same && !file_.has_raw() && !normalized)
-    throw InvalidInput("has no features (/features/raw or /features/normalized); run obj2acap on the meshes first",
-                       file_.path());
-  const io::FeatureNormalization stored = !same && !file_.has_raw() ? file_.normalization() : nz;
-  const bool from_raw = !same && file_.has_raw();
+  const io::FeatureNormalization own = file_.has_normalization() ? file_.normalization() : nz;
+  const From from = normalized && file_.has_normalization() && own.same_numbers(nz) ? From::stored
+                    : file_.has_raw()                                                                 ? From::raw
+                    : normalized ? From::renormalized
+                                 : throw InvalidInput("has no features (/features/raw or /features/normalized); "
+                                                      "run obj2acap on the meshes first",
+                                                      file_.path());
   std::vector<double> raw;
   // Runs of consecutive frames are read in one call (a chunk is decompressed once per run).
   for (std::size_t k = 0; k < frames.size();) {
@@ -37,17 +41,17 @@ nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
     while (k + run < frames.size() && frames[k + run] == frames[k] + static_cast<std::int64_t>(run)) ++run;
     const auto first = static_cast<std::size_t>(frames[k]);
     float* out = x.row(static_cast<Eigen::Index>(k)).data();
-    if (from_raw) {
+    if (from == From::raw) {
       raw.resize(run * row);
       file_.read_raw(first, run, raw.data());
       for (std::size_t j = 0; j < run * row; ++j)
         out[j] = static_cast<float>(nz.normalize(static_cast<int>(j % io::kAcapFeatureDims), raw[j]));
     } else {
       file_.read_normalized(first, run, out);
-      if (!same)  // through the file's own numbers
+      if (from == From::renormalized)
         for (std::size_t j = 0; j < run * row; ++j) {
           const int d = static_cast<int>(j % io::kAcapFeatureDims);
-          out[j] = static_cast<float>(nz.normalize(d, stored.denormalize(d, out[j])));
+          out[j] = static_cast<float>(nz.normalize(d, own.denormalize(d, out[j])));
         }
     }
     k += run;
