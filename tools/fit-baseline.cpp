@@ -9,11 +9,13 @@ int main(int argc, char** argv) {
       "reconstruct its held-out shapes, for the comparisons of paper 2 (Table 2):\n"
       "  pca     principal components of the normalized ACAP features;\n"
       "  splocs  sparse localized deformation components on vertex positions (Neumann et\n"
-      "          al., SIGGRAPH Asia 2013, as in the authors' reference code).\n"
+      "          al., SIGGRAPH Asia 2013, as in the authors' reference code);\n"
+      "  splocs-acap  the same algorithm on the normalized ACAP features (local linear\n"
+      "          components in MSAE's own space: what locality alone buys there).\n"
       "Held-out shapes are reconstructed by least squares on the components.\n\n"
       "MODEL: from train-msae (split, template; --components defaults to its total number of\n"
       "components). DATA: the acap file it was trained on.\n"
-      "OUTPUT: an acap .h5 like recon-msae's (pca: features; splocs: positions), for\n"
+      "OUTPUT: an acap .h5 like recon-msae's (pca, splocs-acap: features; splocs: positions), for\n"
       "eval-metrics against DATA.");
   tool.with_threads().with_force();
   df::models::BaselineOptions opt;
@@ -21,9 +23,9 @@ int main(int argc, char** argv) {
   app.add_option("MODEL", opt.model, "msae-model .h5 (for its split)")->required();
   app.add_option("DATA", opt.data, "the acap .h5 the model was trained on")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
-  app.add_option("--method", opt.method, "pca or splocs")
+  app.add_option("--method", opt.method, "pca, splocs or splocs-acap")
       ->default_val(opt.method)
-      ->check(CLI::IsMember({"pca", "splocs"}));
+      ->check(CLI::IsMember({"pca", "splocs", "splocs-acap"}));
   app.add_option("--components", opt.components,
                  "Number of components (default: as many as the MSAE model)")
       ->default_str("model's");

@@ -1,5 +1,6 @@
 // train-bdlstm: train the share-weight bidirectional LSTM on mesh sequences (paper 1).
 #include "core/tool.h"
+#include "models/bdlstm/settings.h"
 #include "models/bdlstm/train.h"
 
 int main(int argc, char** argv) {
@@ -24,84 +25,25 @@ int main(int argc, char** argv) {
   df::models::BdlstmTrainOptions opt;
   // The defaults learn on new data; --paper-form restores the paper's exact loss and start.
   df::models::apply_learning_defaults(opt.net, opt.training);
-  std::string directions = "shared";
-  bool no_kl = false, no_l2 = false, paper_form = false;
+  bool paper_form = false;
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "acap .h5 with normalized features")->required();
   app.add_option("-o,--output", opt.output, "Output model (.h5)")->required();
   auto* g = app.add_option_group("Training");
-  g->add_option("--iterations", opt.training.iterations, "Training iterations (paper: 7000)")
-      ->default_val(opt.training.iterations);
-  g->add_option("--window", opt.training.window, "Frames per training window")->default_val(opt.training.window);
-  g->add_option("--batch", opt.training.batch, "Windows per iteration")->default_val(opt.training.batch);
-  g->add_option("--stride", opt.training.stride, "Use every STRIDE-th frame (2 for slow motion)")
-      ->default_val(opt.training.stride);
-  g->add_option("--lr", opt.training.lr, "Adam learning rate (betas 0.9/0.999)")->default_val(opt.training.lr);
-  g->add_option("--test-fraction", opt.training.test_fraction,
-                "Fraction of every sequence held out as a contiguous test part")
-      ->default_val(opt.training.test_fraction);
-  g->add_option("--validation-fraction", opt.training.validation_fraction,
-                "A validation part of each sequence, this fraction of its frames, carved out of the\n"
-                "training frames at a place drawn from --seed; no window crosses it. Choose options and\n"
-                "iteration counts on it (gen-bdlstm --part validation), never on the test part")
-      ->default_val(opt.training.validation_fraction);
-  g->add_option("--test-part", opt.training.test_part, "Where the held-out part lies: end, start, middle, or random (placed by --seed)")
-      ->default_val(opt.training.test_part)
-      ->check(CLI::IsMember({"end", "start", "middle", "random"}));
-  g->add_option("--teacher-frames", opt.training.teacher_frames,
-                "Feed each chain u ground-truth frames (u uniform in 1..N per iteration) before\n"
-                "it runs free, so the network learns to use gen-bdlstm's --initial frames\n"
-                "(1 = the paper: only the seed frame)")
-      ->default_val(opt.training.teacher_frames);
+  df::models::add_settings(*g, df::models::bdlstm_training_settings(opt.training, opt.net));
   g->add_flag("--paper-form", paper_form,
               "The paper's exact form: --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1\n"
               "--decoder-init zero (options given explicitly still win). The defaults differ in\n"
               "those five because on new data the paper's form often learns nothing: the latent\n"
               "collapses to the prior and the model predicts no motion (docs/bdlstm.md)");
-  g->add_option("--kl-warmup", opt.training.kl_warmup,
-                "Raise the KL weight linearly from 0 to 1 over N iterations (0 = the paper: 1\n"
-                "throughout); counters the latent collapsing to the prior")
-      ->default_val(opt.training.kl_warmup);
   g->add_option("--collapse-threshold", opt.training.collapse_threshold,
                 "Warn at a loss line (and at the end; recorded in the model file) when the KL is\n"
                 "below this many nats per frame while the reconstruction has not improved by 10%:\n"
                 "the latent has collapsed and the model predicts what the prior does")
       ->default_val(opt.training.collapse_threshold);
-  g->add_option("--kl-free-bits", opt.net.free_bits,
-                "Free bits: per step, a latent dimension's KL (mean over the batch) below this many\n"
-                "nats is not penalised (0 = the paper); the log's kl column is the penalised value")
-      ->default_val(opt.net.free_bits);
   df::models::add_training_run_options(*g, opt.run);
   auto* n = app.add_option_group("Network (ablations: paper Table 2)");
-  n->add_option("--directions", directions,
-                "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"
-                "direction has its own weights; unidirectional: forward chain only")
-      ->default_val(directions)
-      ->check(CLI::IsMember({"shared", "standard", "unidirectional"}));
-  n->add_flag("--no-kl", no_kl, "Deterministic encoder (z = mean), no KL term");
-  n->add_flag("--no-l2", no_l2, "No L2 penalty on the weights");
-  n->add_option("--latent", opt.net.latent, "Latent size")->default_val(opt.net.latent);
-  n->add_option("--hidden", opt.net.hidden, "LSTM hidden size")->default_val(opt.net.hidden);
-  n->add_option("--lstm-layers", opt.net.lstm_layers, "LSTM layers")->default_val(opt.net.lstm_layers);
-  n->add_option("--conv-layers", opt.net.conv_layers, "Mesh convolutions in the encoder (and decoder)")
-      ->default_val(opt.net.conv_layers);
-  n->add_option("--alpha-bidir", opt.net.alpha_bidir, "Weight of L_bidir")->default_val(opt.net.alpha_bidir);
-  n->add_option("--alpha-reg", opt.net.alpha_reg, "Weight of L_KL + L_2")->default_val(opt.net.alpha_reg);
-  n->add_option("--l2-scope", opt.net.l2_scope,
-                "L_2 over all trainable values (the paper's Σw²), the weights only (no biases, so\n"
-                "the forget-gate bias keeps its 1), or tf: all values, the LSTM forget-gate biases\n"
-                "measured from 1 (TensorFlow's forget_bias is a constant outside the weights)")
-      ->default_val(opt.net.l2_scope)
-      ->check(CLI::IsMember({"all", "weights", "tf"}));
-  n->add_option("--l2-weight", opt.net.l2_weight, "Factor of L_2 inside alpha-reg (L_KL + w L_2)")
-      ->default_val(opt.net.l2_weight);
-  n->add_option("--decoder-init", opt.net.decoder_init,
-                "Last decoder convolution at zero (dX = 0 at first) or small (Glorot x 0.01: the\n"
-                "encoder gets a reconstruction gradient from the start)")
-      ->default_val(opt.net.decoder_init)
-      ->check(CLI::IsMember({"zero", "small"}));
-  n->add_option("--init-state", opt.net.init_state, "Initial LSTM state of the forward chain (backward: minus)")
-      ->default_val(opt.net.init_state);
+  df::models::add_settings(*n, df::models::bdlstm_network_settings(opt.net));
   tool.footer("Examples:\n"
               "  train-bdlstm pcow.h5 -o pcow-bdlstm.h5\n"
               "  train-bdlstm --paper-form pcow.h5 -o pcow-paper.h5                 # eq. 3-5 as written\n"
@@ -118,9 +60,6 @@ int main(int argc, char** argv) {
       if (app.count("--l2-weight")) opt.net.l2_weight = given.net.l2_weight;
       if (app.count("--decoder-init")) opt.net.decoder_init = given.net.decoder_init;
     }
-    opt.net.directions = df::models::directions_from_name(directions);
-    opt.net.kl = !no_kl;
-    opt.net.l2 = !no_l2;
     df::models::train_bdlstm(opt, tool.common());
   });
 }

@@ -33,7 +33,7 @@ for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
   run h5diff m.h5 resumed.h5 $obj; expect_rc 0
 done
 run train-msae "${tiny[@]}" --kz 3,3 --iterations 30 --resume --checkpoint m20.h5 data.h5 -o x.h5
-expect_rc 1; expect_one_error_line train-msae; expect_err "kz = 3,2"
+expect_rc 1; expect_one_error_line train-msae; expect_err "made with --kz 3,2, this run has 3,2,3,3"
 echo "ok (resume)"
 
 # --- separate training, no attention, three levels, a validation part, a collection split

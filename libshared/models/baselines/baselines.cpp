@@ -53,19 +53,20 @@ Eigen::VectorXd support_map(const Eigen::VectorXf& d, const SplocsOptions& o) {
   return s;
 }
 
-Index strongest_vertex(const Eigen::RowVectorXd& c) {
+Index strongest_vertex(const Eigen::RowVectorXd& c, Index g) {
   Index best = 0;
   double top = -1;
-  for (Index i = 0; i < c.size() / 3; ++i)
-    if (const double n = c.segment(3 * i, 3).squaredNorm(); n > top) top = n, best = i;
+  for (Index i = 0; i < c.size() / g; ++i)
+    if (const double n = c.segment(g * i, g).squaredNorm(); n > top) top = n, best = i;
   return best;
 }
 
 }  // namespace
 
 Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
-                  const std::function<Eigen::VectorXf(int)>& distance) {
-  const Index F = x.rows(), D = x.cols(), V = D / 3, K = o.components;
+                  const std::function<Eigen::VectorXf(int)>& distance, int group) {
+  const Index g = group, F = x.rows(), D = x.cols(), V = D / g, K = o.components;
+  if (g < 1 || D % g != 0) throw Error("internal: fit_splocs needs whole groups per vertex");
   Splocs s;
   s.mean = x.colwise().mean();
   Mat X = x.rowwise() - s.mean.row(0);
@@ -80,10 +81,10 @@ Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
     Index idx = 0;
     double top = -1;
     for (Index i = 0; i < V; ++i)
-      if (const double m = R.middleCols(3 * i, 3).squaredNorm(); m > top) top = m, idx = i;
-    const Mat Ri = R.middleCols(3 * idx, 3);  // [F, 3]
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> e(Ri.transpose() * Ri);
-    const Eigen::VectorXd w = Ri * e.eigenvectors().col(2);
+      if (const double m = R.middleCols(g * i, g).squaredNorm(); m > top) top = m, idx = i;
+    const Mat Ri = R.middleCols(g * idx, g);  // [F, g]
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> e(Ri.transpose() * Ri);
+    const Eigen::VectorXd w = Ri * e.eigenvectors().col(g - 1);
     const Eigen::VectorXd wp = project_weight(w), wn = project_weight(-w);
     const Eigen::VectorXd wk = wp.norm() > wn.norm() ? wp : wn;
     const double ww = wk.squaredNorm();
@@ -91,7 +92,7 @@ Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
       const Eigen::VectorXd keep =
           Eigen::VectorXd::Ones(V) - support_map(distance(static_cast<int>(idx)), o);
       Eigen::RowVectorXd ck = (wk.transpose() * R) / ww;
-      for (Index i = 0; i < V; ++i) ck.segment(3 * i, 3) *= keep[i];
+      for (Index i = 0; i < V; ++i) ck.segment(g * i, g) *= keep[i];
       C.row(k) = ck;
     }
     W.col(k) = wk;
@@ -117,7 +118,7 @@ Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
     for (Index k = 0; k < K; ++k)
       lambda.row(k) =
           o.lambda *
-          support_map(distance(static_cast<int>(strongest_vertex(C.row(k)))), o).transpose();
+          support_map(distance(static_cast<int>(strongest_vertex(C.row(k), g))), o).transpose();
     // Components by ADMM: a least-squares step and the group-ℓ1/ℓ2 shrinkage.
     const Eigen::LLT<Eigen::MatrixXd> solve(W.transpose() * W +
                                             o.rho * Eigen::MatrixXd::Identity(K, K));
@@ -129,7 +130,7 @@ Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
       Z = C + U;
       for (Index k = 0; k < K; ++k)
         for (Index i = 0; i < V; ++i) {
-          auto z = Z.row(k).segment(3 * i, 3);
+          auto z = Z.row(k).segment(g * i, g);
           const double len = z.norm();
           z *= len > 0 ? std::max(0.0, 1 - lambda(k, i) / o.rho / len) : 0.0;
         }
@@ -202,8 +203,20 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
         project_onto(read_positions(opt.data, held.frames, V), s.mean, s.components).cast<float>();
     write_shapes(opt.output, m, held, nullptr, &recon, opt.data, {opt.model, opt.data},
                  common.force, fmt::format("splocs: {} components", k));
+  } else if (opt.method == "splocs-acap") {
+    // The same algorithm on the normalized ACAP features (groups of 9 per vertex): local linear
+    // components in the space MSAE works in, reconstructed through acap2obj like PCA's.
+    SplocsOptions so = opt.splocs;
+    so.components = k;
+    geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
+    const Splocs s = fit_splocs(train.x.cast<double>(), so,
+                                [&](int i) { return geodesic.row(i); }, 9);
+    const nn::Matrix<float> recon =
+        project_onto(held.x.cast<double>(), s.mean, s.components).cast<float>();
+    write_shapes(opt.output, m, held, &recon, nullptr, opt.data, {opt.model, opt.data},
+                 common.force, fmt::format("splocs-acap: {} components", k));
   } else {
-    throw UsageError("--method must be pca or splocs");
+    throw UsageError("--method must be pca, splocs or splocs-acap");
   }
   log::info("wrote {} {} reconstructions ({} components fitted on {} training shapes) to {}",
             held.frames.size(), opt.method, k, train.frames.size(), opt.output);

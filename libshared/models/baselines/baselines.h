@@ -8,7 +8,9 @@
 //           their standard deviation; greedy initialisation at the vertex of largest residual;
 //           alternating weights (projected to [0, 1]) and components (ADMM with the group-ℓ1/ℓ2
 //           proximal step, support maps from normalized geodesic distances between d_min and
-//           d_max).
+//           d_max);
+//   splocs-acap  the same algorithm on the normalized ACAP features, 9 numbers per vertex: local
+//           linear components in MSAE's own space (a diagnostic baseline, issue 45).
 // A held-out shape is reconstructed by least squares on the components (its mean removed).
 #pragma once
 
@@ -32,14 +34,15 @@ struct SplocsOptions {
   double lambda = 2.0, rho = 10.0;
   double d_min = 0.1, d_max = 0.7;  ///< support map ramps over these normalized geodesic distances
 };
-/// Components [K, 3V] of positions x [n, 3V] (mean removed, scaled by their standard deviation:
-/// `mean` [1, 3V] and `scale` come back); `distance(i)` gives vertex i's normalized geodesic row.
+/// Components [K, gV] of rows x [n, gV], `group` numbers per vertex (3: positions; 9: ACAP
+/// features), mean removed and scaled by their standard deviation (`mean` [1, gV] and `scale`
+/// come back); `distance(i)` gives vertex i's normalized geodesic row.
 struct Splocs {
   nn::Matrix<double> mean, components;
   double scale = 1;
 };
 Splocs fit_splocs(const nn::Matrix<double>& x, const SplocsOptions& opt,
-                  const std::function<Eigen::VectorXf(int)>& distance);
+                  const std::function<Eigen::VectorXf(int)>& distance, int group = 3);
 
 /// Least-squares coefficients of rows y [m, D] (mean removed) on `basis` [k, D] and the
 /// reconstruction mean + coefficients · basis.
@@ -48,7 +51,7 @@ nn::Matrix<double> project_onto(const nn::Matrix<double>& y, const nn::Matrix<do
 
 struct BaselineOptions {
   std::string model, data, output;
-  std::string method = "pca";  ///< pca | splocs
+  std::string method = "pca";  ///< pca | splocs | splocs-acap
   int components = 0;          ///< 0 = as many as the MSAE model has
   std::string part = "test";
   SplocsOptions splocs;

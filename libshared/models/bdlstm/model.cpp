@@ -7,6 +7,7 @@
 #include "geometry/mesh_topology.h"
 #include "io/file_header.h"
 #include "io/schema.h"
+#include "models/bdlstm/settings.h"
 #include "models/common/model_file.h"
 #include "nn/checkpoint.h"
 
@@ -39,33 +40,9 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "bdlstm-model", {m.history});
     f.create_groups("/config");
-    const auto& c = m.config;
-    f.set_attr("/config", "conv_layers", c.conv_layers);
-    f.set_attr("/config", "latent", c.latent);
-    f.set_attr("/config", "hidden", c.hidden);
-    f.set_attr("/config", "lstm_layers", c.lstm_layers);
-    f.set_attr("/config", "directions", directions_name(c.directions));
-    f.set_attr("/config", "kl", static_cast<int>(c.kl));
-    f.set_attr("/config", "l2", static_cast<int>(c.l2));
-    f.set_attr("/config", "alpha_bidir", c.alpha_bidir);
-    f.set_attr("/config", "alpha_reg", c.alpha_reg);
-    f.set_attr("/config", "init_state", c.init_state);
-    f.set_attr("/config", "l2_scope", c.l2_scope);
-    f.set_attr("/config", "l2_weight", c.l2_weight);
-    f.set_attr("/config", "decoder_init", c.decoder_init);
-    f.set_attr("/config", "kl_free_bits", c.free_bits);
-    const auto& t = m.training;
-    f.set_attr("/config", "window", t.window);
-    f.set_attr("/config", "batch", t.batch);
-    f.set_attr("/config", "stride", t.stride);
-    f.set_attr("/config", "iterations", t.iterations);
-    f.set_attr("/config", "lr", t.lr);
-    f.set_attr("/config", "test_fraction", t.test_fraction);
-    f.set_attr("/config", "test_part", t.test_part);
-    f.set_attr("/config", "validation_fraction", t.validation_fraction);
-    f.set_attr("/config", "teacher_frames", t.teacher_frames);
-    f.set_attr("/config", "kl_warmup", t.kl_warmup);
-    f.set_attr("/config", "seed", fmt::format("{}", t.seed));
+    BdlstmConfig c = m.config;
+    BdlstmTraining t = m.training;
+    write_settings(f, "/config", bdlstm_settings(c, t));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(),
                             m.unprinted);
     if (!m.log.empty() && m.kl_per_frame >= 0) {
@@ -97,44 +74,17 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   h5::File f = io::open_input(path, "bdlstm-model");
   BdlstmModel m;
   m.history = io::read_history(f);
-  auto& c = m.config;
-  auto i = [&](const char* name) { return static_cast<int>(f.attr_int("/config", name)); };
-  c.conv_layers = i("conv_layers");
-  c.latent = i("latent");
-  c.hidden = i("hidden");
-  c.lstm_layers = i("lstm_layers");
-  try {
-    c.directions = directions_from_name(f.attr_string("/config", "directions"));
-  } catch (const UsageError& e) {
-    throw InvalidInput(e.what(), f.where("/config"));
-  }
-  c.kl = i("kl") != 0;
-  c.l2 = i("l2") != 0;
-  c.alpha_bidir = f.attr_double("/config", "alpha_bidir");
-  c.alpha_reg = f.attr_double("/config", "alpha_reg");
-  c.init_state = f.attr_double("/config", "init_state");
-  // Added later: absent means the paper's form.
-  c.l2_scope = f.has_attr("/config", "l2_scope") ? f.attr_string("/config", "l2_scope") : "all";
-  c.l2_weight = f.has_attr("/config", "l2_weight") ? f.attr_double("/config", "l2_weight") : 1.0;
-  c.decoder_init =
-      f.has_attr("/config", "decoder_init") ? f.attr_string("/config", "decoder_init") : "zero";
-  c.free_bits =
-      f.has_attr("/config", "kl_free_bits") ? f.attr_double("/config", "kl_free_bits") : 0.0;
-  auto& t = m.training;
-  t.window = i("window");
-  t.batch = i("batch");
-  t.stride = i("stride");
-  t.iterations = f.attr_int("/config", "iterations");
-  t.lr = f.attr_double("/config", "lr");
-  t.test_fraction = f.attr_double("/config", "test_fraction");
-  t.test_part = f.attr_string("/config", "test_part");
-  t.validation_fraction = f.has_attr("/config", "validation_fraction")
-                              ? f.attr_double("/config", "validation_fraction")
-                              : 0.0;
-  // Added after the first model files were written: absent means the paper's setting.
-  t.teacher_frames = f.has_attr("/config", "teacher_frames") ? i("teacher_frames") : 1;
-  t.kl_warmup = f.has_attr("/config", "kl_warmup") ? f.attr_int("/config", "kl_warmup") : 0;
-  t.seed = std::stoull(f.attr_string("/config", "seed"));
+  // Files written before a setting existed read as its default, the paper's form.
+  BdlstmConfig& c = m.config;
+  BdlstmTraining& t = m.training;
+  c.l2_scope = "all";
+  c.l2_weight = 1.0;
+  c.decoder_init = "zero";
+  c.free_bits = 0.0;
+  t.validation_fraction = 0.0;
+  t.teacher_frames = 1;
+  t.kl_warmup = 0;
+  read_settings(f, "/config", bdlstm_settings(c, t));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
   if (f.exists("/training/log") && f.has_attr("/training/log", "kl_per_frame")) {

@@ -13,6 +13,7 @@
 #include "core/rng.h"
 #include "io/acap_file.h"
 #include "models/bdlstm/chain.h"
+#include "models/bdlstm/settings.h"
 #include "models/common/training.h"
 #include "nn/train_step.h"
 
@@ -21,37 +22,10 @@ namespace {
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
 void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::string& path) {
-  auto differs = [&](const char* what, const auto& a, const auto& b) {
-    require_same_setting(what, a, b, path);
-  };
-  const auto &a = ck.config, &b = want.config;
-  differs("conv-layers", a.conv_layers, b.conv_layers);
-  differs("latent", a.latent, b.latent);
-  differs("hidden", a.hidden, b.hidden);
-  differs("lstm-layers", a.lstm_layers, b.lstm_layers);
-  differs("directions", std::string(directions_name(a.directions)),
-          std::string(directions_name(b.directions)));
-  differs("kl", a.kl, b.kl);
-  differs("l2", a.l2, b.l2);
-  differs("alpha-bidir", a.alpha_bidir, b.alpha_bidir);
-  differs("alpha-reg", a.alpha_reg, b.alpha_reg);
-  differs("init-state", a.init_state, b.init_state);
-  differs("l2-scope", a.l2_scope, b.l2_scope);
-  differs("l2-weight", a.l2_weight, b.l2_weight);
-  differs("decoder-init", a.decoder_init, b.decoder_init);
-  differs("kl-free-bits", a.free_bits, b.free_bits);
-  const auto &s = ck.training, &t = want.training;
-  differs("window", s.window, t.window);
-  differs("batch", s.batch, t.batch);
-  differs("stride", s.stride, t.stride);
-  differs("lr", s.lr, t.lr);
-  differs("test-fraction", s.test_fraction, t.test_fraction);
-  differs("test-part", s.test_part, t.test_part);
-  differs("validation-fraction", s.validation_fraction, t.validation_fraction);
-  differs("seed", s.seed, t.seed);
-  differs("teacher-frames", s.teacher_frames, t.teacher_frames);
-  differs("kl-warmup", s.kl_warmup, t.kl_warmup);
-  differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
+  BdlstmConfig c0 = ck.config, c1 = want.config;  // the tables point at fields: copies to compare
+  BdlstmTraining t0 = ck.training, t1 = want.training;
+  require_same_settings(bdlstm_settings(c0, t0), bdlstm_settings(c1, t1), path);
+  require_same_setting("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows(), path);
   if (ck.split.train_begin != want.split.train_begin ||
       ck.split.train_end != want.split.train_end || ck.split.test_begin != want.split.test_begin ||
       ck.split.test_end != want.split.test_end)

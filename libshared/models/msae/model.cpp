@@ -10,6 +10,7 @@
 #include "io/file_header.h"
 #include "io/schema.h"
 #include "models/common/model_file.h"
+#include "models/msae/settings.h"
 #include "nn/checkpoint.h"
 
 namespace df::models {
@@ -57,32 +58,9 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "msae-model", {m.history});
     f.create_groups("/config");
-    const auto& c = m.config;
-    const std::vector<double> kz(c.kz.begin(), c.kz.end());
-    f.set_attr("/config", "kz", std::span<const double>(kz));
-    f.set_attr("/config", "d", std::span<const double>(c.d));
-    f.set_attr("/config", "attention", static_cast<int>(c.attention));
-    f.set_attr("/config", "lambda_recon", c.lambda_recon);
-    f.set_attr("/config", "lambda_sparse", c.lambda_sparse);
-    f.set_attr("/config", "theta", c.theta);
-    f.set_attr("/config", "latent", c.latent);
-    f.set_attr("/config", "decoder_fc", c.decoder_fc);
-    f.set_attr("/config", "decoder_conv", c.decoder_conv);
-    f.set_attr("/config", "init", c.init);
-    f.set_attr("/config", "centres", c.centres);
-    const auto& t = m.training;
-    f.set_attr("/config", "iterations", t.iterations);
-    f.set_attr("/config", "batch", t.batch);
-    f.set_attr("/config", "lr", t.lr);
-    f.set_attr("/config", "lr_decay", t.lr_decay);
-    f.set_attr("/config", "lr_decay_steps", t.lr_decay_steps);
-    f.set_attr("/config", "split", t.split);
-    f.set_attr("/config", "every", t.every);
-    f.set_attr("/config", "train_fraction", t.train_fraction);
-    f.set_attr("/config", "validation_fraction", t.validation_fraction);
-    f.set_attr("/config", "separate", static_cast<int>(t.separate));
-    f.set_attr("/config", "separate_rate", t.separate_rate);
-    f.set_attr("/config", "seed", fmt::format("{}", t.seed));
+    MsaeConfig c = m.config;
+    MsaeTraining t = m.training;
+    write_settings(f, "/config", msae_settings(c, t));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
     f.create_groups("/split");
     f.set_attr("/split", "data", m.split.data);
@@ -110,38 +88,10 @@ MsaeModel load_msae_model(const std::string& path) {
   h5::File f = io::open_input(path, "msae-model");
   MsaeModel m;
   m.history = io::read_history(f);
-  auto& c = m.config;
-  c.kz.clear();
-  for (double k : f.attr_doubles("/config", "kz")) c.kz.push_back(static_cast<int>(k));
-  c.d = f.attr_doubles("/config", "d");
-  if (c.kz.empty() || c.kz.size() != c.d.size())
+  // Files written before a setting existed read as its default, the network they describe.
+  read_settings(f, "/config", msae_settings(m.config, m.training));
+  if (m.config.kz.empty() || m.config.kz.size() != m.config.d.size())
     throw InvalidInput("/config kz and d must have one value per level", f.where("/config"));
-  c.attention = f.attr_int("/config", "attention") != 0;
-  c.lambda_recon = f.attr_double("/config", "lambda_recon");
-  c.lambda_sparse = f.attr_double("/config", "lambda_sparse");
-  c.theta = f.attr_double("/config", "theta");
-  c.latent = f.attr_string("/config", "latent");
-  // Files written before these settings existed have the network they describe by default.
-  auto optional_string = [&](const char* name, const std::string& fallback) {
-    return f.has_attr("/config", name) ? f.attr_string("/config", name) : fallback;
-  };
-  c.decoder_fc = optional_string("decoder_fc", "tanh");
-  c.decoder_conv = optional_string("decoder_conv", "transposed");
-  c.init = optional_string("init", "glorot");
-  c.centres = optional_string("centres", "random");
-  auto& t = m.training;
-  t.iterations = f.attr_int("/config", "iterations");
-  t.batch = static_cast<int>(f.attr_int("/config", "batch"));
-  t.lr = f.attr_double("/config", "lr");
-  t.lr_decay = f.attr_double("/config", "lr_decay");
-  t.lr_decay_steps = f.attr_double("/config", "lr_decay_steps");
-  t.split = f.attr_string("/config", "split");
-  t.every = static_cast<int>(f.attr_int("/config", "every"));
-  t.train_fraction = f.attr_double("/config", "train_fraction");
-  t.validation_fraction = f.attr_double("/config", "validation_fraction");
-  t.separate = f.attr_int("/config", "separate") != 0;
-  t.separate_rate = optional_string("separate_rate", "restart");
-  t.seed = std::stoull(f.attr_string("/config", "seed"));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
   m.log_validation_erms = f.exists("/training/log") &&

@@ -30,6 +30,8 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--init must be glorot, normal or small");
   if (config_.centres != "random" && config_.centres != "spread")
     throw UsageError("--centres must be random or spread");
+  if (!(config_.centre_separation >= 0 && config_.centre_separation <= 4))
+    throw UsageError("--centre-separation must be between 0 and 4 (a fraction of d)");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
   Rng rng(seed, 0);
   // The tree, level by level: with attention every block has kz children; without, one block

@@ -27,6 +27,7 @@
 // loss on one tape (small problems, gradient checks); tests check that both agree.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -62,6 +63,11 @@ struct MsaeConfig {
   /// or "spread" (farthest-point sampling by geodesic distance: level 0 over the whole mesh, a
   /// child block within its parent component's radius), after which c_k = argmax as the paper
   std::string centres = "random";
+  /// How the centres follow the weights every iteration: 0 = c_k = argmax_i ‖C_{k,i}‖ (the paper);
+  /// s > 0 = a block's components, strongest first, each take the argmax among the vertices at
+  /// least s·d (geodesic) from the centres its block has already given out (the plain argmax when
+  /// none is left), so that two components cannot share a centre
+  double centre_separation = 0;
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
   int levels() const { return static_cast<int>(kz.size()); }
 };
@@ -108,6 +114,42 @@ class MsaeNet {
   std::vector<int> level_parameters(int level) const;
   /// Per block, its centres c_k = argmax_i ‖C_{k,i}‖ from the current weights ([kz] each).
   std::vector<std::vector<int>> centres() const;
+  /// The same with config().centre_separation > 0: per block, components in order of their
+  /// largest group norm, each c_k the strongest vertex at least separation·d from the centres
+  /// already given out in the block. @param distance  as for sparsity_masks
+  template <class Distance>
+  std::vector<std::vector<int>> centres(Distance&& distance) const {
+    if (config_.centre_separation <= 0) return centres();
+    std::vector<std::vector<int>> out;
+    for (const Block& b : blocks_) {
+      const double apart = config_.centre_separation * config_.d[static_cast<std::size_t>(b.level)];
+      const Matrix& C = store_.value(b.c);
+      Matrix norms(b.kz, n_vertices_);
+      for (int k = 0; k < b.kz; ++k)
+        for (int i = 0; i < n_vertices_; ++i)
+          norms(k, i) = C.row(k).segment(9 * Eigen::Index{i}, 9).squaredNorm();
+      std::vector<int> order(static_cast<std::size_t>(b.kz));
+      for (int k = 0; k < b.kz; ++k) order[static_cast<std::size_t>(k)] = k;
+      std::stable_sort(order.begin(), order.end(), [&](int p, int q) {
+        return norms.row(p).maxCoeff() > norms.row(q).maxCoeff();
+      });
+      std::vector<int> c(static_cast<std::size_t>(b.kz));
+      std::vector<char> open(static_cast<std::size_t>(n_vertices_), 1);
+      for (int k : order) {
+        int best = -1, any = 0;
+        for (int i = 0; i < n_vertices_; ++i) {
+          if (norms(k, i) > norms(k, any)) any = i;
+          if (open[static_cast<std::size_t>(i)] && (best < 0 || norms(k, i) > norms(k, best))) best = i;
+        }
+        c[static_cast<std::size_t>(k)] = best >= 0 ? best : any;
+        const auto& row = distance(c[static_cast<std::size_t>(k)]);
+        for (int i = 0; i < n_vertices_; ++i)
+          if (row[i] < apart) open[static_cast<std::size_t>(i)] = 0;
+      }
+      out.push_back(std::move(c));
+    }
+    return out;
+  }
   /// Per block, Ω's mask Λ [kz, V] (1 where the normalized distance to the centre is ≥ d).
   /// @param distance  distance(c) = the normalized geodesic distances from vertex c (#V)
   template <class Distance>

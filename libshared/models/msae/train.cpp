@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
+#include "models/msae/settings.h"
 #include "io/acap_file.h"
 #include "models/common/training.h"
 
@@ -45,32 +46,15 @@ void check_options(const MsaeTrainOptions& opt) {
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
 void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::string& path) {
+  MsaeConfig c0 = ck.config, c1 = want.config;  // the tables point at fields: copies to compare
+  MsaeTraining t0 = ck.training, t1 = want.training;
+  require_same_settings(msae_settings(c0, t0), msae_settings(c1, t1), path);
   auto differs = [&](const char* what, const auto& a, const auto& b) {
     require_same_setting(what, a, b, path);
   };
-  const auto &a = ck.config, &b = want.config;
-  differs("kz", fmt::format("{}", fmt::join(a.kz, ",")), fmt::format("{}", fmt::join(b.kz, ",")));
-  differs("d", fmt::format("{}", fmt::join(a.d, ",")), fmt::format("{}", fmt::join(b.d, ",")));
-  differs("attention", a.attention, b.attention);
-  differs("lambda-recon", a.lambda_recon, b.lambda_recon);
-  differs("lambda-sparse", a.lambda_sparse, b.lambda_sparse);
-  differs("theta", a.theta, b.theta);
-  differs("latent", a.latent, b.latent);
-  differs("decoder-fc", a.decoder_fc, b.decoder_fc);
-  differs("decoder-conv", a.decoder_conv, b.decoder_conv);
-  differs("init", a.init, b.init);
-  differs("centres", a.centres, b.centres);
-  const auto &s = ck.training, &t = want.training;
-  differs("batch", s.batch, t.batch);
-  differs("lr", s.lr, t.lr);
-  differs("lr-decay", s.lr_decay, t.lr_decay);
-  differs("lr-decay-steps", s.lr_decay_steps, t.lr_decay_steps);
-  differs("separate", s.separate, t.separate);
-  differs("separate-rate", s.separate_rate, t.separate_rate);
-  differs("seed", s.seed, t.seed);
-  if (s.separate)
-    differs("iterations (separate training divides them among the levels)", s.iterations,
-            t.iterations);
+  if (ck.training.separate)
+    differs("iterations (separate training divides them among the levels)", ck.training.iterations,
+            want.training.iterations);
   differs("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows());
   if (ck.split.train != want.split.train || ck.split.validation != want.split.validation ||
       ck.split.test != want.split.test)
@@ -335,10 +319,12 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
 // Ω's masks around the current centres (their geodesic rows solved first, in parallel).
 std::vector<nn::Matrix<float>> current_sparsity_masks(const MsaeModel& m,
                                                       geometry::GeodesicRows& geodesic) {
-  const auto centres = m.net->centres();
+  const auto peaks = m.net->centres();
   std::vector<int> sources;
-  for (const auto& c : centres) sources.insert(sources.end(), c.begin(), c.end());
+  for (const auto& c : peaks) sources.insert(sources.end(), c.begin(), c.end());
   geodesic.prepare(sources);
+  const auto centres =
+      m.net->centres([&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); });
   return m.net->sparsity_masks(centres,
                                [&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); });
 }

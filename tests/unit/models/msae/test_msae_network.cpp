@@ -287,3 +287,43 @@ TEST_CASE("MSAE: separate training's levels restart the rate or continue the sch
   CHECK(m.make_adam(2000)->learning_rate() == Approx(2.5e-4));
   CHECK(m.make_adam(0)->learning_rate() == Approx(1e-3));
 }
+
+TEST_CASE("MSAE: --centre-separation gives a block's components centres apart", "[models][msae]") {
+  MsaeConfig config = tiny({3}, true);
+  config.d = {0.4};
+  // Distances on the 3 × 3 grid: Chebyshev steps / 2 (so neighbours are 0.5 apart).
+  auto distance = [](int c) {
+    Eigen::VectorXf d(9);
+    for (int i = 0; i < 9; ++i)
+      d[i] = 0.5f * static_cast<float>(std::max(std::abs(i % 3 - c % 3), std::abs(i / 3 - c / 3)));
+    return d;
+  };
+  std::vector<Eigen::VectorXf> rows;
+  for (int c = 0; c < 9; ++c) rows.push_back(distance(c));
+  auto row = [&](int c) -> const Eigen::VectorXf& { return rows[static_cast<std::size_t>(c)]; };
+  auto peaked = [&](MsaeNet<float>& net) {
+    auto C = net.store().value(net.blocks()[0].c);
+    C.setConstant(0.01f);
+    // All three components peak at vertex 4 (the centre); the strongest is component 2, and
+    // component 0's second-best vertex is 0, component 1's is 8.
+    for (int k = 0; k < 3; ++k) C.row(k).segment(9 * 4, 9).setConstant(1.0f + 0.5f * static_cast<float>(k));
+    C.row(0).segment(9 * 0, 9).setConstant(0.5f);
+    C.row(1).segment(9 * 8, 9).setConstant(0.5f);
+  };
+  MsaeNet<float> plain(config, 9, grid_edges(), 1);
+  peaked(plain);
+  CHECK(plain.centres(row)[0] == std::vector<int>{4, 4, 4});  // the paper's argmax: one centre
+  config.centre_separation = 1;  // at least d = 0.4 apart: a neighbour is far enough
+  MsaeNet<float> apart(config, 9, grid_edges(), 1);
+  peaked(apart);
+  const auto c = apart.centres(row)[0];
+  CHECK(c[2] == 4);  // the strongest keeps its peak
+  CHECK(c[1] == 8);  // the next takes its best vertex outside d of vertex 4
+  CHECK(c[0] == 0);
+  config.centre_separation = 4;  // 1.6 apart: nothing is left after the first; plain argmax
+  MsaeNet<float> crowded(config, 9, grid_edges(), 1);
+  peaked(crowded);
+  CHECK(crowded.centres(row)[0] == std::vector<int>{4, 4, 4});
+  config.centre_separation = -1;
+  CHECK_THROWS_AS(MsaeNet<float>(config, 9, grid_edges(), 1), UsageError);
+}

@@ -1,0 +1,98 @@
+#include "models/bdlstm/settings.h"
+
+namespace df::models {
+
+Settings bdlstm_network_settings(BdlstmConfig& c) {
+  return {
+      {.name = "directions",
+       .target = Setting::Text{[&c] { return std::string(directions_name(c.directions)); },
+                               [&c](const std::string& v) { c.directions = directions_from_name(v); }},
+       .help = "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"
+               "direction has its own weights; unidirectional: forward chain only",
+       .choices = {"shared", "standard", "unidirectional"}},
+      {.name = "kl",
+       .target = &c.kl,
+       .help = "Deterministic encoder (z = mean), no KL term",
+       .option = "--no-kl"},
+      {.name = "l2", .target = &c.l2, .help = "No L2 penalty on the weights", .option = "--no-l2"},
+      {.name = "latent", .target = &c.latent, .help = "Latent size"},
+      {.name = "hidden", .target = &c.hidden, .help = "LSTM hidden size"},
+      {.name = "lstm_layers", .target = &c.lstm_layers, .help = "LSTM layers"},
+      {.name = "conv_layers",
+       .target = &c.conv_layers,
+       .help = "Mesh convolutions in the encoder (and decoder)"},
+      {.name = "alpha_bidir", .target = &c.alpha_bidir, .help = "Weight of L_bidir"},
+      {.name = "alpha_reg", .target = &c.alpha_reg, .help = "Weight of L_KL + L_2"},
+      {.name = "l2_scope",
+       .target = &c.l2_scope,
+       .help = "L_2 over all trainable values (the paper's sum w^2), the weights only (no biases,\n"
+               "so the forget-gate bias keeps its 1), or tf: all values, the LSTM forget-gate\n"
+               "biases measured from 1 (TensorFlow's forget_bias is a constant outside the weights)",
+       .choices = {"all", "weights", "tf"},
+       .optional = true},
+      {.name = "l2_weight",
+       .target = &c.l2_weight,
+       .help = "Factor of L_2 inside alpha-reg (L_KL + w L_2)",
+       .optional = true},
+      {.name = "decoder_init",
+       .target = &c.decoder_init,
+       .help = "Last decoder convolution at zero (dX = 0 at first) or small (Glorot x 0.01: the\n"
+               "encoder gets a reconstruction gradient from the start)",
+       .choices = {"zero", "small"},
+       .optional = true},
+      {.name = "init_state",
+       .target = &c.init_state,
+       .help = "Initial LSTM state of the forward chain (backward: minus)"},
+  };
+}
+
+Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
+  return {
+      {.name = "iterations",
+       .target = &t.iterations,
+       .help = "Training iterations (paper: 7000)",
+       .resume = false},
+      {.name = "window", .target = &t.window, .help = "Frames per training window"},
+      {.name = "batch", .target = &t.batch, .help = "Windows per iteration"},
+      {.name = "stride", .target = &t.stride, .help = "Use every STRIDE-th frame (2 for slow motion)"},
+      {.name = "lr", .target = &t.lr, .help = "Adam learning rate (betas 0.9/0.999)"},
+      {.name = "test_fraction",
+       .target = &t.test_fraction,
+       .help = "Fraction of every sequence held out as a contiguous test part"},
+      {.name = "validation_fraction",
+       .target = &t.validation_fraction,
+       .help = "A validation part of each sequence, this fraction of its frames, carved out of the\n"
+               "training frames at a place drawn from --seed; no window crosses it. Choose options\n"
+               "and iteration counts on it (gen-bdlstm --part validation), never on the test part",
+       .optional = true},
+      {.name = "test_part",
+       .target = &t.test_part,
+       .help = "Where the held-out part lies: end, start, middle, or random (placed by --seed)",
+       .choices = {"end", "start", "middle", "random"}},
+      {.name = "teacher_frames",
+       .target = &t.teacher_frames,
+       .help = "Feed each chain u ground-truth frames (u uniform in 1..N per iteration) before\n"
+               "it runs free, so the network learns to use gen-bdlstm's --initial frames\n"
+               "(1 = the paper: only the seed frame)",
+       .optional = true},
+      {.name = "kl_warmup",
+       .target = &t.kl_warmup,
+       .help = "Raise the KL weight linearly from 0 to 1 over N iterations (0 = the paper: 1\n"
+               "throughout); counters the latent collapsing to the prior",
+       .optional = true},
+      {.name = "kl_free_bits",
+       .target = &c.free_bits,
+       .help = "Free bits: per step, a latent dimension's KL (mean over the batch) below this many\n"
+               "nats is not penalised (0 = the paper); the log's kl column is the penalised value",
+       .optional = true},
+      {.name = "seed", .target = &t.seed},  // the tool's --seed
+  };
+}
+
+Settings bdlstm_settings(BdlstmConfig& c, BdlstmTraining& t) {
+  Settings all = bdlstm_network_settings(c);
+  for (auto& s : bdlstm_training_settings(t, c)) all.push_back(std::move(s));
+  return all;
+}
+
+}  // namespace df::models

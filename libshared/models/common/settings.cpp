@@ -1,0 +1,157 @@
+#include "models/common/settings.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <type_traits>
+
+#include "core/error.h"
+
+namespace df::models {
+
+namespace {
+
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
+
+std::string number_list(const auto& v) { return fmt::format("{}", fmt::join(v, ",")); }
+
+}  // namespace
+
+std::string Setting::option_name() const {
+  if (*option) return option;
+  std::string n = std::string("--") + name;
+  std::replace(n.begin(), n.end(), '_', '-');
+  return n;
+}
+
+std::string Setting::value_text() const {
+  return std::visit(
+      Overloaded{[](bool* p) { return std::string(*p ? "true" : "false"); },
+                 [](std::string* p) { return *p; },
+                 [](const Setting::Text& t) { return t.get(); },
+                 [](std::vector<int>* p) { return number_list(*p); },
+                 [](std::vector<double>* p) { return number_list(*p); },
+                 [](auto* p) { return fmt::format("{}", *p); }},
+      target);
+}
+
+void add_settings(CLI::Option_group& group, const Settings& settings) {
+  for (const Setting& s : settings) {
+    if (!*s.help) continue;
+    const std::string flag = s.option_name();
+    std::visit(
+        Overloaded{
+            [&](bool* p) {
+              if (flag.rfind("--no-", 0) == 0)
+                group.add_flag_callback(flag, [p] { *p = false; }, s.help);
+              else
+                group.add_flag(flag, *p, s.help);
+            },
+            [&](std::vector<int>* p) {
+              group.add_option(flag, *p, s.help)
+                  ->delimiter(',')
+                  ->allow_extra_args(false)
+                  ->default_str(number_list(*p));
+            },
+            [&](std::vector<double>* p) {
+              group.add_option(flag, *p, s.help)
+                  ->delimiter(',')
+                  ->allow_extra_args(false)
+                  ->default_str(number_list(*p));
+            },
+            [&](std::string* p) {
+              auto* o = group.add_option(flag, *p, s.help)->default_val(*p);
+              if (!s.choices.empty()) o->check(CLI::IsMember(s.choices));
+            },
+            [&](const Setting::Text& t) {
+              auto* o = group.add_option_function<std::string>(flag, t.set, s.help)
+                            ->default_str(t.get());
+              if (!s.choices.empty()) o->check(CLI::IsMember(s.choices));
+            },
+            [&](auto* p) { group.add_option(flag, *p, s.help)->default_val(*p); }},
+        s.target);
+  }
+}
+
+void write_settings(h5::File& f, const std::string& object, const Settings& settings) {
+  for (const Setting& s : settings)
+    std::visit(Overloaded{[&](bool* p) { f.set_attr(object, s.name, static_cast<int>(*p)); },
+                          [&](int* p) { f.set_attr(object, s.name, *p); },
+                          [&](std::int64_t* p) { f.set_attr(object, s.name, *p); },
+                          [&](std::uint64_t* p) { f.set_attr(object, s.name, fmt::format("{}", *p)); },
+                          [&](double* p) { f.set_attr(object, s.name, *p); },
+                          [&](std::string* p) { f.set_attr(object, s.name, *p); },
+                          [&](const Setting::Text& t) { f.set_attr(object, s.name, t.get()); },
+                          [&](std::vector<int>* p) {
+                            const std::vector<double> v(p->begin(), p->end());
+                            f.set_attr(object, s.name, std::span<const double>(v));
+                          },
+                          [&](std::vector<double>* p) {
+                            f.set_attr(object, s.name, std::span<const double>(*p));
+                          }},
+               s.target);
+}
+
+void read_settings(const h5::File& f, const std::string& object, const Settings& settings) {
+  for (const Setting& s : settings) {
+    if (!f.has_attr(object, s.name)) {
+      if (s.optional) continue;
+      throw InvalidInput(fmt::format("lacks the setting {}", s.name), f.where(object));
+    }
+    std::visit(Overloaded{[&](bool* p) { *p = f.attr_int(object, s.name) != 0; },
+                          [&](int* p) { *p = static_cast<int>(f.attr_int(object, s.name)); },
+                          [&](std::int64_t* p) { *p = f.attr_int(object, s.name); },
+                          [&](std::uint64_t* p) {
+                            const std::string text = f.attr_string(object, s.name);
+                            try {
+                              std::size_t used = 0;
+                              *p = std::stoull(text, &used);
+                              if (used != text.size()) throw std::invalid_argument(text);
+                            } catch (const std::exception&) {
+                              throw InvalidInput(
+                                  fmt::format("{} is not a whole number: '{}'", s.name, text),
+                                  f.where(object));
+                            }
+                          },
+                          [&](double* p) { *p = f.attr_double(object, s.name); },
+                          [&](std::string* p) { *p = f.attr_string(object, s.name); },
+                          [&](const Setting::Text& t) {
+                            try {
+                              t.set(f.attr_string(object, s.name));
+                            } catch (const UsageError& e) {
+                              throw InvalidInput(e.what(), f.where(object));
+                            }
+                          },
+                          [&](std::vector<int>* p) {
+                            p->clear();
+                            for (double v : f.attr_doubles(object, s.name))
+                              p->push_back(static_cast<int>(v));
+                          },
+                          [&](std::vector<double>* p) { *p = f.attr_doubles(object, s.name); }},
+               s.target);
+  }
+}
+
+void require_same_settings(const Settings& checkpoint, const Settings& now,
+                           const std::string& path) {
+  if (checkpoint.size() != now.size())
+    throw Error("internal: require_same_settings needs two tables of the same model");
+  for (std::size_t k = 0; k < now.size(); ++k) {
+    if (!now[k].resume) continue;
+    const std::string a = checkpoint[k].value_text(), b = now[k].value_text();
+    if (a != b)
+      throw InvalidInput(
+          fmt::format("checkpoint was made with {} {}, this run has {}; remove it or use the "
+                      "same settings",
+                      now[k].option_name(), a, b),
+          path);
+  }
+}
+
+}  // namespace df::models

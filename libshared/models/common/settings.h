@@ -1,0 +1,69 @@
+// Every setting of a model declared once (issue 43): a model's table names each setting of its
+// network and training run — its attribute in the model file's /config, its command-line option
+// (--name with '-' for '_'), its help, its allowed values, whether a resumed run must keep it —
+// and points at the field that holds it. The command line (add_settings, called by the tool),
+// the model file's save and load (write_settings, read_settings) and the resume check
+// (require_same_settings) all walk that table, so a new setting is one row (plus its schema line,
+// which a unit test compares with the table).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "io/h5.h"
+
+namespace CLI {
+class Option_group;
+}
+
+namespace df::models {
+
+struct Setting {
+  /// A setting held in another type than text (an enum): how it reads and writes as text; `set`
+  /// throws UsageError for a name it does not know.
+  struct Text {
+    std::function<std::string()> get;
+    std::function<void(const std::string&)> set;
+  };
+  using Target = std::variant<bool*, int*, std::int64_t*, std::uint64_t*, double*, std::string*,
+                              std::vector<int>*, std::vector<double>*, Text>;
+  const char* name = "";  ///< the attribute in /config (snake_case)
+  Target target;          ///< the field holding it
+  /// The option's help; empty: not on the command line (set otherwise, e.g. the seed by --seed)
+  const char* help = "";
+  /// A string's allowed values on the command line (empty: any)
+  std::vector<std::string> choices = {};
+  /// The option when it is not --name: a bool's flag ("--separate" sets it, "--no-kl" clears it)
+  const char* option = "";
+  /// A resumed run must have the same value (false: e.g. the iteration count it runs to)
+  bool resume = true;
+  /// Files written before the setting existed lack it and read as the field's current value (the
+  /// default that reproduces them); false: a file without it is refused
+  bool optional = false;
+  /// The command line's name of it: `option`, or --name with '-' for '_'.
+  std::string option_name() const;
+  /// Its current value as the command line and messages write it ("10,5", "0.001", "true").
+  std::string value_text() const;
+};
+using Settings = std::vector<Setting>;
+
+/// Declares the settings that have help text as options of `group` (defaults shown; choices
+/// checked; lists comma-separated; bools as flags).
+void add_settings(CLI::Option_group& group, const Settings& settings);
+
+/// Writes every setting as an attribute of `object` (bool and integers as integers, the 64-bit
+/// seed as text, lists of numbers as number arrays).
+void write_settings(h5::File& f, const std::string& object, const Settings& settings);
+
+/// Reads every setting from `object`'s attributes into its field; an optional one that is absent
+/// keeps the field's value, a required one that is absent is an InvalidInput naming the file.
+void read_settings(const h5::File& f, const std::string& object, const Settings& settings);
+
+/// Refuses (InvalidInput naming `path`) to resume a checkpoint whose `resume` settings differ from
+/// this run's: the two tables must be the same model's, row by row.
+void require_same_settings(const Settings& checkpoint, const Settings& now, const std::string& path);
+
+}  // namespace df::models

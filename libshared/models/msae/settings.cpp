@@ -1,0 +1,125 @@
+#include "models/msae/settings.h"
+
+namespace df::models {
+
+Settings msae_network_settings(MsaeConfig& c) {
+  return {
+      {.name = "kz",
+       .target = &c.kz,
+       .help = "Components of each autoencoder, per level (comma-separated)"},
+      {.name = "d",
+       .target = &c.d,
+       .help = "Omega's normalized geodesic radius per level (comma-separated)"},
+      {.name = "attention",
+       .target = &c.attention,
+       .help = "One autoencoder per level on the whole residual, with as many components as the\n"
+               "attention tree has there (paper Table 4; --levels 1 --no-attention is the one-level\n"
+               "sparse autoencoder of Tan et al.)",
+       .option = "--no-attention"},
+      {.name = "latent",
+       .target = &c.latent,
+       .help = "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: the\n"
+               "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real meshes\n"
+               "and V(Z) never acts; see docs/msae.md)",
+       .choices = {"tanh", "linear"}},
+      {.name = "decoder_fc",
+       .target = &c.decoder_fc,
+       .help = "The decoder's fully connected layer: y = tanh(z C) (tanh, the paper's 'tanh\n"
+               "everywhere') or y = z C (linear, as the convMesh code of Tan et al.)",
+       .choices = {"tanh", "linear"},
+       .optional = true},
+      {.name = "decoder_conv",
+       .target = &c.decoder_conv,
+       .help = "The decoder's mesh convolution uses the encoder's weights transposed, or shared as\n"
+               "they are (as the convMesh code)",
+       .choices = {"transposed", "shared"},
+       .optional = true},
+      {.name = "init",
+       .target = &c.init,
+       .help = "Initial weights: glorot (uniform), normal (N(0, 0.02^2), as the convMesh code) or\n"
+               "small (C at glorot x 0.01: components no training shape asks for stay near zero\n"
+               "instead of projecting unseen shapes onto random directions)",
+       .choices = {"glorot", "normal", "small"},
+       .optional = true},
+      {.name = "centres",
+       .target = &c.centres,
+       .help = "Where the components' centres start: random (where the initial weights peak; the\n"
+               "reconstruction gradient then draws most to the same vertices) or spread (farthest-\n"
+               "point sampling: level 0 over the mesh, a child within its parent's radius)",
+       .choices = {"random", "spread"},
+       .optional = true},
+      {.name = "centre_separation",
+       .target = &c.centre_separation,
+       .help = "0: c_k = argmax_i |C_k,i| every iteration (the paper). s > 0: a block's components,\n"
+               "strongest first, each take their strongest vertex at least s x d (geodesic) from\n"
+               "the centres already given out in the block, so that no two share a centre and\n"
+               "Omega pushes them apart (the plain argmax where no vertex is that far)",
+       .optional = true},
+      {.name = "lambda_recon", .target = &c.lambda_recon, .help = "Weight of the reconstruction MSE"},
+      {.name = "lambda_sparse", .target = &c.lambda_sparse, .help = "Weight of Omega(C)"},
+      {.name = "theta",
+       .target = &c.theta,
+       .help = "V(Z)'s bound on the codes (tanh codes stay below 1: inactive)"},
+  };
+}
+
+Settings msae_training_settings(MsaeTraining& t) {
+  return {
+      // Only separate training divides the iterations among the levels: elsewhere a resumed run
+      // may go on longer (train.cpp checks the separate case).
+      {.name = "iterations",
+       .target = &t.iterations,
+       .help = "Training iterations (batches); the paper's 10,000 epochs are a GPU budget",
+       .resume = false},
+      {.name = "batch", .target = &t.batch, .help = "Shapes per iteration, drawn with replacement"},
+      {.name = "lr", .target = &t.lr, .help = "Adam learning rate (betas 0.9/0.999)"},
+      {.name = "lr_decay",
+       .target = &t.lr_decay,
+       .help = "Exponential decay: lr x DECAY^(iteration / --lr-decay-steps)"},
+      {.name = "lr_decay_steps",
+       .target = &t.lr_decay_steps,
+       .help = "Iterations per factor --lr-decay"},
+      {.name = "separate",
+       .target = &t.separate,
+       .help = "Train level by level (iterations divided equally; earlier levels frozen) instead of\n"
+               "jointly (paper Table 4)"},
+      {.name = "separate_rate",
+       .target = &t.separate_rate,
+       .help = "With --separate: each level's new Adam starts at --lr (restart) or at the rate the\n"
+               "schedule has reached when the level starts (continue: the rate joint training has\n"
+               "there, so that joint and separate differ in strategy only)",
+       .choices = {"restart", "continue"},
+       .optional = true},
+      // The split is compared as the frames it chose (train.cpp), not as its settings.
+      {.name = "split",
+       .target = &t.split,
+       .help = "sequence: every --every-th shape of each sequence trains, the rest is held out;\n"
+               "collection: a random --train-fraction trains (placed by --seed)",
+       .choices = {"sequence", "collection"},
+       .resume = false},
+      {.name = "every",
+       .target = &t.every,
+       .help = "sequence split: train on every N-th shape",
+       .resume = false},
+      {.name = "train_fraction",
+       .target = &t.train_fraction,
+       .help = "collection split: fraction trained on",
+       .resume = false},
+      {.name = "validation_fraction",
+       .target = &t.validation_fraction,
+       .help = "This fraction of the held-out shapes (drawn by --seed) validates instead of testing;\n"
+               "its error is logged at every loss line (features, and E_rms x 1000 of positions as\n"
+               "eval-metrics measures it). Choose iteration counts and options on it, never on\n"
+               "the test shapes",
+       .resume = false},
+      {.name = "seed", .target = &t.seed},  // the tool's --seed
+  };
+}
+
+Settings msae_settings(MsaeConfig& c, MsaeTraining& t) {
+  Settings all = msae_network_settings(c);
+  for (auto& s : msae_training_settings(t)) all.push_back(std::move(s));
+  return all;
+}
+
+}  // namespace df::models

@@ -1,0 +1,173 @@
+#include <CLI/CLI.hpp>
+#include <catch2/catch.hpp>
+#include <set>
+
+#include "../../helpers.h"
+#include "io/schema.h"
+#include "models/bdlstm/settings.h"
+#include "models/common/settings.h"
+#include "models/msae/settings.h"
+
+using namespace df;
+using namespace df::models;
+
+namespace {
+
+struct Toy {
+  std::vector<int> kz = {10, 5};
+  std::vector<double> d = {0.4, 0.2};
+  bool attention = true, separate = false;
+  std::string latent = "linear";
+  double lr = 1e-3;
+  int batch = 256;
+  std::int64_t iterations = 2000;
+  std::uint64_t seed = 0;
+  double added_later = 0.5;
+};
+
+Settings toy_settings(Toy& t) {
+  return {{.name = "kz", .target = &t.kz, .help = "per level"},
+          {.name = "d", .target = &t.d, .help = "radius per level"},
+          {.name = "attention", .target = &t.attention, .help = "off", .option = "--no-attention"},
+          {.name = "separate", .target = &t.separate, .help = "level by level"},
+          {.name = "latent", .target = &t.latent, .help = "codes", .choices = {"tanh", "linear"}},
+          {.name = "lr", .target = &t.lr, .help = "rate"},
+          {.name = "batch", .target = &t.batch, .help = "shapes"},
+          {.name = "iterations", .target = &t.iterations, .help = "count", .resume = false},
+          {.name = "seed", .target = &t.seed},
+          {.name = "added_later", .target = &t.added_later, .help = "new", .optional = true}};
+}
+
+}  // namespace
+
+TEST_CASE("settings: one table gives the command line", "[models][settings]") {
+  Toy t;
+  CLI::App app;
+  add_settings(*app.add_option_group("Toy"), toy_settings(t));
+  std::vector<std::string> args = {"--no-attention", "--separate", "--kz", "3,2", "--latent", "tanh",
+                                   "--lr", "0.01", "--added-later", "2"};
+  std::reverse(args.begin(), args.end());
+  app.parse(args);
+  CHECK(!t.attention);
+  CHECK(t.separate);
+  CHECK(t.kz == std::vector<int>{3, 2});
+  CHECK(t.latent == "tanh");
+  CHECK(t.lr == 0.01);
+  CHECK(t.added_later == 2);
+  CHECK(t.seed == 0);  // no help: not an option
+  Toy u;
+  CLI::App bad;
+  add_settings(*bad.add_option_group("Toy"), toy_settings(u));
+  std::vector<std::string> wrong = {"elu", "--latent"};
+  CHECK_THROWS_AS(bad.parse(wrong), CLI::ValidationError);
+  CHECK_THROWS(bad.parse(std::vector<std::string>{"1", "--seed"}));
+}
+
+TEST_CASE("settings: the model file's /config round trip, old files, the resume check",
+          "[models][settings]") {
+  test::TempDir dir;
+  Toy a;
+  a.kz = {7, 3, 2};
+  a.attention = false;
+  a.seed = 18446744073709551615ull;  // the 64-bit seed survives as text
+  a.iterations = 12345;
+  {
+    h5::File f(dir / "m.h5", h5::File::Mode::create);
+    f.create_groups("/config");
+    write_settings(f, "/config", toy_settings(a));
+    CHECK(f.attr_int("/config", "attention") == 0);
+    CHECK(f.attr_string("/config", "seed") == "18446744073709551615");
+    CHECK(f.attr_doubles("/config", "kz") == std::vector<double>{7, 3, 2});
+  }
+  Toy b;
+  {
+    const h5::File f(dir / "m.h5", h5::File::Mode::read);
+    read_settings(f, "/config", toy_settings(b));
+  }
+  CHECK(b.kz == a.kz);
+  CHECK(!b.attention);
+  CHECK(b.seed == a.seed);
+  CHECK(b.iterations == 12345);
+
+  // A file written before a setting existed: an optional one keeps its default, a required one
+  // is refused with the file and group named.
+  {
+    h5::File f(dir / "old.h5", h5::File::Mode::create);
+    f.create_groups("/config");
+    Settings s = toy_settings(a);
+    s.pop_back();  // no added_later
+    write_settings(f, "/config", s);
+  }
+  Toy c;
+  c.added_later = 0.25;
+  {
+    const h5::File f(dir / "old.h5", h5::File::Mode::read);
+    read_settings(f, "/config", toy_settings(c));
+    CHECK(c.added_later == 0.25);
+    Settings strict = toy_settings(c);
+    strict.back().optional = false;
+    const std::string msg = test::error_message([&] { read_settings(f, "/config", strict); });
+    CHECK_THAT(msg, Catch::Contains("lacks the setting added_later"));
+    CHECK_THAT(msg, Catch::Contains("old.h5"));
+  }
+
+  // Resuming: a resume setting that differs is refused, naming its option and both values; one
+  // that may change (the iteration count a run goes on to) is not.
+  Toy d = b;
+  d.iterations = 99999;
+  CHECK_NOTHROW(require_same_settings(toy_settings(b), toy_settings(d), "ck.h5"));
+  d.kz = {7, 3};
+  const std::string msg = test::error_message(
+      [&] { require_same_settings(toy_settings(b), toy_settings(d), "ck.h5"); });
+  CHECK_THAT(msg, Catch::Contains("made with --kz 7,3,2, this run has 7,3"));
+  CHECK_THAT(msg, Catch::Contains("ck.h5"));
+}
+
+namespace {
+std::set<std::string> config_attributes(const std::string& kind) {
+  std::set<std::string> names;
+  for (const auto& object : io::schema(kind).doc.at("objects"))
+    if (object.at("path") == "/config")
+      for (const auto& a : object.at("attributes")) names.insert(a.at("name").get<std::string>());
+  return names;
+}
+std::set<std::string> table_names(const Settings& settings) {
+  std::set<std::string> names;
+  for (const Setting& s : settings) CHECK(names.insert(s.name).second);  // each declared once
+  return names;
+}
+}  // namespace
+
+TEST_CASE("settings: each model's table is its schema's /config", "[models][settings]") {
+  MsaeConfig mc;
+  MsaeTraining mt;
+  CHECK(table_names(msae_settings(mc, mt)) == config_attributes("msae-model"));
+  BdlstmConfig bc;
+  BdlstmTraining bt;
+  CHECK(table_names(bdlstm_settings(bc, bt)) == config_attributes("bdlstm-model"));
+}
+
+TEST_CASE("settings: an enum held as text", "[models][settings]") {
+  BdlstmConfig c;
+  BdlstmTraining t;
+  CLI::App app;
+  add_settings(*app.add_option_group("Network"), bdlstm_network_settings(c));
+  app.parse(std::vector<std::string>{"unidirectional", "--directions", "--no-kl"});
+  CHECK(c.directions == Directions::unidirectional);
+  CHECK(!c.kl);
+  CHECK(c.l2);
+  test::TempDir dir;
+  {
+    h5::File f(dir / "m.h5", h5::File::Mode::create);
+    f.create_groups("/config");
+    write_settings(f, "/config", bdlstm_settings(c, t));
+    CHECK(f.attr_string("/config", "directions") == "unidirectional");
+    f.set_attr("/config", "directions", std::string("sideways"));
+  }
+  BdlstmConfig back;
+  const h5::File f(dir / "m.h5", h5::File::Mode::read);
+  const std::string msg =
+      test::error_message([&] { read_settings(f, "/config", bdlstm_settings(back, t)); });
+  CHECK_THAT(msg, Catch::Contains("sideways"));
+  CHECK_THAT(msg, Catch::Contains("m.h5"));
+}
