@@ -27,7 +27,7 @@ for obj in /params /optimizers /rng/state /training/log; do
   run h5diff m1.h5 resumed.h5 $obj; expect_rc 0
 done
 run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --gamma 0.5 --resume --checkpoint m-half.h5 clips.h5 -o x.h5
-expect_rc 1; expect_one_error_line train-actgan; expect_err "gamma = 0.1"
+expect_rc 1; expect_one_error_line train-actgan; expect_err "made with --gamma 0.1, this run has 0.5"
 echo "ok (threads, resume)"
 
 # --- --freeze-decoder: the GAN phase keeps the pre-trained decoder as it is

@@ -1,5 +1,7 @@
 #include "models/actgan/model.h"
 
+#include "models/actgan/settings.h"
+
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -9,6 +11,7 @@
 #include "core/provenance.h"
 #include "io/file_header.h"
 #include "io/schema.h"
+#include "models/actgan/settings.h"
 
 namespace df::models {
 namespace {
@@ -38,92 +41,22 @@ std::vector<NamedAdam> optimizers(const ActganModel& m) {
 
 void write_config(h5::File& f, const ActganModel& m) {
   f.create_groups("/config");
-  const auto& c = m.config;
-  f.set_attr("/config", "pose", c.pose);
-  f.set_attr("/config", "classes", c.classes);
-  f.set_attr("/config", "noise", c.noise);
-  f.set_attr("/config", "latent", c.latent);
-  f.set_attr("/config", "hidden", c.hidden);
-  f.set_attr("/config", "fc", c.fc);
-  f.set_attr("/config", "residual", static_cast<int>(c.residual));
-  f.set_attr("/config", "step_init", c.step_init);
-  f.set_attr("/config", "start", c.start);
-  f.set_attr("/config", "generator", c.generator);
-  f.set_attr("/config", "smoothness", c.smoothness);
-  f.set_attr("/config", "sigma1", c.sigma1);
-  f.set_attr("/config", "sigma2", c.sigma2);
-  f.set_attr("/config", "discriminator", c.discriminator);
-  f.set_attr("/config", "disc_input", c.disc_input);
-  f.set_attr("/config", "disc_pool", c.disc_pool);
-  f.set_attr("/config", "gamma", c.gamma);
-  f.set_attr("/config", "classifier", static_cast<int>(c.classifier));
-  f.set_attr("/config", "gp_lambda", c.gp_lambda);
-  const auto& t = m.training;
-  f.set_attr("/config", "pretrain_iterations", t.pretrain_iterations);
-  f.set_attr("/config", "iterations", t.iterations);
-  f.set_attr("/config", "batch", t.batch);
-  f.set_attr("/config", "pretrain_batch", t.pretrain_batch);
-  f.set_attr("/config", "critic_steps", t.critic_steps);
-  f.set_attr("/config", "d_steps", t.d_steps);
-  f.set_attr("/config", "g_steps", t.g_steps);
-  f.set_attr("/config", "lr", t.lr);
-  f.set_attr("/config", "lr_pretrain", t.lr_pretrain);
-  f.set_attr("/config", "disc_lr", t.discriminator_lr());
-  f.set_attr("/config", "classifier_only", static_cast<int>(t.classifier_only));
-  f.set_attr("/config", "train_decoder", static_cast<int>(t.train_decoder));
-  f.set_attr("/config", "disc_noise", t.disc_noise);
-  f.set_attr("/config", "seed", fmt::format("{}", t.seed));
+  ActganConfig c = m.config;
+  ActganTraining t = m.training;
+  t.disc_lr = t.discriminator_lr();  // the rate in use: 0 means --lr
+  write_settings(f, "/config", actgan_settings(c, t));
   f.set_attr("/config", "frame_rate", m.frame_rate);
   f.set_attr("/config", "length", m.length);
   f.set_attr("/config", "data", m.data);
 }
 
 void read_config(const h5::File& f, ActganModel& m) {
-  auto i = [&](const char* n) { return static_cast<int>(f.attr_int("/config", n)); };
-  auto d = [&](const char* n) { return f.attr_double("/config", n); };
-  auto& c = m.config;
-  c.pose = i("pose");
-  c.classes = i("classes");
-  c.noise = i("noise");
-  c.latent = i("latent");
-  c.hidden = i("hidden");
-  c.fc = i("fc");
-  c.residual = i("residual") != 0;
-  // Absent in files written before the option: those started from the Glorot draw.
-  c.step_init = f.has_attr("/config", "step_init") ? f.attr_string("/config", "step_init") : "glorot";
-  // Absent before --start: every model started at U(-1, 1).
-  c.start = f.has_attr("/config", "start") ? f.attr_string("/config", "start") : "uniform";
-  c.generator = f.has_attr("/config", "generator") ? f.attr_string("/config", "generator") : "latent";
-  c.smoothness = f.attr_string("/config", "smoothness");
-  c.sigma1 = d("sigma1");
-  c.sigma2 = d("sigma2");
-  // Absent in files written before the options: the discriminator saw [x_t, y], its last states.
-  c.disc_input = f.has_attr("/config", "disc_input") ? f.attr_string("/config", "disc_input") : "frames";
-  c.disc_pool = f.has_attr("/config", "disc_pool") ? f.attr_string("/config", "disc_pool") : "last";
-  c.discriminator = f.has_attr("/config", "discriminator") ? f.attr_string("/config", "discriminator") : "bilstm";
-  c.gamma = d("gamma");
-  c.classifier = i("classifier") != 0;
-  c.gp_lambda = d("gp_lambda");
-  auto& t = m.training;
-  t.pretrain_iterations = f.attr_int("/config", "pretrain_iterations");
-  t.iterations = f.attr_int("/config", "iterations");
-  t.batch = i("batch");
-  t.pretrain_batch = i("pretrain_batch");
-  t.critic_steps = i("critic_steps");
-  t.d_steps = i("d_steps");
-  t.g_steps = i("g_steps");
-  t.lr = d("lr");
-  t.lr_pretrain = d("lr_pretrain");
-  t.disc_lr = f.has_attr("/config", "disc_lr") ? d("disc_lr") : t.lr;  // absent: older files, the GAN's lr
-  t.classifier_only = f.has_attr("/config", "classifier_only") && i("classifier_only") != 0;
-  // Absent in files written before the option: those trained the decoder in the GAN phase.
-  t.train_decoder = !f.has_attr("/config", "train_decoder") || i("train_decoder") != 0;
-  t.disc_noise = f.has_attr("/config", "disc_noise") ? d("disc_noise") : 0;  // absent: older files, none
-  t.seed = std::stoull(f.attr_string("/config", "seed"));
+  // Files written before a setting existed read as its default, the model they describe.
+  read_settings(f, "/config", actgan_settings(m.config, m.training));
   if (f.exists("/validation/subjects"))  // absent: none (and in files older than it)
-    t.validation_subjects = f.read<std::int32_t>("/validation/subjects").data;
-  m.frame_rate = d("frame_rate");
-  m.length = i("length");
+    m.training.validation_subjects = f.read<std::int32_t>("/validation/subjects").data;
+  m.frame_rate = f.attr_double("/config", "frame_rate");
+  m.length = static_cast<int>(f.attr_int("/config", "length"));
   m.data = f.attr_string("/config", "data");
 }
 

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "io/skeleton_file.h"
+#include "models/actgan/settings.h"
 #include "models/common/training.h"
 #include "nn/ops.h"
 
@@ -42,43 +43,14 @@ void check_options(const ActganTrainOptions& opt) {
 }
 
 void check_resumable(const ActganModel& ck, const ActganModel& want, const std::string& path) {
+  ActganConfig c0 = ck.config, c1 = want.config;  // the tables point at fields: copies to compare
+  ActganTraining t0 = ck.training, t1 = want.training;
+  t0.disc_lr = t0.discriminator_lr();  // 0 means --lr: compare the rates in use
+  t1.disc_lr = t1.discriminator_lr();
+  require_same_settings(actgan_settings(c0, t0), actgan_settings(c1, t1), path);
   auto differs = [&](const char* what, const auto& a, const auto& b) { require_same_setting(what, a, b, path); };
-  const auto &a = ck.config, &b = want.config;
-  differs("pose values", a.pose, b.pose);
-  differs("classes", a.classes, b.classes);
-  differs("noise", a.noise, b.noise);
-  differs("latent", a.latent, b.latent);
-  differs("hidden", a.hidden, b.hidden);
-  differs("fc", a.fc, b.fc);
-  differs("direct-latent", !a.residual, !b.residual);
-  differs("step-init", a.step_init, b.step_init);
-  differs("start", a.start, b.start);
-  differs("generator", a.generator, b.generator);
-  differs("smoothness", a.smoothness, b.smoothness);
-  differs("sigma1", a.sigma1, b.sigma1);
-  differs("sigma2", a.sigma2, b.sigma2);
-  differs("discriminator", a.discriminator, b.discriminator);
-  differs("disc-input", a.disc_input, b.disc_input);
-  differs("disc-pool", a.disc_pool, b.disc_pool);
-  differs("gamma", a.gamma, b.gamma);
-  differs("no-classifier", !a.classifier, !b.classifier);
-  differs("gp-lambda", a.gp_lambda, b.gp_lambda);
-  const auto &s = ck.training, &t = want.training;
-  differs("pretrain-iterations", s.pretrain_iterations, t.pretrain_iterations);
-  differs("batch", s.batch, t.batch);
-  differs("pretrain-batch", s.pretrain_batch, t.pretrain_batch);
-  differs("critic-steps", s.critic_steps, t.critic_steps);
-  differs("d-steps", s.d_steps, t.d_steps);
-  differs("g-steps", s.g_steps, t.g_steps);
-  differs("lr", s.lr, t.lr);
-  differs("lr-pretrain", s.lr_pretrain, t.lr_pretrain);
-  differs("disc-lr", s.discriminator_lr(), t.discriminator_lr());
-  differs("seed", s.seed, t.seed);
-  differs("classifier-only", s.classifier_only, t.classifier_only);
-  differs("freeze-decoder", !s.train_decoder, !t.train_decoder);
-  differs("disc-noise", s.disc_noise, t.disc_noise);
-  differs("validation-subjects", fmt::format("{}", fmt::join(s.validation_subjects, ",")),
-          fmt::format("{}", fmt::join(t.validation_subjects, ",")));
+  differs("validation-subjects", fmt::format("{}", fmt::join(ck.training.validation_subjects, ",")),
+          fmt::format("{}", fmt::join(want.training.validation_subjects, ",")));
   differs("length", ck.length, want.length);
   if (ck.class_names != want.class_names) throw InvalidInput("checkpoint was trained on other classes", path);
 }

@@ -48,10 +48,8 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
     std::visit(
         Overloaded{
             [&](bool* p) {
-              if (flag.rfind("--no-", 0) == 0)
-                group.add_flag_callback(flag, [p] { *p = false; }, s.help);
-              else
-                group.add_flag(flag, *p, s.help);
+              const bool given = !*p;  // the flag turns the default over
+              group.add_flag_callback(flag, [p, given] { *p = given; }, s.help);
             },
             [&](std::vector<int>* p) {
               group.add_option(flag, *p, s.help)

@@ -30,6 +30,8 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--init must be glorot, normal or small");
   if (config_.centres != "random" && config_.centres != "spread")
     throw UsageError("--centres must be random or spread");
+  if (config_.support != "soft" && config_.support != "hard")
+    throw UsageError("--support must be soft or hard");
   if (!(config_.centre_separation >= 0 && config_.centre_separation <= 4))
     throw UsageError("--centre-separation must be between 0 and 4 (a fraction of d)");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
@@ -116,6 +118,17 @@ std::vector<std::vector<int>> MsaeNet<T>::centres() const {
     out.push_back(std::move(c));
   }
   return out;
+}
+
+template <class T>
+void MsaeNet<T>::project_onto_support(const std::vector<Matrix>& lambda) {
+  if (lambda.size() != blocks_.size()) throw Error("internal: project_onto_support needs every block");
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    auto C = store_.value(blocks_[b].c);
+    for (int k = 0; k < blocks_[b].kz; ++k)
+      for (int i = 0; i < n_vertices_; ++i)
+        if (lambda[b](k, i) != T(0)) C.row(k).segment(9 * Index{i}, 9).setZero();
+  }
 }
 
 template <class T>

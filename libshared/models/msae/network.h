@@ -68,6 +68,10 @@ struct MsaeConfig {
   /// least s·d (geodesic) from the centres its block has already given out (the plain argmax when
   /// none is left), so that two components cannot share a centre
   double centre_separation = 0;
+  /// Ω's step function as a penalty only ("soft", the paper) or also as a hard support ("hard"):
+  /// after every optimizer step the groups of C where Λ_ik = 1 (outside the component's radius)
+  /// are set to zero — Ω's limit of infinite weight, strictly local components
+  std::string support = "soft";
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
   int levels() const { return static_cast<int>(kz.size()); }
 };
@@ -123,7 +127,7 @@ class MsaeNet {
     std::vector<std::vector<int>> out;
     for (const Block& b : blocks_) {
       const double apart = config_.centre_separation * config_.d[static_cast<std::size_t>(b.level)];
-      const Matrix& C = store_.value(b.c);
+      const auto C = store_.value(b.c);
       Matrix norms(b.kz, n_vertices_);
       for (int k = 0; k < b.kz; ++k)
         for (int i = 0; i < n_vertices_; ++i)
@@ -167,6 +171,8 @@ class MsaeNet {
     }
     return masks;
   }
+  /// --support hard: zeroes every block's groups C_{k,i} where its mask Λ_ik is 1.
+  void project_onto_support(const std::vector<Matrix>& lambda);
   /// Makes vertex `vertices[b][k]` the centre of component k of block b (its group of C becomes
   /// twice the row's largest group norm): where the centres start with --centres spread.
   void place_centres(const std::vector<std::vector<int>>& vertices);

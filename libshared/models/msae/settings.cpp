@@ -55,6 +55,13 @@ Settings msae_network_settings(MsaeConfig& c) {
                "the centres already given out in the block, so that no two share a centre and\n"
                "Omega pushes them apart (the plain argmax where no vertex is that far)",
        .optional = true},
+      {.name = "support",
+       .target = &c.support,
+       .help = "Omega as a penalty only (soft, the paper), or also as a hard support (hard: after\n"
+               "every step the weights of C outside each component's radius d are set to zero,\n"
+               "Omega's limit: strictly local components)",
+       .choices = {"soft", "hard"},
+       .optional = true},
       {.name = "lambda_recon", .target = &c.lambda_recon, .help = "Weight of the reconstruction MSE"},
       {.name = "lambda_sparse", .target = &c.lambda_sparse, .help = "Weight of Omega(C)"},
       {.name = "theta",

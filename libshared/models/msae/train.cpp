@@ -390,6 +390,7 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
       for (int l = 0; l < stage; ++l)
         for (int p : m.net->level_parameters(l)) m.net->store().grad(p).setZero();
     m.adam->step(m.net->store().values(), m.net->store().grads());
+    if (m.config.support == "hard") m.net->project_onto_support(lambda);
     return {terms.total, terms.recon, terms.sparsity, terms.latent};
   };
   auto checkpoint = [&] {

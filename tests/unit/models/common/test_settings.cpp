@@ -4,6 +4,7 @@
 
 #include "../../helpers.h"
 #include "io/schema.h"
+#include "models/actgan/settings.h"
 #include "models/bdlstm/settings.h"
 #include "models/common/settings.h"
 #include "models/msae/settings.h"
@@ -145,6 +146,24 @@ TEST_CASE("settings: each model's table is its schema's /config", "[models][sett
   BdlstmConfig bc;
   BdlstmTraining bt;
   CHECK(table_names(bdlstm_settings(bc, bt)) == config_attributes("bdlstm-model"));
+  ActganConfig ac;
+  ActganTraining at;
+  auto actgan = table_names(actgan_settings(ac, at));
+  for (const char* of_the_data : {"frame_rate", "length", "data"}) CHECK(actgan.insert(of_the_data).second);
+  CHECK(actgan == config_attributes("actgan-model"));
+}
+
+TEST_CASE("settings: a flag turns its default over", "[models][settings]") {
+  ActganConfig c;
+  ActganTraining t;
+  CLI::App app;
+  add_settings(*app.add_option_group("Losses"), actgan_loss_settings(c));
+  add_settings(*app.add_option_group("Training"), actgan_training_settings(t));
+  app.parse(std::vector<std::string>{"--classifier-only", "--freeze-decoder", "--direct-latent"});
+  CHECK(!c.residual);         // --direct-latent clears a default true
+  CHECK(c.classifier);        // not given
+  CHECK(!t.train_decoder);    // --freeze-decoder clears a default true
+  CHECK(t.classifier_only);   // --classifier-only sets a default false
 }
 
 TEST_CASE("settings: an enum held as text", "[models][settings]") {

@@ -327,3 +327,26 @@ TEST_CASE("MSAE: --centre-separation gives a block's components centres apart", 
   config.centre_separation = -1;
   CHECK_THROWS_AS(MsaeNet<float>(config, 9, grid_edges(), 1), UsageError);
 }
+
+TEST_CASE("MSAE: --support hard zeroes C outside each component's radius", "[models][msae]") {
+  MsaeConfig config = tiny({2, 2}, true);
+  config.support = "hard";
+  MsaeNet<double> net(config, 9, grid_edges(), 3);
+  std::vector<nn::Matrix<double>> before;
+  for (const auto& b : net.blocks()) before.push_back(net.store().value(b.c));
+  const auto lambda = random_lambda(net, 8);
+  net.project_onto_support(lambda);
+  for (std::size_t b = 0; b < net.blocks().size(); ++b) {
+    const auto C = net.store().value(net.blocks()[b].c);
+    for (int k = 0; k < net.blocks()[b].kz; ++k)
+      for (int i = 0; i < 9; ++i) {
+        const auto group = C.row(k).segment(9 * i, 9);
+        if (lambda[b](k, i) != 0)
+          CHECK(group.norm() == 0);
+        else
+          CHECK(group == before[b].row(k).segment(9 * i, 9));
+      }
+  }
+  config.support = "firm";
+  CHECK_THROWS_AS(MsaeNet<double>(config, 9, grid_edges(), 3), UsageError);
+}
