@@ -74,17 +74,9 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   h5::File f = io::open_input(path, "bdlstm-model");
   BdlstmModel m;
   m.history = io::read_history(f);
-  // Files written before a setting existed read as its default, the paper's form.
-  BdlstmConfig& c = m.config;
-  BdlstmTraining& t = m.training;
-  c.l2_scope = "all";
-  c.l2_weight = 1.0;
-  c.decoder_init = "zero";
-  c.free_bits = 0.0;
-  t.validation_fraction = 0.0;
-  t.teacher_frames = 1;
-  t.kl_warmup = 0;
-  read_settings(f, "/config", bdlstm_settings(c, t));
+  // Files written before a setting existed read as the structs' default, the paper's form (the
+  // tool's learning defaults are applied by train-bdlstm, not here).
+  read_settings(f, "/config", bdlstm_settings(m.config, m.training));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
   if (f.exists("/training/log") && f.has_attr("/training/log", "kl_per_frame")) {
