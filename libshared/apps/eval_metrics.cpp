@@ -93,304 +93,411 @@ struct PairResult {
   double error = 0, unit_ball = 0, sted_s = 0, rse = -1;
 };
 
-}  // namespace
-
-void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
+void check_options(const EvalOptions& opt) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
   if (!(opt.sted_dt > 0)) throw UsageError("--sted-dt must be positive");
   if (opt.change_span < 1) throw UsageError("--change-span must be at least 1");
   if (opt.align != "translation" && opt.align != "rigid")
     throw UsageError("--align must be translation or rigid");
-  const std::string kind = io::is_hdf5_path(opt.pred)
-                               ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
-                               : std::string();
-  if (kind == "skeleton") {
-    eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons);
-    return;
-  }
-  if (kind == "components") {
-    if (opt.truth.empty()) throw UsageError("a components file is measured against TRUTH's planted regions");
-    eval_components(opt.pred, opt.truth, opt.json, opt.support_threshold);
-    return;
-  }
-  FrameSet pred = read_frame_set(opt.pred);
-  // The template's topology and parts (TRUTH must have the same template, checked below).
-  const auto topo = geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows()));
-  int n_components = 0;
-  const std::vector<int> component = geometry::connected_components(topo, 0, &n_components);
-  nlohmann::ordered_json js;
-  js["pred"] = opt.pred;
-  const auto& nz_pred = pred.normalization;
+}
 
-  // Feature change between frames --change-span apart in each PRED sequence, by index in the
-  // sequence (index t: frames t and t + span). Each frame is normalized once; the last span + 1
-  // stay in a ring.
-  const auto span = static_cast<std::int64_t>(opt.change_span);
-  std::vector<double> change_sum;
-  std::vector<int> change_count;
-  double change_total = 0;
-  std::size_t change_n = 0;
-  if (pred.raw.rows()) {
-    std::vector<Eigen::VectorXd> ring(static_cast<std::size_t>(span + 1));
-    auto slot = [&](std::int64_t t) -> Eigen::VectorXd& { return ring[static_cast<std::size_t>(t % (span + 1))]; };
-    for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
-      const std::int64_t begin = pred.offsets[s], n = pred.offsets[s + 1] - begin;
-      for (std::int64_t t = 0; t < n; ++t) {
-        slot(t) = normalized_features(pred, static_cast<std::size_t>(begin + t), nz_pred);
-        if (t < span) continue;
-        const auto i = static_cast<std::size_t>(t - span);
-        const double c = feature_change(slot(t - span), slot(t));
-        if (change_sum.size() <= i) change_sum.resize(i + 1), change_count.resize(i + 1);
-        change_sum[i] += c, change_count[i] += 1, change_total += c, ++change_n;
-      }
+// The template's topology and parts, which every measure of one file pair shares.
+struct Shape {
+  geometry::MeshTopology topo;
+  std::vector<int> component;  ///< connected part of each vertex
+  int n_components = 0;
+};
+
+Shape shape_of(const FrameSet& pred) {
+  Shape sh{geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())), {}, 0};
+  sh.component = geometry::connected_components(sh.topo, 0, &sh.n_components);
+  return sh;
+}
+
+// Feature change between frames `span` apart in each PRED sequence, by index in the sequence
+// (index t: frames t and t + span).
+struct FeatureChange {
+  std::vector<double> by_index;
+  double total = 0;
+  std::size_t n = 0;
+};
+
+FeatureChange feature_change_of(const FrameSet& pred, int change_span) {
+  FeatureChange fc;
+  if (!pred.raw.rows()) return fc;
+  const auto span = static_cast<std::int64_t>(change_span);
+  std::vector<double> sum;
+  std::vector<int> count;
+  // Each frame is normalized once; the last span + 1 stay in a ring.
+  std::vector<Eigen::VectorXd> ring(static_cast<std::size_t>(span + 1));
+  auto slot = [&](std::int64_t t) -> Eigen::VectorXd& { return ring[static_cast<std::size_t>(t % (span + 1))]; };
+  for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
+    const std::int64_t begin = pred.offsets[s], n = pred.offsets[s + 1] - begin;
+    for (std::int64_t t = 0; t < n; ++t) {
+      slot(t) = normalized_features(pred, static_cast<std::size_t>(begin + t), pred.normalization);
+      if (t < span) continue;
+      const auto i = static_cast<std::size_t>(t - span);
+      const double c = feature_change(slot(t - span), slot(t));
+      if (sum.size() <= i) sum.resize(i + 1), count.resize(i + 1);
+      sum[i] += c, count[i] += 1, fc.total += c, ++fc.n;
     }
   }
-  std::vector<double> change_by_index;
-  for (std::size_t t = 0; t < change_sum.size(); ++t) change_by_index.push_back(change_sum[t] / change_count[t]);
+  for (std::size_t t = 0; t < sum.size(); ++t) fc.by_index.push_back(sum[t] / count[t]);
+  return fc;
+}
 
-  std::optional<FrameSet> truth;
+// Which PRED frame is measured against which TRUTH frame: /frames/source, else frame by frame.
+std::vector<std::pair<std::size_t, std::size_t>> pair_frames(const FrameSet& pred, const FrameSet& truth,
+                                                             const EvalOptions& opt) {
+  if (truth.tmpl.vertices.rows() != pred.tmpl.vertices.rows() || truth.tmpl.faces != pred.tmpl.faces)
+    throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)", truth.tmpl.vertices.rows(),
+                                   opt.pred, pred.tmpl.vertices.rows()),
+                       opt.truth);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (pred frame, truth frame)
+  if (!pred.source.empty()) {
+    for (std::size_t i = 0; i < pred.size(); ++i)
+      if (pred.source[i] >= 0) {
+        if (static_cast<std::size_t>(pred.source[i]) >= truth.size())
+          throw InvalidInput(fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
+                                         pred.source[i], truth.size()),
+                             opt.pred + "/frames/source");
+        pairs.emplace_back(i, static_cast<std::size_t>(pred.source[i]));
+      }
+  } else {
+    if (pred.size() != truth.size())
+      throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}", pred.size(), truth.size()),
+                         opt.pred);
+    for (std::size_t i = 0; i < pred.size(); ++i) pairs.emplace_back(i, i);
+  }
+  if (pairs.empty()) throw InvalidInput("no frame pairs with the truth", opt.pred);
+  return pairs;
+}
+
+// Every pair's errors (positions aligned per part as --align says) and STED's temporal part over
+// consecutive PRED frames of one sequence that both have truth.
+struct PairMeasures {
   std::vector<PairResult> results;
   double diag = 0, sted_t = 0;
   std::size_t sted_t_n = 0;
-  if (!opt.truth.empty()) {
-    truth = read_frame_set(opt.truth);
-    if (truth->tmpl.vertices.rows() != pred.tmpl.vertices.rows() || truth->tmpl.faces != pred.tmpl.faces)
-      throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)", truth->tmpl.vertices.rows(),
-                                     opt.pred, pred.tmpl.vertices.rows()),
-                         opt.truth);
-    if (!pred.source.empty()) {
-      for (std::size_t i = 0; i < pred.size(); ++i)
-        if (pred.source[i] >= 0) {
-          if (static_cast<std::size_t>(pred.source[i]) >= truth->size())
-            throw InvalidInput(fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
-                                           pred.source[i], truth->size()),
-                               opt.pred + "/frames/source");
-          pairs.emplace_back(i, static_cast<std::size_t>(pred.source[i]));
-        }
-    } else {
-      if (pred.size() != truth->size())
-        throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}", pred.size(), truth->size()),
-                           opt.pred);
-      for (std::size_t i = 0; i < pred.size(); ++i) pairs.emplace_back(i, i);
-    }
-    if (pairs.empty()) throw InvalidInput("no frame pairs with the truth", opt.pred);
-    reconstruct(pred);
-    reconstruct(*truth);
-    const auto& T = truth->tmpl.vertices;
-    diag = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
-    const auto hoods = edge_neighbourhoods(topo, opt.sted_rings);
-    const auto& nz = truth->normalization ? truth->normalization : nz_pred;
-    const bool features = pred.raw.rows() && truth->raw.rows();
-    results.resize(pairs.size());
-    std::vector<io::Vertices> aligned(pairs.size());
-    tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
-      const auto [i, j] = pairs[k];
-      const io::Vertices& gt = truth->positions[j];
-      aligned[k] = opt.align == "rigid" ? align_rigid(pred.positions[i], gt, component, n_components)
-                                        : align_translation(pred.positions[i], gt, component, n_components);
-      PairResult& r = results[k];
-      r.error = mean_vertex_error(aligned[k], gt);
-      r.unit_ball = unit_ball_squared_error(aligned[k], gt);
-      r.sted_s = sted_spatial(aligned[k], gt, topo, hoods);
-      if (features) r.rse = relative_squared_error(normalized_features(*truth, j, nz), normalized_features(pred, i, nz));
-    });
-    // STED's temporal part over consecutive PRED frames of one sequence that both have truth.
-    for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
-      const auto [i0, j0] = pairs[k];
-      const auto [i1, j1] = pairs[k + 1];
-      const auto s = std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
-      if (i1 != i0 + 1 || static_cast<std::int64_t>(i1) >= *s) continue;
-      sted_t += sted_temporal(aligned[k], aligned[k + 1], truth->positions[j0], truth->positions[j1], topo, opt.sted_dt);
-      ++sted_t_n;
-    }
-  }
+};
 
-  // Spread of diverse samples: sequences NAME~k of equal length, compared frame by frame.
-  std::map<std::string, std::vector<std::size_t>> groups;
+PairMeasures measure_pairs(FrameSet& pred, FrameSet& truth, const Shape& sh,
+                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                           const EvalOptions& opt) {
+  PairMeasures pm;
+  reconstruct(pred);
+  reconstruct(truth);
+  const auto& T = truth.tmpl.vertices;
+  pm.diag = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
+  const auto hoods = edge_neighbourhoods(sh.topo, opt.sted_rings);
+  const auto& nz = truth.normalization ? truth.normalization : pred.normalization;
+  const bool features = pred.raw.rows() && truth.raw.rows();
+  pm.results.resize(pairs.size());
+  std::vector<io::Vertices> aligned(pairs.size());
+  tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
+    const auto [i, j] = pairs[k];
+    const io::Vertices& gt = truth.positions[j];
+    aligned[k] = opt.align == "rigid" ? align_rigid(pred.positions[i], gt, sh.component, sh.n_components)
+                                      : align_translation(pred.positions[i], gt, sh.component, sh.n_components);
+    PairResult& r = pm.results[k];
+    r.error = mean_vertex_error(aligned[k], gt);
+    r.unit_ball = unit_ball_squared_error(aligned[k], gt);
+    r.sted_s = sted_spatial(aligned[k], gt, sh.topo, hoods);
+    if (features) r.rse = relative_squared_error(normalized_features(truth, j, nz), normalized_features(pred, i, nz));
+  });
+  for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
+    const auto [i0, j0] = pairs[k];
+    const auto [i1, j1] = pairs[k + 1];
+    const auto s = std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
+    if (i1 != i0 + 1 || static_cast<std::int64_t>(i1) >= *s) continue;
+    pm.sted_t += sted_temporal(aligned[k], aligned[k + 1], truth.positions[j0], truth.positions[j1], sh.topo, opt.sted_dt);
+    ++pm.sted_t_n;
+  }
+  return pm;
+}
+
+// Diverse samples: sequences NAME~k (at least two), by NAME.
+using SampleGroups = std::map<std::string, std::vector<std::size_t>>;
+
+SampleGroups sample_groups(const FrameSet& pred) {
+  SampleGroups groups;
   for (std::size_t s = 0; s < pred.sequences.size(); ++s) {
     const auto tilde = pred.sequences[s].rfind('~');
     if (tilde != std::string::npos) groups[pred.sequences[s].substr(0, tilde)].push_back(s);
   }
   std::erase_if(groups, [](const auto& g) { return g.second.size() < 2; });
+  return groups;
+}
+
+// Spread of diverse samples: samples of equal length compared frame by frame (given frames,
+// identical in every sample, left out). Returns the sum and the count of compared pairs.
+std::pair<double, std::size_t> sample_spread(FrameSet& pred, const SampleGroups& groups, const Shape& sh,
+                                             const std::string& pred_path) {
   double spread = 0;
-  std::size_t spread_n = 0;
-  if (!groups.empty()) {
-    reconstruct(pred);
-    for (const auto& [name, seqs] : groups) {
-      const auto len = pred.offsets[seqs[0] + 1] - pred.offsets[seqs[0]];
-      for (auto s : seqs)
-        if (pred.offsets[s + 1] - pred.offsets[s] != len)
-          throw InvalidInput("samples of '" + name + "' have different lengths", opt.pred);
-      for (std::int64_t t = 0; t < len; ++t) {
-        const auto i0 = static_cast<std::size_t>(pred.offsets[seqs[0]] + t);
-        if (!pred.step.empty() && pred.step[i0] == 0) continue;  // given frames are identical
-        for (std::size_t a = 0; a < seqs.size(); ++a)
-          for (std::size_t b = a + 1; b < seqs.size(); ++b) {
-            const auto& pa = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[a]] + t)];
-            const auto& pb = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[b]] + t)];
-            spread += mean_vertex_error(align_translation(pb, pa, component, n_components), pa);
-            ++spread_n;
-          }
-      }
+  std::size_t n = 0;
+  if (groups.empty()) return {spread, n};
+  reconstruct(pred);
+  for (const auto& [name, seqs] : groups) {
+    const auto len = pred.offsets[seqs[0] + 1] - pred.offsets[seqs[0]];
+    for (auto s : seqs)
+      if (pred.offsets[s + 1] - pred.offsets[s] != len)
+        throw InvalidInput("samples of '" + name + "' have different lengths", pred_path);
+    for (std::int64_t t = 0; t < len; ++t) {
+      const auto i0 = static_cast<std::size_t>(pred.offsets[seqs[0]] + t);
+      if (!pred.step.empty() && pred.step[i0] == 0) continue;
+      for (std::size_t a = 0; a < seqs.size(); ++a)
+        for (std::size_t b = a + 1; b < seqs.size(); ++b) {
+          const auto& pa = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[a]] + t)];
+          const auto& pb = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[b]] + t)];
+          spread += mean_vertex_error(align_translation(pb, pa, sh.component, sh.n_components), pa);
+          ++n;
+        }
     }
   }
+  return {spread, n};
+}
 
-  // Aggregates.
+// The pairs' totals. Given frames (step 0 of generated files) are copies of the truth: the totals
+// leave them out; the per-step table keeps them.
+struct Totals {
   double err = 0, ub = 0, sted_s = 0, rse_max = 0, rse_mean = 0;
-  std::size_t rse_n = 0;
-  std::map<int, std::pair<double, int>> by_step;
-  // Given frames (step 0 of generated files) are copies of the truth: the totals leave them out.
-  const bool skip_given = std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
-  std::size_t counted = 0;
+  std::size_t rse_n = 0, counted = 0;
+  bool skip_given = false;
+  std::map<int, std::pair<double, int>> by_step;  ///< step -> (error sum, frames)
+};
+
+Totals totals_of(const FrameSet& pred, const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                 const std::vector<PairResult>& results) {
+  Totals t;
+  t.skip_given = std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
   for (std::size_t k = 0; k < results.size(); ++k) {
     const auto& r = results[k];
     const int step = pred.step.empty() ? static_cast<int>(pairs[k].first) : pred.step[pairs[k].first];
-    by_step[step].first += r.error, by_step[step].second += 1;
-    if (skip_given && step == 0) continue;
-    ++counted;
-    err += r.error, ub += r.unit_ball, sted_s += r.sted_s;
-    if (r.rse >= 0) rse_max = std::max(rse_max, r.rse), rse_mean += r.rse, ++rse_n;
+    t.by_step[step].first += r.error, t.by_step[step].second += 1;
+    if (t.skip_given && step == 0) continue;
+    ++t.counted;
+    t.err += r.error, t.ub += r.unit_ball, t.sted_s += r.sted_s;
+    if (r.rse >= 0) t.rse_max = std::max(t.rse_max, r.rse), t.rse_mean += r.rse, ++t.rse_n;
   }
-  if (truth && counted == 0) throw InvalidInput("no generated frame has a ground-truth frame to compare with", opt.pred);
-  // Diverse samples against the truth, each sample on its own: the mean error of each sample's
-  // generated frames, then per case the best of its K samples and their mean (a fair comparison
-  // with a single deterministic answer is the mean of K; best of K is what a user who picks gets).
-  double best_of_k = 0, mean_of_k = 0, worst_of_k = 0;
-  std::size_t k_cases = 0;
-  if (truth && !groups.empty()) {
-    std::vector<double> seq_sum(pred.sequences.size(), 0.0);
-    std::vector<std::size_t> seq_n(pred.sequences.size(), 0);
-    for (std::size_t k = 0; k < results.size(); ++k) {
-      const std::size_t i = pairs[k].first;
-      if (skip_given && pred.step[i] == 0) continue;
-      const auto s = static_cast<std::size_t>(
-          std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i)) -
-          pred.offsets.begin() - 1);
-      seq_sum[s] += results[k].error, ++seq_n[s];
-    }
-    for (const auto& [name, seqs] : groups) {
-      std::vector<double> e;
-      for (auto s : seqs)
-        if (seq_n[s]) e.push_back(seq_sum[s] / static_cast<double>(seq_n[s]));
-      if (e.empty()) continue;
-      best_of_k += *std::min_element(e.begin(), e.end());
-      worst_of_k += *std::max_element(e.begin(), e.end());
-      mean_of_k += std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(e.size());
-      ++k_cases;
-    }
-    if (k_cases) best_of_k /= k_cases, worst_of_k /= k_cases, mean_of_k /= k_cases;
+  return t;
+}
+
+// Diverse samples against the truth, each sample on its own: the mean error of each sample's
+// generated frames, then per case the best of its K samples and their mean (a fair comparison
+// with a single deterministic answer is the mean of K; best of K is what a user who picks gets).
+struct SamplesVsTruth {
+  double best = 0, mean = 0, worst = 0;
+  std::size_t cases = 0;
+};
+
+SamplesVsTruth samples_vs_truth(const FrameSet& pred, const SampleGroups& groups,
+                                const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                                const std::vector<PairResult>& results, bool skip_given) {
+  SamplesVsTruth v;
+  if (groups.empty()) return v;
+  std::vector<double> seq_sum(pred.sequences.size(), 0.0);
+  std::vector<std::size_t> seq_n(pred.sequences.size(), 0);
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const std::size_t i = pairs[k].first;
+    if (skip_given && pred.step[i] == 0) continue;
+    const auto s = static_cast<std::size_t>(
+        std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i)) -
+        pred.offsets.begin() - 1);
+    seq_sum[s] += results[k].error, ++seq_n[s];
   }
-  const double np = static_cast<double>(counted);
+  for (const auto& [name, seqs] : groups) {
+    std::vector<double> e;
+    for (auto s : seqs)
+      if (seq_n[s]) e.push_back(seq_sum[s] / static_cast<double>(seq_n[s]));
+    if (e.empty()) continue;
+    v.best += *std::min_element(e.begin(), e.end());
+    v.worst += *std::max_element(e.begin(), e.end());
+    v.mean += std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(e.size());
+    ++v.cases;
+  }
+  if (v.cases) v.best /= v.cases, v.worst /= v.cases, v.mean /= v.cases;
+  return v;
+}
+
+// Everything measured on one file pair (or on PRED alone), as the JSON, the TSV and the table
+// show it.
+struct MeshMeasures {
+  bool has_truth = false;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  PairMeasures pm;
+  Totals totals;
+  SamplesVsTruth samples;
+  FeatureChange change;
+  double spread = 0;
+  std::size_t spread_n = 0, spread_cases = 0;
+  double spread_diag = 0;
+};
+
+nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, const EvalOptions& opt) {
+  nlohmann::ordered_json js;
+  js["pred"] = opt.pred;
+  const auto& t = m.totals;
+  const double np = static_cast<double>(t.counted), diag = m.pm.diag;
   const std::size_t nv = static_cast<std::size_t>(pred.tmpl.vertices.rows());
-  if (truth) {
+  if (m.has_truth) {
     js["truth"] = opt.truth;
-    js["frame_pairs"] = results.size();
+    js["frame_pairs"] = m.pm.results.size();
     if (opt.align != "translation") js["align"] = opt.align;
-    js["frames_measured"] = counted;
+    js["frames_measured"] = t.counted;
     js["diagonal"] = diag;
-    js["vertex_error"] = {{"mean", err / np}, {"mean_relative", err / np / diag}};
+    js["vertex_error"] = {{"mean", t.err / np}, {"mean_relative", t.err / np / diag}};
     nlohmann::ordered_json steps = nlohmann::ordered_json::array();
-    for (const auto& [s, v] : by_step)
+    for (const auto& [s, v] : t.by_step)
       steps.push_back({{"step", s}, {"frames", v.second}, {"mean", v.first / v.second}, {"relative", v.first / v.second / diag}});
     js["vertex_error"]["per_step"] = steps;
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
-    for (std::size_t k = 0; k < results.size(); ++k)
-      frames.push_back({{"pred", pairs[k].first}, {"truth", pairs[k].second}, {"error", results[k].error},
-                        {"sted_spatial", results[k].sted_s}});
+    for (std::size_t k = 0; k < m.pm.results.size(); ++k)
+      frames.push_back({{"pred", m.pairs[k].first}, {"truth", m.pairs[k].second}, {"error", m.pm.results[k].error},
+                        {"sted_spatial", m.pm.results[k].sted_s}});
     js["vertex_error"]["per_frame"] = frames;
-    js["erms"] = erms_from_sum(ub, np, static_cast<double>(nv));
-    const double st = sted_t_n ? sted_t / static_cast<double>(sted_t_n) : 0.0;
-    js["sted"] = {{"spatial", sted_s / np}, {"rings", opt.sted_rings}};
-    if (sted_t_n) {
+    js["erms"] = erms_from_sum(t.ub, np, static_cast<double>(nv));
+    const double st = m.pm.sted_t_n ? m.pm.sted_t / static_cast<double>(m.pm.sted_t_n) : 0.0;
+    js["sted"] = {{"spatial", t.sted_s / np}, {"rings", opt.sted_rings}};
+    if (m.pm.sted_t_n) {
       js["sted"]["temporal"] = st;
-      js["sted"]["combined"] = std::sqrt(std::pow(sted_s / np, 2) + opt.sted_c * opt.sted_c * st * st);
+      js["sted"]["combined"] = std::sqrt(std::pow(t.sted_s / np, 2) + opt.sted_c * opt.sted_c * st * st);
       js["sted"]["dt"] = opt.sted_dt;
       js["sted"]["c"] = opt.sted_c;
     }
-    if (rse_n) js["relative_squared_error"] = {{"max", rse_max}, {"mean", rse_mean / static_cast<double>(rse_n)}};
-    if (k_cases)
-      js["samples_vs_truth"] = {{"cases", k_cases},
-                                {"mean_of_k", mean_of_k},
-                                {"best_of_k", best_of_k},
-                                {"worst_of_k", worst_of_k},
-                                {"mean_of_k_relative", mean_of_k / diag},
-                                {"best_of_k_relative", best_of_k / diag},
-                                {"worst_of_k_relative", worst_of_k / diag}};
+    if (t.rse_n) js["relative_squared_error"] = {{"max", t.rse_max}, {"mean", t.rse_mean / static_cast<double>(t.rse_n)}};
+    const auto& v = m.samples;
+    if (v.cases)
+      js["samples_vs_truth"] = {{"cases", v.cases},
+                                {"mean_of_k", v.mean},
+                                {"best_of_k", v.best},
+                                {"worst_of_k", v.worst},
+                                {"mean_of_k_relative", v.mean / diag},
+                                {"best_of_k_relative", v.best / diag},
+                                {"worst_of_k_relative", v.worst / diag}};
   }
-  if (spread_n) {
-    const auto& T = truth ? truth->tmpl.vertices : pred.tmpl.vertices;
-    const double d = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
-    js["sample_spread"] = {{"mean", spread / static_cast<double>(spread_n)},
-                           {"mean_relative", spread / static_cast<double>(spread_n) / d},
-                           {"cases", groups.size()}};
-  }
-  if (change_n)
+  if (m.spread_n)
+    js["sample_spread"] = {{"mean", m.spread / static_cast<double>(m.spread_n)},
+                           {"mean_relative", m.spread / static_cast<double>(m.spread_n) / m.spread_diag},
+                           {"cases", m.spread_cases}};
+  const auto& c = m.change;
+  if (c.n)
     js["feature_change"] = {{"span", opt.change_span},
-                            {"mean", change_total / static_cast<double>(change_n)},
-                            {"min", *std::min_element(change_by_index.begin(), change_by_index.end())},
-                            {"max", *std::max_element(change_by_index.begin(), change_by_index.end())},
-                            {"per_index", change_by_index}};
+                            {"mean", c.total / static_cast<double>(c.n)},
+                            {"min", *std::min_element(c.by_index.begin(), c.by_index.end())},
+                            {"max", *std::max_element(c.by_index.begin(), c.by_index.end())},
+                            {"per_index", c.by_index}};
+  return js;
+}
 
+// Two data blocks that gnuplot selects by name: index 'step', index 'feature_change'.
+void write_tsv(const MeshMeasures& m, const EvalOptions& opt) {
+  std::ofstream out(opt.tsv);
+  out << "# step: frames error relative_error\n";
+  for (const auto& [st, v] : m.totals.by_step)
+    out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / m.pm.diag);
+  out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n", opt.change_span);
+  for (std::size_t k = 0; k < m.change.by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, m.change.by_index[k]);
+  if (!out) throw IOError("cannot write", opt.tsv);
+}
+
+// The human table.
+std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const FrameSet& pred, const EvalOptions& opt) {
+  const auto& tt = m.totals;
+  const double np = static_cast<double>(tt.counted), diag = m.pm.diag;
+  std::string t = fmt::format(
+      "{}{}\n", opt.pred,
+      m.has_truth ? fmt::format(" vs {} ({} frame pairs{}{})", opt.truth, m.pm.results.size(),
+                                tt.skip_given ? fmt::format("; totals over the {} generated frames", tt.counted) : "",
+                                opt.align == "rigid" ? "; each part aligned by a rotation and translation" : "")
+                  : "");
+  if (m.has_truth) {
+    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n", "per-vertex position error", tt.err / np,
+                     tt.err / np / diag, diag);
+    t += fmt::format("  {:<28} {:.6g}\n", "E_rms", js["erms"].get<double>());
+    t += fmt::format("  {:<28} spatial {:.6g}", "STED", js["sted"]["spatial"].get<double>());
+    if (m.pm.sted_t_n)
+      t += fmt::format("  temporal {:.6g}  combined {:.6g}", js["sted"]["temporal"].get<double>(),
+                       js["sted"]["combined"].get<double>());
+    t += "\n";
+    if (tt.rse_n)
+      t += fmt::format("  {:<28} max {:.6g}  mean {:.6g}\n", "relative squared error", tt.rse_max,
+                       tt.rse_mean / static_cast<double>(tt.rse_n));
+  }
+  if (m.change.n)
+    t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n",
+                     opt.change_span == 1 ? std::string("feature change") : fmt::format("feature change, span {}", opt.change_span),
+                     js["feature_change"]["mean"].get<double>(), js["feature_change"]["min"].get<double>(),
+                     js["feature_change"]["max"].get<double>());
+  if (m.spread_n)
+    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal; {} cases)\n", "spread of samples",
+                     js["sample_spread"]["mean"].get<double>(), js["sample_spread"]["mean_relative"].get<double>(),
+                     m.spread_cases);
+  const auto& v = m.samples;
+  if (v.cases)
+    t += fmt::format("  {:<28} mean of K {:.6g}  best of K {:.6g}  worst of K {:.6g}  (x bbox diagonal {:.4g} / {:.4g} / {:.4g}; {} cases)\n",
+                     "error per sample", v.mean, v.best, v.worst, v.mean / diag, v.best / diag, v.worst / diag, v.cases);
+  if (m.has_truth && tt.by_step.size() > 1) {
+    t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", pred.step.empty() ? "frame" : "step", "frames", "error", "x diagonal");
+    for (const auto& [s, val] : tt.by_step) {
+      const bool show = opt.steps.empty() ? tt.by_step.size() <= 40 || s % 5 == 0
+                                          : std::find(opt.steps.begin(), opt.steps.end(), s) != opt.steps.end();
+      if (show)
+        t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, val.second, val.first / val.second,
+                         val.first / val.second / diag);
+    }
+  }
+  return t;
+}
+
+// eval-metrics on mesh files: PRED alone (feature change, samples' spread) or against TRUTH.
+void eval_meshes(const EvalOptions& opt) {
+  FrameSet pred = read_frame_set(opt.pred);
+  const Shape sh = shape_of(pred);
+  MeshMeasures m;
+  m.change = feature_change_of(pred, opt.change_span);
+  std::optional<FrameSet> truth;
+  if (!opt.truth.empty()) {
+    truth = read_frame_set(opt.truth);
+    m.has_truth = true;
+    m.pairs = pair_frames(pred, *truth, opt);
+    m.pm = measure_pairs(pred, *truth, sh, m.pairs, opt);
+  }
+  const SampleGroups groups = sample_groups(pred);
+  std::tie(m.spread, m.spread_n) = sample_spread(pred, groups, sh, opt.pred);
+  m.spread_cases = groups.size();
+  const auto& T = truth ? truth->tmpl.vertices : pred.tmpl.vertices;
+  m.spread_diag = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
+  m.totals = totals_of(pred, m.pairs, m.pm.results);
+  if (truth && m.totals.counted == 0)
+    throw InvalidInput("no generated frame has a ground-truth frame to compare with", opt.pred);
+  if (truth) m.samples = samples_vs_truth(pred, groups, m.pairs, m.pm.results, m.totals.skip_given);
+
+  const nlohmann::ordered_json js = to_json(m, pred, opt);
   if (!opt.json.empty() && opt.json != "-") {
     std::ofstream out(opt.json);
     out << js.dump(2) << "\n";
     if (!out) throw IOError("cannot write", opt.json);
   }
-  if (!opt.tsv.empty()) {
-    std::ofstream out(opt.tsv);
-    // Two data blocks that gnuplot selects by name: index 'step', index 'feature_change'.
-    out << "# step: frames error relative_error\n";
-    for (const auto& [st, v] : by_step)
-      out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / diag);
-    out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n", opt.change_span);
-    for (std::size_t k = 0; k < change_by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, change_by_index[k]);
-    if (!out) throw IOError("cannot write", opt.tsv);
-  }
-  if (opt.json == "-") {
+  if (!opt.tsv.empty()) write_tsv(m, opt);
+  if (opt.json == "-")
     std::cout << js.dump(2) << "\n";
-    return;
+  else
+    std::cout << table(m, js, pred, opt) << std::flush;
+}
+
+}  // namespace
+
+void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
+  check_options(opt);
+  const std::string kind = io::is_hdf5_path(opt.pred)
+                               ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
+                               : std::string();
+  if (kind == "skeleton") return eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons);
+  if (kind == "components") {
+    if (opt.truth.empty()) throw UsageError("a components file is measured against TRUTH's planted regions");
+    return eval_components(opt.pred, opt.truth, opt.json, opt.support_threshold);
   }
-  // The human table.
-  std::string t = fmt::format(
-      "{}{}\n", opt.pred,
-      truth ? fmt::format(" vs {} ({} frame pairs{}{})", opt.truth, results.size(),
-                          skip_given ? fmt::format("; totals over the {} generated frames", counted) : "",
-                          opt.align == "rigid" ? "; each part aligned by a rotation and translation" : "")
-            : "");
-  if (truth) {
-    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n", "per-vertex position error", err / np,
-                     err / np / diag, diag);
-    t += fmt::format("  {:<28} {:.6g}\n", "E_rms", js["erms"].get<double>());
-    t += fmt::format("  {:<28} spatial {:.6g}", "STED", js["sted"]["spatial"].get<double>());
-    if (sted_t_n)
-      t += fmt::format("  temporal {:.6g}  combined {:.6g}", js["sted"]["temporal"].get<double>(),
-                       js["sted"]["combined"].get<double>());
-    t += "\n";
-    if (rse_n) t += fmt::format("  {:<28} max {:.6g}  mean {:.6g}\n", "relative squared error", rse_max, rse_mean / static_cast<double>(rse_n));
-  }
-  if (change_n)
-    t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n",
-                     opt.change_span == 1 ? std::string("feature change") : fmt::format("feature change, span {}", opt.change_span),
-                     js["feature_change"]["mean"].get<double>(), js["feature_change"]["min"].get<double>(),
-                     js["feature_change"]["max"].get<double>());
-  if (spread_n)
-    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal; {} cases)\n", "spread of samples",
-                     js["sample_spread"]["mean"].get<double>(), js["sample_spread"]["mean_relative"].get<double>(),
-                     groups.size());
-  if (k_cases)
-    t += fmt::format("  {:<28} mean of K {:.6g}  best of K {:.6g}  worst of K {:.6g}  (x bbox diagonal {:.4g} / {:.4g} / {:.4g}; {} cases)\n",
-                     "error per sample", mean_of_k, best_of_k, worst_of_k, mean_of_k / diag, best_of_k / diag,
-                     worst_of_k / diag, k_cases);
-  if (truth && by_step.size() > 1) {
-    t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", pred.step.empty() ? "frame" : "step", "frames", "error", "x diagonal");
-    for (const auto& [s, v] : by_step) {
-      const bool show = opt.steps.empty() ? by_step.size() <= 40 || s % 5 == 0
-                                          : std::find(opt.steps.begin(), opt.steps.end(), s) != opt.steps.end();
-      if (show) t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, v.second, v.first / v.second, v.first / v.second / diag);
-    }
-  }
-  std::cout << t << std::flush;
+  eval_meshes(opt);
 }
 
 }  // namespace df::apps
