@@ -44,68 +44,71 @@ void labels_of(const std::vector<SequenceInfo>& seqs, std::vector<std::string>& 
 
 }  // namespace
 
-void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
-  auto t_start = std::chrono::steady_clock::now();
-  FrameReader reader(opt.inputs);
-  auto sequences = reader.sequences();
-  if (!opt.labels.empty()) {
-    if (opt.labels.size() != sequences.size())
-      throw UsageError(fmt::format("--labels gives {} labels for {} sequences", opt.labels.size(), sequences.size()));
-    for (std::size_t s = 0; s < sequences.size(); ++s) sequences[s].label = opt.labels[s];
-  }
+namespace {
+
+// The reader's sequences with --labels given to them (one per sequence), and the classes.
+struct Labelled {
+  std::vector<SequenceInfo> sequences;
   std::vector<std::string> classes;
   std::vector<std::int32_t> label_index;
-  labels_of(sequences, classes, label_index);
-  const std::size_t n = reader.size();
-  if (n == 0) throw InvalidInput("the inputs hold no frames");
+};
 
-  // Reference (template): --reference, or the first frame.
-  const std::string reference_name = opt.reference.empty() ? reader.frame_origin(0) : opt.reference;
-  io::Mesh reference;
-  if (opt.reference.empty()) {
-    reference = reader.read(0);
-  } else {
-    io::MeshReadReport rep;
-    reference = io::read_mesh(opt.reference, &rep);
-    io::warn_about(rep, opt.reference);
+Labelled labelled_sequences(const FrameReader& reader, const std::vector<std::string>& labels) {
+  Labelled l{reader.sequences(), {}, {}};
+  if (!labels.empty()) {
+    if (labels.size() != l.sequences.size())
+      throw UsageError(fmt::format("--labels gives {} labels for {} sequences", labels.size(), l.sequences.size()));
+    for (std::size_t s = 0; s < l.sequences.size(); ++s) l.sequences[s].label = labels[s];
   }
-  const auto nv = static_cast<std::size_t>(reference.vertices.rows());
+  labels_of(l.sequences, l.classes, l.label_index);
+  return l;
+}
 
-  auto inputs = as_paths(reader.input_paths());
-  if (!opt.reference.empty()) inputs.emplace_back(opt.reference);
-  AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, inputs);
-  log::info("{} frames in {} sequences, {} vertices, {} triangles; reference {}", n, sequences.size(), nv,
-            reference.faces.rows(), reference_name);
+// The template: --reference, or the first frame.
+io::Mesh read_reference(FrameReader& reader, const std::string& reference) {
+  if (reference.empty()) return reader.read(0);
+  io::MeshReadReport rep;
+  io::Mesh mesh = io::read_mesh(reference, &rep);
+  io::warn_about(rep, reference);
+  return mesh;
+}
 
-  geometry::AcapFeatureExtractor extractor(reference.vertices, reference.faces, opt.consistency_options);
-  log::debug("template: {} edges", extractor.topology().edges.size());
-
-  io::AcapWriter f(out.temp_path(), opt.output, reader.histories());
+// Template, frame names, sequences and labels, and the three datasets the frames fill.
+std::vector<std::string> write_layout(io::AcapWriter& f, const FrameReader& reader, const Labelled& l,
+                                      const io::Mesh& reference) {
+  const std::size_t n = reader.size(), nv = static_cast<std::size_t>(reference.vertices.rows());
   f.write_template(reference);
   std::vector<std::string> frame_names, seq_names;
   std::vector<std::int64_t> offsets{0};
   for (std::size_t i = 0; i < n; ++i) frame_names.push_back(reader.frame_name(i));
-  for (const auto& s : sequences) {
+  for (const auto& s : l.sequences) {
     seq_names.push_back(s.name);
     offsets.push_back(static_cast<std::int64_t>(s.first + s.count));
   }
   f.write_frame_names(frame_names);
   f.write_sequences(offsets, seq_names);
-  if (!classes.empty()) {
-    f.write_labels(label_index, classes);
-  }
+  if (!l.classes.empty()) f.write_labels(l.label_index, l.classes);
   f.create_positions(n, nv);
   f.create_raw(n, nv);
   f.create_normalized(n, nv);
+  return frame_names;
+}
 
-  // First frame of each sequence starts without a temporal prior.
+// Every frame's positions and raw features, written in order; returns their normalization.
+// A pipeline over blocks of frames: read + decompose T = RS, log R (parallel) -> consistency in
+// time order (the first frame of each sequence without a temporal prior), pack, write (in order).
+// The in-order stage of one block overlaps with the parallel stage of the next. A bad frame is
+// reported deterministically: the first one.
+geometry::Normalization extract_features(FrameReader& reader, const Labelled& l, const io::Mesh& reference,
+                                         const std::string& reference_name,
+                                         const std::vector<std::string>& frame_names,
+                                         const Obj2AcapOptions& opt, io::AcapWriter& f) {
+  const std::size_t n = reader.size(), nv = static_cast<std::size_t>(reference.vertices.rows());
+  geometry::AcapFeatureExtractor extractor(reference.vertices, reference.faces, opt.consistency_options);
+  log::debug("template: {} edges", extractor.topology().edges.size());
   std::vector<char> starts(n, 0);
-  for (const auto& s : sequences)
+  for (const auto& s : l.sequences)
     if (s.count) starts[s.first] = 1;
-
-  // A pipeline over blocks of frames: read + decompose T = RS, log R (parallel) -> consistency
-  // in time order, pack, write (in order). The in-order stage of one block overlaps with the
-  // parallel stage of the next. A bad frame is reported deterministically: the first one.
   struct Block {
     std::size_t first = 0, count = 0;
     std::vector<io::Vertices> positions;
@@ -199,10 +202,14 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
   if (opt.consistency)
     log::debug("consistency totals: axis agreement {} (+{}), angle spread {:.6g} (-{:.6g})", axis_before,
                axis_gain, angle_before, angle_gain);
+  return norm.finish();
+}
 
-  // Normalization over all frames, then the normalized copy.
-  const geometry::Normalization nz = norm.finish();
+// The normalization over all frames, then the normalized copy, block by block.
+void write_normalized(io::AcapWriter& f, const geometry::Normalization& nz, std::size_t n, std::size_t nv,
+                      std::size_t block) {
   f.write_normalization(nz);
+  std::vector<double> raw;
   std::vector<float> normalized;
   for (std::size_t first = 0; first < n; first += block) {
     const std::size_t count = std::min(block, n - first);
@@ -213,9 +220,33 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
       normalized[k] = static_cast<float>(nz.normalize(static_cast<int>(k % kFeatureDims), raw[k]));
     f.write_normalized_rows(first, count, normalized.data());
   }
+}
+
+}  // namespace
+
+void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
+  const auto t_start = std::chrono::steady_clock::now();
+  FrameReader reader(opt.inputs);
+  const Labelled labelled = labelled_sequences(reader, opt.labels);
+  const std::size_t n = reader.size();
+  if (n == 0) throw InvalidInput("the inputs hold no frames");
+  const std::string reference_name = opt.reference.empty() ? reader.frame_origin(0) : opt.reference;
+  const io::Mesh reference = read_reference(reader, opt.reference);
+  const auto nv = static_cast<std::size_t>(reference.vertices.rows());
+
+  auto inputs = as_paths(reader.input_paths());
+  if (!opt.reference.empty()) inputs.emplace_back(opt.reference);
+  AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, inputs);
+  log::info("{} frames in {} sequences, {} vertices, {} triangles; reference {}", n, labelled.sequences.size(), nv,
+            reference.faces.rows(), reference_name);
+  io::AcapWriter f(out.temp_path(), opt.output, reader.histories());
+  const auto frame_names = write_layout(f, reader, labelled, reference);
+  const geometry::Normalization nz =
+      extract_features(reader, labelled, reference, reference_name, frame_names, opt, f);
+  write_normalized(f, nz, n, nv, std::max<std::size_t>(1, opt.block_frames));
   f.close();
   out.commit();
-  double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   log::info("wrote {}: {} frames x {} vertices in {:.2f} s ({:.3g} vertex-frames/s)", opt.output, n, nv, secs,
             static_cast<double>(n * nv) / secs);
 }
