@@ -79,112 +79,131 @@ std::vector<std::size_t> parse_frame_selection(const std::string& spec, std::siz
   return {out.begin(), out.end()};
 }
 
-void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
-  auto t0 = std::chrono::steady_clock::now();
-  const io::AcapReader in(opt.input);
+namespace {
+
+void check_options(const Acap2ObjOptions& opt) {
+  if (opt.features != "raw" && opt.features != "normalized" && opt.features != "auto")
+    throw UsageError("--features must be raw, normalized or auto");
+  if (opt.anchor_positions != "auto" && opt.anchor_positions != "reference" && opt.anchor_positions != "frames")
+    throw UsageError("--anchor-positions must be auto, reference or frames");
+  if (opt.solver != "gradients" && opt.solver != "edges") throw UsageError("--solver must be gradients or edges");
+}
+
+// Which features to reconstruct from (--features; auto: raw when the file has them) and, for the
+// normalized ones, the numbers that undo the normalization.
+struct FeatureSource {
+  bool raw = false;
+  geometry::Normalization nz;
+};
+
+FeatureSource feature_source(const io::AcapReader& in, const Acap2ObjOptions& opt) {
   const bool has_raw = in.has_raw(), has_norm = in.has_normalized();
   if (!has_raw && !has_norm)
     throw InvalidInput("has no features (/features/raw or /features/normalized); run obj2acap first", opt.input);
-  bool use_raw = opt.features == "raw" || (opt.features == "auto" && has_raw);
   if (opt.features == "raw" && !has_raw) throw InvalidInput("has no /features/raw", opt.input);
   if (opt.features == "normalized" && !has_norm) throw InvalidInput("has no /features/normalized", opt.input);
-  if (opt.features != "raw" && opt.features != "normalized" && opt.features != "auto")
-    throw UsageError("--features must be raw, normalized or auto");
-  geometry::Normalization nz;
-  if (!use_raw) nz = in.normalization();
+  FeatureSource src;
+  src.raw = opt.features == "raw" || (opt.features == "auto" && has_raw);
+  if (!src.raw) src.nz = in.normalization();
+  return src;
+}
 
-  const io::Mesh tmpl = in.read_template();
-  const std::size_t nv = in.vertices(), n_all = in.frames();
-  const bool has_positions = in.has_positions();
-  if (opt.anchor_positions != "auto" && opt.anchor_positions != "reference" && opt.anchor_positions != "frames")
-    throw UsageError("--anchor-positions must be auto, reference or frames");
-  if (opt.anchor_positions == "frames" && !has_positions)
-    throw InvalidInput("--anchor-positions frames needs /frames/positions", opt.input);
-  const bool pin_to_frames = has_positions && opt.anchor_positions != "reference";
+// The frames --frames and --sequence select, with every frame's sequence.
+struct Selection {
+  std::vector<std::string> names, seq_names;
+  std::vector<std::size_t> seq_of;  ///< sequence of every frame of the file
+  std::vector<std::size_t> frames;  ///< the selected ones, in order
+};
 
-  // Frame selection: --frames and --sequence.
-  const auto names = in.frame_names();
-  const auto seq_names = in.sequence_names();
+Selection select_frames(const io::AcapReader& in, const Acap2ObjOptions& opt) {
+  Selection sel{in.frame_names(), in.sequence_names(), std::vector<std::size_t>(in.frames()), {}};
   const auto offsets = in.offsets();
-  std::vector<std::size_t> seq_of(n_all);
   for (std::size_t s = 0; s + 1 < offsets.size(); ++s)
-    for (auto f = offsets[s]; f < offsets[s + 1]; ++f) seq_of[static_cast<std::size_t>(f)] = s;
-  std::vector<std::size_t> frames = parse_frame_selection(opt.frames, n_all);
+    for (auto f = offsets[s]; f < offsets[s + 1]; ++f) sel.seq_of[static_cast<std::size_t>(f)] = s;
+  sel.frames = parse_frame_selection(opt.frames, in.frames());
   if (!opt.sequences.empty()) {
     for (const auto& s : opt.sequences)
-      if (std::find(seq_names.begin(), seq_names.end(), s) == seq_names.end())
-        throw UsageError(fmt::format("no sequence '{}' in {} (it has: {})", s, opt.input, fmt::join(seq_names, ", ")));
-    std::erase_if(frames, [&](std::size_t i) {
-      return std::find(opt.sequences.begin(), opt.sequences.end(), seq_names[seq_of[i]]) == opt.sequences.end();
+      if (std::find(sel.seq_names.begin(), sel.seq_names.end(), s) == sel.seq_names.end())
+        throw UsageError(fmt::format("no sequence '{}' in {} (it has: {})", s, opt.input, fmt::join(sel.seq_names, ", ")));
+    std::erase_if(sel.frames, [&](std::size_t i) {
+      return std::find(opt.sequences.begin(), opt.sequences.end(), sel.seq_names[sel.seq_of[i]]) == opt.sequences.end();
     });
   }
-  if (frames.empty()) throw UsageError("the selection holds no frames");
+  if (sel.frames.empty()) throw UsageError("the selection holds no frames");
+  return sel;
+}
 
-  if (opt.solver != "gradients" && opt.solver != "edges") throw UsageError("--solver must be gradients or edges");
-  const auto solver = opt.solver == "gradients" ? geometry::ReconstructionSolver::gradients
-                                                : geometry::ReconstructionSolver::edges;
-  geometry::Reconstructor rec(tmpl.vertices, tmpl.faces, opt.anchor, solver);
-  log::info("template {} vertices, {} components; {} system factored in {:.3f} s", nv, rec.components(),
-            opt.solver == "gradients" ? "gradient" : "edge", rec.factor_seconds());
-  const double diag = (tmpl.vertices.colwise().maxCoeff() - tmpl.vertices.colwise().minCoeff()).norm();
-
-  // Output: a directory of meshes, or an acap .h5.
-  const bool h5out = io::is_hdf5_path(opt.output);
-  AtomicOutput out(opt.output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory, common.force,
-                   {opt.input});
+// The mesh files' names (--name; by default the frame names, with the sequence when two frames
+// share a name), checked to be plain, distinct mesh file names.
+std::vector<std::string> mesh_file_names(const Selection& sel, const std::string& name_pattern) {
+  std::string pattern = name_pattern;
+  if (pattern.empty()) {
+    std::set<std::string> unique;
+    for (auto i : sel.frames) unique.insert(sel.names[i]);
+    pattern = unique.size() == sel.frames.size() ? "{name}.obj" : "{sequence}-{name}.obj";
+  }
   std::vector<std::string> file_names;
-  if (!h5out) {
-    std::string pattern = opt.name_pattern;
-    if (pattern.empty()) {
-      std::set<std::string> unique;
-      for (auto i : frames) unique.insert(names[i]);
-      pattern = unique.size() == frames.size() ? "{name}.obj" : "{sequence}-{name}.obj";
+  std::set<std::string> seen;
+  for (auto i : sel.frames) {
+    std::string name;
+    try {
+      name = fmt::format(fmt::runtime(pattern), fmt::arg("name", sel.names[i]), fmt::arg("index", i),
+                         fmt::arg("sequence", sel.seq_names[sel.seq_of[i]]));
+    } catch (const fmt::format_error& e) {
+      throw UsageError(fmt::format("bad --name pattern '{}': {}", pattern, e.what()));
     }
-    std::set<std::string> seen;
-    for (auto i : frames) {
-      std::string name;
-      try {
-        name = fmt::format(fmt::runtime(pattern), fmt::arg("name", names[i]), fmt::arg("index", i),
-                           fmt::arg("sequence", seq_names[seq_of[i]]));
-      } catch (const fmt::format_error& e) {
-        throw UsageError(fmt::format("bad --name pattern '{}': {}", pattern, e.what()));
-      }
-      if (name.find('/') != std::string::npos || name.empty()) throw UsageError("--name must give plain file names: " + name);
-      if (!io::is_mesh_file(name)) throw UsageError("--name must end in .obj, .ply or .off: " + name);
-      if (!seen.insert(name).second) throw UsageError("two frames get the file name " + name + "; use --name with {index}");
-      file_names.push_back(name);
-    }
+    if (name.find('/') != std::string::npos || name.empty()) throw UsageError("--name must give plain file names: " + name);
+    if (!io::is_mesh_file(name)) throw UsageError("--name must end in .obj, .ply or .off: " + name);
+    if (!seen.insert(name).second) throw UsageError("two frames get the file name " + name + "; use --name with {index}");
+    file_names.push_back(name);
   }
-  std::unique_ptr<io::AcapWriter> f;
-  if (h5out) {
-    f = std::make_unique<io::AcapWriter>(out.temp_path(), opt.output, std::vector<std::string>{in.history()});
-    f->write_template(tmpl);
-    std::vector<std::string> sel_names, sel_seqs;
-    std::vector<std::int64_t> sel_offsets{0};
-    std::vector<std::int32_t> sel_labels;
-    const bool labelled = in.labelled();
-    const auto labels = labelled ? in.labels() : std::vector<std::int32_t>{};
-    for (std::size_t k = 0; k < frames.size(); ++k) {
-      std::size_t s = seq_of[frames[k]];
-      if (k == 0 || seq_of[frames[k - 1]] != s) {
-        if (k) sel_offsets.push_back(static_cast<std::int64_t>(k));
-        sel_seqs.push_back(seq_names[s]);
-        if (labelled) sel_labels.push_back(labels[s]);
-      }
-      sel_names.push_back(names[frames[k]]);
-    }
-    sel_offsets.push_back(static_cast<std::int64_t>(frames.size()));
-    f->write_frame_names(sel_names);
-    f->write_sequences(sel_offsets, sel_seqs);
-    if (labelled) f->write_labels(sel_labels, in.class_names());
-    f->create_positions(frames.size(), nv);
-  }
+  return file_names;
+}
 
+// An acap output: the template, the selected frames' names, sequences and labels, and room for
+// their positions.
+std::unique_ptr<io::AcapWriter> acap_output(const std::filesystem::path& temp, const std::string& output,
+                                            const io::AcapReader& in, const io::Mesh& tmpl, const Selection& sel) {
+  auto f = std::make_unique<io::AcapWriter>(temp, output, std::vector<std::string>{in.history()});
+  f->write_template(tmpl);
+  std::vector<std::string> sel_names, sel_seqs;
+  std::vector<std::int64_t> sel_offsets{0};
+  std::vector<std::int32_t> sel_labels;
+  const bool labelled = in.labelled();
+  const auto labels = labelled ? in.labels() : std::vector<std::int32_t>{};
+  const auto& frames = sel.frames;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    std::size_t s = sel.seq_of[frames[k]];
+    if (k == 0 || sel.seq_of[frames[k - 1]] != s) {
+      if (k) sel_offsets.push_back(static_cast<std::int64_t>(k));
+      sel_seqs.push_back(sel.seq_names[s]);
+      if (labelled) sel_labels.push_back(labels[s]);
+    }
+    sel_names.push_back(sel.names[frames[k]]);
+  }
+  sel_offsets.push_back(static_cast<std::int64_t>(frames.size()));
+  f->write_frame_names(sel_names);
+  f->write_sequences(sel_offsets, sel_seqs);
+  if (labelled) f->write_labels(sel_labels, in.class_names());
+  f->create_positions(frames.size(), static_cast<std::size_t>(tmpl.vertices.rows()));
+  return f;
+}
+
+// Every selected frame solved and written (to `f`, or as a mesh file in `dir`); the round-trip
+// error per frame against the stored positions when the file has them. Frames in blocks:
+// contiguous runs are read with one call (parallel chunk decompression), solved in parallel,
+// written in order. Buffers are reused across blocks.
+std::vector<FrameError> reconstruct_frames(const io::AcapReader& in, const FeatureSource& src,
+                                           const Selection& sel, const geometry::Reconstructor& rec,
+                                           bool pin_to_frames, const io::Mesh& tmpl, io::AcapWriter* f,
+                                           const std::filesystem::path& dir,
+                                           const std::vector<std::string>& file_names) {
+  const std::size_t nv = in.vertices();
+  const bool has_positions = in.has_positions();
+  const auto& frames = sel.frames;
   io::MeshWriter writer(tmpl.faces, nv);
   Progress progress("reconstructing frames", frames.size());
   const std::size_t block = 64;
-  // Frames in blocks: contiguous runs are read with one call (parallel chunk decompression),
-  // solved in parallel, written in order. Buffers are reused across blocks.
   const std::size_t row = nv * kFeatureDims;
   std::vector<double> feat(block * row);
   std::vector<float> featf, pos_in, pos_out(block * nv * 3);
@@ -192,13 +211,13 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   std::vector<FrameError> errors(frames.size());
   auto read_run = [&](std::size_t k0, std::size_t len) {  // frames[k0..k0+len) are consecutive
     const std::size_t i = frames[k0], b = k0 % block;
-    if (use_raw) {
+    if (src.raw) {
       in.read_raw(i, len, feat.data() + b * row);
     } else {
       featf.resize(len * row);
       in.read_normalized(i, len, featf.data());
       for (std::size_t k = 0; k < featf.size(); ++k)
-        feat[b * row + k] = nz.denormalize(static_cast<int>(k % kFeatureDims), featf[k]);
+        feat[b * row + k] = src.nz.denormalize(static_cast<int>(k % kFeatureDims), featf[k]);
     }
     if (has_positions) {
       pos_in.resize(len * nv * 3);
@@ -220,28 +239,63 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t b) {
       result[b] = rec.solve(feat.data() + b * row, pin_to_frames ? &truth[b] : nullptr);
       if (has_positions) errors[first + b] = frame_error(result[b], truth[b], rec.component_of(), rec.components());
-      if (h5out)
+      if (f)
         for (std::size_t k = 0; k < nv * 3; ++k) pos_out[b * nv * 3 + k] = static_cast<float>(result[b].data()[k]);
       else
-        writer.write((out.temp_path() / file_names[first + b]).string(), result[b]);
+        writer.write((dir / file_names[first + b]).string(), result[b]);
       progress.advance();
     });
-    if (h5out) f->write_positions_rows(first, count, pos_out.data());
+    if (f) f->write_positions_rows(first, count, pos_out.data());
   }
   progress.finish();
+  if (!has_positions) errors.clear();
+  return errors;
+}
+
+void report_round_trip(const std::vector<FrameError>& errors, const Selection& sel, double diag) {
+  if (errors.empty()) return;
+  auto worst = std::max_element(errors.begin(), errors.end(), [](auto& a, auto& b) { return a.max < b.max; });
+  double mean = 0;
+  for (const auto& e : errors) mean += e.mean / static_cast<double>(errors.size());
+  const std::size_t frame = sel.frames[static_cast<std::size_t>(worst - errors.begin())];
+  log::info("round-trip error vs stored positions (per-component translation removed): max {:.3g} x bbox "
+            "diagonal (frame {} '{}'), mean {:.3g} x diagonal",
+            worst->max / diag, frame, sel.names[frame], mean / diag);
+}
+
+}  // namespace
+
+void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_options(opt);
+  const io::AcapReader in(opt.input);
+  const FeatureSource src = feature_source(in, opt);
+  const io::Mesh tmpl = in.read_template();
+  if (opt.anchor_positions == "frames" && !in.has_positions())
+    throw InvalidInput("--anchor-positions frames needs /frames/positions", opt.input);
+  const bool pin_to_frames = in.has_positions() && opt.anchor_positions != "reference";
+  const Selection sel = select_frames(in, opt);
+
+  const auto solver = opt.solver == "gradients" ? geometry::ReconstructionSolver::gradients
+                                                : geometry::ReconstructionSolver::edges;
+  geometry::Reconstructor rec(tmpl.vertices, tmpl.faces, opt.anchor, solver);
+  log::info("template {} vertices, {} components; {} system factored in {:.3f} s", in.vertices(), rec.components(),
+            opt.solver == "gradients" ? "gradient" : "edge", rec.factor_seconds());
+  const double diag = (tmpl.vertices.colwise().maxCoeff() - tmpl.vertices.colwise().minCoeff()).norm();
+
+  // Output: a directory of meshes, or an acap .h5.
+  const bool h5out = io::is_hdf5_path(opt.output);
+  AtomicOutput out(opt.output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory, common.force,
+                   {opt.input});
+  const std::vector<std::string> file_names = h5out ? std::vector<std::string>{} : mesh_file_names(sel, opt.name_pattern);
+  const auto f = h5out ? acap_output(out.temp_path(), opt.output, in, tmpl, sel) : nullptr;
+  const auto errors =
+      reconstruct_frames(in, src, sel, rec, pin_to_frames, tmpl, f.get(), out.temp_path(), file_names);
   if (f) f->close();
   out.commit();
-  double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  log::info("wrote {} frames to {} in {:.2f} s", frames.size(), opt.output, secs);
-  if (has_positions) {
-    auto worst = std::max_element(errors.begin(), errors.end(), [](auto& a, auto& b) { return a.max < b.max; });
-    double mean = 0;
-    for (const auto& e : errors) mean += e.mean / static_cast<double>(errors.size());
-    log::info("round-trip error vs stored positions (per-component translation removed): max {:.3g} x bbox "
-              "diagonal (frame {} '{}'), mean {:.3g} x diagonal",
-              worst->max / diag, frames[static_cast<std::size_t>(worst - errors.begin())],
-              names[frames[static_cast<std::size_t>(worst - errors.begin())]], mean / diag);
-  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log::info("wrote {} frames to {} in {:.2f} s", sel.frames.size(), opt.output, secs);
+  report_round_trip(errors, sel, diag);
 }
 
 }  // namespace df::convert
