@@ -178,7 +178,9 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   net.decoder_init = "zero";
 }
 
-void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
+namespace {
+
+void check_options(const BdlstmTrainOptions& opt) {
   if (opt.training.window < 2) throw UsageError("--window must be at least 2");
   if (opt.training.batch < 1 || opt.training.stride < 1 || opt.training.iterations < 0)
     throw UsageError("--batch and --stride must be positive, --iterations not negative");
@@ -188,11 +190,12 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
   if (!(opt.training.collapse_threshold >= 0))
     throw UsageError("--collapse-threshold must not be negative");
+}
 
-  check_training_output(opt.output, opt.input, common.force);
-  const io::AcapReader in(opt.input);
-  if (!in.has_normalized())
-    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
+// The model to train as the options and the data describe it: settings, template,
+// normalization, the split of every sequence (no weights yet).
+BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& common,
+                           const io::AcapReader& in) {
   BdlstmModel m;
   m.config = opt.net;
   m.training = opt.training;
@@ -200,37 +203,42 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   m.history = in.history();
   m.tmpl = in.read_template();
   m.normalization = in.normalization();
-  const auto offsets = in.offsets();
   m.split.data = opt.input;
   m.split.sequences = in.sequence_names();
-  split_sequences(offsets, m.training.test_fraction, m.training.test_part, common.seed, m.split,
+  split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed, m.split,
                   m.training.validation_fraction);
+  return m;
+}
 
-  // Windows: every start in a training part that leaves room for the whole window.
+// Windows: every start in a training part that leaves room for the whole window; none is an
+// InvalidInput that names the longest run of training frames there is.
+std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::string& input) {
   const std::int64_t span =
       static_cast<std::int64_t>(m.training.window - 1) * m.training.stride + 1;
-  const std::vector<std::int64_t> starts = window_starts(m.split, span);
-  if (starts.empty()) {
-    std::int64_t longest = 0;  // the longest run of training frames (clear of test and validation)
-    for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
-      std::int64_t run = 0;
-      for (std::int64_t f = m.split.train_begin[s]; f < m.split.train_end[s]; ++f) {
-        const bool held = (f >= m.split.test_begin[s] && f < m.split.test_end[s]) ||
-                          (f >= m.split.validation_begin[s] && f < m.split.validation_end[s]);
-        run = held ? 0 : run + 1;
-        longest = std::max(longest, run);
-      }
+  std::vector<std::int64_t> starts = window_starts(m.split, span);
+  if (!starts.empty()) return starts;
+  std::int64_t longest = 0;  // the longest run of training frames (clear of test and validation)
+  for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
+    std::int64_t run = 0;
+    for (std::int64_t f = m.split.train_begin[s]; f < m.split.train_end[s]; ++f) {
+      const bool held = (f >= m.split.test_begin[s] && f < m.split.test_end[s]) ||
+                        (f >= m.split.validation_begin[s] && f < m.split.validation_end[s]);
+      run = held ? 0 : run + 1;
+      longest = std::max(longest, run);
     }
-    throw InvalidInput(
-        fmt::format(
-            "no sequence has a training part of {} frames (window {}, stride {}); the longest "
-            "has {}: use a smaller --window, --stride or --validation-fraction",
-            span, m.training.window, m.training.stride, longest),
-        opt.input);
   }
+  throw InvalidInput(
+      fmt::format(
+          "no sequence has a training part of {} frames (window {}, stride {}); the longest "
+          "has {}: use a smaller --window, --stride or --validation-fraction",
+          span, m.training.window, m.training.stride, longest),
+      input);
+}
 
-  const std::string ckpt = opt.run.checkpoint_path(opt.output);
-  if (opt.run.resume && std::filesystem::exists(ckpt)) {
+// Continues the checkpoint (weights, Adam, RNG, log, the collapse check's verdict) when resuming
+// and one exists, else starts afresh.
+void restore_or_initialize(BdlstmModel& m, bool resume, const std::string& ckpt) {
+  if (resume && std::filesystem::exists(ckpt)) {
     BdlstmModel ck = load_bdlstm_model(ckpt);
     check_resumable(ck, m, ckpt);
     m.net = std::move(ck.net);
@@ -250,6 +258,20 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   if (m.iteration > m.training.iterations)
     throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}",
                                  m.iteration, m.training.iterations));
+}
+
+}  // namespace
+
+void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
+  check_options(opt);
+  check_training_output(opt.output, opt.input, common.force);
+  const io::AcapReader in(opt.input);
+  if (!in.has_normalized())
+    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
+  BdlstmModel m = describe_model(opt, common, in);
+  const std::vector<std::int64_t> starts = training_windows(m, opt.input);
+  const std::string ckpt = opt.run.checkpoint_path(opt.output);
+  restore_or_initialize(m, opt.run.resume, ckpt);
 
   // The normalized features of all frames, one row per frame.
   const Eigen::Index v9 = m.net->frame_size();
