@@ -4,7 +4,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <type_traits>
+#include <span>
+#include <stdexcept>
 
 #include "core/error.h"
 
@@ -48,7 +49,7 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
     std::visit(
         Overloaded{
             [&](bool* p) {
-              const bool given = !*p;  // the flag turns the default over
+              const bool given = !*s.option;  // --name sets it, a named option clears it
               group.add_flag_callback(flag, [p, given] { *p = given; }, s.help);
             },
             [&](std::vector<int>* p) {
@@ -143,12 +144,21 @@ void require_same_settings(const Settings& checkpoint, const Settings& now,
   for (std::size_t k = 0; k < now.size(); ++k) {
     if (!now[k].resume) continue;
     const std::string a = checkpoint[k].value_text(), b = now[k].value_text();
-    if (a != b)
-      throw InvalidInput(
-          fmt::format("checkpoint was made with {} {}, this run has {}; remove it or use the "
-                      "same settings",
-                      now[k].option_name(), a, b),
-          path);
+    if (a == b) continue;
+    if (const auto* p = std::get_if<bool*>(&now[k].target)) {
+      // Said as the flag: whether the checkpoint's run gave it.
+      const bool flag_now = (**p) == !*now[k].option;
+      throw InvalidInput(fmt::format("checkpoint was made {} {}, this run {}; remove it or use the "
+                                     "same settings",
+                                     flag_now ? "without" : "with", now[k].option_name(),
+                                     flag_now ? "gives it" : "does not"),
+                         path);
+    }
+    throw InvalidInput(
+        fmt::format("checkpoint was made with {} {}, this run has {}; remove it or use the "
+                    "same settings",
+                    now[k].option_name(), a, b),
+        path);
   }
 }
 

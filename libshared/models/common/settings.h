@@ -36,8 +36,8 @@ struct Setting {
   const char* help = "";
   /// A string's allowed values on the command line (empty: any)
   std::vector<std::string> choices = {};
-  /// The option when it is not --name. A bool is a flag that turns its default over ("--separate"
-  /// sets a default false, "--no-kl" or "--freeze-decoder" clears a default true)
+  /// The option when it is not --name. A bool is a flag: --name sets it ("--separate"), a named
+  /// option clears it ("--no-kl" for kl, "--freeze-decoder" for train_decoder)
   const char* option = "";
   /// A resumed run must have the same value (false: e.g. the iteration count it runs to)
   bool resume = true;
@@ -52,7 +52,7 @@ struct Setting {
 using Settings = std::vector<Setting>;
 
 /// Declares the settings that have help text as options of `group` (defaults shown; choices
-/// checked; lists comma-separated; bools as flags that turn the field's value at this call over).
+/// checked; lists comma-separated; bools as flags, see Setting::option).
 void add_settings(CLI::Option_group& group, const Settings& settings);
 
 /// Writes every setting as an attribute of `object` (bool and integers as integers, the 64-bit

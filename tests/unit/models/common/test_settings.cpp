@@ -122,6 +122,16 @@ TEST_CASE("settings: the model file's /config round trip, old files, the resume 
       [&] { require_same_settings(toy_settings(b), toy_settings(d), "ck.h5"); });
   CHECK_THAT(msg, Catch::Contains("made with --kz 7,3,2, this run has 7,3"));
   CHECK_THAT(msg, Catch::Contains("ck.h5"));
+  // A flag is named as the flag, whichever way its field reads.
+  Toy e = b;
+  e.kz = b.kz;
+  e.attention = !b.attention;  // b was made with --no-attention
+  CHECK_THAT(test::error_message([&] { require_same_settings(toy_settings(b), toy_settings(e), "ck.h5"); }),
+             Catch::Contains("made with --no-attention, this run does not"));
+  Toy g = b;
+  g.separate = true;  // b was made without --separate
+  CHECK_THAT(test::error_message([&] { require_same_settings(toy_settings(b), toy_settings(g), "ck.h5"); }),
+             Catch::Contains("made without --separate, this run gives it"));
 }
 
 namespace {
@@ -153,17 +163,17 @@ TEST_CASE("settings: each model's table is its schema's /config", "[models][sett
   CHECK(actgan == config_attributes("actgan-model"));
 }
 
-TEST_CASE("settings: a flag turns its default over", "[models][settings]") {
+TEST_CASE("settings: a flag sets its field, a named option clears it", "[models][settings]") {
   ActganConfig c;
   ActganTraining t;
   CLI::App app;
   add_settings(*app.add_option_group("Losses"), actgan_loss_settings(c));
   add_settings(*app.add_option_group("Training"), actgan_training_settings(t));
   app.parse(std::vector<std::string>{"--classifier-only", "--freeze-decoder", "--direct-latent"});
-  CHECK(!c.residual);         // --direct-latent clears a default true
+  CHECK(!c.residual);         // --direct-latent clears residual
   CHECK(c.classifier);        // not given
-  CHECK(!t.train_decoder);    // --freeze-decoder clears a default true
-  CHECK(t.classifier_only);   // --classifier-only sets a default false
+  CHECK(!t.train_decoder);    // --freeze-decoder clears train_decoder
+  CHECK(t.classifier_only);   // --classifier-only sets it
 }
 
 TEST_CASE("settings: an enum held as text", "[models][settings]") {
