@@ -1,6 +1,6 @@
-# One owner per file kind (issue 43): the ACAP kind's datasets and the skeleton kind's are named
-# only in libshared/io/ (io/acap_file, io/skeleton_file); every other module reads and writes
-# them through those. The model kinds' (/params, /training, the ActGAN model's copy of the
+# One owner per file kind (issue 43): the ACAP kind's datasets, the skeleton kind's and the
+# components kind's are named only in libshared/io/ (io/acap_file, io/skeleton_file,
+# io/components_file); every other module reads and writes them through those. The model kinds' (/params, /training, the ActGAN model's copy of the
 # skeleton) belong to their models/ files and are not checked here.
 source "$(dirname "$0")/lib.sh"
 : "${DF_SOURCE:?}"
@@ -15,7 +15,14 @@ found=$(grep -rnE '[(,] *"/(poses|skeleton)[/"]' "$DF_SOURCE/libshared" --includ
   grep -v "^$DF_SOURCE/libshared/io/" | grep -v "libshared/models/actgan/model.cpp" || true)
 [ -z "$found" ] || fail "skeleton datasets named outside libshared/io (use io/skeleton_file.h):
 $found"
+# The components kind: its levels (named by fmt::format("/level{}", l) too), masks, similarity.
+found=$(grep -rnE '(\(|,) *"/(level[0-9{]|attention|similarity)' "$DF_SOURCE/libshared" --include='*.cpp' --include='*.h' |
+  grep -v "^$DF_SOURCE/libshared/io/" | grep -vE '^[^:]*:[0-9]+: *//' || true)
+[ -z "$found" ] || fail "components datasets named outside libshared/io (use io/components_file.h):
+$found"
 # and the check can fail: a line naming one outside io is found
 mkdir -p probe/models && echo 'auto x = f.read<float>("/features/raw");' >probe/models/x.cpp
 grep -rqE "$acap" probe || fail "the pattern misses a dataset name"
+echo 'const auto g = fmt::format("/level{}", l);' >probe/models/y.cpp
+grep -rqE '(\(|,) *"/(level[0-9{]|attention|similarity)' probe || fail "the components pattern misses a dataset name"
 echo "ok"

@@ -1,6 +1,7 @@
-// Deformation components of a trained MSAE (paper 2, §4.2-4.3) and the `components` file kind
-// (schemas/components.json): extract-components decodes them, prune-components drops the weak
-// ones, and either writes the kept ones as an acap file for acap2obj, render-mesh and eval-metrics.
+// Deformation components of a trained MSAE (paper 2, §4.2-4.3): extract-components decodes them,
+// prune-components drops the weak ones, and either writes them (io/components_file, the
+// `components` kind's owner) and the kept ones as an acap file for acap2obj, render-mesh and
+// eval-metrics.
 //
 // Component k of block b: the decoder applied to the one-hot code s·e_k, with s the largest
 // positive or the most negative value of z_k over the training shapes (both signs are decoded and
@@ -18,30 +19,17 @@
 
 #include "core/common_options.h"
 #include "geometry/acap_features.h"
+#include "io/components_file.h"
 #include "io/mesh_io.h"
 #include "models/msae/model.h"
 
 namespace df::models {
 
-struct ComponentLevel {
-  nn::Matrix<float> features;  ///< [K, 9V] normalized ACAP features of each component
-  std::vector<double> strength;
-  std::vector<int> center;   ///< vertex index (argmax of the block's ‖C_{k,i}‖)
-  std::vector<int> block;    ///< the block it comes from (model order)
-  std::vector<double> code;  ///< s: the code value decoded (signed)
-  std::vector<std::uint8_t> kept;
-};
-
-struct Components {
-  io::Mesh tmpl;
-  geometry::Normalization normalization;
-  std::string history;
-  std::string model;  ///< the model file's name as given
-  std::vector<ComponentLevel> levels;
-  nn::Matrix<float> attention;    ///< AE₀'s attention masks [K₀, V] (eq. 6)
-  nn::Matrix<double> similarity;  ///< |cosine| between level-0 components' X − X_r [K₀, K₀]
-  double eps1 = 1e-6, eps2 = 0.01;
-};
+using io::ComponentLevel;
+using io::Components;
+using io::read_components;
+using io::write_components;
+using io::write_components_acap;
 
 /// ‖(X − X_r)_i‖ per vertex of features x [9V]: how much a component deforms each vertex.
 std::vector<double> deformation_per_vertex(const float* x, int n_vertices,
@@ -60,16 +48,6 @@ Components extract_components(const MsaeModel& m, const std::vector<nn::Matrix<f
 
 /// Recomputes strengths with eps1 and keeps those with strength ≥ eps2.
 void prune_components(Components& c, double eps1, double eps2);
-
-void write_components(const std::string& path, const Components& c,
-                      const std::vector<std::string>& inputs, bool force);
-Components read_components(const std::string& path);
-
-/// The components (only the kept ones when `kept_only`) as an acap file: one sequence per level
-/// ("level0", ...), frames named "L<level>.<block>.<k>" — for acap2obj, render-mesh --color
-/// deformation, eval-metrics.
-void write_components_acap(const std::string& path, const Components& c, bool kept_only,
-                           const std::vector<std::string>& inputs, bool force);
 
 struct ExtractOptions {
   std::string model, data, output, acap;

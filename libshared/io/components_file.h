@@ -1,0 +1,51 @@
+// The `components` file kind (schemas/components.json) and its one reader and writer: deformation
+// components as normalized ACAP features per level, with their strength (eq. 7 of paper 2), the
+// vertex each is centred on, the block and code they come from, whether pruning kept them, and a
+// model's attention masks and similarity matrix; and their export as an acap file (one sequence
+// per level) for acap2obj, render-mesh and eval-metrics.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "io/acap_file.h"
+#include "io/h5.h"
+#include "io/mesh_io.h"
+
+namespace df::io {
+
+struct ComponentLevel {
+  h5::RowMatrix<float> features;  ///< [K, 9V] normalized ACAP features of each component
+  std::vector<double> strength;
+  std::vector<int> center;   ///< vertex index (argmax of the block's ‖C_{k,i}‖)
+  std::vector<int> block;    ///< the block it comes from (model order)
+  std::vector<double> code;  ///< s: the code value decoded (signed)
+  std::vector<std::uint8_t> kept;
+};
+
+struct Components {
+  Mesh tmpl;
+  FeatureNormalization normalization;
+  std::string history;
+  std::string model;  ///< the model file's name as given
+  std::vector<ComponentLevel> levels;
+  h5::RowMatrix<float> attention;    ///< level 0's attention masks [K₀, V] (paper 2, eq. 6)
+  h5::RowMatrix<double> similarity;  ///< |cosine| between level-0 components' X − X_r [K₀, K₀]
+  double eps1 = 1e-6, eps2 = 0.01;
+};
+
+void write_components(const std::string& path, const Components& c,
+                      const std::vector<std::string>& inputs, bool force);
+/// InvalidInput (naming the file and object) when a level's datasets disagree with the template
+/// or with each other.
+Components read_components(const std::string& path);
+
+/// The components (only the kept ones when `kept_only`) as an acap file: one sequence per level
+/// ("level0", ...), frames named "L<level>.<block>.<k>" — for acap2obj, render-mesh --color
+/// deformation, eval-metrics.
+void write_components_acap(const std::string& path, const Components& c, bool kept_only,
+                           const std::vector<std::string>& inputs, bool force);
+
+}  // namespace df::io
