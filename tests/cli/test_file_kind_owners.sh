@@ -20,6 +20,14 @@ found=$(grep -rnE '(\(|,) *"/(level[0-9{]|attention|similarity)' "$DF_SOURCE/lib
   grep -v "^$DF_SOURCE/libshared/io/" | grep -vE '^[^:]*:[0-9]+: *//' || true)
 [ -z "$found" ] || fail "components datasets named outside libshared/io (use io/components_file.h):
 $found"
+# The model kinds: each is named only by its owner (models/<method>/model.cpp), the parts they
+# share (models/common/model_file.cpp: template, normalization, log; nn/checkpoint.cpp: weights,
+# optimizer and RNG state). Any other dataset name outside io/ is a file kind without an owner.
+found=$(grep -rnE '[(,] *"/[a-z_]+[/"a-z0-9_{}.]*"' "$DF_SOURCE/libshared" --include='*.cpp' --include='*.h' |
+  grep -v "^$DF_SOURCE/libshared/io/" | grep -vE '^[^:]*:[0-9]+: *//' |
+  grep -vE "libshared/models/(bdlstm|msae|actgan)/model.cpp:|libshared/models/common/model_file.cpp:|libshared/nn/checkpoint.cpp:" || true)
+[ -z "$found" ] || fail "an HDF5 dataset named outside io/ and the model kinds' owners:
+$found"
 # and the check can fail: a line naming one outside io is found
 mkdir -p probe/models && echo 'auto x = f.read<float>("/features/raw");' >probe/models/x.cpp
 grep -rqE "$acap" probe || fail "the pattern misses a dataset name"
