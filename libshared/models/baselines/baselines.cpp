@@ -10,6 +10,8 @@
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
 #include "io/acap_file.h"
+#include "io/components_file.h"
+#include "models/msae/components.h"
 #include "models/msae/data.h"
 
 namespace df::models {
@@ -143,14 +145,16 @@ Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
   return s;
 }
 
-Mat project_onto(const Mat& y, const Mat& mean, const Mat& basis) {
+Mat coefficients_on(const Mat& y, const Mat& mean, const Mat& basis) {
   const Mat centred = y.rowwise() - mean.row(0);
-  if (basis.rows() == 0) return mean.replicate(y.rows(), 1);
   Eigen::MatrixXd G = basis * basis.transpose();
   G.diagonal().array() += 1e-10 * std::max(G.trace(), 1e-300);
-  const Mat coefficients =
-      Eigen::LDLT<Eigen::MatrixXd>(G).solve(basis * centred.transpose()).transpose();
-  return (coefficients * basis).rowwise() + mean.row(0);
+  return Eigen::LDLT<Eigen::MatrixXd>(G).solve(basis * centred.transpose()).transpose();
+}
+
+Mat project_onto(const Mat& y, const Mat& mean, const Mat& basis) {
+  if (basis.rows() == 0) return mean.replicate(y.rows(), 1);
+  return (coefficients_on(y, mean, basis) * basis).rowwise() + mean.row(0);
 }
 
 namespace {
@@ -171,9 +175,58 @@ Mat read_positions(const std::string& data, const std::vector<std::int64_t>& fra
   return out;
 }
 
+// A basis in normalized ACAP space [K, 9V] as a components file of one level, on the pattern of
+// extract-components: component k is the reference's features plus its direction scaled by the
+// training shapes' coefficient of largest magnitude (signed), so that a linear basis and an MSAE
+// decode alike; strength by eq. 7; centre, attention masks (eq. 5-6) and similarity (Fig. 3)
+// from the directions as from an MSAE block's C. Every component starts kept.
+io::Components basis_components(const MsaeModel& m, const Mat& basis, const Mat& coefficients,
+                                const std::string& source) {
+  const auto K = basis.rows();
+  const int V = static_cast<int>(m.tmpl.vertices.rows());
+  const auto ref = geometry::identity_features(&m.normalization);
+  io::Components c;
+  c.tmpl = m.tmpl;
+  c.normalization = m.normalization;
+  c.history = m.history;
+  c.model = source;
+  io::ComponentLevel L;
+  L.features.resize(K, 9 * static_cast<Index>(V));
+  for (Index k = 0; k < K; ++k) {
+    Index top = 0;
+    for (Index r = 0; r < coefficients.rows(); ++r)
+      if (std::abs(coefficients(r, k)) > std::abs(coefficients(top, k))) top = r;
+    const double scale = coefficients.rows() ? coefficients(top, k) : 1.0;
+    for (Index j = 0; j < 9 * static_cast<Index>(V); ++j)
+      L.features(k, j) = static_cast<float>(ref[static_cast<std::size_t>(j % 9)] + scale * basis(k, j));
+    L.strength.push_back(component_strength(L.features.row(k).data(), V, ref, c.eps1));
+    L.center.push_back(static_cast<int>(strongest_vertex(basis.row(k), 9)));
+    L.block.push_back(0);
+    L.code.push_back(scale);
+    L.kept.push_back(1);
+  }
+  c.levels.push_back(std::move(L));
+  c.attention.resize(K, V);
+  for (int i = 0; i < V; ++i) {
+    double sum = 0;
+    for (Index k = 0; k < K; ++k) sum += basis.row(k).segment(9 * i, 9).squaredNorm();
+    for (Index k = 0; k < K; ++k)
+      c.attention(k, i) = sum > 0 ? static_cast<float>(basis.row(k).segment(9 * i, 9).squaredNorm() / sum) : 0.0f;
+  }
+  c.similarity.resize(K, K);
+  for (Index a = 0; a < K; ++a)
+    for (Index b = 0; b < K; ++b) {
+      const double na = basis.row(a).norm(), nb = basis.row(b).norm();
+      c.similarity(a, b) = na > 0 && nb > 0 ? std::abs(basis.row(a).dot(basis.row(b))) / (na * nb) : 0.0;
+    }
+  return c;
+}
+
 }  // namespace
 
 void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
+  if (!opt.components_out.empty() && opt.method == "splocs")
+    throw UsageError("--components-out: SPLOCS on positions has no ACAP components (use --method splocs-acap or pca)");
   const MsaeModel m = load_msae_model(opt.model);
   int k = opt.components;
   if (k == 0)
@@ -193,6 +246,12 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
         project_onto(held.x.cast<double>(), p.mean, p.directions).cast<float>();
     write_shapes(opt.output, m, held, &recon, nullptr, opt.data, {opt.model, opt.data},
                  common.force, fmt::format("pca: {} components", p.directions.rows()));
+    if (!opt.components_out.empty())
+      io::write_components(opt.components_out,
+                           basis_components(m, p.directions,
+                                            coefficients_on(train.x.cast<double>(), p.mean, p.directions),
+                                            opt.model + " (pca)"),
+                           {opt.model, opt.data}, common.force);
   } else if (opt.method == "splocs") {
     SplocsOptions so = opt.splocs;
     so.components = k;
@@ -215,6 +274,12 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
         project_onto(held.x.cast<double>(), s.mean, s.components).cast<float>();
     write_shapes(opt.output, m, held, &recon, nullptr, opt.data, {opt.model, opt.data},
                  common.force, fmt::format("splocs-acap: {} components", k));
+    if (!opt.components_out.empty())
+      io::write_components(opt.components_out,
+                           basis_components(m, s.components,
+                                            coefficients_on(train.x.cast<double>(), s.mean, s.components),
+                                            opt.model + " (splocs-acap)"),
+                           {opt.model, opt.data}, common.force);
   } else {
     throw UsageError("--method must be pca, splocs or splocs-acap");
   }

@@ -44,8 +44,10 @@ struct Splocs {
 Splocs fit_splocs(const nn::Matrix<double>& x, const SplocsOptions& opt,
                   const std::function<Eigen::VectorXf(int)>& distance, int group = 3);
 
-/// Least-squares coefficients of rows y [m, D] (mean removed) on `basis` [k, D] and the
-/// reconstruction mean + coefficients · basis.
+/// Least-squares coefficients [m, k] of rows y [m, D] (mean removed) on `basis` [k, D].
+nn::Matrix<double> coefficients_on(const nn::Matrix<double>& y, const nn::Matrix<double>& mean,
+                                   const nn::Matrix<double>& basis);
+/// The reconstruction mean + coefficients · basis of rows y [m, D].
 nn::Matrix<double> project_onto(const nn::Matrix<double>& y, const nn::Matrix<double>& mean,
                                 const nn::Matrix<double>& basis);
 
@@ -54,6 +56,9 @@ struct BaselineOptions {
   std::string method = "pca";  ///< pca | splocs | splocs-acap
   int components = 0;          ///< 0 = as many as the MSAE model has
   std::string part = "test";
+  /// Also write the fitted basis as a components file (pca and splocs-acap, whose components are
+  /// ACAP features): prune-components, render-mesh and eval-metrics then take them as MSAE's
+  std::string components_out;
   SplocsOptions splocs;
 };
 /// fit-baseline: fits on the model's training shapes, writes the reconstructions of `part` as
