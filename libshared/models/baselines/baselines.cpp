@@ -237,22 +237,7 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
   if (held.frames.empty())
     throw InvalidInput(fmt::format("the model's {} part is empty", opt.part), opt.model);
   const Index V = m.tmpl.vertices.rows();
-  if (opt.method == "pca") {
-    const Pca p = fit_pca(train.x.cast<double>(), k);
-    if (p.directions.rows() < k)
-      log::warn("PCA of {} training shapes has {} components, not {}", train.frames.size(),
-                p.directions.rows(), k);
-    const nn::Matrix<float> recon =
-        project_onto(held.x.cast<double>(), p.mean, p.directions).cast<float>();
-    write_shapes(opt.output, m, held, &recon, nullptr, opt.data, {opt.model, opt.data},
-                 common.force, fmt::format("pca: {} components", p.directions.rows()));
-    if (!opt.components_out.empty())
-      io::write_components(opt.components_out,
-                           basis_components(m, p.directions,
-                                            coefficients_on(train.x.cast<double>(), p.mean, p.directions),
-                                            opt.model + " (pca)"),
-                           {opt.model, opt.data}, common.force);
-  } else if (opt.method == "splocs") {
+  if (opt.method == "splocs") {
     SplocsOptions so = opt.splocs;
     so.components = k;
     geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
@@ -262,26 +247,34 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
         project_onto(read_positions(opt.data, held.frames, V), s.mean, s.components).cast<float>();
     write_shapes(opt.output, m, held, nullptr, &recon, opt.data, {opt.model, opt.data},
                  common.force, fmt::format("splocs: {} components", k));
-  } else if (opt.method == "splocs-acap") {
-    // The same algorithm on the normalized ACAP features (groups of 9 per vertex): local linear
-    // components in the space MSAE works in, reconstructed through acap2obj like PCA's.
-    SplocsOptions so = opt.splocs;
-    so.components = k;
-    geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
-    const Splocs s = fit_splocs(train.x.cast<double>(), so,
-                                [&](int i) { return geodesic.row(i); }, 9);
-    const nn::Matrix<float> recon =
-        project_onto(held.x.cast<double>(), s.mean, s.components).cast<float>();
+  } else {
+    // A basis of the normalized ACAP features, reconstructed through acap2obj: PCA's, or SPLOCS'
+    // algorithm on 9 numbers per vertex (local linear components in the space MSAE works in).
+    const Mat x = train.x.cast<double>();
+    Mat mean, basis;
+    if (opt.method == "pca") {
+      Pca p = fit_pca(x, k);
+      if (p.directions.rows() < k)
+        log::warn("PCA of {} training shapes has {} components, not {}", train.frames.size(),
+                  p.directions.rows(), k);
+      mean = std::move(p.mean), basis = std::move(p.directions);
+    } else if (opt.method == "splocs-acap") {
+      SplocsOptions so = opt.splocs;
+      so.components = k;
+      geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
+      Splocs s = fit_splocs(x, so, [&](int i) { return geodesic.row(i); }, 9);
+      mean = std::move(s.mean), basis = std::move(s.components);
+    } else {
+      throw UsageError("--method must be pca, splocs or splocs-acap");
+    }
+    const nn::Matrix<float> recon = project_onto(held.x.cast<double>(), mean, basis).cast<float>();
     write_shapes(opt.output, m, held, &recon, nullptr, opt.data, {opt.model, opt.data},
-                 common.force, fmt::format("splocs-acap: {} components", k));
+                 common.force, fmt::format("{}: {} components", opt.method, basis.rows()));
     if (!opt.components_out.empty())
       io::write_components(opt.components_out,
-                           basis_components(m, s.components,
-                                            coefficients_on(train.x.cast<double>(), s.mean, s.components),
-                                            opt.model + " (splocs-acap)"),
+                           basis_components(m, basis, coefficients_on(x, mean, basis),
+                                            fmt::format("{} ({})", opt.model, opt.method)),
                            {opt.model, opt.data}, common.force);
-  } else {
-    throw UsageError("--method must be pca, splocs or splocs-acap");
   }
   log::info("wrote {} {} reconstructions ({} components fitted on {} training shapes) to {}",
             held.frames.size(), opt.method, k, train.frames.size(), opt.output);
