@@ -16,7 +16,8 @@
 
 namespace df::models {
 
-/// How the model is trained (recorded in /config; checked on --resume).
+/// How the model is trained (recorded in /config; checked on --resume; declared in
+/// models/actgan/settings.cpp).
 struct ActganTraining {
   std::int64_t pretrain_iterations = 2000;  ///< WGAN-GP iterations of the frame decoder first
   std::int64_t iterations = 3000;           ///< then bi-directional GAN iterations (Algorithm 1)

@@ -23,7 +23,9 @@
 
 namespace df::models {
 
-/// Every hyper-parameter of the networks and losses (stored in the model file's /config).
+/// Every hyper-parameter of the networks and losses (stored in the model file's /config);
+/// each is declared once, for the command line, the model file and the resume check, in
+/// models/actgan/settings.cpp.
 struct ActganConfig {
   int pose = 60;      ///< values per frame (joints x 3)
   int classes = 10;

@@ -16,7 +16,8 @@
 
 namespace df::models {
 
-/// How the model was trained (recorded in /config; checked on --resume).
+/// How the model was trained (recorded in /config; checked on --resume; declared in
+/// models/bdlstm/settings.cpp).
 struct BdlstmTraining {
   int window = 32;  ///< frames per training window
   int batch = 8;    ///< windows per iteration

@@ -33,7 +33,9 @@ enum class LatentInput { mean, sample, prior, zero };
 const char* directions_name(Directions d);
 Directions directions_from_name(const std::string& name);  ///< UsageError if unknown
 
-/// Every hyper-parameter of the network and of its loss (stored in the model file's /config).
+/// Every hyper-parameter of the network and of its loss (stored in the model file's /config);
+/// each is declared once, for the command line, the model file and the resume check, in
+/// models/bdlstm/settings.cpp.
 struct BdlstmConfig {
   int conv_layers = 3;  ///< mesh-conv layers in Conv (and in tCnv)
   int latent = 128;     ///< z (the FC gives mean and log-variance: 2·latent)

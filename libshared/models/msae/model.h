@@ -17,7 +17,8 @@
 
 namespace df::models {
 
-/// How the model was trained (recorded in /config; checked on --resume).
+/// How the model was trained (recorded in /config; checked on --resume; declared in
+/// models/msae/settings.cpp).
 struct MsaeTraining {
   std::int64_t iterations = 2000;
   int batch = 256;  ///< shapes per iteration, drawn with replacement from the training shapes

@@ -38,7 +38,9 @@
 
 namespace df::models {
 
-/// Every hyper-parameter of the network and of its loss (stored in the model file's /config).
+/// Every hyper-parameter of the network and of its loss (stored in the model file's /config);
+/// each is declared once, for the command line, the model file and the resume check, in
+/// models/msae/settings.cpp.
 struct MsaeConfig {
   std::vector<int> kz = {10, 5};       ///< components of each block, per level
   std::vector<double> d = {0.4, 0.2};  ///< Ω's normalized geodesic radius, per level
@@ -61,7 +63,8 @@ struct MsaeConfig {
   /// Where the components' centres start: "random" (wherever the initial weights peak; the
   /// reconstruction gradient then draws them to the most deforming vertices, often all to one)
   /// or "spread" (farthest-point sampling by geodesic distance: level 0 over the whole mesh, a
-  /// child block within its parent component's radius), after which c_k = argmax as the paper
+  /// child block within its parent component's radius), after which the centres follow the weights
+  /// (centre_separation)
   std::string centres = "random";
   /// How the centres follow the weights every iteration: 0 = c_k = argmax_i ‖C_{k,i}‖ (the paper);
   /// s > 0 = a block's components, strongest first, each take the argmax among the vertices at
