@@ -179,7 +179,8 @@ Mat read_positions(const std::string& data, const std::vector<std::int64_t>& fra
 // extract-components: component k is the reference's features plus its direction scaled by the
 // training shapes' coefficient of largest magnitude (signed), so that a linear basis and an MSAE
 // decode alike; strength by eq. 7; centre, attention masks (eq. 5-6) and similarity (Fig. 3)
-// from the directions as from an MSAE block's C. Every component starts kept.
+// from the directions as from an MSAE block's C (masks) and its components (similarity). Every
+// component starts kept.
 io::Components basis_components(const MsaeModel& m, const Mat& basis, const Mat& coefficients,
                                 const std::string& source) {
   const auto K = basis.rows();
@@ -213,12 +214,7 @@ io::Components basis_components(const MsaeModel& m, const Mat& basis, const Mat&
     for (Index k = 0; k < K; ++k)
       c.attention(k, i) = sum > 0 ? static_cast<float>(basis.row(k).segment(9 * i, 9).squaredNorm() / sum) : 0.0f;
   }
-  c.similarity.resize(K, K);
-  for (Index a = 0; a < K; ++a)
-    for (Index b = 0; b < K; ++b) {
-      const double na = basis.row(a).norm(), nb = basis.row(b).norm();
-      c.similarity(a, b) = na > 0 && nb > 0 ? std::abs(basis.row(a).dot(basis.row(b))) / (na * nb) : 0.0;
-    }
+  c.similarity = level0_similarity(c.levels[0], ref);
   return c;
 }
 

@@ -89,6 +89,8 @@ void decode_block(const MsaeNet<float>& net, int b, const nn::Matrix<float>& cod
   }
 }
 
+}  // namespace
+
 nn::Matrix<double> level0_similarity(const ComponentLevel& level0,
                                      const std::array<double, 9>& ref) {
   nn::Matrix<double> d = level0.features.cast<double>();
@@ -102,8 +104,6 @@ nn::Matrix<double> level0_similarity(const ComponentLevel& level0,
     }
   return s;
 }
-
-}  // namespace
 
 Components extract_components(const MsaeModel& m, const std::vector<nn::Matrix<float>>& codes) {
   const MsaeNet<float>& net = *m.net;

@@ -39,6 +39,9 @@ std::vector<double> deformation_per_vertex(const float* x, int n_vertices,
 double component_strength(const float* x, int n_vertices, const std::array<double, 9>& reference,
                           double eps1);
 
+/// |cosine| between the X − X_r of a level's components [K, K] (paper Fig. 3).
+nn::Matrix<double> level0_similarity(const ComponentLevel& level0, const std::array<double, 9>& ref);
+
 /// Every block's codes of `shapes` [n, 9V] through all levels (in chunks): [n, kz] per block.
 std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& shapes);
 

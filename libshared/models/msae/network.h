@@ -121,12 +121,12 @@ class MsaeNet {
   std::vector<int> level_parameters(int level) const;
   /// Per block, its centres c_k = argmax_i ‖C_{k,i}‖ from the current weights ([kz] each).
   std::vector<std::vector<int>> centres() const;
-  /// The same with config().centre_separation > 0: per block, components in order of their
-  /// largest group norm, each c_k the strongest vertex at least separation·d from the centres
-  /// already given out in the block. @param distance  as for sparsity_masks
+  /// With config().centre_separation > 0 (the separated centres Ω uses then; centres() stays the
+  /// components' peaks): per block, components in order of their largest group norm, each c_k the
+  /// strongest vertex at least separation·d from the centres already given out in the block (the
+  /// plain argmax when none is left). @param distance  as for sparsity_masks
   template <class Distance>
-  std::vector<std::vector<int>> centres(Distance&& distance) const {
-    if (config_.centre_separation <= 0) return centres();
+  std::vector<std::vector<int>> separated_centres(Distance&& distance) const {
     std::vector<std::vector<int>> out;
     for (const Block& b : blocks_) {
       const double apart = config_.centre_separation * config_.d[static_cast<std::size_t>(b.level)];
@@ -135,20 +135,21 @@ class MsaeNet {
       for (int k = 0; k < b.kz; ++k)
         for (int i = 0; i < n_vertices_; ++i)
           norms(k, i) = C.row(k).segment(9 * Eigen::Index{i}, 9).squaredNorm();
-      std::vector<int> order(static_cast<std::size_t>(b.kz));
-      for (int k = 0; k < b.kz; ++k) order[static_cast<std::size_t>(k)] = k;
+      std::vector<int> peak(static_cast<std::size_t>(b.kz)), order(peak.size());
+      for (int k = 0; k < b.kz; ++k) {
+        norms.row(k).maxCoeff(&peak[static_cast<std::size_t>(k)]);
+        order[static_cast<std::size_t>(k)] = k;
+      }
       std::stable_sort(order.begin(), order.end(), [&](int p, int q) {
-        return norms.row(p).maxCoeff() > norms.row(q).maxCoeff();
+        return norms(p, peak[static_cast<std::size_t>(p)]) > norms(q, peak[static_cast<std::size_t>(q)]);
       });
-      std::vector<int> c(static_cast<std::size_t>(b.kz));
+      std::vector<int> c(peak.size());
       std::vector<char> open(static_cast<std::size_t>(n_vertices_), 1);
       for (int k : order) {
-        int best = -1, any = 0;
-        for (int i = 0; i < n_vertices_; ++i) {
-          if (norms(k, i) > norms(k, any)) any = i;
+        int best = -1;
+        for (int i = 0; i < n_vertices_; ++i)
           if (open[static_cast<std::size_t>(i)] && (best < 0 || norms(k, i) > norms(k, best))) best = i;
-        }
-        c[static_cast<std::size_t>(k)] = best >= 0 ? best : any;
+        c[static_cast<std::size_t>(k)] = best >= 0 ? best : peak[static_cast<std::size_t>(k)];
         const auto& row = distance(c[static_cast<std::size_t>(k)]);
         for (int i = 0; i < n_vertices_; ++i)
           if (row[i] < apart) open[static_cast<std::size_t>(i)] = 0;

@@ -324,7 +324,9 @@ std::vector<nn::Matrix<float>> current_sparsity_masks(const MsaeModel& m,
   for (const auto& c : peaks) sources.insert(sources.end(), c.begin(), c.end());
   geodesic.prepare(sources);
   const auto centres =
-      m.net->centres([&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); });
+      m.config.centre_separation > 0
+          ? m.net->separated_centres([&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); })
+          : peaks;
   return m.net->sparsity_masks(centres,
                                [&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); });
 }

@@ -2,6 +2,7 @@
 
 #include "core/rng.h"
 #include "models/baselines/baselines.h"
+#include "nn/gradient_check.h"
 
 using namespace df;
 using namespace df::models;
@@ -20,9 +21,7 @@ TEST_CASE("SPLOCS on 9 numbers per vertex (ACAP features) finds planted local co
   }
   auto shapes = [&](int n, std::uint64_t seed) {
     Rng r(seed, 1);
-    nn::Matrix<double> w(n, 2);
-    for (Eigen::Index k = 0; k < w.size(); ++k) w.data()[k] = r.uniform(0, 1);
-    nn::Matrix<double> x = w * planted;
+    nn::Matrix<double> x = nn::random_matrix(n, 2, r, 0, 1) * planted;
     x.array() += 0.3;  // a mean that is not zero
     return x;
   };

@@ -312,18 +312,18 @@ TEST_CASE("MSAE: --centre-separation gives a block's components centres apart", 
   };
   MsaeNet<float> plain(config, 9, grid_edges(), 1);
   peaked(plain);
-  CHECK(plain.centres(row)[0] == std::vector<int>{4, 4, 4});  // the paper's argmax: one centre
+  CHECK(plain.centres()[0] == std::vector<int>{4, 4, 4});  // the paper's argmax: one centre
   config.centre_separation = 1;  // at least d = 0.4 apart: a neighbour is far enough
   MsaeNet<float> apart(config, 9, grid_edges(), 1);
   peaked(apart);
-  const auto c = apart.centres(row)[0];
+  const auto c = apart.separated_centres(row)[0];
   CHECK(c[2] == 4);  // the strongest keeps its peak
   CHECK(c[1] == 8);  // the next takes its best vertex outside d of vertex 4
   CHECK(c[0] == 0);
   config.centre_separation = 4;  // 1.6 apart: nothing is left after the first; plain argmax
   MsaeNet<float> crowded(config, 9, grid_edges(), 1);
   peaked(crowded);
-  CHECK(crowded.centres(row)[0] == std::vector<int>{4, 4, 4});
+  CHECK(crowded.separated_centres(row)[0] == std::vector<int>{4, 4, 4});
   config.centre_separation = -1;
   CHECK_THROWS_AS(MsaeNet<float>(config, 9, grid_edges(), 1), UsageError);
 }
