@@ -68,20 +68,13 @@ SkeletonFile read_skeleton_file(const std::string& path) {
   s.sequence_names = f.exists("/sequences/names") ? f.read_strings("/sequences/names")
                                                   : std::vector<std::string>(s.sequences());
   s.labels = f.read<std::int32_t>("/sequences/labels").data;
-  s.class_names = f.read_strings("/classes/names");
-  s.parents = f.read<std::int32_t>("/skeleton/parents").data;
-  s.joint_names = f.read_strings("/skeleton/joint_names");
+  read_classes_and_skeleton(f, s.class_names, s.parents, s.joint_names);
   s.frame_rate = f.attr_double("/", "frame_rate");
   if (f.exists("/sequences/subjects")) s.subjects = f.read<std::int32_t>("/sequences/subjects").data;
   if (f.exists("/sequences/test")) s.test = f.read<std::int32_t>("/sequences/test").data;
   if (f.exists("/sequences/label_weights"))
     s.label_weights = read_label_weights(f, s.sequences(), s.class_names.size());
-  if (f.exists("/normalization")) {
-    s.normalization.root_joint = static_cast<int>(f.attr_int("/normalization", "root_joint"));
-    s.normalization.scale = f.attr_double("/normalization", "scale");
-    s.normalization.mean = f.read<double>("/normalization/mean").data;
-    s.normalization.std = f.read<double>("/normalization/std").data;
-  }
+  s.normalization = read_pose_normalization(f);
   return s;
 }
 
@@ -91,21 +84,45 @@ void write_skeleton_data(h5::File& f, const SkeletonFile& s) {
   f.write<std::int64_t>("/sequences/offsets", s.offsets, {s.offsets.size()});
   f.write<std::int32_t>("/sequences/labels", s.labels, {s.labels.size()});
   if (!s.sequence_names.empty()) f.write_strings("/sequences/names", s.sequence_names);
-  f.write_strings("/classes/names", s.class_names);
-  f.write<std::int32_t>("/skeleton/parents", s.parents, {s.parents.size()});
-  f.write_strings("/skeleton/joint_names", s.joint_names);
+  write_classes_and_skeleton(f, s.class_names, s.parents, s.joint_names);
   if (!s.subjects.empty()) f.write<std::int32_t>("/sequences/subjects", s.subjects, {s.subjects.size()});
   if (!s.test.empty()) f.write<std::int32_t>("/sequences/test", s.test, {s.test.size()});
   if (!s.label_weights.empty())
     f.write<float>("/sequences/label_weights", s.label_weights, {s.sequences(), s.class_names.size()});
-  if (s.normalization.present()) {
-    const auto& n = s.normalization;
-    const std::vector<std::size_t> shape{s.joints, static_cast<std::size_t>(s.dims)};
-    f.write<double>("/normalization/mean", n.mean, shape);
-    f.write<double>("/normalization/std", n.std, shape);
-    f.set_attr("/normalization", "root_joint", n.root_joint);
-    f.set_attr("/normalization", "scale", n.scale);
-  }
+  write_pose_normalization(f, s.normalization, s.dims);
+}
+
+void write_classes_and_skeleton(h5::File& f, const std::vector<std::string>& class_names,
+                                const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names) {
+  f.write_strings("/classes/names", class_names);
+  f.write<std::int32_t>("/skeleton/parents", parents, {parents.size()});
+  f.write_strings("/skeleton/joint_names", joint_names);
+}
+
+void read_classes_and_skeleton(const h5::File& f, std::vector<std::string>& class_names,
+                               std::vector<std::int32_t>& parents, std::vector<std::string>& joint_names) {
+  class_names = f.read_strings("/classes/names");
+  parents = f.read<std::int32_t>("/skeleton/parents").data;
+  joint_names = f.read_strings("/skeleton/joint_names");
+}
+
+void write_pose_normalization(h5::File& f, const SkeletonNormalization& n, int dims) {
+  if (!n.present()) return;
+  const std::vector<std::size_t> shape{n.mean.size() / static_cast<std::size_t>(dims), static_cast<std::size_t>(dims)};
+  f.write<double>("/normalization/mean", n.mean, shape);
+  f.write<double>("/normalization/std", n.std, shape);
+  f.set_attr("/normalization", "root_joint", n.root_joint);
+  f.set_attr("/normalization", "scale", n.scale);
+}
+
+SkeletonNormalization read_pose_normalization(const h5::File& f) {
+  SkeletonNormalization n;
+  if (!f.exists("/normalization")) return n;
+  n.root_joint = static_cast<int>(f.attr_int("/normalization", "root_joint"));
+  n.scale = f.attr_double("/normalization", "scale");
+  n.mean = f.read<double>("/normalization/mean").data;
+  n.std = f.read<double>("/normalization/std").data;
+  return n;
 }
 
 std::vector<float> SkeletonFile::raw_poses() const {

@@ -57,6 +57,17 @@ struct SkeletonFile {
 /// `target` when it is present).
 std::vector<float> poses_normalized_as(const SkeletonFile& s, const SkeletonNormalization& target);
 
+/// /classes/names and /skeleton/{parents,joint_names}: the parts of this kind the ActGAN model
+/// kind carries too (the classes and skeleton it was trained on).
+void write_classes_and_skeleton(h5::File& f, const std::vector<std::string>& class_names,
+                                const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names);
+void read_classes_and_skeleton(const h5::File& f, std::vector<std::string>& class_names,
+                               std::vector<std::int32_t>& parents, std::vector<std::string>& joint_names);
+/// /normalization [J, dims] with its root joint and scale, written when present; read as absent
+/// (empty) when the file has none.
+void write_pose_normalization(h5::File& f, const SkeletonNormalization& n, int dims);
+SkeletonNormalization read_pose_normalization(const h5::File& f);
+
 /// The joint hierarchy of a Kinect v1 skeleton (UTKinect-Action3D, MSR-Action3D after
 /// reordering, synth-actions): 20 joints, hip centre the root.
 const std::vector<std::string>& kinect_joint_names();

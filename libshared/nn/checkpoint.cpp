@@ -6,33 +6,29 @@
 #include "core/error.h"
 #include "core/provenance.h"
 #include "io/file_header.h"
+#include "io/model_file.h"
 #include "io/schema.h"
 
 namespace df::nn {
 
 void write_training_state(h5::File& f, const ParameterStore<float>& params, const Adam<float>& adam, const Rng& rng,
                           std::int64_t iteration) {
-  f.set_attr("/", "iteration", iteration);
-  std::string order;
+  io::write_iteration(f, iteration);
+  std::vector<std::string> names;
   for (std::size_t i = 0; i < params.views().size(); ++i) {
-    const auto& v = params.views()[i];
-    f.write_matrix("/params/" + v.name, params.value(static_cast<int>(i)));
-    order += v.name + "\n";
+    names.push_back(params.views()[i].name);
+    io::write_param(f, names.back(), params.value(static_cast<int>(i)));
   }
-  f.set_attr("/params", "order", order);
-  f.create_groups("/optimizer");
-  f.set_attr("/optimizer", "kind", std::string("adam"));
-  f.set_attr("/optimizer", "step", static_cast<std::int64_t>(adam.steps()));
-  f.write<float>("/optimizer/m", std::span<const float>(adam.first_moment().data(), params.size()), {params.size()});
-  f.write<float>("/optimizer/v", std::span<const float>(adam.second_moment().data(), params.size()), {params.size()});
-  auto st = rng.state();
-  f.write<std::uint64_t>("/rng/state", std::span<const std::uint64_t>(st.data(), st.size()), {4});
-  f.set_attr("/rng", "has_spare", static_cast<std::int64_t>(rng.has_spare_normal()));
-  f.set_attr("/rng", "spare", rng.spare_normal());
+  io::write_param_order(f, names);
+  const auto group = io::model_layout::optimizer();
+  io::write_adam_state(f, group, std::span<const float>(adam.first_moment().data(), params.size()),
+                       std::span<const float>(adam.second_moment().data(), params.size()), adam.steps());
+  f.set_attr(group, "kind", std::string("adam"));
+  io::write_rng_state(f, {rng.state(), rng.has_spare_normal(), rng.spare_normal()});
 }
 
 std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& params, Adam<float>& adam, Rng& rng) {
-  auto names = provenance::history_lines(f.attr_string("/params", "order"));
+  const auto names = io::read_param_order(f);
   if (names.size() != params.views().size())
     throw InvalidInput(fmt::format("holds {} parameters, the model has {}", names.size(), params.views().size()),
                        f.name());
@@ -40,23 +36,20 @@ std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& param
     const auto& v = params.views()[i];
     if (names[i] != v.name)
       throw InvalidInput(fmt::format("parameter {} is '{}', the model expects '{}'", i, names[i], v.name), f.name());
-    auto m = f.read_matrix<float>("/params/" + v.name);
-    if (m.rows() != v.rows || m.cols() != v.cols)
-      throw InvalidInput(fmt::format("parameter '{}' is [{},{}], the model expects [{},{}]", v.name, m.rows(), m.cols(),
-                                     v.rows, v.cols),
-                         f.where("/params/" + v.name));
-    params.value(static_cast<int>(i)) = m;
+    params.value(static_cast<int>(i)) = io::read_param(f, v.name, v.rows, v.cols);
   }
-  auto m = f.read<float>("/optimizer/m").data, v = f.read<float>("/optimizer/v").data;
-  if (m.size() != params.size() || v.size() != params.size())
-    throw InvalidInput("optimizer state does not match the parameters", f.where("/optimizer"));
-  adam.first_moment() = Eigen::Map<const Vector<float>>(m.data(), static_cast<Eigen::Index>(m.size()));
-  adam.second_moment() = Eigen::Map<const Vector<float>>(v.data(), static_cast<Eigen::Index>(v.size()));
-  adam.set_steps(static_cast<long>(f.attr_int("/optimizer", "step")));
-  auto s = f.read<std::uint64_t>("/rng/state").data;
-  rng.restore({s[0], s[1], s[2], s[3]}, f.attr_int("/rng", "has_spare") != 0, f.attr_double("/rng", "spare"));
-  return f.attr_int("/", "iteration");
+  restore_adam(adam, io::read_adam_state(f, io::model_layout::optimizer(), params.size()));
+  restore_rng(rng, io::read_rng_state(f));
+  return io::read_iteration(f);
 }
+
+void restore_adam(Adam<float>& adam, const io::AdamState& s) {
+  adam.first_moment() = Eigen::Map<const Vector<float>>(s.m.data(), static_cast<Eigen::Index>(s.m.size()));
+  adam.second_moment() = Eigen::Map<const Vector<float>>(s.v.data(), static_cast<Eigen::Index>(s.v.size()));
+  adam.set_steps(static_cast<long>(s.step));
+}
+
+void restore_rng(Rng& rng, const io::RngState& s) { rng.restore(s.state, s.has_spare, s.spare); }
 
 void save_checkpoint(const std::string& path, const ParameterStore<float>& params, const Adam<float>& adam,
                      const Rng& rng, std::int64_t iteration) {

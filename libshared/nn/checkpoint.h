@@ -9,6 +9,7 @@
 
 #include "core/rng.h"
 #include "io/h5.h"
+#include "io/model_file.h"
 #include "nn/adam.h"
 #include "nn/parameters.h"
 
@@ -22,6 +23,10 @@ void write_training_state(h5::File& f, const ParameterStore<float>& params, cons
 /// Restores it. The file's parameters must match the store's names and shapes exactly.
 /// @return the iteration
 std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& params, Adam<float>& adam, Rng& rng);
+
+/// Sets an optimizer's or a generator's state to one read from a file (io/model_file.h).
+void restore_adam(Adam<float>& adam, const io::AdamState& s);
+void restore_rng(Rng& rng, const io::RngState& s);
 
 /// A complete checkpoint file of kind `nn-checkpoint`, written atomically.
 void save_checkpoint(const std::string& path, const ParameterStore<float>& params, const Adam<float>& adam,

@@ -10,8 +10,10 @@
 #include "core/error.h"
 #include "core/provenance.h"
 #include "io/file_header.h"
+#include "io/model_file.h"
+#include "io/skeleton_file.h"
 #include "io/schema.h"
-#include "models/actgan/settings.h"
+#include "nn/checkpoint.h"
 
 namespace df::models {
 namespace {
@@ -40,24 +42,24 @@ std::vector<NamedAdam> optimizers(const ActganModel& m) {
 }
 
 void write_config(h5::File& f, const ActganModel& m) {
-  f.create_groups("/config");
+  f.create_groups(io::model_layout::config);
   ActganConfig c = m.config;
   ActganTraining t = m.training;
   t.disc_lr = t.discriminator_lr();  // the rate in use: 0 means --lr
-  write_settings(f, "/config", actgan_settings(c, t));
-  f.set_attr("/config", "frame_rate", m.frame_rate);
-  f.set_attr("/config", "length", m.length);
-  f.set_attr("/config", "data", m.data);
+  write_settings(f, io::model_layout::config, actgan_settings(c, t));
+  f.set_attr(io::model_layout::config, "frame_rate", m.frame_rate);
+  f.set_attr(io::model_layout::config, "length", m.length);
+  f.set_attr(io::model_layout::config, "data", m.data);
 }
 
 void read_config(const h5::File& f, ActganModel& m) {
   // Files written before a setting existed read as its default, the model they describe.
-  read_settings(f, "/config", actgan_settings(m.config, m.training));
-  if (f.exists("/validation/subjects"))  // absent: none (and in files older than it)
-    m.training.validation_subjects = f.read<std::int32_t>("/validation/subjects").data;
-  m.frame_rate = f.attr_double("/config", "frame_rate");
-  m.length = static_cast<int>(f.attr_int("/config", "length"));
-  m.data = f.attr_string("/config", "data");
+  read_settings(f, io::model_layout::config, actgan_settings(m.config, m.training));
+  if (f.exists(io::model_layout::validation_subjects))  // absent: none (and in files older than it)
+    m.training.validation_subjects = f.read<std::int32_t>(io::model_layout::validation_subjects).data;
+  m.frame_rate = f.attr_double(io::model_layout::config, "frame_rate");
+  m.length = static_cast<int>(f.attr_int(io::model_layout::config, "length"));
+  m.data = f.attr_string(io::model_layout::config, "data");
 }
 
 }  // namespace
@@ -109,45 +111,25 @@ void save_actgan_model(const std::string& path, const ActganModel& m,
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "actgan-model", {m.history});
     write_config(f, m);
-    f.set_attr("/", "iteration", m.iteration);
+    io::write_iteration(f, m.iteration);
     const auto& vs = m.training.validation_subjects;
-    if (!vs.empty()) f.write<std::int32_t>("/validation/subjects", vs, {vs.size()});
-    std::string order;
+    if (!vs.empty()) f.write<std::int32_t>(io::model_layout::validation_subjects, vs, {vs.size()});
+    std::vector<std::string> order;
     for (const auto* s : stores(m))
       for (std::size_t k = 0; k < s->views().size(); ++k) {
-        f.write_matrix("/params/" + s->views()[k].name, s->value(static_cast<int>(k)));
-        order += s->views()[k].name + "\n";
+        order.push_back(s->views()[k].name);
+        io::write_param(f, order.back(), s->value(static_cast<int>(k)));
       }
-    f.set_attr("/params", "order", order);
+    io::write_param_order(f, order);
     for (const auto& [name, a] : optimizers(m)) {
-      const std::string g = std::string("/optimizers/") + name;
       const auto n = static_cast<std::size_t>(a->first_moment().size());
-      f.write<float>(g + "/m", std::span<const float>(a->first_moment().data(), n), {n});
-      f.write<float>(g + "/v", std::span<const float>(a->second_moment().data(), n), {n});
-      f.set_attr(g, "step", static_cast<std::int64_t>(a->steps()));
+      io::write_adam_state(f, io::model_layout::optimizer(name), std::span<const float>(a->first_moment().data(), n),
+                           std::span<const float>(a->second_moment().data(), n), a->steps());
     }
-    const auto st = m.rng.state();
-    f.write<std::uint64_t>("/rng/state", std::span<const std::uint64_t>(st.data(), st.size()), {4});
-    f.set_attr("/rng", "has_spare", static_cast<std::int64_t>(m.rng.has_spare_normal()));
-    f.set_attr("/rng", "spare", m.rng.spare_normal());
-    f.write_strings("/classes/names", m.class_names);
-    f.write<std::int32_t>("/skeleton/parents", m.parents, {m.parents.size()});
-    f.write_strings("/skeleton/joint_names", m.joint_names);
-    if (m.normalization.present()) {
-      const std::vector<std::size_t> shape{m.joint_names.size(), 3};
-      f.write<double>("/normalization/mean", m.normalization.mean, shape);
-      f.write<double>("/normalization/std", m.normalization.std, shape);
-      f.set_attr("/normalization", "root_joint", m.normalization.root_joint);
-      f.set_attr("/normalization", "scale", m.normalization.scale);
-    }
-    const auto cols = m.log_columns();
-    if (!m.log.empty()) {
-      f.write<double>("/training/log", m.log, {m.log.size() / cols.size(), cols.size()});
-      std::string names;
-      for (const auto& c : cols) names += (names.empty() ? "" : " ") + c;
-      f.set_attr("/training/log", "columns", names);
-    }
-    if (!m.unprinted.empty()) f.write<double>("/training/unprinted", m.unprinted, {m.unprinted.size()});
+    io::write_rng_state(f, {m.rng.state(), m.rng.has_spare_normal(), m.rng.spare_normal()});
+    io::write_classes_and_skeleton(f, m.class_names, m.parents, m.joint_names);
+    io::write_pose_normalization(f, m.normalization, 3);
+    io::write_training_log(f, m.log, m.log_columns(), m.unprinted);
   }
   out.commit();
 }
@@ -157,44 +139,27 @@ ActganModel load_actgan_model(const std::string& path) {
   ActganModel m;
   read_config(f, m);
   m.initialize();
-  const auto names = provenance::history_lines(f.attr_string("/params", "order"));
+  const auto names = io::read_param_order(f);
   std::size_t k = 0;
   for (auto* s : stores(m)) {
     for (std::size_t i = 0; i < s->views().size(); ++i, ++k) {
       const auto& v = s->views()[i];
       if (k >= names.size() || names[k] != v.name)
         throw InvalidInput(fmt::format("parameter {} is not '{}' (another network configuration?)", k, v.name), path);
-      const auto w = f.read_matrix<float>("/params/" + v.name);
-      if (w.rows() != v.rows || w.cols() != v.cols)
-        throw InvalidInput(fmt::format("parameter '{}' is [{},{}], expected [{},{}]", v.name, w.rows(), w.cols(), v.rows, v.cols),
-                           f.where("/params/" + v.name));
-      s->value(static_cast<int>(i)) = w;
+      s->value(static_cast<int>(i)) = io::read_param(f, v.name, v.rows, v.cols);
     }
   }
-  for (const auto& [name, a] : optimizers(m)) {
-    const std::string g = std::string("/optimizers/") + name;
-    const auto mm = f.read<float>(g + "/m").data, vv = f.read<float>(g + "/v").data;
-    if (static_cast<Eigen::Index>(mm.size()) != a->first_moment().size() || vv.size() != mm.size())
-      throw InvalidInput("optimizer state does not match the parameters", f.where(g));
-    a->first_moment() = Eigen::Map<const nn::Vector<float>>(mm.data(), static_cast<Eigen::Index>(mm.size()));
-    a->second_moment() = Eigen::Map<const nn::Vector<float>>(vv.data(), static_cast<Eigen::Index>(vv.size()));
-    a->set_steps(static_cast<long>(f.attr_int(g, "step")));
-  }
-  const auto s = f.read<std::uint64_t>("/rng/state").data;
-  m.rng.restore({s[0], s[1], s[2], s[3]}, f.attr_int("/rng", "has_spare") != 0, f.attr_double("/rng", "spare"));
-  m.iteration = f.attr_int("/", "iteration");
-  m.class_names = f.read_strings("/classes/names");
-  m.parents = f.read<std::int32_t>("/skeleton/parents").data;
-  m.joint_names = f.read_strings("/skeleton/joint_names");
-  if (f.exists("/normalization")) {
-    m.normalization.root_joint = static_cast<int>(f.attr_int("/normalization", "root_joint"));
-    m.normalization.scale = f.attr_double("/normalization", "scale");
-    m.normalization.mean = f.read<double>("/normalization/mean").data;
-    m.normalization.std = f.read<double>("/normalization/std").data;
-  }
-  m.log = f.exists("/training/log") ? f.read<double>("/training/log").data : std::vector<double>{};
-  m.unprinted = f.exists("/training/unprinted") ? f.read<double>("/training/unprinted").data : std::vector<double>{};
-  m.history = f.attr_string("/", "history");
+  for (const auto& [name, a] : optimizers(m))
+    nn::restore_adam(*a, io::read_adam_state(f, io::model_layout::optimizer(name),
+                                             static_cast<std::size_t>(a->first_moment().size())));
+  nn::restore_rng(m.rng, io::read_rng_state(f));
+  m.iteration = io::read_iteration(f);
+  io::read_classes_and_skeleton(f, m.class_names, m.parents, m.joint_names);
+  m.normalization = io::read_pose_normalization(f);
+  auto log = io::read_training_log(f);
+  m.log = std::move(log.rows);
+  m.unprinted = std::move(log.unprinted);
+  m.history = io::read_history(f);
   return m;
 }
 

@@ -39,31 +39,31 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
   {
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "bdlstm-model", {m.history});
-    f.create_groups("/config");
+    f.create_groups(io::model_layout::config);
     BdlstmConfig c = m.config;
     BdlstmTraining t = m.training;
-    write_settings(f, "/config", bdlstm_settings(c, t));
+    write_settings(f, io::model_layout::config, bdlstm_settings(c, t));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(),
                             m.unprinted);
     if (!m.log.empty() && m.kl_per_frame >= 0) {
-      f.set_attr("/training/log", "kl_per_frame", m.kl_per_frame);
-      f.set_attr("/training/log", "latent_collapsed", static_cast<int>(m.latent_collapsed));
+      f.set_attr(io::model_layout::training_log, "kl_per_frame", m.kl_per_frame);
+      f.set_attr(io::model_layout::training_log, "latent_collapsed", static_cast<int>(m.latent_collapsed));
     }
     const std::size_t s = m.split.sequences.size();
-    f.create_groups("/split");
-    f.set_attr("/split", "data", m.split.data);
-    f.write_strings("/split/sequences", m.split.sequences);
+    f.create_groups(io::model_layout::split);
+    f.set_attr(io::model_layout::split, "data", m.split.data);
+    f.write_strings(io::model_layout::split_part("sequences"), m.split.sequences);
     std::vector<std::int64_t> train, test;
     for (std::size_t k = 0; k < s; ++k) {
       train.insert(train.end(), {m.split.train_begin[k], m.split.train_end[k]});
       test.insert(test.end(), {m.split.test_begin[k], m.split.test_end[k]});
     }
-    f.write<std::int64_t>("/split/train", train, {s, 2});
-    f.write<std::int64_t>("/split/test", test, {s, 2});
+    f.write<std::int64_t>(io::model_layout::split_part("train"), train, {s, 2});
+    f.write<std::int64_t>(io::model_layout::split_part("test"), test, {s, 2});
     std::vector<std::int64_t> validation;
     for (std::size_t k = 0; k < s; ++k)
       validation.insert(validation.end(), {m.split.validation_begin[k], m.split.validation_end[k]});
-    f.write<std::int64_t>("/split/validation", validation, {s, 2});
+    f.write<std::int64_t>(io::model_layout::split_part("validation"), validation, {s, 2});
     nn::write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
     f.close();
   }
@@ -76,17 +76,17 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   m.history = io::read_history(f);
   // Files written before a setting existed read as the structs' default, the paper's form (the
   // tool's learning defaults are applied by train-bdlstm, not here).
-  read_settings(f, "/config", bdlstm_settings(m.config, m.training));
+  read_settings(f, io::model_layout::config, bdlstm_settings(m.config, m.training));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
-  if (f.exists("/training/log") && f.has_attr("/training/log", "kl_per_frame")) {
-    m.kl_per_frame = f.attr_double("/training/log", "kl_per_frame");
-    m.latent_collapsed = f.attr_int("/training/log", "latent_collapsed") != 0;
+  if (f.exists(io::model_layout::training_log) && f.has_attr(io::model_layout::training_log, "kl_per_frame")) {
+    m.kl_per_frame = f.attr_double(io::model_layout::training_log, "kl_per_frame");
+    m.latent_collapsed = f.attr_int(io::model_layout::training_log, "latent_collapsed") != 0;
   }
-  m.split.data = f.attr_string("/split", "data");
-  m.split.sequences = f.read_strings("/split/sequences");
-  auto train = f.read<std::int64_t>("/split/train").data,
-       test = f.read<std::int64_t>("/split/test").data;
+  m.split.data = f.attr_string(io::model_layout::split, "data");
+  m.split.sequences = f.read_strings(io::model_layout::split_part("sequences"));
+  auto train = f.read<std::int64_t>(io::model_layout::split_part("train")).data,
+       test = f.read<std::int64_t>(io::model_layout::split_part("test")).data;
   for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
     m.split.train_begin.push_back(train[2 * k]);
     m.split.train_end.push_back(train[2 * k + 1]);
@@ -94,8 +94,8 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
     m.split.test_end.push_back(test[2 * k + 1]);
   }
   // Added later: absent means no validation part (an empty range per sequence).
-  const auto validation = f.exists("/split/validation")
-                              ? f.read<std::int64_t>("/split/validation").data
+  const auto validation = f.exists(io::model_layout::split_part("validation"))
+                              ? f.read<std::int64_t>(io::model_layout::split_part("validation")).data
                               : std::vector<std::int64_t>{};
   for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
     m.split.validation_begin.push_back(validation.empty() ? m.split.train_begin[k]

@@ -1,5 +1,7 @@
 #include "models/common/model_file.h"
 
+#include "io/model_file.h"
+
 namespace df::models {
 
 void write_mesh_model_common(h5::File& f, const io::Mesh& tmpl, const geometry::Normalization& nz,
@@ -8,21 +10,16 @@ void write_mesh_model_common(h5::File& f, const io::Mesh& tmpl, const geometry::
                              const std::vector<double>& unprinted) {
   io::write_template(f, tmpl);
   io::write_normalization(f, nz);
-  if (!unprinted.empty()) f.write<double>("/training/unprinted", unprinted, {unprinted.size()});
-  if (log.empty()) return;
-  f.write<double>("/training/log", log, {log.size() / columns.size(), columns.size()});
-  std::string names;
-  for (const auto& n : columns) names += (names.empty() ? "" : " ") + n;
-  f.set_attr("/training/log", "columns", names);
+  io::write_training_log(f, log, columns, unprinted);
 }
 
 void read_mesh_model_common(const h5::File& f, io::Mesh& tmpl, geometry::Normalization& nz,
                             std::vector<double>& log, std::vector<double>& unprinted) {
   tmpl = io::read_template(f);
   nz = io::read_normalization(f);
-  log = f.exists("/training/log") ? f.read<double>("/training/log").data : std::vector<double>{};
-  unprinted = f.exists("/training/unprinted") ? f.read<double>("/training/unprinted").data
-                                              : std::vector<double>{};
+  auto t = io::read_training_log(f);
+  log = std::move(t.rows);
+  unprinted = std::move(t.unprinted);
 }
 
 }  // namespace df::models

@@ -57,26 +57,26 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
   {
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "msae-model", {m.history});
-    f.create_groups("/config");
+    f.create_groups(io::model_layout::config);
     MsaeConfig c = m.config;
     MsaeTraining t = m.training;
-    write_settings(f, "/config", msae_settings(c, t));
+    write_settings(f, io::model_layout::config, msae_settings(c, t));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
-    f.create_groups("/split");
-    f.set_attr("/split", "data", m.split.data);
-    write_frames(f, "/split/train", m.split.train);
-    write_frames(f, "/split/validation", m.split.validation);
-    write_frames(f, "/split/test", m.split.test);
-    f.create_groups("/geodesic");
-    f.set_attr("/geodesic", "method", std::string("heat"));
-    f.set_attr("/geodesic", "diameter", m.geodesic_diameter);
+    f.create_groups(io::model_layout::split);
+    f.set_attr(io::model_layout::split, "data", m.split.data);
+    write_frames(f, io::model_layout::split_part("train"), m.split.train);
+    write_frames(f, io::model_layout::split_part("validation"), m.split.validation);
+    write_frames(f, io::model_layout::split_part("test"), m.split.test);
+    f.create_groups(io::model_layout::geodesic);
+    f.set_attr(io::model_layout::geodesic, "method", std::string("heat"));
+    f.set_attr(io::model_layout::geodesic, "diameter", m.geodesic_diameter);
     if (!m.geodesic_sources.empty()) {
       const std::vector<std::int64_t> sources(m.geodesic_sources.begin(), m.geodesic_sources.end());
-      f.write<std::int64_t>("/geodesic/sources", sources, {sources.size()});
+      f.write<std::int64_t>(io::model_layout::geodesic_part("sources"), sources, {sources.size()});
       const auto V = static_cast<std::size_t>(m.tmpl.vertices.rows());
       std::vector<float> rows;
       for (const auto& r : m.geodesic_rows) rows.insert(rows.end(), r.data(), r.data() + r.size());
-      f.write<float>("/geodesic/distances", rows, {sources.size(), V});
+      f.write<float>(io::model_layout::geodesic_part("distances"), rows, {sources.size(), V});
     }
     nn::write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
     f.close();
@@ -89,22 +89,22 @@ MsaeModel load_msae_model(const std::string& path) {
   MsaeModel m;
   m.history = io::read_history(f);
   // Files written before a setting existed read as its default, the network they describe.
-  read_settings(f, "/config", msae_settings(m.config, m.training));
+  read_settings(f, io::model_layout::config, msae_settings(m.config, m.training));
   if (m.config.kz.empty() || m.config.kz.size() != m.config.d.size())
-    throw InvalidInput("/config kz and d must have one value per level", f.where("/config"));
+    throw InvalidInput("kz and d must have one value per level", f.where(io::model_layout::config));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
-  m.log_validation_erms = f.exists("/training/log") &&
-                          f.attr_string("/training/log", "columns").find("validation_erms") != std::string::npos;
-  m.split.data = f.attr_string("/split", "data");
-  m.split.train = f.read<std::int64_t>("/split/train").data;
-  m.split.validation = f.read<std::int64_t>("/split/validation").data;
-  m.split.test = f.read<std::int64_t>("/split/test").data;
-  m.geodesic_diameter = f.attr_double("/geodesic", "diameter");
-  if (f.exists("/geodesic/sources")) {
-    for (auto s : f.read<std::int64_t>("/geodesic/sources").data)
+  m.log_validation_erms = f.exists(io::model_layout::training_log) &&
+                          f.attr_string(io::model_layout::training_log, "columns").find("validation_erms") != std::string::npos;
+  m.split.data = f.attr_string(io::model_layout::split, "data");
+  m.split.train = f.read<std::int64_t>(io::model_layout::split_part("train")).data;
+  m.split.validation = f.read<std::int64_t>(io::model_layout::split_part("validation")).data;
+  m.split.test = f.read<std::int64_t>(io::model_layout::split_part("test")).data;
+  m.geodesic_diameter = f.attr_double(io::model_layout::geodesic, "diameter");
+  if (f.exists(io::model_layout::geodesic_part("sources"))) {
+    for (auto s : f.read<std::int64_t>(io::model_layout::geodesic_part("sources")).data)
       m.geodesic_sources.push_back(static_cast<int>(s));
-    const auto d = f.read<float>("/geodesic/distances").data;
+    const auto d = f.read<float>(io::model_layout::geodesic_part("distances")).data;
     const auto V = static_cast<std::size_t>(m.tmpl.vertices.rows());
     for (std::size_t k = 0; k < m.geodesic_sources.size(); ++k)
       m.geodesic_rows.push_back(
@@ -113,7 +113,7 @@ MsaeModel load_msae_model(const std::string& path) {
   try {
     m.initialize();  // the network's shapes; weights, Adam and RNG state come from the file
   } catch (const UsageError& e) {
-    throw InvalidInput(e.what(), f.where("/config"));
+    throw InvalidInput(e.what(), f.where(io::model_layout::config));
   }
   m.log = std::move(log);
   m.unprinted = std::move(unprinted);
