@@ -20,8 +20,26 @@ Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& fac
   if (anchor < 0 || anchor >= reference.rows())
     throw InvalidInput("anchor vertex " + std::to_string(anchor) + " does not exist (the template has " +
                        std::to_string(reference.rows()) + " vertices)");
-  auto t0 = std::chrono::steady_clock::now();
   pin_components(anchor);
+  factor();
+}
+
+Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& faces, const std::vector<int>& pinned)
+    : reference_(reference),
+      faces_(faces),
+      topo_(mesh_topology(faces, static_cast<int>(reference.rows()))),
+      weights_(cotangent_weights(reference, faces, topo_)),
+      solver_(ReconstructionSolver::edges) {
+  for (int v : pinned)
+    if (v < 0 || v >= reference.rows())
+      throw InvalidInput("vertex " + std::to_string(v) + " does not exist (the template has " +
+                         std::to_string(reference.rows()) + " vertices)");
+  pin_vertices(pinned);
+  factor();
+}
+
+void Reconstructor::factor() {
+  auto t0 = std::chrono::steady_clock::now();
   ldlt_.compute(solver_ == ReconstructionSolver::edges ? edge_system() : gradient_system());
   if (ldlt_.info() != Eigen::Success) throw InvalidInput("the reconstruction system cannot be factored");
   factor_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -34,16 +52,40 @@ void Reconstructor::pin_components(int anchor) {
   // One pinned vertex per connected component: the anchor, then each other component's first.
   int count = 0;
   component_ = connected_components(topo_, anchor, &count);
+  n_components_ = count;
   pinned_.assign(static_cast<std::size_t>(count), -1);
   pinned_[0] = anchor;
   for (int i = 0; i < n; ++i)
     if (pinned_[static_cast<std::size_t>(component_[static_cast<std::size_t>(i)])] < 0)
       pinned_[static_cast<std::size_t>(component_[static_cast<std::size_t>(i)])] = i;
-  reduced_.assign(static_cast<std::size_t>(n), 0);
+  number_free();
+}
+
+void Reconstructor::number_free() {
+  reduced_.assign(static_cast<std::size_t>(topo_.n_vertices), 0);
   for (int p : pinned_) reduced_[p] = -1;
   int rows = 0;
+  for (auto& r : reduced_)
+    if (r == 0) r = rows++;
+}
+
+void Reconstructor::pin_vertices(const std::vector<int>& pinned) {
+  const int n = topo_.n_vertices;
+  int count = 0;
+  component_ = connected_components(topo_, 0, &count);
+  n_components_ = count;
+  std::vector<char> held(static_cast<std::size_t>(count), 0), is_pinned(static_cast<std::size_t>(n), 0);
+  for (int v : pinned) {
+    if (!is_pinned[v]) pinned_.push_back(v);
+    is_pinned[v] = 1;
+    held[static_cast<std::size_t>(component_[v])] = 1;
+  }
   for (int i = 0; i < n; ++i)
-    if (reduced_[i] == 0) reduced_[i] = rows++;
+    if (!held[static_cast<std::size_t>(component_[i])]) {
+      held[static_cast<std::size_t>(component_[i])] = 1;
+      pinned_.push_back(i);
+    }
+  number_free();
 }
 
 // The weighted graph Laplacian over the free vertices.

@@ -41,6 +41,10 @@ class Reconstructor {
   /// @param anchor     pinned vertex of its component (at its reference position)
   Reconstructor(const io::Vertices& reference, const io::Faces& faces, int anchor = 0,
                 ReconstructionSolver solver = ReconstructionSolver::edges);
+  /// Pins the given vertices (e.g. an edit's handles, at the positions solve() is given) and
+  /// the lowest-index vertex of every connected component that holds none of them. Only the edge
+  /// system; InvalidInput for a vertex out of range.
+  Reconstructor(const io::Vertices& reference, const io::Faces& faces, const std::vector<int>& pinned);
   ~Reconstructor();
 
   /// Positions (#V by 3) from one frame's raw features (#V rows of 9, row-major). Pinned
@@ -50,14 +54,25 @@ class Reconstructor {
 
   ReconstructionSolver solver() const { return solver_; }
   int n_vertices() const { return topo_.n_vertices; }
-  /// Number of connected components (= pinned vertices).
-  int components() const { return static_cast<int>(pinned_.size()); }
-  /// Connected component of each vertex (0 = the anchor's).
+  /// Number of connected components (= pinned vertices with an anchor).
+  int components() const { return n_components_; }
+  /// Connected component of each vertex (0 = the anchor's, or vertex 0's).
   const std::vector<int>& component_of() const { return component_; }
   double factor_seconds() const { return factor_seconds_; }
 
+  // The edge system's parts, for solvers built on it (geometry/subspace_edit):
+  const MeshTopology& topology() const { return topo_; }
+  const std::vector<double>& edge_weights() const { return weights_; }  ///< w_ij per edge
+  /// The unknown of each vertex in the reduced system, −1 for a pinned one.
+  const std::vector<int>& reduced_index() const { return reduced_; }
+  /// L⁻¹ b for right-hand sides over the free vertices (rows: reduced_index()).
+  Eigen::MatrixXd solve_reduced(const Eigen::MatrixXd& b) const { return ldlt_.solve(b); }
+
  private:
   void pin_components(int anchor);
+  void pin_vertices(const std::vector<int>& pinned);
+  void number_free();
+  void factor();
   Eigen::SparseMatrix<double> edge_system() const;
   Eigen::SparseMatrix<double> gradient_system();
 
@@ -68,6 +83,7 @@ class Reconstructor {
   ReconstructionSolver solver_;
   std::vector<int> pinned_;     // one vertex per connected component
   std::vector<int> component_;  // component of each vertex
+  int n_components_ = 0;
   std::vector<int> reduced_;    // vertex -> unknown of the reduced system (−1 for a pinned vertex)
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
   double factor_seconds_ = 0;

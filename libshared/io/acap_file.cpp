@@ -29,6 +29,14 @@ constexpr const char* kRegions = "/synthetic/regions";
 constexpr const char* kRegionScale = "/synthetic/region_scale";
 constexpr const char* kRegionCenter = "/synthetic/region_center";
 constexpr const char* kRegionWeights = "/synthetic/weights";
+constexpr const char* kEdit = "/edit";
+constexpr const char* kEditWeights = "/edit/weights";
+constexpr const char* kEditLevel = "/edit/level";
+constexpr const char* kEdited = "/edit/edited";
+constexpr const char* kHandles = "/edit/handles";
+constexpr const char* kTargets = "/edit/targets";
+constexpr const char* kHandleResidual = "/edit/residual";
+constexpr const char* kEditEnergy = "/edit/energy";
 constexpr std::size_t kDims = kAcapFeatureDims;
 
 }  // namespace
@@ -109,6 +117,24 @@ void AcapReader::read_regions(std::vector<std::vector<std::uint8_t>>& masks, std
   scale = file_.read<std::int32_t>(kRegionScale).data;
 }
 
+bool AcapReader::has_edit() const { return file_.exists(kEdit); }
+
+ShapeEdit AcapReader::read_edit() const {
+  ShapeEdit e;
+  e.components = file_.attr_string(kEdit, "components");
+  e.l2 = file_.attr_double(kEdit, "l2");
+  e.iterations = file_.attr_int(kEdit, "iterations");
+  e.converged = file_.attr_int(kEdit, "converged") != 0;
+  e.weights = file_.read<double>(kEditWeights).data;
+  e.level = file_.read<std::int32_t>(kEditLevel).data;
+  e.edited = file_.read<std::uint8_t>(kEdited).data;
+  e.handles = file_.read<std::int32_t>(kHandles).data;
+  e.targets = file_.read<double>(kTargets).data;
+  e.residual = file_.read<double>(kHandleResidual).data;
+  e.energy = file_.read<double>(kEditEnergy).data;
+  return e;
+}
+
 void AcapReader::read_positions(std::size_t first, std::size_t count, float* out) const {
   file_.read_rows<float>(kPositions, first, count, out);
   check_finite_rows(out, first, count, vertices() * 3, file_.where(kPositions));
@@ -174,6 +200,21 @@ void AcapWriter::write_synthetic(const SyntheticTruth& t) {
   file_.write<std::int32_t>(kRegionScale, t.region_scale, {R});
   file_.write<std::int32_t>(kRegionCenter, t.region_center, {R});
   file_.write(kRegionWeights, h5::Array<float>{{t.weights.size() / R, R}, t.weights});
+}
+
+void AcapWriter::write_edit(const ShapeEdit& e) {
+  file_.create_groups(kEdit);
+  file_.set_attr(kEdit, "components", e.components);
+  file_.set_attr(kEdit, "l2", e.l2);
+  file_.set_attr(kEdit, "iterations", e.iterations);
+  file_.set_attr(kEdit, "converged", static_cast<std::int64_t>(e.converged));
+  file_.write<double>(kEditWeights, e.weights, {e.weights.size()});
+  file_.write<std::int32_t>(kEditLevel, e.level, {e.level.size()});
+  file_.write<std::uint8_t>(kEdited, e.edited, {e.edited.size()});
+  file_.write<std::int32_t>(kHandles, e.handles, {e.handles.size()});
+  file_.write<double>(kTargets, e.targets, {e.handles.size(), 3});
+  file_.write<double>(kHandleResidual, e.residual, {e.residual.size()});
+  file_.write<double>(kEditEnergy, e.energy, {e.energy.size()});
 }
 
 void AcapWriter::create_positions(std::size_t frames, std::size_t vertices) {

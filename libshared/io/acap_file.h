@@ -56,6 +56,23 @@ struct SyntheticTruth {
   std::vector<float> weights;                       ///< [N, R]
 };
 
+/// What edit-shape did to make a shape (/edit): the weights of every component of the components
+/// file it used (levels in order, pruned ones with weight 0), which of them this edit solved for,
+/// the handles and their targets, and how far the weights alone reach each target.
+struct ShapeEdit {
+  std::string components;               ///< the components file as given
+  double l2 = 0;
+  std::int64_t iterations = 0;
+  bool converged = false;
+  std::vector<double> weights;          ///< [K]
+  std::vector<std::int32_t> level;      ///< [K] the level of each component
+  std::vector<std::uint8_t> edited;     ///< [K] 1 = solved in this edit, 0 = kept from --from
+  std::vector<std::int32_t> handles;    ///< [H] vertices held
+  std::vector<double> targets;          ///< [H, 3]
+  std::vector<double> residual;         ///< [H] see edit-shape --help
+  std::vector<double> energy;           ///< the energy at the start and after each step
+};
+
 /// An ACAP input, opened and validated (io::open_input) once; partial reads by frame.
 class AcapReader {
  public:
@@ -88,6 +105,9 @@ class AcapReader {
   FeatureNormalization normalization() const;
   /// Planted regions (synth-meshseq --kind bumps): masks [R][V] and scales; has_regions first.
   bool has_regions() const;
+  /// The /edit record of a shape made by edit-shape; has_edit first.
+  bool has_edit() const;
+  ShapeEdit read_edit() const;
   void read_regions(std::vector<std::vector<std::uint8_t>>& masks, std::vector<std::int32_t>& scale) const;
 
   /// Rows [first, first + count) (a row: one frame, V x 3 or V x 9 values), checked finite.
@@ -122,6 +142,7 @@ class AcapWriter {
   void write_steps(const std::vector<std::int32_t>& steps);
   /// /synthetic: the parameters always, the regions, scales, centres and weights when there are.
   void write_synthetic(const SyntheticTruth& truth);
+  void write_edit(const ShapeEdit& edit);
 
   /// Datasets of `frames` x V rows, created empty and written in row blocks, or written whole.
   void create_positions(std::size_t frames, std::size_t vertices);
