@@ -8,7 +8,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
       $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
       $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt \
       $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png \
-      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.txt \
+      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.txt $(DEMO)/edit.png \
       $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png $(DEMO)/actgan-mmd.txt $(DEMO)/actgan-accuracy.txt
 	@echo
 	@echo "== h5check: file kinds, shapes, compression, history"
@@ -32,6 +32,9 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo "   where they are: per planted region the best kept component at its level (IoU of supports):"
 	@sed -n '2,$$p' $(DEMO)/msae-localization.txt | sed 's/^/     /'
 	@echo "   (pipelines/msae.mk trains longer, adds the baselines and reproduces the paper's tables)"
+	@echo "   multiscale editing (edit-shape): a coarse region's centre raised with the level-0 components,"
+	@echo "   then a fine region's with level 1 from that result (its components pruned as weak: --include-pruned):"
+	@sed 's/^edit-shape: /     /' $(DEMO)/edit.log
 	@echo
 	@echo "== ActGAN (train-actgan: 400 WGAN-GP + 400 GAN iterations, small networks, on 5 synthetic actions)"
 	@echo "   generated from noise vs the real test clips (eval-metrics; MMD_u^2, lower is closer):"
@@ -46,6 +49,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo "  $(DEMO)/bdlstm-prediction.png   truth / BD-LSTM / linear at future frames 5, 10, 15, coloured by error"
 	@echo "  $(DEMO)/faerie.png              MD2 frames above their ACAP round trip, coloured by error"
 	@echo "  $(DEMO)/msae-components.png     the kept MSAE components (rows: levels), coloured by deformation"
+	@echo "  $(DEMO)/edit.png                the two-step edit, handles as red dots, coloured by displacement"
 	@echo "  $(DEMO)/actgan-generated.png    one generated sequence per action (stick figures, every 3rd frame)"
 	@echo "  $(DEMO)/actgan-mixed.png        sequences generated for the mixture walk:0.5,wave:0.5"
 	@echo
@@ -138,6 +142,22 @@ $(DEMO)/msae-components.png: $(DEMO)/msae-kept.h5
 	  --title "MSAE components of the bumps surface, L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
 $(DEMO)/msae-localization.txt: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
 	$(BIN)/eval-metrics $< $(DEMO)/bumps.h5 > $@
+# Multiscale editing (paper 2, §5): the centre of the first planted (coarse) region dragged up
+# with the level-0 components, then the centre of a fine one with level 1 from that result; the
+# grid's corners held.
+DEMO_CORNERS := 0,40,1640,1680
+demo_region = $$($(call h5_values,$(DEMO)/bumps.h5,/synthetic/region_center) | sed -n 2p | tr -d ' ' | cut -d, -f$(1))
+$(DEMO)/edit-fine.h5: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
+	echo "$(call demo_region,1) 0 0 0.4" > $(DEMO)/edit-coarse.txt
+	$(BIN)/edit-shape -f $< --handles $(DEMO)/edit-coarse.txt --relative --fixed $(DEMO_CORNERS) --levels 0 \
+	  -o $(DEMO)/edit-coarse.h5 2> $(DEMO)/edit.log
+	echo "$(call demo_region,3) 0 0 0.25" > $(DEMO)/edit-fine.txt
+	$(BIN)/edit-shape -f $< --handles $(DEMO)/edit-fine.txt --relative --fixed $(DEMO_CORNERS),$(call demo_region,1) \
+	  --levels 1 --include-pruned --from $(DEMO)/edit-coarse.h5 -o $@ 2>> $(DEMO)/edit.log
+$(DEMO)/edit.png: $(DEMO)/edit-fine.h5
+	$(BIN)/render-mesh -q -f $(DEMO)/edit-coarse.h5 $< --color displacement --points edit --view 30,50 \
+	  --row-labels "coarse (level 0),fine (level 1)" --column-labels "edit" \
+	  --title "bumps: multiscale editing with MSAE components (red: handles)" -o $@
 $(DEMO)/msae-recon.txt: $(DEMO)/msae-model.h5
 	$(BIN)/recon-msae -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-recon.h5
 	$(BIN)/eval-metrics $(DEMO)/msae-recon.h5 $(DEMO)/bumps-acap.h5 > $@

@@ -15,6 +15,10 @@
 #   $(MS)/S/components.png  the kept components (prune-components), coloured by deformation
 #   $(MS)/S/curve.png     training loss and validation error (features, and E_rms of positions) over
 #                         iterations (where it stops improving chose the iteration count)
+#   $(MS)/S/fig6.md, fig6.png  test shapes rebuilt from N = 5..80 control points with each method's
+#                         components (edit-shape --sample, scripts/fig6; paper Fig. 6): MSAE, the
+#                         one-level AE, PCA and SPLOCS on ACAP features, mean E_rms over
+#                         MS_FIG6_SHAPES test shapes
 # and on bumps $(MS)/bumps/localization.md: per planted region the IoU of the best kept component
 # at its level (and of the best of all, before pruning). Validation shapes (10% of the held-out
 # ones, 25% for the 9-pose collections) are excluded from every test number.
@@ -49,14 +53,15 @@ noatt_FLAGS := --no-attention
 separate-noatt_FLAGS := --separate --no-attention
 level3_FLAGS := --levels 3 --kz 10,5,2 --d 0.4,0.2,0.1
 
-.PHONY: msae
+.PHONY: msae msae-fig6
 msae: $(foreach s,$(MS_SETS),$(MS)/$(s)/table2.md $(MS)/$(s)/table4.md $(MS)/$(s)/table5.md \
-        $(MS)/$(s)/fig3.png $(MS)/$(s)/components.png $(MS)/$(s)/curve.png) \
+        $(MS)/$(s)/fig3.png $(MS)/$(s)/components.png $(MS)/$(s)/curve.png $(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png) \
       $(if $(filter bumps,$(MS_SETS)),$(MS)/bumps/localization.md)
 	@for s in $(MS_SETS); do \
 	  echo; echo "=== $$s"; cat $(MS)/$$s/table2.md; echo; cat $(MS)/$$s/table4.md; echo; cat $(MS)/$$s/table5.md; \
 	  [ -f $(MS)/$$s/localization.md ] && { echo; cat $(MS)/$$s/localization.md; }; \
-	  echo; echo "pictures: $(MS)/$$s/components.png, fig3.png, curve.png"; \
+	  echo; cat $(MS)/$$s/fig6.md; \
+	  echo; echo "pictures: $(MS)/$$s/components.png, fig3.png, curve.png, fig6.png"; \
 	done
 
 # --- data: ACAP features of each set (real sets unpacked as in bdlstm.mk)
@@ -145,6 +150,31 @@ $(MS)/%/table5.md: $(MS)/%/recon-L1.eval $(MS)/%/recon.eval
 	  echo "| 1 (the two-level model through level 0) | $$($(call ms_rse_max,$<)) |"; \
 	  echo "| 2 | $$($(call ms_rse_max,$(MS)/$*/recon.eval)) |"; \
 	  $(if $(filter $*,$(MS_LEVEL3_SETS)),echo "| 3 (a three-level model, K_z 10,5,2) | $$($(call ms_rse_max,$(MS)/$*/recon-level3-L3.eval)) |";) \
+	} $(write_if_changed)
+
+# --- Fig. 6: test shapes rebuilt from N control points with each method's components
+MS_FIG6_SHAPES ?= 20
+msae-fig6: $(foreach s,$(MS_SETS),$(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png)
+	@for s in $(MS_SETS); do echo; cat $(MS)/$$s/fig6.md; done
+$(MS)/%/components-tan.h5: $(MS)/%/msae-tan.h5
+	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
+$(MS)/%/components-pca.h5: $(MS)/%/msae.h5
+	$(call launch,train) $(BIN)/fit-baseline -q -f --method pca $< $(MS)/$*/data.h5 -o $(MS)/$*/fig6-pca.h5 --components-out $@
+$(MS)/%/components-splocs-acap.h5: $(MS)/%/msae.h5
+	$(call launch,train) $(BIN)/fit-baseline -q -f --method splocs-acap $< $(MS)/$*/data.h5 -o $(MS)/$*/fig6-splocs-acap.h5 --components-out $@
+$(MS)/%/fig6.tsv: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.h5 $(MS)/%/components-pca.h5 $(MS)/%/components-splocs-acap.h5
+	$(call launch,eval) env DF_BIN=$(BIN) $(DF_ROOT)/scripts/fig6 -c $(MS_FIG6_SHAPES) -o $@ $< $(MS)/$*/data.h5 \
+	  MSAE=$(MS)/$*/components.h5 one-level-AE=$(MS)/$*/components-tan.h5 PCA=$(MS)/$*/components-pca.h5 \
+	  SPLOCS-ACAP=$(MS)/$*/components-splocs-acap.h5
+$(MS)/%/fig6.png: $(MS)/%/fig6.tsv
+	gnuplot -e "set terminal pngcairo size 640,480; set output '$@'; set logscale xy; set grid; \
+	  set xlabel 'control points'; set ylabel 'E_rms (x1000, unit ball)'; set xtics (5, 10, 20, 40, 80); \
+	  set title '$*: test shapes rebuilt from N control points (paper Fig. 6)'; \
+	  plot for [i=2:5] '$<' using 1:i with linespoints lw 2 title columnheader(i)"
+$(MS)/%/fig6.md: $(MS)/%/fig6.tsv
+	{ echo "$* — test shapes rebuilt from N control points (paper Fig. 6): mean E_rms (x1000, unit ball, each aligned by a translation) of $(MS_FIG6_SHAPES) test shapes, edit-shape with each method's components (MSAE: all 10 + 50, one-level AE: 60, PCA and SPLOCS on ACAP features: as many as Table 2's)"; echo; \
+	  head -1 $< | sed 's/^/| /; s/\t/ | /g; s/$$/ |/'; head -1 $< | sed 's/[^\t]*/---:/g; s/^/|/; s/\t/|/g; s/$$/|/'; \
+	  tail -n +2 $< | sed 's/^/| /; s/\t/ | /g; s/$$/ |/'; \
 	} $(write_if_changed)
 
 # --- components: extract, prune, draw; similarity heat map; training curve

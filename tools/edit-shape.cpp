@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   app.add_option("--from-frame", opt.from_frame, "Which frame of --from")->default_val(opt.from_frame);
   app.add_option("--levels", opt.levels, "Move only these levels' components (comma-separated; default: all)")
       ->delimiter(',');
+  app.add_flag("--relative", opt.relative,
+               "The handle file's x y z are displacements from where each vertex is in the shape\n"
+               "edited from (drag by an amount)");
   app.add_flag("--include-pruned", opt.include_pruned, "Use the components prune-components dropped too");
   app.add_option("--l2", opt.solver.l2, "λ: weight of ‖w‖² (keeps underdetermined edits small)")
       ->default_val(opt.solver.l2)

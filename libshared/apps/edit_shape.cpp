@@ -147,7 +147,10 @@ void sample_handles(Handles& h, const EditShapeOptions& opt, const io::Component
 }
 
 // The handles with their targets (held vertices at their start positions).
-void place_handles(Handles& h, const std::vector<int>& fixed, const io::Vertices& start) {
+void place_handles(Handles& h, const std::vector<int>& fixed, const io::Vertices& start, bool relative) {
+  if (relative)
+    for (std::size_t k = 0; k < h.vertices.size(); ++k)
+      if (h.targets[k].allFinite()) h.targets[k] += start.row(h.vertices[k]);
   std::set<int> seen(h.vertices.begin(), h.vertices.end());
   for (int v : fixed) {
     if (v < 0 || v >= start.rows())
@@ -156,8 +159,6 @@ void place_handles(Handles& h, const std::vector<int>& fixed, const io::Vertices
     h.vertices.push_back(v);
     h.targets.emplace_back(Eigen::RowVector3d::Constant(std::nan("")));
   }
-  if (h.vertices.empty())
-    throw UsageError("no handles: give --handles FILE (lines `vertex x y z`), --sample N --to SHAPE or --fixed");
   for (std::size_t k = 0; k < h.vertices.size(); ++k)
     if (!h.targets[k].allFinite()) h.targets[k] = start.row(h.vertices[k]);
 }
@@ -268,8 +269,10 @@ void edit_shape(const EditShapeOptions& opt, const CommonOptions& common) {
   Handles handles = opt.handles.empty() ? Handles{} : read_handles(opt.handles, V);
   const Subspace sub = select_directions(c, opt);
   const Start start = read_start(opt, c, sub);
+  place_handles(handles, opt.fixed, start.positions, opt.relative);  // the file's, then --fixed
   sample_handles(handles, opt, c);
-  place_handles(handles, opt.fixed, start.positions);
+  if (handles.vertices.empty())
+    throw UsageError("no handles: give --handles FILE (lines `vertex x y z`), --sample N --to SHAPE or --fixed");
 
   // f⁰: the start's features less the part the solved weights already give.
   Eigen::VectorXd w0(static_cast<Eigen::Index>(sub.selected.size()));

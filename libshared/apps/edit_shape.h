@@ -21,6 +21,7 @@ struct EditShapeOptions {
   int to_frame = 0, sample = 0;
   std::vector<int> levels;  ///< empty: every level
   bool include_pruned = false;
+  bool relative = false;    ///< the handle file's targets are displacements from the start shape
   geometry::SubspaceEditOptions solver;
 };
 

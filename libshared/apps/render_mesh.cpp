@@ -1,5 +1,7 @@
 #include "apps/render_mesh.h"
 
+#include "apps/edit_shape.h"
+
 #include <fmt/args.h>
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -19,6 +21,7 @@
 #include "core/progress.h"
 #include "eval/mesh_metrics.h"
 #include "geometry/mesh_topology.h"
+#include "io/acap_file.h"
 #include "io/h5.h"
 #include "io/schema.h"
 #include "io/skeleton_file.h"
@@ -359,6 +362,7 @@ std::vector<std::string> labels_or(const std::vector<std::string>& given,
 // Everything a picture shows: the inputs, their rows, the colour bar, the camera fitted to it all.
 struct Scene {
   bool skeleton = false;
+  std::vector<std::vector<int>> points;  // per input, the vertices marked with dots (--points)
   std::vector<convert::FrameSet> sets;
   std::vector<io::SkeletonFile> skels;
   std::unique_ptr<convert::FrameSet> truth;
@@ -525,6 +529,29 @@ std::vector<Panel> mesh_panels(const Scene& sc, const RenderOptions& opt, std::s
   return panels;
 }
 
+// --points: per input, a handle file's vertices, or the handles of its /edit record (none
+// without one).
+std::vector<std::vector<int>> marked_points(const RenderOptions& opt, const Scene& sc) {
+  if (opt.points.empty()) return {};
+  if (sc.skeleton) throw UsageError("--points marks mesh vertices; these inputs are skeletons");
+  const int V = static_cast<int>(sc.sets.front().tmpl.vertices.rows());
+  if (opt.points != "edit") return std::vector<std::vector<int>>(opt.inputs.size(), read_handles(opt.points, V).vertices);
+  std::vector<std::vector<int>> points;
+  bool any = false;
+  for (const auto& p : opt.inputs) {
+    points.emplace_back();
+    if (io::is_hdf5_path(p) && io::declared_kind(h5::File(p, h5::File::Mode::read)) == "acap") {
+      const io::AcapReader r(p);
+      if (!r.has_edit()) continue;
+      const auto h = r.read_edit().handles;
+      points.back().assign(h.begin(), h.end());
+      any = true;
+    }
+  }
+  if (!any) throw UsageError("--points edit: no input has an /edit record (an edit-shape output)");
+  return points;
+}
+
 // Draws and writes the pictures: one sheet, or one per column (in batches of columns, so a long
 // sequence never holds all its panels in memory).
 void draw_pictures(const Scene& sc, const RenderOptions& opt, const CommonOptions& common,
@@ -554,6 +581,14 @@ void draw_pictures(const Scene& sc, const RenderOptions& opt, const CommonOption
             progress.advance();
           } else {
             canvas.blit(panels[ri * (c1 - c0) + (c - c0)], x, y);
+            const auto& shown = sc.rows[ri].shown[c];
+            const auto input = sc.rows[ri].truth ? 0 : sc.rows[ri].input;
+            for (int v : sc.points.empty() ? std::vector<int>{} : sc.points[input]) {
+              if (v >= shown.rows()) continue;
+              const Eigen::Vector3d q = sc.camera.to_panel(shown.row(v).transpose(), opt.width, opt.height);
+              canvas.disc(x + q.x(), y + q.y(), 4.5, Rgb{1, 1, 1});
+              canvas.disc(x + q.x(), y + q.y(), 3.2, Rgb{0.86, 0.1, 0.1});
+            }
           }
         }
       draw_sheet_frame(canvas, spec, L);
@@ -577,8 +612,8 @@ void render_mesh(const RenderOptions& opt, const CommonOptions& common) {
   for (const auto& p : opt.inputs) kinds.push_back(input_kind(p));
   if (std::any_of(kinds.begin(), kinds.end(), [&](Kind k) { return k != kinds.front(); }))
     throw UsageError("cannot draw skeleton files and meshes in one picture");
-  const Scene scene =
-      kinds.front() == Kind::skeleton ? load_skeletons(opt, col) : load_meshes(opt, col);
+  Scene scene = kinds.front() == Kind::skeleton ? load_skeletons(opt, col) : load_meshes(opt, col);
+  scene.points = marked_points(opt, scene);
   const Outputs out = check_outputs(opt, scene, common);
   draw_pictures(scene, opt, common, out);
   log::info("wrote {} ({} rows x {} frames{})",

@@ -39,6 +39,10 @@ struct RenderOptions {
   int supersample = 3;
   std::vector<std::string> row_labels, column_labels;
   std::string title;
+  /// Vertices marked with dots: a handle file (edit-shape's: the first number of each line) on
+  /// every mesh, or "edit": on each input's meshes the handles of its /edit record (edit-shape
+  /// outputs; none on the other inputs)
+  std::string points;
 };
 
 void render_mesh(const RenderOptions& opt, const CommonOptions& common);
