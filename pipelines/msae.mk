@@ -17,7 +17,7 @@
 #                         iterations (where it stops improving chose the iteration count)
 #   $(MS)/S/fig6.md, fig6.png  test shapes rebuilt from N = 5..80 control points with each method's
 #                         components (edit-shape --sample, scripts/fig6; paper Fig. 6): MSAE, the
-#                         one-level AE, PCA and SPLOCS on ACAP features, mean E_rms over
+#                         one-level AE, PCA, SPLOCS on positions and on ACAP features, mean E_rms over
 #                         MS_FIG6_SHAPES test shapes
 # and on bumps $(MS)/bumps/localization.md: per planted region the IoU of the best kept component
 # at its level (and of the best of all, before pruning). Validation shapes (10% of the held-out
@@ -160,19 +160,22 @@ $(MS)/%/components-tan.h5: $(MS)/%/msae-tan.h5
 	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/components-pca.h5: $(MS)/%/msae.h5
 	$(call launch,train) $(BIN)/fit-baseline -q -f --method pca $< $(MS)/$*/data.h5 -o $(MS)/$*/fig6-pca.h5 --components-out $@
+$(MS)/%/components-splocs.h5: $(MS)/%/msae.h5
+	$(call launch,train) $(BIN)/fit-baseline -q -f --method splocs $< $(MS)/$*/data.h5 -o $(MS)/$*/fig6-splocs.h5 --components-out $@
 $(MS)/%/components-splocs-acap.h5: $(MS)/%/msae.h5
 	$(call launch,train) $(BIN)/fit-baseline -q -f --method splocs-acap $< $(MS)/$*/data.h5 -o $(MS)/$*/fig6-splocs-acap.h5 --components-out $@
-$(MS)/%/fig6.tsv: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.h5 $(MS)/%/components-pca.h5 $(MS)/%/components-splocs-acap.h5
+$(MS)/%/fig6.tsv: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.h5 $(MS)/%/components-pca.h5 \
+                  $(MS)/%/components-splocs.h5 $(MS)/%/components-splocs-acap.h5
 	$(call launch,eval) env DF_BIN=$(BIN) $(DF_ROOT)/scripts/fig6 -c $(MS_FIG6_SHAPES) -o $@ $< $(MS)/$*/data.h5 \
 	  MSAE=$(MS)/$*/components.h5 one-level-AE=$(MS)/$*/components-tan.h5 PCA=$(MS)/$*/components-pca.h5 \
-	  SPLOCS-ACAP=$(MS)/$*/components-splocs-acap.h5
+	  SPLOCS=$(MS)/$*/components-splocs.h5 SPLOCS-ACAP=$(MS)/$*/components-splocs-acap.h5
 $(MS)/%/fig6.png: $(MS)/%/fig6.tsv
 	gnuplot -e "set terminal pngcairo size 640,480; set output '$@'; set logscale xy; set grid; \
 	  set xlabel 'control points'; set ylabel 'E_rms (x1000, unit ball)'; set xtics (5, 10, 20, 40, 80); \
 	  set title '$*: test shapes rebuilt from N control points (paper Fig. 6)'; \
-	  plot for [i=2:5] '$<' using 1:i with linespoints lw 2 title columnheader(i)"
+	  plot for [i=2:6] '$<' using 1:i with linespoints lw 2 title columnheader(i)"
 $(MS)/%/fig6.md: $(MS)/%/fig6.tsv
-	{ echo "$* — test shapes rebuilt from N control points (paper Fig. 6): mean E_rms (x1000, unit ball, each aligned by a translation) of $(MS_FIG6_SHAPES) test shapes, edit-shape with each method's components (MSAE: all 10 + 50, one-level AE: 60, PCA and SPLOCS on ACAP features: as many as Table 2's)"; echo; \
+	{ echo "$* — test shapes rebuilt from N control points (paper Fig. 6): mean E_rms (x1000, unit ball, each aligned by a translation) of $(MS_FIG6_SHAPES) test shapes, edit-shape with each method's components (MSAE: all 10 + 50, one-level AE: 60, PCA and SPLOCS on ACAP features: as many as Table 2's; SPLOCS on positions: the handles fitted by its linear model, the others hold them)"; echo; \
 	  head -1 $< | sed 's/^/| /; s/\t/ | /g; s/$$/ |/'; head -1 $< | sed 's/[^\t]*/---:/g; s/^/|/; s/\t/|/g; s/$$/|/'; \
 	  tail -n +2 $< | sed 's/^/| /; s/\t/ | /g; s/$$/ |/'; \
 	} $(write_if_changed)

@@ -27,10 +27,11 @@ int main(int argc, char** argv) {
       ->default_val(opt.method)
       ->check(CLI::IsMember({"pca", "splocs", "splocs-acap"}));
   app.add_option("--components-out", opt.components_out,
-                 "Also write the fitted basis as a components file (pca, splocs-acap): component k\n"
-                 "is the reference plus its direction at the training shapes' largest coefficient,\n"
-                 "for prune-components, render-mesh (via --acap of prune-components) and\n"
-                 "eval-metrics' localization, as extract-components writes MSAE's");
+                 "Also write the fitted basis as a components file, for edit-shape and (pca,\n"
+                 "splocs-acap) prune-components, render-mesh (via --acap of prune-components) and\n"
+                 "eval-metrics' localization, as extract-components writes MSAE's: component k is\n"
+                 "the reference plus its direction at the training shapes' largest coefficient\n"
+                 "(splocs: a displacement of the vertices from the mean shape, space 'positions')");
   app.add_option("--components", opt.components,
                  "Number of components (default: as many as the MSAE model)")
       ->default_str("model's");

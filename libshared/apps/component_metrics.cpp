@@ -53,6 +53,7 @@ void eval_components(const std::string& components, const std::string& truth,
                      const std::string& json, double threshold) {
   if (!(threshold > 0 && threshold < 1)) throw UsageError("--support-threshold must be in (0, 1)");
   const models::Components c = models::read_components(components);
+  io::require_acap_components(c, components, "localization");
   const io::AcapReader t(truth);
   if (!t.has_regions())
     throw InvalidInput(

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Cholesky>
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -53,14 +55,16 @@ Subspace select_directions(const io::Components& c, const EditShapeOptions& opt)
     throw InvalidInput("no component to edit with (the chosen levels' components were all pruned: --include-pruned "
                        "uses them)",
                        opt.components);
-  const auto n9 = static_cast<Eigen::Index>(kDims) * c.tmpl.vertices.rows();
-  s.directions.resize(static_cast<Eigen::Index>(rows.size()), n9);
+  const int D = c.per_vertex();
+  const auto n = static_cast<Eigen::Index>(D) * c.tmpl.vertices.rows();
+  s.directions.resize(static_cast<Eigen::Index>(rows.size()), n);
   const auto& nz = c.normalization;
   for (std::size_t k = 0; k < rows.size(); ++k)
-    for (Eigen::Index j = 0; j < n9; ++j) {
-      const int d = static_cast<int>(j % kDims);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const int d = static_cast<int>(j % D);
       s.directions(static_cast<Eigen::Index>(k), j) =
-          nz.denormalize(d, rows[k][j]) - nz.denormalize(d, ref[static_cast<std::size_t>(d)]);
+          c.space == "positions" ? static_cast<double>(rows[k][j])  // displacements as they are
+                                 : nz.denormalize(d, rows[k][j]) - nz.denormalize(d, ref[static_cast<std::size_t>(d)]);
     }
   return s;
 }
@@ -74,10 +78,11 @@ struct Start {
 
 Start read_start(const EditShapeOptions& opt, const io::Components& c, const Subspace& s) {
   const auto V = static_cast<std::size_t>(c.tmpl.vertices.rows());
+  const bool positions_space = c.space == "positions";
   Start st;
   st.weights.assign(s.level.size(), 0.0);
   if (opt.from.empty()) {
-    st.positions = c.tmpl.vertices;
+    st.positions = positions_space ? c.mean : c.tmpl.vertices;
     const auto id = geometry::identity_features();
     for (std::size_t i = 0; i < V; ++i) st.features.insert(st.features.end(), id.begin(), id.end());
     return st;
@@ -92,7 +97,10 @@ Start read_start(const EditShapeOptions& opt, const io::Components& c, const Sub
     throw UsageError(fmt::format("--from-frame {}: {} has frames 0..{}", opt.from_frame, opt.from, r.frames() - 1));
   const auto frame = static_cast<std::size_t>(opt.from_frame);
   st.features.resize(V * kDims);
-  if (r.has_raw()) {
+  if (positions_space) {
+    if (!r.has_positions()) throw InvalidInput("has no positions to edit with position components", opt.from);
+    st.features.clear();
+  } else if (r.has_raw()) {
     r.read_raw(frame, 1, st.features.data());
   } else if (r.has_normalized()) {
     std::vector<float> x(V * kDims);
@@ -102,7 +110,7 @@ Start read_start(const EditShapeOptions& opt, const io::Components& c, const Sub
   } else {
     throw InvalidInput("has positions but no ACAP features (run obj2acap on it first)", opt.from);
   }
-  if (r.has_positions()) {
+  if (r.has_positions()) {  // (required above for position components)
     std::vector<float> p(V * 3);
     r.read_positions(frame, 1, p.data());
     st.positions = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
@@ -192,6 +200,12 @@ void write_edit(const EditShapeOptions& opt, const io::Components& c, const std:
     if (!opt.to.empty()) f.write_source({opt.to_frame}, opt.to, "edit-shape");  // eval-metrics pairs them
     const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor> p = res.positions.cast<float>();
     f.write_positions(1, V, p.data());
+    if (res.features.empty()) {  // position components: positions only
+      f.write_edit(record);
+      f.close();
+      out.commit();
+      return;
+    }
     f.create_raw(1, V);
     f.write_raw_rows(0, 1, res.features.data());
     std::vector<float> x(res.features.size());
@@ -202,6 +216,52 @@ void write_edit(const EditShapeOptions& opt, const io::Components& c, const std:
     f.close();
   }
   out.commit();
+}
+
+// The ACAP edit: Levenberg-Marquardt on the weights (geometry/subspace_edit), the handles held.
+geometry::SubspaceEditResult solve_acap(const io::Components& c, const Subspace& sub, const Eigen::VectorXd& w0,
+                                        const Start& start, const Handles& handles,
+                                        const geometry::SubspaceEditOptions& opt) {
+  // f⁰: the start's features less the part the solved weights already give.
+  Eigen::VectorXd base =
+      Eigen::Map<const Eigen::VectorXd>(start.features.data(), static_cast<Eigen::Index>(start.features.size()));
+  base -= sub.directions.transpose() * w0;
+  io::Vertices pinned = start.positions;
+  for (std::size_t k = 0; k < handles.vertices.size(); ++k) pinned.row(handles.vertices[k]) = handles.targets[k];
+  const geometry::SubspaceEditor editor(c.tmpl.vertices, c.tmpl.faces, handles.vertices, sub.directions,
+                                        std::vector<double>(base.data(), base.data() + base.size()));
+  log::debug("{} components, {} handles; system factored in {:.3f} s", sub.selected.size(), handles.vertices.size(),
+             editor.factor_seconds());
+  return editor.edit(w0, pinned, opt, [](int it, double e) { log::debug("step {}: energy {:.6g}", it, e); });
+}
+
+// Position components (SPLOCS): p = p⁰ + Σ w_k C_k, linear; the weights minimise
+// Σ_h ‖p_h − t_h‖² / (H d²) + λ‖w‖² (d: the template's diagonal), one solve.
+geometry::SubspaceEditResult fit_positions(const Subspace& sub, const Eigen::VectorXd& w0, const io::Vertices& start,
+                                           const Handles& h, double l2, double diagonal) {
+  const auto K = sub.directions.rows(), H = static_cast<Eigen::Index>(h.vertices.size());
+  const Eigen::VectorXd flat = Eigen::Map<const Eigen::VectorXd>(start.data(), start.size());  // row-major V x 3
+  const Eigen::VectorXd base = flat - sub.directions.transpose() * w0;
+  Eigen::MatrixXd A(3 * H, K);
+  Eigen::VectorXd b(3 * H);
+  for (Eigen::Index k = 0; k < H; ++k)
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::Index j = 3 * h.vertices[static_cast<std::size_t>(k)] + a;
+      A.row(3 * k + a) = sub.directions.col(j).transpose();
+      b[3 * k + a] = h.targets[static_cast<std::size_t>(k)][a] - base[j];
+    }
+  const double s = static_cast<double>(H) * diagonal * diagonal;
+  const auto energy = [&](const Eigen::VectorXd& w) { return (A * w - b).squaredNorm() / s + l2 * w.squaredNorm(); };
+  Eigen::MatrixXd N = A.transpose() * A / s;
+  N.diagonal().array() += l2 + 1e-14 * (1 + N.diagonal().cwiseAbs().maxCoeff());
+  geometry::SubspaceEditResult res;
+  res.weights = N.ldlt().solve(A.transpose() * b / s);
+  res.energy = {energy(w0), energy(res.weights)};
+  res.iterations = 1;
+  res.converged = true;
+  const Eigen::VectorXd p = base + sub.directions.transpose() * res.weights;
+  res.positions = Eigen::Map<const io::Vertices>(p.data(), start.rows(), 3);
+  return res;
 }
 
 }  // namespace
@@ -274,19 +334,11 @@ void edit_shape(const EditShapeOptions& opt, const CommonOptions& common) {
   if (handles.vertices.empty())
     throw UsageError("no handles: give --handles FILE (lines `vertex x y z`), --sample N --to SHAPE or --fixed");
 
-  // f⁰: the start's features less the part the solved weights already give.
   Eigen::VectorXd w0(static_cast<Eigen::Index>(sub.selected.size()));
   for (std::size_t k = 0; k < sub.selected.size(); ++k) w0[static_cast<Eigen::Index>(k)] = start.weights[sub.selected[k]];
-  Eigen::VectorXd base = Eigen::Map<const Eigen::VectorXd>(start.features.data(), static_cast<Eigen::Index>(start.features.size()));
-  base -= sub.directions.transpose() * w0;
-  io::Vertices pinned = start.positions;
-  for (std::size_t k = 0; k < handles.vertices.size(); ++k) pinned.row(handles.vertices[k]) = handles.targets[k];
-
-  const geometry::SubspaceEditor editor(c.tmpl.vertices, c.tmpl.faces, handles.vertices, sub.directions,
-                                        std::vector<double>(base.data(), base.data() + base.size()));
-  log::debug("{} components, {} handles; system factored in {:.3f} s", sub.selected.size(), handles.vertices.size(),
-             editor.factor_seconds());
-  const auto res = editor.edit(w0, pinned, opt.solver, [](int it, double e) { log::debug("step {}: energy {:.6g}", it, e); });
+  const double diagonal = (c.tmpl.vertices.colwise().maxCoeff() - c.tmpl.vertices.colwise().minCoeff()).norm();
+  const auto res = c.space == "positions" ? fit_positions(sub, w0, start.positions, handles, opt.solver.l2, diagonal)
+                                          : solve_acap(c, sub, w0, start, handles, opt.solver);
 
   io::ShapeEdit record;
   record.components = opt.components;
@@ -300,19 +352,23 @@ void edit_shape(const EditShapeOptions& opt, const CommonOptions& common) {
   for (int k : sub.selected) record.edited[static_cast<std::size_t>(k)] = 1;
   record.handles.assign(handles.vertices.begin(), handles.vertices.end());
   for (const auto& t : handles.targets) record.targets.insert(record.targets.end(), {t[0], t[1], t[2]});
-  record.residual = handle_residual(c, res.features, handles);
+  if (c.space == "positions")
+    for (std::size_t k = 0; k < handles.vertices.size(); ++k)
+      record.residual.push_back((res.positions.row(handles.vertices[k]) - handles.targets[k]).norm());
+  else
+    record.residual = handle_residual(c, res.features, handles);
   record.energy = res.energy;
   std::vector<std::string> histories{c.history};
   if (!opt.from.empty()) histories.push_back(io::AcapReader(opt.from).history());
   write_edit(opt, c, histories, res, record, common.force);
 
-  const double diagonal = (c.tmpl.vertices.colwise().maxCoeff() - c.tmpl.vertices.colwise().minCoeff()).norm();
   if (!res.converged)
     log::warn("the solver stopped after {} steps without converging (--iterations)", res.iterations);
   log::info("{} components, {} handles: energy {:.4g} -> {:.4g} in {} steps; the weights alone reach the handles "
-            "within {:.3g} x the template's diagonal; wrote {}",
+            "within {:.3g} x the template's diagonal{}; wrote {}",
             sub.selected.size(), handles.vertices.size(), res.energy.front(), res.energy.back(), res.iterations,
-            *std::max_element(record.residual.begin(), record.residual.end()) / diagonal, opt.output);
+            *std::max_element(record.residual.begin(), record.residual.end()) / diagonal,
+            c.space == "positions" ? " (position components: the handles are fitted, not held)" : "", opt.output);
 }
 
 }  // namespace df::apps

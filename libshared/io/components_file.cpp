@@ -25,6 +25,8 @@ void write_components(const std::string& path, const Components& c,
     f.set_attr("/", "model", c.model);
     f.set_attr("/", "eps1", c.eps1);
     f.set_attr("/", "eps2", c.eps2);
+    if (c.space != "acap") f.set_attr("/", "space", c.space);
+    if (c.space == "positions") f.write_matrix("/mean", c.mean);
     write_template(f, c.tmpl);
     write_normalization(f, c.normalization);
     const auto V = static_cast<std::size_t>(c.tmpl.vertices.rows());
@@ -32,8 +34,8 @@ void write_components(const std::string& path, const Components& c,
       const auto& L = c.levels[l];
       const std::string g = fmt::format("/level{}", l);
       const auto K = static_cast<std::size_t>(L.features.rows());
-      f.write<float>(g + "/features", std::span<const float>(L.features.data(), K * 9 * V),
-                     {K, V, 9});
+      const auto D = static_cast<std::size_t>(c.per_vertex());
+      f.write<float>(g + "/features", std::span<const float>(L.features.data(), K * D * V), {K, V, D});
       f.write<double>(g + "/strength", L.strength, {K});
       f.write<std::int32_t>(g + "/center",
                             std::vector<std::int32_t>(L.center.begin(), L.center.end()), {K});
@@ -57,6 +59,9 @@ Components read_components(const std::string& path) {
   c.model = f.attr_string("/", "model");
   c.eps1 = f.attr_double("/", "eps1");
   c.eps2 = f.attr_double("/", "eps2");
+  if (f.has_attr("/", "space")) c.space = f.attr_string("/", "space");
+  if (c.space != "acap" && c.space != "positions")
+    throw InvalidInput(fmt::format("space '{}' is neither acap nor positions", c.space), path);
   c.tmpl = read_template(f);
   c.normalization = read_normalization(f);
   const auto V = static_cast<std::size_t>(c.tmpl.vertices.rows());
@@ -68,9 +73,13 @@ Components read_components(const std::string& path) {
       throw InvalidInput(fmt::format("components have {} vertices, the template {}",
                                      feats.dims.size() == 3 ? feats.dims[1] : 0, V),
                          f.where(g + "/features"));
+    const auto D = static_cast<std::size_t>(c.per_vertex());
+    if (feats.dims[2] != D)
+      throw InvalidInput(fmt::format("{} numbers per vertex; {} components have {}", feats.dims[2], c.space, D),
+                         f.where(g + "/features"));
     const auto K = static_cast<Index>(feats.dims[0]);
     L.features =
-        Eigen::Map<const h5::RowMatrix<float>>(feats.data.data(), K, static_cast<Index>(9 * V));
+        Eigen::Map<const h5::RowMatrix<float>>(feats.data.data(), K, static_cast<Index>(D * V));
     L.strength = f.read<double>(g + "/strength").data;
     for (auto v : f.read<std::int32_t>(g + "/center").data) L.center.push_back(v);
     for (auto v : f.read<std::int32_t>(g + "/block").data) L.block.push_back(v);
@@ -83,13 +92,26 @@ Components read_components(const std::string& path) {
     c.levels.push_back(std::move(L));
   }
   if (c.levels.empty()) throw InvalidInput("has no /level0", path);
+  if (c.space == "positions") {
+    c.mean = f.read_matrix<double>("/mean");
+    if (c.mean.rows() != c.tmpl.vertices.rows() || c.mean.cols() != 3)
+      throw InvalidInput("the mean shape does not match the template", f.where("/mean"));
+  }
   c.attention = f.read_matrix<float>("/attention/masks");
   c.similarity = f.read_matrix<double>("/similarity");
   return c;
 }
 
+void require_acap_components(const Components& c, const std::string& path, const std::string& what) {
+  if (c.space != "acap")
+    throw InvalidInput(fmt::format("holds {} components (SPLOCS on vertex positions); {} needs ACAP components",
+                                   c.space, what),
+                       path);
+}
+
 void write_components_acap(const std::string& path, const Components& c, bool kept_only,
                            const std::vector<std::string>& inputs, bool force) {
+  require_acap_components(c, c.model, "an acap file of components");
   std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
   AtomicOutput out(path, AtomicOutput::Kind::file, force, in);
   {

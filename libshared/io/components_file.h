@@ -17,7 +17,9 @@
 namespace df::io {
 
 struct ComponentLevel {
-  h5::RowMatrix<float> features;  ///< [K, 9V] normalized ACAP features of each component
+  /// [K, 9V] normalized ACAP features of each component; position components: [K, 3V]
+  /// displacements from the mean shape
+  h5::RowMatrix<float> features;
   std::vector<double> strength;
   std::vector<int> center;   ///< vertex index (argmax of the block's ‖C_{k,i}‖)
   std::vector<int> block;    ///< the block it comes from (model order)
@@ -26,6 +28,11 @@ struct ComponentLevel {
 };
 
 struct Components {
+  /// "acap" (normalized ACAP features: every model's and the ACAP-space baselines'), or
+  /// "positions" (SPLOCS on vertex positions: displacements from `mean`, one level)
+  std::string space = "acap";
+  Vertices mean;  ///< positions only: the mean shape [V, 3]
+  int per_vertex() const { return space == "positions" ? 3 : 9; }
   Mesh tmpl;
   FeatureNormalization normalization;
   std::string history;
@@ -41,6 +48,8 @@ void write_components(const std::string& path, const Components& c,
 /// InvalidInput (naming the file and object) when a level's datasets disagree with the template
 /// or with each other.
 Components read_components(const std::string& path);
+/// InvalidInput naming the file when `c` holds position components: `what` needs ACAP ones.
+void require_acap_components(const Components& c, const std::string& path, const std::string& what);
 
 /// The components (only the kept ones when `kept_only`) as an acap file: one sequence per level
 /// ("level0", ...), frames named "L<level>.<block>.<k>" — for acap2obj, render-mesh --color

@@ -218,11 +218,57 @@ io::Components basis_components(const MsaeModel& m, const Mat& basis, const Mat&
   return c;
 }
 
+// SPLOCS' components on positions as a components file of space "positions": each one its
+// displacement scaled by the training shapes' coefficient of largest magnitude (signed), the mean
+// shape beside them; strength: the mean displacement over the vertices it moves by more than
+// eps1; centre, attention masks and similarity from the displacements as basis_components does.
+io::Components position_components(const MsaeModel& m, const Splocs& s, const Mat& coefficients,
+                                   const std::string& source) {
+  const Index K = s.components.rows(), V = m.tmpl.vertices.rows();
+  io::Components c;
+  c.space = "positions";
+  c.mean = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(s.mean.data(), V, 3);
+  c.tmpl = m.tmpl;
+  c.normalization = m.normalization;
+  c.history = m.history;
+  c.model = source;
+  io::ComponentLevel L;
+  L.features.resize(K, 3 * V);
+  Mat unit(K, 3 * V);
+  for (Index k = 0; k < K; ++k) {
+    Index top = 0;
+    for (Index r = 0; r < coefficients.rows(); ++r)
+      if (std::abs(coefficients(r, k)) > std::abs(coefficients(top, k))) top = r;
+    const double scale = coefficients.rows() ? coefficients(top, k) : 1.0;
+    const Eigen::RowVectorXd d = scale * s.components.row(k);
+    L.features.row(k) = d.cast<float>();
+    double sum = 0;
+    int moved = 0;
+    for (Index i = 0; i < V; ++i)
+      if (const double n = d.segment(3 * i, 3).norm(); n > c.eps1) sum += n, ++moved;
+    L.strength.push_back(moved ? sum / moved : 0.0);
+    L.center.push_back(static_cast<int>(strongest_vertex(s.components.row(k), 3)));
+    L.block.push_back(0);
+    L.code.push_back(scale);
+    L.kept.push_back(1);
+    const double n = s.components.row(k).norm();
+    unit.row(k) = n > 0 ? Eigen::RowVectorXd(s.components.row(k) / n) : Eigen::RowVectorXd::Zero(3 * V);
+  }
+  c.levels.push_back(std::move(L));
+  c.attention.resize(K, V);
+  for (Index i = 0; i < V; ++i) {
+    double sum = 0;
+    for (Index k = 0; k < K; ++k) sum += s.components.row(k).segment(3 * i, 3).squaredNorm();
+    for (Index k = 0; k < K; ++k)
+      c.attention(k, i) = sum > 0 ? static_cast<float>(s.components.row(k).segment(3 * i, 3).squaredNorm() / sum) : 0.0f;
+  }
+  c.similarity = (unit * unit.transpose()).cwiseAbs();
+  return c;
+}
+
 }  // namespace
 
 void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
-  if (!opt.components_out.empty() && opt.method == "splocs")
-    throw UsageError("--components-out: SPLOCS on positions has no ACAP components (use --method splocs-acap or pca)");
   const MsaeModel m = load_msae_model(opt.model);
   int k = opt.components;
   if (k == 0)
@@ -243,6 +289,13 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
         project_onto(read_positions(opt.data, held.frames, V), s.mean, s.components).cast<float>();
     write_shapes(opt.output, m, held, nullptr, &recon, opt.data, {opt.model, opt.data},
                  common.force, fmt::format("splocs: {} components", k));
+    if (!opt.components_out.empty()) {
+      const Mat x = read_positions(opt.data, train.frames, V);
+      io::write_components(opt.components_out,
+                           position_components(m, s, coefficients_on(x, s.mean, s.components),
+                                               fmt::format("{} ({})", opt.model, opt.method)),
+                           {opt.model, opt.data}, common.force);
+    }
   } else {
     // A basis of the normalized ACAP features, reconstructed through acap2obj: PCA's, or SPLOCS'
     // algorithm on 9 numbers per vertex (local linear components in the space MSAE works in).

@@ -160,6 +160,7 @@ void extract_components_tool(const ExtractOptions& opt, const CommonOptions& com
 
 void prune_components_tool(const PruneOptions& opt, const CommonOptions& common) {
   Components c = read_components(opt.input);
+  io::require_acap_components(c, opt.input, "prune-components (eq. 7's strength)");
   prune_components(c, opt.eps1, opt.eps2);
   nlohmann::json report = {
       {"eps1", opt.eps1}, {"eps2", opt.eps2}, {"levels", nlohmann::json::array()}};
