@@ -223,6 +223,15 @@ fi
     peer_timings mmd.py --iters 5 --warmup 1
   fi
   echo
+  echo "### edit-shape: one edit (factorisation + solve), bumps 10,000 vertices, 60 components, 20 handles"
+  echo
+  echo "| benchmark | steps | threads | median ms | min ms | notes |"
+  echo "|---|---|---|---|---|---|"
+  for threads in 1 2; do
+    "$bin/bench_edit" --threads $threads --iters 3 |
+      awk -F'|' -v t=$threads '{ printf "|%s|%s| %s |%s|%s|%s|\n", $2, $3, t, $4, $5, $6 }'
+  done
+  echo
   echo "### Synthetic data"
   echo
   echo "| benchmark | threads | seconds | vertex-frames/s | peak MiB |"

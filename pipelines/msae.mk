@@ -19,6 +19,8 @@
 #                         components (edit-shape --sample, scripts/fig6; paper Fig. 6): MSAE, the
 #                         one-level AE, PCA, SPLOCS on positions and on ACAP features, mean E_rms over
 #                         MS_FIG6_SHAPES test shapes
+#   $(MS)/S/fig14.png     the middle test shape rebuilt from 20 control points by each method, coloured
+#                         by error, the control points drawn (paper Fig. 14)
 # and on bumps $(MS)/bumps/localization.md: per planted region the IoU of the best kept component
 # at its level (and of the best of all, before pruning). Validation shapes (10% of the held-out
 # ones, 25% for the 9-pose collections) are excluded from every test number.
@@ -55,7 +57,8 @@ level3_FLAGS := --levels 3 --kz 10,5,2 --d 0.4,0.2,0.1
 
 .PHONY: msae msae-fig6
 msae: $(foreach s,$(MS_SETS),$(MS)/$(s)/table2.md $(MS)/$(s)/table4.md $(MS)/$(s)/table5.md \
-        $(MS)/$(s)/fig3.png $(MS)/$(s)/components.png $(MS)/$(s)/curve.png $(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png) \
+        $(MS)/$(s)/fig3.png $(MS)/$(s)/components.png $(MS)/$(s)/curve.png $(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png \
+        $(MS)/$(s)/fig14.png) \
       $(if $(filter bumps,$(MS_SETS)),$(MS)/bumps/localization.md)
 	@for s in $(MS_SETS); do \
 	  echo; echo "=== $$s"; cat $(MS)/$$s/table2.md; echo; cat $(MS)/$$s/table4.md; echo; cat $(MS)/$$s/table5.md; \
@@ -154,7 +157,7 @@ $(MS)/%/table5.md: $(MS)/%/recon-L1.eval $(MS)/%/recon.eval
 
 # --- Fig. 6: test shapes rebuilt from N control points with each method's components
 MS_FIG6_SHAPES ?= 20
-msae-fig6: $(foreach s,$(MS_SETS),$(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png)
+msae-fig6: $(foreach s,$(MS_SETS),$(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png $(MS)/$(s)/fig14.png)
 	@for s in $(MS_SETS); do echo; cat $(MS)/$$s/fig6.md; done
 $(MS)/%/components-tan.h5: $(MS)/%/msae-tan.h5
 	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
@@ -174,6 +177,22 @@ $(MS)/%/fig6.png: $(MS)/%/fig6.tsv
 	  set xlabel 'control points'; set ylabel 'E_rms (x1000, unit ball)'; set xtics (5, 10, 20, 40, 80); \
 	  set title '$*: test shapes rebuilt from N control points (paper Fig. 6)'; \
 	  plot for [i=2:6] '$<' using 1:i with linespoints lw 2 title columnheader(i)"
+# Fig. 14: the middle test shape rebuilt from MS_FIG14_POINTS control points by each method,
+# coloured by error against it, the control points drawn.
+MS_FIG14_POINTS ?= 20
+ms_fig14_methods := msae:components tan:components-tan pca:components-pca splocs:components-splocs splocs-acap:components-splocs-acap
+ms_middle_test = $$($(call h5_values,$(1),/split/test) | sed -n 2p | tr -d ' ' | tr ',' '\n' | grep -v '^$$' | awk '{ f[NR] = $$1 } END { print f[int((NR + 1) / 2)] }')
+$(MS)/%/fig14.png: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.h5 $(MS)/%/components-pca.h5 \
+                   $(MS)/%/components-splocs.h5 $(MS)/%/components-splocs-acap.h5
+	frame=$(call ms_middle_test,$<); \
+	for m in $(ms_fig14_methods); do \
+	  $(BIN)/edit-shape -q -f $(MS)/$*/$${m#*:}.h5 --sample $(MS_FIG14_POINTS) --to $(MS)/$*/data.h5 --to-frame $$frame \
+	    -o $(MS)/$*/fig14-$${m%%:*}.h5 || exit 1; \
+	done; \
+	$(BIN)/render-mesh -q -f $(foreach m,$(ms_fig14_methods),$(MS)/$*/fig14-$(firstword $(subst :, ,$(m))).h5) \
+	  --error-vs $(MS)/$*/data.h5 --show-truth --points edit $($*_VIEW) --size 240 \
+	  --row-labels "test shape $$frame,MSAE,one-level AE,PCA,SPLOCS,SPLOCS (ACAP)" --column-labels "$(MS_FIG14_POINTS) control points" \
+	  --title "$*: a test shape rebuilt from $(MS_FIG14_POINTS) control points (paper Fig. 14), colour: error" -o $@
 $(MS)/%/fig6.md: $(MS)/%/fig6.tsv
 	{ echo "$* — test shapes rebuilt from N control points (paper Fig. 6): mean E_rms (x1000, unit ball, each aligned by a translation) of $(MS_FIG6_SHAPES) test shapes, edit-shape with each method's components (MSAE: all 10 + 50, one-level AE: 60, PCA and SPLOCS on ACAP features: as many as Table 2's; SPLOCS on positions: the handles fitted by its linear model, the others hold them)"; echo; \
 	  head -1 $< | sed 's/^/| /; s/\t/ | /g; s/$$/ |/'; head -1 $< | sed 's/[^\t]*/---:/g; s/^/|/; s/\t/|/g; s/$$/|/'; \
