@@ -11,6 +11,7 @@ packages=(
   libcli11-dev libfmt-dev libtbb-dev catch2 libzstd-dev nlohmann-json3-dev
   libcairo2-dev fonts-dejavu-core libassimp-dev
   assimp-testmodels zstd gnuplot-nox
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-h5py python3-venv  # the Python module
 )
 for option in "$@"; do
   case $option in

@@ -1,6 +1,10 @@
 #include "geometry/acap_features.h"
 
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <exception>
 
 #include "geometry/cotangent_weights.h"
 #include "geometry/polar_decomposition.h"
@@ -100,6 +104,36 @@ std::array<double, kFeatureDims> identity_features(const Normalization* nz) {
   if (nz)
     for (int d = 0; d < kFeatureDims; ++d) id[static_cast<std::size_t>(d)] = nz->normalize(d, id[static_cast<std::size_t>(d)]);
   return id;
+}
+
+std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std::vector<io::Vertices>& frames,
+                                      const std::vector<char>& starts, bool consistency) {
+  const std::size_t n = frames.size(), nv = static_cast<std::size_t>(ex.n_vertices());
+  std::vector<FrameDecomposition> dec(n);
+  std::vector<std::exception_ptr> errors(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+    try {
+      if (static_cast<std::size_t>(frames[k].rows()) != nv)
+        throw InvalidInput(fmt::format("frame {} has {} vertices, the reference {}", k, frames[k].rows(), nv));
+      ex.decompose(frames[k], dec[k]);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  std::vector<double> out(n * nv * kFeatureDims);
+  std::vector<Eigen::Vector3d> r, previous;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (consistency) {
+      ex.make_consistent(dec[k], (k == 0 || (k < starts.size() && starts[k])) ? nullptr : &previous, r);
+      previous = r;
+    } else {
+      r = principal_rotation_vectors(dec[k]);
+    }
+    pack_features(r, dec[k].stretch, out.data() + k * nv * kFeatureDims);
+  }
+  return out;
 }
 
 }  // namespace df::geometry

@@ -52,6 +52,13 @@ class AcapFeatureExtractor {
   AcapConsistency consistency_;
 };
 
+/// Raw features [frames][9V] of frames in time order, as obj2acap computes them: each frame
+/// decomposed (in parallel), then its rotation logs made consistent (`consistency`) in space and
+/// with the previous frame, unless `starts[f]` marks frame f as a sequence's first; principal
+/// logs otherwise. InvalidInput naming the frame when one is degenerate.
+std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std::vector<io::Vertices>& frames,
+                                      const std::vector<char>& starts, bool consistency);
+
 /// Writes the 9 features of each vertex (row-major #V by 9) from rotation vectors and stretches.
 void pack_features(const std::vector<Eigen::Vector3d>& r, const std::vector<Eigen::Matrix3d>& S, double* out);
 

@@ -1,0 +1,451 @@
+// The `deformflow` Python module (pybind11): exact ACAP features and reconstruction on numpy
+// arrays, the project's file kinds as dicts of arrays, and the metrics — the library's calls,
+// not copies of them. Arrays come in as float64 / int C-contiguous (others are refused, not
+// converted silently); long calls release the GIL. Importing it registers the zstd filter with
+// the process's HDF5, so h5py opens the project's files too.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <vector>
+
+#include "core/atomic_output.h"
+#include "core/error.h"
+#include "eval/mesh_metrics.h"
+#include "geometry/acap_features.h"
+#include "geometry/mesh_topology.h"
+#include "geometry/reconstruction.h"
+#include "io/acap_file.h"
+#include "io/components_file.h"
+#include "io/file_header.h"
+#include "io/h5.h"
+#include "io/model_file.h"
+#include "io/skeleton_file.h"
+#include "io/zstd_filter.h"
+
+namespace py = pybind11;
+using namespace df;
+
+namespace {
+
+using F64 = py::array_t<double, py::array::c_style>;
+constexpr int kDims = geometry::kFeatureDims;
+
+// An array argument checked for dtype, layout, shape and finiteness; ValueError naming it.
+py::array_t<double, py::array::c_style> doubles(const py::array& a, const char* name, std::vector<py::ssize_t> shape) {
+  if (!py::isinstance<py::array_t<double>>(a) || a.dtype().kind() != 'f' || a.itemsize() != 8)
+    throw py::value_error(std::string(name) + " must be a float64 array (got " + std::string(py::str(a.dtype())) + ")");
+  if (a.ndim() != static_cast<py::ssize_t>(shape.size()))
+    throw py::value_error(std::string(name) + " must have " + std::to_string(shape.size()) + " dimensions, not " +
+                          std::to_string(a.ndim()));
+  for (std::size_t d = 0; d < shape.size(); ++d)
+    if (shape[d] >= 0 && a.shape(static_cast<py::ssize_t>(d)) != shape[d])
+      throw py::value_error(std::string(name) + ": dimension " + std::to_string(d) + " must be " +
+                            std::to_string(shape[d]) + ", not " + std::to_string(a.shape(static_cast<py::ssize_t>(d))));
+  if (!(a.flags() & py::array::c_style)) throw py::value_error(std::string(name) + " must be C-contiguous (numpy.ascontiguousarray)");
+  auto out = py::array_t<double, py::array::c_style>::ensure(a);
+  const double* p = out.data();
+  for (py::ssize_t i = 0; i < out.size(); ++i)
+    if (!std::isfinite(p[i])) throw py::value_error(std::string(name) + " holds a NaN or infinite value at flat index " + std::to_string(i));
+  return out;
+}
+
+io::Faces faces_of(const py::array& a, py::ssize_t vertices) {
+  if (a.dtype().kind() != 'i' && a.dtype().kind() != 'u') throw py::value_error("faces must be an integer array");
+  if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error("faces must be [F, 3] triangles");
+  auto f = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+  io::Faces out(f.shape(0), 3);
+  for (py::ssize_t i = 0; i < f.size(); ++i) {
+    const auto v = f.data()[i];
+    if (v < 0 || v >= vertices)
+      throw py::value_error("faces: vertex " + std::to_string(v) + " is out of range (" + std::to_string(vertices) + " vertices)");
+    out.data()[i] = static_cast<int>(v);
+  }
+  return out;
+}
+
+io::Vertices vertices_of(const double* p, py::ssize_t V) { return Eigen::Map<const io::Vertices>(p, V, 3); }
+
+F64 array(std::vector<py::ssize_t> shape, const double* data) {
+  F64 a(shape);
+  std::copy(data, data + a.size(), a.mutable_data());
+  return a;
+}
+
+template <class T>
+py::array_t<T> array_of(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
+  py::array_t<T> a(shape);
+  std::copy(v.begin(), v.end(), a.mutable_data());
+  return a;
+}
+
+py::dict mesh_dict(const io::Mesh& m) {
+  py::dict d;
+  d["vertices"] = array({m.vertices.rows(), 3}, m.vertices.data());
+  py::array_t<std::int32_t> f({m.faces.rows(), Eigen::Index{3}});
+  std::copy(m.faces.data(), m.faces.data() + m.faces.size(), f.mutable_data());
+  d["faces"] = f;
+  return d;
+}
+
+// Reconstruction of one or many frames [V, 9] / [F, V, 9], frames in parallel, the GIL released.
+F64 solve_frames(const geometry::Reconstructor& rec, const py::array& features) {
+  const int V = rec.n_vertices();
+  const bool one = features.ndim() == 2;
+  auto f = doubles(features, "features", one ? std::vector<py::ssize_t>{V, kDims} : std::vector<py::ssize_t>{-1, V, kDims});
+  const py::ssize_t n = one ? 1 : f.shape(0);
+  std::vector<double> out(static_cast<std::size_t>(n * V * 3));
+  {
+    py::gil_scoped_release free;
+    tbb::parallel_for(py::ssize_t{0}, n, [&](py::ssize_t k) {
+      const io::Vertices p = rec.solve(f.data() + k * V * kDims);
+      std::copy(p.data(), p.data() + p.size(), out.data() + k * V * 3);
+    });
+  }
+  return one ? array({V, 3}, out.data()) : array({n, V, 3}, out.data());
+}
+
+}  // namespace
+
+PYBIND11_MODULE(deformflow, m) {
+  m.doc() =
+      "deformflow: exact ACAP deformation features (Gao et al. 2019) and their reconstruction on\n"
+      "numpy arrays, the deformflow file kinds (acap, components, skeleton, models) as dicts of\n"
+      "arrays, and the papers' error measures. The same code as the command-line tools\n"
+      "(obj2acap, acap2obj, eval-metrics): equal results.\n\n"
+      "Arrays: float64 C-contiguous (numpy.ascontiguousarray(x, dtype=numpy.float64)); vertices\n"
+      "[F, V, 3] or [V, 3]; faces [T, 3] integer; features [F, V, 9] per vertex the rotation's\n"
+      "log (L01, L02, L12 of the skew matrix) then the stretch's upper triangle (S00, S01, S02,\n"
+      "S11, S12, S22). Importing the module registers the zstd filter with HDF5, so h5py reads\n"
+      "deformflow files in the same process.";
+  h5::initialize();
+  h5::register_zstd_filter();
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const IOError& e) {
+      PyErr_SetString(PyExc_OSError, e.message().c_str());
+    } catch (const Error& e) {
+      PyErr_SetString(PyExc_ValueError, e.message().c_str());
+    }
+  });
+
+  m.def(
+      "set_threads",
+      [](int n) {
+        static std::unique_ptr<tbb::global_control> limit;
+        if (n < 0) throw py::value_error("threads must be >= 0");
+        limit.reset();
+        if (n > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+      },
+      py::arg("threads"),
+      "Worker threads of the module's parallel calls (0 = all cores, the default). Results do not\n"
+      "depend on it.");
+
+  m.def(
+      "acap_features",
+      [](const py::array& verts, const py::array& faces, int reference, bool consistency) {
+        auto v = doubles(verts, "verts", {-1, -1, 3});
+        const py::ssize_t n = v.shape(0), V = v.shape(1);
+        if (n == 0) throw py::value_error("verts has no frames");
+        if (reference < 0 || reference >= n)
+          throw py::value_error("reference " + std::to_string(reference) + " is not a frame (0.." + std::to_string(n - 1) + ")");
+        const io::Faces F = faces_of(faces, V);
+        std::vector<double> out;
+        {
+          py::gil_scoped_release free;
+          std::vector<io::Vertices> frames;
+          for (py::ssize_t k = 0; k < n; ++k) frames.push_back(vertices_of(v.data() + k * V * 3, V));
+          const geometry::AcapFeatureExtractor ex(frames[static_cast<std::size_t>(reference)], F);
+          out = geometry::sequence_features(ex, frames, {}, consistency);
+        }
+        return array({n, V, kDims}, out.data());
+      },
+      py::arg("verts"), py::arg("faces"), py::arg("reference") = 0, py::arg("consistency") = true,
+      "ACAP features [F, V, 9] of the frames verts [F, V, 3] (one sequence, in time order) on\n"
+      "the triangles faces [T, 3], relative to frame `reference`: as obj2acap computes them\n"
+      "(rotation logs made consistent across neighbours and with the previous frame; principal\n"
+      "logs with consistency=False). Units: radians for the rotation, the stretch unitless.");
+
+  py::class_<geometry::Reconstructor>(m, "Reconstructor",
+                                      "Positions from ACAP features on one template, the system factored once.")
+      .def(py::init([](const py::array& tmpl, const py::array& faces, int anchor, const std::string& solver) {
+             auto t = doubles(tmpl, "template", {-1, 3});
+             if (solver != "gradients" && solver != "edges")
+               throw py::value_error("solver must be 'gradients' (exact) or 'edges' (the papers' system)");
+             const io::Faces F = faces_of(faces, t.shape(0));
+             const io::Vertices V = vertices_of(t.data(), t.shape(0));
+             py::gil_scoped_release free;
+             return new geometry::Reconstructor(V, F, anchor,
+                                                solver == "edges" ? geometry::ReconstructionSolver::edges
+                                                                  : geometry::ReconstructionSolver::gradients);
+           }),
+           py::arg("template"), py::arg("faces"), py::arg("anchor") = 0, py::arg("solver") = "gradients",
+           "template [V, 3] (the reference the features are relative to), faces [T, 3]; `anchor`: the\n"
+           "vertex pinned at its template position (one per connected component); solver\n"
+           "'gradients' (exact: features of a mesh give it back) or 'edges' (the papers' system).")
+      .def("solve", &solve_frames, py::arg("features"),
+           "Positions [V, 3] of features [V, 9], or [F, V, 3] of [F, V, 9] (frames in parallel).")
+      .def_property_readonly("vertices", &geometry::Reconstructor::n_vertices)
+      .def_property_readonly("factor_seconds", &geometry::Reconstructor::factor_seconds);
+
+  m.def(
+      "acap_reconstruct",
+      [](const py::array& features, const py::array& tmpl, const py::array& faces, int anchor, const std::string& solver) {
+        auto t = doubles(tmpl, "template", {-1, 3});
+        const io::Faces F = faces_of(faces, t.shape(0));
+        const geometry::Reconstructor rec(vertices_of(t.data(), t.shape(0)), F, anchor,
+                                          solver == "edges" ? geometry::ReconstructionSolver::edges
+                                                            : geometry::ReconstructionSolver::gradients);
+        return solve_frames(rec, features);
+      },
+      py::arg("features"), py::arg("template"), py::arg("faces"), py::arg("anchor") = 0, py::arg("solver") = "gradients",
+      "Positions from features [V, 9] or [F, V, 9] on template [V, 3] (acap2obj's solve; for many\n"
+      "calls on one template make a Reconstructor once).");
+
+  m.def(
+      "normalization",
+      [](const py::array& features, const std::string& mode) {
+        auto f = doubles(features, "features", {-1, -1, kDims});
+        if (mode != "group" && mode != "per-dim") throw py::value_error("mode must be 'group' or 'per-dim'");
+        geometry::NormalizationBuilder b(mode == "group" ? io::NormalizationMode::group : io::NormalizationMode::per_dim);
+        b.add(f.data(), static_cast<std::size_t>(f.size() / kDims));
+        const auto nz = b.finish();
+        return py::make_tuple(array({kDims}, nz.min.data()), array({kDims}, nz.max.data()));
+      },
+      py::arg("features"), py::arg("mode") = "group",
+      "(min[9], max[9]) that map features [F, V, 9] into [-0.95, 0.95] (obj2acap's --normalize:\n"
+      "'group' shares one range per rotation and per stretch group, 'per-dim' one per number).");
+  m.def(
+      "normalize",
+      [](const py::array& features, const py::array& lo, const py::array& hi, bool inverse) {
+        auto f = doubles(features, "features", {-1, -1, kDims});
+        auto a = doubles(lo, "min", {kDims}), b = doubles(hi, "max", {kDims});
+        io::FeatureNormalization nz;
+        std::copy(a.data(), a.data() + kDims, nz.min.begin());
+        std::copy(b.data(), b.data() + kDims, nz.max.begin());
+        F64 out({f.shape(0), f.shape(1), py::ssize_t{kDims}});
+        for (py::ssize_t i = 0; i < f.size(); ++i) {
+          const int d = static_cast<int>(i % kDims);
+          out.mutable_data()[i] = inverse ? nz.denormalize(d, f.data()[i]) : nz.normalize(d, f.data()[i]);
+        }
+        return out;
+      },
+      py::arg("features"), py::arg("min"), py::arg("max"), py::arg("inverse") = false,
+      "x_norm = -0.95 + 1.9 (x - min) / (max - min) per number of the 9 (inverse=True undoes it).");
+
+  m.def(
+      "erms",
+      [](const py::array& pred, const py::array& truth) {
+        auto t = doubles(truth, "truth", {-1, -1, 3});
+        auto p = doubles(pred, "pred", {t.shape(0), t.shape(1), 3});
+        const py::ssize_t n = t.shape(0), V = t.shape(1);
+        const std::vector<int> one(static_cast<std::size_t>(V), 0);
+        double sum = 0;
+        for (py::ssize_t k = 0; k < n; ++k) {
+          const io::Vertices T = vertices_of(t.data() + k * V * 3, V);
+          sum += eval::unit_ball_squared_error(eval::align_translation(vertices_of(p.data() + k * V * 3, V), T, one, 1), T);
+        }
+        return eval::erms_from_sum(sum, static_cast<double>(n), static_cast<double>(V));
+      },
+      py::arg("pred"), py::arg("truth"),
+      "E_rms x 1000 (MSAE paper, Table 2) of pred against truth [F, V, 3]: each frame translated\n"
+      "onto the truth's centroid, both scaled so the truth fits the unit ball.");
+  m.def(
+      "vertex_error",
+      [](const py::array& pred, const py::array& truth) {
+        auto t = doubles(truth, "truth", {-1, -1, 3});
+        auto p = doubles(pred, "pred", {t.shape(0), t.shape(1), 3});
+        const py::ssize_t n = t.shape(0), V = t.shape(1);
+        F64 out(std::vector<py::ssize_t>{n});
+        for (py::ssize_t k = 0; k < n; ++k)
+          out.mutable_data()[k] =
+              eval::mean_vertex_error(vertices_of(p.data() + k * V * 3, V), vertices_of(t.data() + k * V * 3, V));
+        return out;
+      },
+      py::arg("pred"), py::arg("truth"),
+      "Mean per-vertex distance per frame [F] (BD-LSTM paper, Tables 1-2; no alignment).");
+
+  m.def(
+      "read_acap",
+      [](const std::string& path) {
+        const io::AcapReader r(path);
+        const auto n = static_cast<py::ssize_t>(r.frames()), V = static_cast<py::ssize_t>(r.vertices());
+        py::dict d;
+        d["template"] = mesh_dict(r.read_template());
+        d["frame_names"] = r.frame_names();
+        d["sequence_names"] = r.sequence_names();
+        d["offsets"] = array_of(r.offsets(), {static_cast<py::ssize_t>(r.offsets().size())});
+        if (r.has_positions()) {
+          std::vector<float> p(static_cast<std::size_t>(n * V * 3));
+          r.read_positions(0, static_cast<std::size_t>(n), p.data());
+          d["positions"] = array_of(p, {n, V, 3});
+        }
+        if (r.has_raw()) {
+          std::vector<double> f(static_cast<std::size_t>(n * V * kDims));
+          r.read_raw(0, static_cast<std::size_t>(n), f.data());
+          d["features"] = array({n, V, kDims}, f.data());
+        }
+        if (r.has_normalized()) {
+          std::vector<float> f(static_cast<std::size_t>(n * V * kDims));
+          r.read_normalized(0, static_cast<std::size_t>(n), f.data());
+          d["normalized"] = array_of(f, {n, V, kDims});
+        }
+        if (r.has_normalization()) {
+          const auto nz = r.normalization();
+          d["normalization"] = py::dict(py::arg("min") = array({kDims}, nz.min.data()),
+                                        py::arg("max") = array({kDims}, nz.max.data()),
+                                        py::arg("mode") = nz.mode == io::NormalizationMode::group ? "group" : "per-dim");
+        }
+        if (r.has_source()) d["source"] = array_of(r.source(), {n});
+        if (r.labelled()) {
+          d["labels"] = array_of(r.labels(), {static_cast<py::ssize_t>(r.labels().size())});
+          d["class_names"] = r.class_names();
+        }
+        d["history"] = r.history();
+        return d;
+      },
+      py::arg("path"),
+      "An acap file as a dict: template {vertices [V,3], faces [T,3]}, frame_names, sequence_names,\n"
+      "offsets [S+1], and what it holds of positions [N,V,3] (float32), features [N,V,9] (raw,\n"
+      "float64), normalized [N,V,9] (float32), normalization {min, max, mode}, source [N], labels\n"
+      "and class_names, history.");
+
+  m.def(
+      "write_acap",
+      [](const std::string& path, const py::array& tmpl, const py::array& faces, const py::object& positions,
+         const py::object& features) {
+        auto t = doubles(tmpl, "template", {-1, 3});
+        const py::ssize_t V = t.shape(0);
+        io::Mesh mesh;
+        mesh.vertices = vertices_of(t.data(), V);
+        mesh.faces = faces_of(faces, V);
+        if (positions.is_none() && features.is_none()) throw py::value_error("give positions, features or both");
+        py::ssize_t n = -1;
+        F64 p, f;
+        if (!positions.is_none()) p = doubles(positions.cast<py::array>(), "positions", {-1, V, 3}), n = p.shape(0);
+        if (!features.is_none()) f = doubles(features.cast<py::array>(), "features", {n, V, kDims}), n = f.shape(0);
+        AtomicOutput out(path, AtomicOutput::Kind::file, true);
+        {
+          io::AcapWriter w(out.temp_path(), path);
+          w.write_template(mesh);
+          std::vector<std::string> names;
+          for (py::ssize_t k = 0; k < n; ++k) names.push_back(std::to_string(k));
+          w.write_frame_names(names);
+          w.write_sequences({0, n}, {"python"});
+          const auto N = static_cast<std::size_t>(n), nv = static_cast<std::size_t>(V);
+          if (!positions.is_none()) {
+            std::vector<float> q(p.data(), p.data() + p.size());
+            w.write_positions(N, nv, q.data());
+          }
+          if (!features.is_none()) {
+            geometry::NormalizationBuilder b(io::NormalizationMode::group);
+            b.add(f.data(), N * nv);
+            const auto nz = b.finish();
+            w.write_normalization(nz);
+            w.create_raw(N, nv);
+            w.write_raw_rows(0, N, f.data());
+            std::vector<float> x(static_cast<std::size_t>(f.size()));
+            for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<float>(nz.normalize(static_cast<int>(i % kDims), f.data()[i]));
+            w.write_normalized(N, nv, x.data());
+          }
+          w.close();
+        }
+        out.commit();
+      },
+      py::arg("path"), py::arg("template"), py::arg("faces"), py::arg("positions") = py::none(),
+      py::arg("features") = py::none(),
+      "Writes an acap file (one sequence) from template [V,3], faces [T,3] and positions [N,V,3]\n"
+      "and/or raw features [N,V,9] (normalized as obj2acap does, 'group' mode), atomically.");
+
+  m.def(
+      "read_components",
+      [](const std::string& path) {
+        const io::Components c = io::read_components(path);
+        const auto V = c.tmpl.vertices.rows();
+        py::dict d;
+        d["space"] = c.space;
+        d["template"] = mesh_dict(c.tmpl);
+        py::list levels;
+        for (const auto& L : c.levels) {
+          py::dict l;
+          std::vector<float> f(L.features.data(), L.features.data() + L.features.size());
+          l["features"] = array_of(f, {L.features.rows(), V, static_cast<py::ssize_t>(c.per_vertex())});
+          l["strength"] = array_of(L.strength, {static_cast<py::ssize_t>(L.strength.size())});
+          l["center"] = array_of(L.center, {static_cast<py::ssize_t>(L.center.size())});
+          l["kept"] = array_of(L.kept, {static_cast<py::ssize_t>(L.kept.size())});
+          levels.append(l);
+        }
+        d["levels"] = levels;
+        d["normalization"] = py::dict(py::arg("min") = array({kDims}, c.normalization.min.data()),
+                                      py::arg("max") = array({kDims}, c.normalization.max.data()));
+        if (c.space == "positions") d["mean"] = array({V, 3}, c.mean.data());
+        d["model"] = c.model;
+        return d;
+      },
+      py::arg("path"),
+      "A components file: space ('acap' or 'positions'), template, levels (each: features\n"
+      "[K,V,9] normalized ACAP features or [K,V,3] displacements, strength, center, kept),\n"
+      "normalization, mean (positions only), model.");
+
+  m.def(
+      "read_skeleton",
+      [](const std::string& path) {
+        const io::SkeletonFile s = io::read_skeleton_file(path);
+        py::dict d;
+        d["poses"] = array_of(s.poses, {static_cast<py::ssize_t>(s.frames), static_cast<py::ssize_t>(s.joints), s.dims});
+        d["raw_poses"] = array_of(s.raw_poses(), {static_cast<py::ssize_t>(s.frames), static_cast<py::ssize_t>(s.joints), s.dims});
+        d["offsets"] = array_of(s.offsets, {static_cast<py::ssize_t>(s.offsets.size())});
+        d["labels"] = array_of(s.labels, {static_cast<py::ssize_t>(s.labels.size())});
+        d["class_names"] = s.class_names;
+        d["sequence_names"] = s.sequence_names;
+        d["parents"] = array_of(s.parents, {static_cast<py::ssize_t>(s.parents.size())});
+        d["joint_names"] = s.joint_names;
+        d["frame_rate"] = s.frame_rate;
+        return d;
+      },
+      py::arg("path"),
+      "A skeleton file: poses [T,J,D] as stored (normalized when the file is), raw_poses (the\n"
+      "normalization undone, root-centred), offsets [S+1], labels [S], class_names,\n"
+      "sequence_names, parents [J], joint_names, frame_rate.");
+
+  m.def(
+      "read_model_info",
+      [](const std::string& path) {
+        h5::File f(path, h5::File::Mode::read);
+        py::dict d;
+        d["kind"] = io::declared_kind(f);
+        py::dict config;
+        const std::string group = io::model_layout::config;
+        if (f.exists(group))
+          for (const auto& a : f.attr_names(group)) {
+            try {
+              config[a.c_str()] = f.attr_string(group, a);
+            } catch (const std::exception&) {
+              try {
+                config[a.c_str()] = f.attr_int(group, a);
+              } catch (const std::exception&) {
+                config[a.c_str()] = f.attr_doubles(group, a);
+              }
+            }
+          }
+        d["config"] = config;
+        const auto log = io::read_training_log(f);
+        if (!log.rows.empty()) {
+          const auto cols = static_cast<py::ssize_t>(std::count(log.columns.begin(), log.columns.end(), ' ') + 1);
+          d["log"] = array_of(log.rows, {static_cast<py::ssize_t>(log.rows.size()) / cols, cols});
+          d["log_columns"] = log.columns;
+        }
+        d["history"] = io::read_history(f);
+        return d;
+      },
+      py::arg("path"),
+      "A model file's (bdlstm-model, msae-model, actgan-model) kind, its settings (/config) and\n"
+      "its training log [rows, columns] with the columns' names.");
+}

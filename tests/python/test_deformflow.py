@@ -1,0 +1,122 @@
+"""The deformflow Python module against the command-line tools on the same data (ctest label
+`python`; run: PYTHONPATH=build/python DF_BIN=build/bin python3 -m pytest tests/python)."""
+import os
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+import deformflow as df
+
+BIN = os.environ.get("DF_BIN", os.path.join(os.path.dirname(__file__), "..", "..", "build", "bin"))
+
+
+def tool(*args):
+    return subprocess.run([os.path.join(BIN, args[0]), *args[1:]], check=True, capture_output=True, text=True).stdout
+
+
+@pytest.fixture(scope="module")
+def finger(tmp_path_factory):
+    """A twisting finger (synth-meshseq) and its features from obj2acap."""
+    d = tmp_path_factory.mktemp("finger")
+    tool("synth-meshseq", "-q", "--frames", "12", "--resolution", "6", "-o", str(d / "f.h5"))
+    tool("obj2acap", "-q", str(d / "f.h5"), "-o", str(d / "a.h5"))
+    return d
+
+
+def test_features_equal_obj2acap(finger):
+    a = df.read_acap(str(finger / "a.h5"))
+    verts = a["positions"].astype(np.float64)  # obj2acap read the same float32 positions
+    f = df.acap_features(verts, a["template"]["faces"])
+    assert f.shape == a["features"].shape
+    assert np.abs(f - a["features"]).max() <= 1e-12
+    # without consistency: principal logs, the same stretches
+    g = df.acap_features(verts, a["template"]["faces"], consistency=False)
+    assert np.abs(g[..., 3:] - a["features"][..., 3:]).max() <= 1e-12
+
+
+def test_reconstruction_equals_acap2obj_and_round_trips(finger):
+    a = df.read_acap(str(finger / "a.h5"))
+    tool("acap2obj", "-q", str(finger / "a.h5"), "--anchor-positions", "reference", "-o", str(finger / "r.h5"))
+    stored = df.read_acap(str(finger / "r.h5"))["positions"]  # float32 in the file
+    rec = df.Reconstructor(a["template"]["vertices"], a["template"]["faces"])
+    p = rec.solve(a["features"])
+    assert p.shape == stored.shape
+    assert np.array_equal(p.astype(np.float32), stored)  # the same solve, rounded as the file is
+    assert np.array_equal(rec.solve(a["features"][3]), p[3])  # one frame alone
+    # features of the reconstruction give it back (the exact gradient system)
+    f = df.acap_features(p, a["template"]["faces"])
+    assert np.abs(df.acap_reconstruct(f, a["template"]["vertices"], a["template"]["faces"]) - p).max() < 1e-9
+
+
+def test_metrics_equal_eval_metrics(finger):
+    a = df.read_acap(str(finger / "a.h5"))
+    truth = a["positions"].astype(np.float64)
+    pred = truth + 0.01 * np.sin(np.arange(truth.size)).reshape(truth.shape)
+    df.write_acap(str(finger / "p.h5"), a["template"]["vertices"], a["template"]["faces"], positions=pred)
+    printed = tool("eval-metrics", str(finger / "p.h5"), str(finger / "a.h5"))
+    erms = float([l.split()[1] for l in printed.splitlines() if l.strip().startswith("E_rms")][0])
+    assert df.erms(pred.astype(np.float32).astype(np.float64), truth) == pytest.approx(erms, rel=1e-5)
+    assert df.vertex_error(truth, truth).max() == 0
+
+
+def test_file_kinds_read_back(finger, tmp_path):
+    a = df.read_acap(str(finger / "a.h5"))
+    out = str(tmp_path / "w.h5")
+    df.write_acap(out, a["template"]["vertices"], a["template"]["faces"], positions=a["positions"].astype(np.float64),
+                  features=a["features"])
+    b = df.read_acap(out)
+    assert np.array_equal(b["positions"], a["positions"])
+    assert np.array_equal(b["features"], a["features"])
+    assert np.array_equal(b["template"]["faces"], a["template"]["faces"])
+    lo, hi = df.normalization(a["features"])
+    assert np.allclose(b["normalization"]["min"], lo) and np.allclose(b["normalization"]["max"], hi)
+    x = df.normalize(a["features"], lo, hi)
+    assert np.abs(x).max() <= 0.95 + 1e-12
+    assert np.allclose(df.normalize(x, lo, hi, inverse=True), a["features"], atol=1e-12)
+    tool("h5check", "-q", out)  # a valid acap file
+
+
+def test_skeleton_components_and_models(tmp_path):
+    tool("synth-actions", "-q", "--classes", "walk,squat", "--per-class", "3", "--frames", "10", "-o", str(tmp_path / "s.h5"))
+    s = df.read_skeleton(str(tmp_path / "s.h5"))
+    assert s["poses"].shape[1:] == (20, 3) and s["class_names"] == ["walk", "squat"]
+    tool("synth-meshseq", "-q", "--kind", "bumps", "--frames", "20", "--resolution", "5", "--seed", "2", "-o", str(tmp_path / "b.h5"))
+    tool("obj2acap", "-q", str(tmp_path / "b.h5"), "-o", str(tmp_path / "d.h5"))
+    tool("train-msae", "-q", "--kz", "2,2", "--iterations", "5", str(tmp_path / "d.h5"), "-o", str(tmp_path / "m.h5"))
+    tool("extract-components", "-q", str(tmp_path / "m.h5"), str(tmp_path / "d.h5"), "-o", str(tmp_path / "c.h5"))
+    c = df.read_components(str(tmp_path / "c.h5"))
+    assert c["space"] == "acap" and len(c["levels"]) == 2 and c["levels"][0]["features"].shape[1:] == (36, 9)
+    m = df.read_model_info(str(tmp_path / "m.h5"))
+    assert m["kind"] == "msae-model" and m["config"]["iterations"] == 5
+    assert m["log"].shape[1] == len(m["log_columns"].split())
+
+
+def test_h5py_reads_zstd_after_import(finger):
+    with h5py.File(str(finger / "a.h5"), "r") as f:
+        raw = f["features/raw"][...]
+    assert np.array_equal(raw, df.read_acap(str(finger / "a.h5"))["features"])
+
+
+@pytest.mark.parametrize("bad,message", [
+    (lambda v, f: (v[..., :2], f), "dimension 2 must be 3"),
+    (lambda v, f: (v[0], f), "must have 3 dimensions"),
+    (lambda v, f: (v.astype(np.float32), f), "must be a float64 array"),
+    (lambda v, f: (np.asfortranarray(v), f), "C-contiguous"),
+    (lambda v, f: (np.where(np.arange(v.size).reshape(v.shape) == 7, np.nan, v), f), "NaN"),
+    (lambda v, f: (v, f + v.shape[1]), "out of range"),
+    (lambda v, f: (v, f.astype(np.float64)), "integer"),
+])
+def test_bad_arrays_raise_value_error(finger, bad, message):
+    a = df.read_acap(str(finger / "a.h5"))
+    v, f = bad(a["positions"].astype(np.float64), a["template"]["faces"])
+    with pytest.raises(ValueError, match=message):
+        df.acap_features(v, f)
+
+
+def test_bad_files_raise_with_the_path(tmp_path):
+    with pytest.raises((ValueError, OSError), match="nope.h5"):
+        df.read_acap(str(tmp_path / "nope.h5"))
+    with pytest.raises(ValueError, match="reference"):
+        df.acap_features(np.zeros((2, 3, 3)), np.array([[0, 1, 2]]), reference=5)
