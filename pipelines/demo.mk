@@ -6,7 +6,7 @@ DEMO_MSAE_ITERATIONS ?= 1000
 .PHONY: demo
 demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
       $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
-      $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt \
+      $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-long.glb $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt \
       $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png \
       $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.txt $(DEMO)/edit.png \
       $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png $(DEMO)/actgan-mmd.txt $(DEMO)/actgan-accuracy.txt
@@ -59,7 +59,9 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo "  finger-acap.h5          ACAP features of the finger; finger-meshes/ reconstructed from them"
 	@echo "  faerie.h5               ACAP features of the MD2 faerie; faerie-meshes/ reconstructed"
 	@echo "  bdlstm-model.h5         BD-LSTM trained on bdlstm-finger.h5; bdlstm-long.h5: 120 generated"
-	@echo "                          frames from one initial frame, as meshes in bdlstm-meshes/"
+	@echo "                          frames from one initial frame, as meshes in bdlstm-meshes/ and as"
+	@echo "                          bdlstm-long.glb, one animated glTF (Blender: File > Import > glTF 2.0,"
+	@echo "                          then play the timeline; or drop it on any web glTF viewer)"
 	@echo "  faerie.png, bdlstm-prediction.png  pictures of the round trip and the prediction (render-mesh)"
 	@echo "  open the .obj files in any mesh viewer; h5dump reads the .h5 files with"
 	@echo "  HDF5_PLUGIN_PATH=$(HDF5_PLUGIN_PATH) h5dump -H -p FILE"
@@ -111,6 +113,9 @@ $(DEMO)/bdlstm-long.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
 
 $(DEMO)/bdlstm-meshes/0.obj: $(DEMO)/bdlstm-long.h5
 	$(BIN)/acap2obj -q -f $< -o $(DEMO)/bdlstm-meshes
+
+$(DEMO)/bdlstm-long.glb: $(DEMO)/bdlstm-long.h5
+	$(BIN)/export-gltf -q -f $< --fps 30 -o $@
 
 $(DEMO)/bdlstm-pred.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
 	$(BIN)/gen-bdlstm -q -f $^ --test-every 4 --test-context 3 --initial 3 --length 15 -o $@

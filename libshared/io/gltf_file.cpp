@@ -1,0 +1,133 @@
+#include "io/gltf_file.h"
+
+#include <tiny_gltf.h>
+
+#include <cstring>
+#include <map>
+
+#include "core/error.h"
+
+namespace df::io {
+namespace {
+
+// Appends float data to the one buffer as a view and an accessor; returns the accessor's index.
+int add_floats(tinygltf::Model& m, const std::vector<float>& data, int type, int components, bool bounds,
+               int target = TINYGLTF_TARGET_ARRAY_BUFFER) {
+  auto& buf = m.buffers[0].data;
+  const std::size_t offset = buf.size();
+  buf.resize(offset + data.size() * sizeof(float));
+  std::memcpy(buf.data() + offset, data.data(), data.size() * sizeof(float));
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = offset;
+  view.byteLength = data.size() * sizeof(float);
+  if (target) view.target = target;
+  m.bufferViews.push_back(view);
+  tinygltf::Accessor a;
+  a.bufferView = static_cast<int>(m.bufferViews.size()) - 1;
+  a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.count = data.size() / static_cast<std::size_t>(components);
+  a.type = type;
+  if (bounds) {
+    a.minValues.assign(static_cast<std::size_t>(components), 1e300);
+    a.maxValues.assign(static_cast<std::size_t>(components), -1e300);
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      auto& lo = a.minValues[i % static_cast<std::size_t>(components)];
+      auto& hi = a.maxValues[i % static_cast<std::size_t>(components)];
+      lo = std::min(lo, static_cast<double>(data[i]));
+      hi = std::max(hi, static_cast<double>(data[i]));
+    }
+  }
+  m.accessors.push_back(a);
+  return static_cast<int>(m.accessors.size()) - 1;
+}
+
+std::vector<float> flat(const Vertices& v, const Vertices* minus = nullptr) {
+  std::vector<float> out(static_cast<std::size_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    out[static_cast<std::size_t>(i)] = static_cast<float>(v.data()[i] - (minus ? minus->data()[i] : 0.0));
+  return out;
+}
+
+}  // namespace
+
+void write_gltf_sequence(const std::string& path, const GltfSequence& s) {
+  if (s.frames.empty()) throw InvalidInput("no frames to export", path);
+  const Vertices& base = s.frames.front();
+  for (std::size_t k = 0; k < s.frames.size(); ++k)
+    if (s.frames[k].rows() != base.rows() || (!s.normals.empty() && s.normals[k].rows() != base.rows()))
+      throw InvalidInput("frame " + std::to_string(k) + " has another vertex count", path);
+  if (!s.normals.empty() && s.normals.size() != s.frames.size())
+    throw InvalidInput("normals are not one per frame", path);
+  const bool normals = !s.normals.empty();
+  tinygltf::Model m;
+  m.asset.version = "2.0";
+  m.asset.generator = "deformflow";
+  m.buffers.emplace_back();
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.attributes["POSITION"] = add_floats(m, flat(base), TINYGLTF_TYPE_VEC3, 3, true);
+  if (normals) prim.attributes["NORMAL"] = add_floats(m, flat(s.normals.front()), TINYGLTF_TYPE_VEC3, 3, false);
+  {  // indices
+    auto& buf = m.buffers[0].data;
+    const std::size_t offset = buf.size();
+    std::vector<std::uint32_t> idx(static_cast<std::size_t>(s.faces.size()));
+    for (Eigen::Index i = 0; i < s.faces.size(); ++i) idx[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(s.faces.data()[i]);
+    buf.resize(offset + idx.size() * 4);
+    std::memcpy(buf.data() + offset, idx.data(), idx.size() * 4);
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = offset;
+    view.byteLength = idx.size() * 4;
+    view.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
+    m.bufferViews.push_back(view);
+    tinygltf::Accessor a;
+    a.bufferView = static_cast<int>(m.bufferViews.size()) - 1;
+    a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    a.count = idx.size();
+    a.type = TINYGLTF_TYPE_SCALAR;
+    m.accessors.push_back(a);
+    prim.indices = static_cast<int>(m.accessors.size()) - 1;
+  }
+  const std::size_t F = s.frames.size();
+  for (std::size_t k = 0; k < F; ++k) {
+    std::map<std::string, int> target{{"POSITION", add_floats(m, flat(s.frames[k], &base), TINYGLTF_TYPE_VEC3, 3, true)}};
+    if (normals) target["NORMAL"] = add_floats(m, flat(s.normals[k], &s.normals.front()), TINYGLTF_TYPE_VEC3, 3, false);
+    prim.targets.push_back(target);
+  }
+  tinygltf::Mesh mesh;
+  mesh.name = s.name;
+  mesh.primitives.push_back(prim);
+  mesh.weights.assign(F, 0.0);
+  mesh.weights[0] = 1.0;
+  m.meshes.push_back(mesh);
+  tinygltf::Node node;
+  node.name = s.name;
+  node.mesh = 0;
+  m.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  m.scenes.push_back(scene);
+  m.defaultScene = 0;
+  // The animation: at time k / fps the weights are the k-th unit vector.
+  std::vector<float> times(F), weights(F * F, 0.0f);
+  for (std::size_t k = 0; k < F; ++k) times[k] = static_cast<float>(static_cast<double>(k) / s.fps), weights[k * F + k] = 1;
+  tinygltf::AnimationSampler sampler;
+  sampler.input = add_floats(m, times, TINYGLTF_TYPE_SCALAR, 1, true, 0);
+  sampler.output = add_floats(m, weights, TINYGLTF_TYPE_SCALAR, 1, false, 0);
+  sampler.interpolation = "LINEAR";
+  tinygltf::AnimationChannel channel;
+  channel.sampler = 0;
+  channel.target_node = 0;
+  channel.target_path = "weights";
+  tinygltf::Animation anim;
+  anim.name = s.name;
+  anim.samplers.push_back(sampler);
+  anim.channels.push_back(channel);
+  m.animations.push_back(anim);
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToFile(&m, path, true, true, false, true))
+    throw IOError("cannot write the glTF file", path);
+}
+
+}  // namespace df::io
