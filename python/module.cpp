@@ -28,6 +28,8 @@
 #include "io/model_file.h"
 #include "io/skeleton_file.h"
 #include "io/zstd_filter.h"
+#include "models/actgan/generate.h"
+#include "models/msae/model.h"
 
 namespace py = pybind11;
 using namespace df;
@@ -448,4 +450,81 @@ PYBIND11_MODULE(deformflow, m) {
       py::arg("path"),
       "A model file's (bdlstm-model, msae-model, actgan-model) kind, its settings (/config) and\n"
       "its training log [rows, columns] with the columns' names.");
+
+  m.def(
+      "msae_reconstruct",
+      [](const std::string& model, const py::array& features, int levels) {
+        const models::MsaeModel mm = models::load_msae_model(model);
+        const auto V = static_cast<py::ssize_t>(mm.tmpl.vertices.rows());
+        auto f = doubles(features, "features", {-1, V, kDims});
+        const py::ssize_t n = f.shape(0);
+        const int L = levels > 0 ? levels : mm.config.levels();
+        if (L > mm.config.levels())
+          throw py::value_error("levels: the model has " + std::to_string(mm.config.levels()));
+        nn::Matrix<float> x(n, V * kDims);
+        for (py::ssize_t i = 0; i < f.size(); ++i)
+          x.data()[i] = static_cast<float>(mm.normalization.normalize(static_cast<int>(i % kDims), f.data()[i]));
+        std::vector<nn::Matrix<float>> codes;
+        nn::Matrix<float> y;
+        {
+          py::gil_scoped_release free;
+          y = mm.net->reconstruct(x, L, &codes);
+        }
+        F64 out({n, V, py::ssize_t{kDims}});
+        for (py::ssize_t i = 0; i < out.size(); ++i)
+          out.mutable_data()[i] = mm.normalization.denormalize(static_cast<int>(i % kDims), y.data()[i]);
+        py::list z;
+        for (const auto& c : codes) {
+          std::vector<float> v(c.data(), c.data() + c.size());
+          z.append(array_of(v, {c.rows(), c.cols()}));
+        }
+        return py::make_tuple(out, z);
+      },
+      py::arg("model"), py::arg("features"), py::arg("levels") = 0,
+      "An MSAE model (train-msae) on raw features [N, V, 9] of its template: (the reconstruction\n"
+      "[N, V, 9] through the first `levels` levels (0: all), raw; every block's codes [N, kz]),\n"
+      "as recon-msae computes them.");
+
+  m.def(
+      "actgan_generate",
+      [](const std::string& model, const std::vector<std::string>& classes, const std::string& mix, int count,
+         int length, std::uint64_t seed) {
+        const models::ActganModel am = models::load_actgan_model(model);
+        models::ActganGenerateOptions o;
+        o.classes = classes;
+        o.mix = mix;
+        o.count = count;
+        const int T = length > 0 ? length : am.length;
+        if (T < 1 || count < 1) throw py::value_error("count and length must be positive");
+        std::vector<std::string> names;
+        const auto y = models::label_rows(am, o, names);
+        io::SkeletonFile sk;
+        std::vector<float> latents;
+        {
+          py::gil_scoped_release free;
+          Rng rng(seed, 0);
+          models::generate_actions(am, y, T, rng, sk.poses, latents);
+        }
+        sk.joints = am.joint_names.size();
+        sk.dims = 3;
+        sk.frames = names.size() * static_cast<std::size_t>(T);
+        sk.normalization = am.normalization;
+        const auto n = static_cast<py::ssize_t>(names.size()), J = static_cast<py::ssize_t>(sk.joints);
+        py::dict d;
+        d["poses"] = array_of(sk.poses, {n, T, J, 3});
+        d["raw_poses"] = array_of(sk.raw_poses(), {n, T, J, 3});
+        d["latents"] = array_of(latents, {n, T, static_cast<py::ssize_t>(latents.size() / static_cast<std::size_t>(n * T))});
+        d["names"] = names;
+        d["joint_names"] = am.joint_names;
+        d["parents"] = array_of(am.parents, {J});
+        d["frame_rate"] = am.frame_rate;
+        return d;
+      },
+      py::arg("model"), py::arg("classes") = std::vector<std::string>{}, py::arg("mix") = "", py::arg("count") = 10,
+      py::arg("length") = 0, py::arg("seed") = 0,
+      "Sequences from an ActGAN model (train-actgan), as gen-actgan makes them with the same seed:\n"
+      "`count` per class of `classes` (all when empty) or of the mixture `mix` ('walk:0.5,wave:0.5');\n"
+      "`length` frames (0: the training clips'). A dict: poses [n, T, J, 3] in the model's normalized\n"
+      "coordinates, raw_poses (normalization undone, root-centred), latents [n, T, Z], names,\n"
+      "joint_names, parents, frame_rate.");
 }
