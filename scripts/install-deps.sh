@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages deformflow needs to build, test and run its demo.
 # Idempotent and fast when everything is present (a dpkg query, no apt-get update).
-# Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm]
+# Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm] [--with-blender]
 set -euo pipefail
 
 bench=0
@@ -20,6 +20,7 @@ for option in "$@"; do
       bench=1 ;;
     --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;         # libFuzzer + sanitizer runtimes of clang 14
     --with-slurm) packages+=(slurmctld slurmd slurm-client munge) ;;  # the tests' one-node cluster
+    --with-blender) packages+=(blender) ;;  # the glTF export opened in Blender (test label blender)
     *) echo "install-deps: unknown option $option" >&2; exit 2 ;;
   esac
 done
