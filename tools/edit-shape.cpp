@@ -47,6 +47,11 @@ int main(int argc, char** argv) {
   app.add_option("--l2", opt.solver.l2, "λ: weight of ‖w‖² (keeps underdetermined edits small)")
       ->default_val(opt.solver.l2)
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--l1", opt.solver.l1,
+                 "μ: weight of a sparsity term Σ √(w² + 1e-6) (a smooth Σ|w|: few components active,\n"
+                 "as the ACAP paper's data-driven deformation); 0 = none")
+      ->default_val(opt.solver.l1)
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--iterations", opt.solver.max_iterations, "Most solver steps")
       ->default_val(opt.solver.max_iterations)
       ->check(CLI::PositiveNumber);

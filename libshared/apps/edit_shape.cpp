@@ -337,6 +337,8 @@ void edit_shape(const EditShapeOptions& opt, const CommonOptions& common) {
   Eigen::VectorXd w0(static_cast<Eigen::Index>(sub.selected.size()));
   for (std::size_t k = 0; k < sub.selected.size(); ++k) w0[static_cast<Eigen::Index>(k)] = start.weights[sub.selected[k]];
   const double diagonal = (c.tmpl.vertices.colwise().maxCoeff() - c.tmpl.vertices.colwise().minCoeff()).norm();
+  if (c.space == "positions" && opt.solver.l1 > 0)
+    throw UsageError("--l1 is for ACAP components; position components (SPLOCS) are fitted linearly (--l2)");
   const auto res = c.space == "positions" ? fit_positions(sub, w0, start.positions, handles, opt.solver.l2, diagonal)
                                           : solve_acap(c, sub, w0, start, handles, opt.solver);
 

@@ -69,8 +69,10 @@ Eigen::Matrix3d SubspaceEditor::transform_derivative(const Eigen::VectorXd& w, i
   return rotation_exp(r) * (skew(right_jacobian(r) * dr) * S + dS);
 }
 
-SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertices& pinned, double l2,
-                                      EnergyParts parts) const {
+SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertices& pinned,
+                                      const SubspaceEditOptions& reg, EnergyParts parts) const {
+  constexpr double eps = 1e-3;  // the sparsity term's smoothing
+  const Eigen::ArrayXd root = (w.array().square() + eps * eps).sqrt();
   const auto f = features(w);
   SubspaceEnergy out;
   out.positions = rec_.solve(f.data(), &pinned);
@@ -108,7 +110,7 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
   });
   for (double x : fit) out.fit += x;
   out.fit /= scale_;
-  out.value = out.fit + l2 * w.squaredNorm();
+  out.value = out.fit + reg.l2 * w.squaredNorm() + reg.l1 * (root - eps).sum();
   if (parts == EnergyParts::value) return out;
 
   // The gradient by the adjoint: p* is stationary, so dE/dw_k = Σ_i ⟨∂E/∂T_i, dT_i/dw_k⟩ + 2λw_k
@@ -129,7 +131,8 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
     for (int m = 0; m < kFeatureDims; ++m)
       h[kFeatureDims * i + m] = -(a.dot(unit_rotation_[m]) + (N.array() * unit_stretch_[m].array()).sum()) / scale_;
   });
-  out.gradient = directions_ * h + 2 * l2 * w;
+  out.gradient = directions_ * h + 2 * reg.l2 * w;
+  out.gradient.array() += reg.l1 * w.array() / root;
   if (parts == EnergyParts::gradient) return out;
 
   // The Gauss-Newton matrix. G: dg_e/dw_k in rows 3e..3e+2 (CG: times c_e), g_e = ½(T_i + T_j)q_e;
@@ -181,7 +184,7 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
   for (const auto& m : part) JCJ += m;
   for (int a = 0; a < 3; ++a) JCJ.noalias() -= X.middleCols(a * K, K).transpose() * B.middleCols(a * K, K);
   out.gauss_newton = 2 / scale_ * 0.5 * (JCJ + JCJ.transpose());
-  out.gauss_newton.diagonal().array() += 2 * l2;
+  out.gauss_newton.diagonal().array() += 2 * reg.l2 + reg.l1 * eps * eps / root.cube();
   return out;
 }
 
@@ -191,7 +194,7 @@ SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::
   if (start.size() != directions_.rows()) throw InvalidInput("the start weights do not match the directions");
   SubspaceEditResult res;
   res.weights = start;
-  SubspaceEnergy cur = energy(res.weights, pinned, opt.l2, EnergyParts::gauss_newton);
+  SubspaceEnergy cur = energy(res.weights, pinned, opt, EnergyParts::gauss_newton);
   Eigen::MatrixXd H = cur.gauss_newton;  // kept while steps succeed: the costly part, refreshed on failure
   bool fresh = true;
   int stale_steps = 0;
@@ -203,7 +206,7 @@ SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::
     A.diagonal() *= 1 + mu;
     A.diagonal().array() += 1e-14 * (1 + A.diagonal().cwiseAbs().maxCoeff());
     const Eigen::VectorXd step = A.ldlt().solve(-cur.gradient);
-    SubspaceEnergy trial = energy(res.weights + step, pinned, opt.l2, EnergyParts::gradient);
+    SubspaceEnergy trial = energy(res.weights + step, pinned, opt, EnergyParts::gradient);
     const bool lower = trial.value < cur.value;
     const double gain = lower ? (cur.value - trial.value) / std::max(cur.value, 1e-300) : 0.0;
     const bool small = step.lpNorm<Eigen::Infinity>() < 1e-13 * (1 + res.weights.lpNorm<Eigen::Infinity>());
@@ -218,7 +221,7 @@ SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::
     if (lower && gain >= opt.tolerance && !small) {
       // the old matrix converges linearly: take the current one every few steps
       if (++stale_steps % 4 == 0) {
-        H = energy(res.weights, pinned, opt.l2, EnergyParts::gauss_newton).gauss_newton;
+        H = energy(res.weights, pinned, opt, EnergyParts::gauss_newton).gauss_newton;
         fresh = true;
       } else {
         fresh = false;
@@ -226,7 +229,7 @@ SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::
       continue;
     }
     if (!fresh) {  // a failed or tiny step with an old matrix: take the current one first
-      H = energy(res.weights, pinned, opt.l2, EnergyParts::gauss_newton).gauss_newton;
+      H = energy(res.weights, pinned, opt, EnergyParts::gauss_newton).gauss_newton;
       fresh = true;
       continue;
     }

@@ -5,6 +5,7 @@
 // about a base (f⁰: the reference, or a shape edited before). A few handle vertices are held at
 // their targets; the other positions and the weights minimise
 //   E(w, p) = Σ_(i,j)∈E c_ij ‖(p_i − p_j) − ½(T_i + T_j)(q_i − q_j)‖² / Σ c_ij ‖q_i − q_j‖² + λ‖w‖²
+//             (+ an optional sparsity term, SubspaceEditOptions::l1)
 // (the edge system acap2obj solves, q the reference, c the cotangent weights). For fixed w the
 // positions are one solve with the Laplacian factored once per handle set (geometry::Reconstructor
 // with the handles pinned); the weights are found by Levenberg-Marquardt on the energy with p
@@ -25,6 +26,9 @@ namespace df::geometry {
 
 struct SubspaceEditOptions {
   double l2 = 1e-4;          ///< λ
+  /// μ of a sparsity term μ Σ_k (√(w_k² + ε²) − ε), ε = 1e-3 (a smooth |w_k|: the ACAP paper's
+  /// data-driven deformation favours few active components); 0 = none
+  double l1 = 0;
   int max_iterations = 100;  ///< Levenberg-Marquardt steps
   double tolerance = 1e-7;   ///< stop when a step lowers E by less than this (relative)
 };
@@ -63,7 +67,8 @@ class SubspaceEditor {
   enum class EnergyParts { value, gradient, gauss_newton };
   /// E, and its gradient (cheap: the adjoint) or its gradient and Gauss-Newton matrix (K more
   /// solves, O(E K²)).
-  SubspaceEnergy energy(const Eigen::VectorXd& w, const io::Vertices& pinned, double l2, EnergyParts parts) const;
+  SubspaceEnergy energy(const Eigen::VectorXd& w, const io::Vertices& pinned, const SubspaceEditOptions& reg,
+                        EnergyParts parts) const;
   /// f⁰ + Σ w_k D_k
   std::vector<double> features(const Eigen::VectorXd& w) const;
   /// dT_i/dw_k [3, 3] at w (for the tests' finite differences).

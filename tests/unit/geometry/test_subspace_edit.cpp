@@ -74,19 +74,28 @@ TEST_CASE("subspace edit: dT/dw and the energy's gradient match finite differenc
       CHECK((ed.transform_derivative(w, i, k) - fd).cwiseAbs().maxCoeff() < 1e-7);
     }
   }
-  const auto e = ed.energy(w, pinned, 0.01, SubspaceEditor::EnergyParts::gauss_newton);
+  SubspaceEditOptions reg;
+  reg.l2 = 0.01;
+  reg.l1 = 0.02;  // the sparsity term's gradient checked too
+  const auto e = ed.energy(w, pinned, reg, SubspaceEditor::EnergyParts::gauss_newton);
   CHECK(e.fit > 0.01);  // far from the handles' shape: the fit term dominates the gradient
-  CHECK((e.gradient - 2 * 0.01 * w).cwiseAbs().minCoeff() > 0.005);
+  const Eigen::VectorXd sparse = 0.02 * (w.array() / (w.array().square() + 1e-6).sqrt()).matrix();
+  CHECK((e.gradient - 2 * 0.01 * w - sparse).cwiseAbs().minCoeff() > 0.005);
   for (int k = 0; k < 4; ++k) {
     Eigen::VectorXd a = w, b = w;
     a[k] += h, b[k] -= h;
-    const double fd = (ed.energy(a, pinned, 0.01, SubspaceEditor::EnergyParts::value).value -
-                       ed.energy(b, pinned, 0.01, SubspaceEditor::EnergyParts::value).value) / (2 * h);
+    const double fd = (ed.energy(a, pinned, reg, SubspaceEditor::EnergyParts::value).value -
+                       ed.energy(b, pinned, reg, SubspaceEditor::EnergyParts::value).value) / (2 * h);
     CHECK(e.gradient[k] == Approx(fd).epsilon(1e-6).margin(1e-9));
   }
   // The Gauss-Newton matrix is symmetric and positive semi-definite, λ added on its diagonal.
   CHECK((e.gauss_newton - e.gauss_newton.transpose()).cwiseAbs().maxCoeff() < 1e-12);
   CHECK(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(e.gauss_newton).eigenvalues().minCoeff() >= 2 * 0.01 - 1e-9);
+  // μ: the sparsity term's share of the energy
+  SubspaceEditOptions none;
+  none.l2 = 0.01;
+  const double l1 = e.value - ed.energy(w, pinned, none, SubspaceEditor::EnergyParts::value).value;
+  CHECK(l1 == Approx(0.02 * ((w.array().square() + 1e-6).sqrt() - 1e-3).sum()));
 }
 
 TEST_CASE("subspace edit: a shape inside the span is recovered from a few handles", "[geometry]") {
@@ -119,12 +128,12 @@ TEST_CASE("subspace edit: a shape inside the span is recovered from a few handle
   CHECK(r.energy.back() < 1e-20);
   // At the solution the residual is zero, so the Gauss-Newton matrix is the Hessian: the
   // gradient's finite differences give it.
-  const auto at = ed.energy(truth, pinned, 0, SubspaceEditor::EnergyParts::gauss_newton);
+  const auto at = ed.energy(truth, pinned, opt, SubspaceEditor::EnergyParts::gauss_newton);
   for (int k = 0; k < 4; ++k) {
     Eigen::VectorXd a = truth, b = truth;
     a[k] += 1e-6, b[k] -= 1e-6;
-    const Eigen::VectorXd fd = (ed.energy(a, pinned, 0, SubspaceEditor::EnergyParts::gradient).gradient -
-                                ed.energy(b, pinned, 0, SubspaceEditor::EnergyParts::gradient).gradient) / 2e-6;
+    const Eigen::VectorXd fd = (ed.energy(a, pinned, opt, SubspaceEditor::EnergyParts::gradient).gradient -
+                                ed.energy(b, pinned, opt, SubspaceEditor::EnergyParts::gradient).gradient) / 2e-6;
     CHECK((fd - at.gauss_newton.col(k)).cwiseAbs().maxCoeff() < 1e-6 * (1 + at.gauss_newton.cwiseAbs().maxCoeff()));
   }
   for (std::size_t i = 1; i < r.energy.size(); ++i) CHECK(r.energy[i] < r.energy[i - 1]);
