@@ -157,7 +157,7 @@ $(MS)/%/table5.md: $(MS)/%/recon-L1.eval $(MS)/%/recon.eval
 
 # --- Fig. 6: test shapes rebuilt from N control points with each method's components
 MS_FIG6_SHAPES ?= 20
-msae-fig6: $(foreach s,$(MS_SETS),$(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png $(MS)/$(s)/fig14.png)
+msae-fig6: $(foreach s,$(MS_SETS),$(MS)/$(s)/fig6.tsv $(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png $(MS)/$(s)/fig14.png)
 	@for s in $(MS_SETS); do echo; cat $(MS)/$$s/fig6.md; done
 $(MS)/%/components-tan.h5: $(MS)/%/msae-tan.h5
 	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
@@ -174,7 +174,7 @@ $(MS)/%/fig6.tsv: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.h
 	  SPLOCS=$(MS)/$*/components-splocs.h5 SPLOCS-ACAP=$(MS)/$*/components-splocs-acap.h5
 $(MS)/%/fig6.png: $(MS)/%/fig6.tsv
 	gnuplot -e "set terminal pngcairo size 640,480; set output '$@'; set logscale xy; set grid; \
-	  set xlabel 'control points'; set ylabel 'E_rms (x1000, unit ball)'; set xtics (5, 10, 20, 40, 80); \
+	  set xlabel 'control points'; set ylabel 'E_rms (x1000, unit ball)'; set xrange [4:100]; set xtics (5, 10, 20, 40, 80); \
 	  set title '$*: test shapes rebuilt from N control points (paper Fig. 6)'; \
 	  plot for [i=2:6] '$<' using 1:i with linespoints lw 2 title columnheader(i)"
 # Fig. 14: the middle test shape rebuilt from MS_FIG14_POINTS control points by each method,
@@ -190,7 +190,7 @@ $(MS)/%/fig14.png: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.
 	    -o $(MS)/$*/fig14-$${m%%:*}.h5 || exit 1; \
 	done; \
 	$(BIN)/render-mesh -q -f $(foreach m,$(ms_fig14_methods),$(MS)/$*/fig14-$(firstword $(subst :, ,$(m))).h5) \
-	  --error-vs $(MS)/$*/data.h5 --show-truth --points edit $($*_VIEW) --size 240 \
+	  --error-vs $(MS)/$*/data.h5 --show-truth --fit first --points edit $($*_VIEW) --size 240 \
 	  --row-labels "test shape $$frame,MSAE,one-level AE,PCA,SPLOCS,SPLOCS (ACAP)" --column-labels "$(MS_FIG14_POINTS) control points" \
 	  --title "$*: a test shape rebuilt from $(MS_FIG14_POINTS) control points (paper Fig. 14), colour: error" -o $@
 $(MS)/%/fig6.md: $(MS)/%/fig6.tsv
