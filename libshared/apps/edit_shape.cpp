@@ -235,32 +235,41 @@ geometry::SubspaceEditResult solve_acap(const io::Components& c, const Subspace&
   return editor.edit(w0, pinned, opt, [](int it, double e) { log::debug("step {}: energy {:.6g}", it, e); });
 }
 
-// Position components (SPLOCS): p = p⁰ + Σ w_k C_k, linear; the weights minimise
-// Σ_h ‖p_h − t_h‖² / (H d²) + λ‖w‖² (d: the template's diagonal), one solve.
+// Position components (SPLOCS): p = p⁰ + Σ w_k C_k + t, linear, with a free translation t (as
+// the ACAP edit's positions are free up to the handles, and E_rms aligns by translation: the
+// components, fitted to centred shapes, should not have to carry where the shape stands); the
+// weights minimise Σ_h ‖p_h − t_h‖² / (H d²) + λ‖w‖² (d: the template's diagonal), one solve.
 geometry::SubspaceEditResult fit_positions(const Subspace& sub, const Eigen::VectorXd& w0, const io::Vertices& start,
                                            const Handles& h, double l2, double diagonal) {
   const auto K = sub.directions.rows(), H = static_cast<Eigen::Index>(h.vertices.size());
   const Eigen::VectorXd flat = Eigen::Map<const Eigen::VectorXd>(start.data(), start.size());  // row-major V x 3
   const Eigen::VectorXd base = flat - sub.directions.transpose() * w0;
-  Eigen::MatrixXd A(3 * H, K);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * H, K + 3);  // the weights, then t
   Eigen::VectorXd b(3 * H);
   for (Eigen::Index k = 0; k < H; ++k)
     for (int a = 0; a < 3; ++a) {
       const Eigen::Index j = 3 * h.vertices[static_cast<std::size_t>(k)] + a;
-      A.row(3 * k + a) = sub.directions.col(j).transpose();
+      A.row(3 * k + a).head(K) = sub.directions.col(j).transpose();
+      A(3 * k + a, K + a) = 1;
       b[3 * k + a] = h.targets[static_cast<std::size_t>(k)][a] - base[j];
     }
   const double s = static_cast<double>(H) * diagonal * diagonal;
-  const auto energy = [&](const Eigen::VectorXd& w) { return (A * w - b).squaredNorm() / s + l2 * w.squaredNorm(); };
+  const auto energy = [&](const Eigen::VectorXd& x) {
+    return (A * x - b).squaredNorm() / s + l2 * x.head(K).squaredNorm();
+  };
   Eigen::MatrixXd N = A.transpose() * A / s;
-  N.diagonal().array() += l2 + 1e-14 * (1 + N.diagonal().cwiseAbs().maxCoeff());
+  N.diagonal().head(K).array() += l2;
+  N.diagonal().array() += 1e-14 * (1 + N.diagonal().cwiseAbs().maxCoeff());
+  const Eigen::VectorXd x = N.ldlt().solve(A.transpose() * b / s);
   geometry::SubspaceEditResult res;
-  res.weights = N.ldlt().solve(A.transpose() * b / s);
-  res.energy = {energy(w0), energy(res.weights)};
+  res.weights = x.head(K);
+  Eigen::VectorXd x0 = Eigen::VectorXd::Zero(K + 3);
+  x0.head(K) = w0;
+  res.energy = {energy(x0), energy(x)};
   res.iterations = 1;
   res.converged = true;
   const Eigen::VectorXd p = base + sub.directions.transpose() * res.weights;
-  res.positions = Eigen::Map<const io::Vertices>(p.data(), start.rows(), 3);
+  res.positions = Eigen::Map<const io::Vertices>(p.data(), start.rows(), 3).rowwise() + x.tail(3).transpose();
   return res;
 }
 
