@@ -190,9 +190,9 @@ $(MS)/%/fig14.png: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.
 	    -o $(MS)/$*/fig14-$${m%%:*}.h5 || exit 1; \
 	done; \
 	$(BIN)/render-mesh -q -f $(foreach m,$(ms_fig14_methods),$(MS)/$*/fig14-$(firstword $(subst :, ,$(m))).h5) \
-	  --error-vs $(MS)/$*/data.h5 --show-truth --fit first --points edit $($*_VIEW) --size 240 \
+	  --error-vs $(MS)/$*/data.h5 --show-truth --fit first --range 0,0.05 --points edit $($*_VIEW) --size 240 \
 	  --row-labels "test shape $$frame,MSAE,one-level AE,PCA,SPLOCS,SPLOCS (ACAP)" --column-labels "$(MS_FIG14_POINTS) control points" \
-	  --title "$*: a test shape rebuilt from $(MS_FIG14_POINTS) control points (paper Fig. 14), colour: error" -o $@
+	  --title "$*: a test shape rebuilt from $(MS_FIG14_POINTS) control points (paper Fig. 14), colour: error, clipped at 5% of the diagonal" -o $@
 $(MS)/%/fig6.md: $(MS)/%/fig6.tsv
 	{ echo "$* — test shapes rebuilt from N control points (paper Fig. 6): mean E_rms (x1000, unit ball, each aligned by a translation) of $(MS_FIG6_SHAPES) test shapes, edit-shape with each method's components (MSAE: all 10 + 50, one-level AE: 60, PCA and SPLOCS on ACAP features: as many as Table 2's; SPLOCS on positions: the handles fitted by its linear model, the others hold them)"; echo; \
 	  head -1 $< | sed 's/^/| /; s/\t/ | /g; s/$$/ |/'; head -1 $< | sed 's/[^\t]*/---:/g; s/^/|/; s/\t/|/g; s/$$/|/'; \
