@@ -1,5 +1,6 @@
 // export-gltf's job: a mesh sequence (an acap file with positions or features, or mesh files) as
-// one animated glTF binary (io/gltf_file: morph targets and their animation).
+// one animated glTF binary (io/gltf_file: morph targets and their animation), or one sequence of
+// a skeleton file as animated joints.
 #pragma once
 
 #include <string>
@@ -10,7 +11,7 @@ namespace df::apps {
 
 struct ExportGltfOptions {
   std::string input, output, sequence;
-  double fps = 30;
+  double fps = 0;  ///< 0: a skeleton file's own frame rate, 30 for meshes
   int every = 1;
 };
 

@@ -130,4 +130,62 @@ void write_gltf_sequence(const std::string& path, const GltfSequence& s) {
     throw IOError("cannot write the glTF file", path);
 }
 
+void write_gltf_skeleton(const std::string& path, const GltfSkeleton& s) {
+  const std::size_t J = s.parents.size();
+  if (J == 0 || s.joint_names.size() != J || s.positions.size() % (3 * J) != 0 || s.positions.empty())
+    throw InvalidInput("the skeleton's joints, names and positions disagree", path);
+  const std::size_t T = s.positions.size() / (3 * J);
+  for (std::size_t j = 0; j < J; ++j)
+    if (s.parents[j] >= static_cast<std::int32_t>(j) && s.parents[j] >= 0)
+      throw InvalidInput("joint " + std::to_string(j) + "'s parent does not come before it", path);
+  tinygltf::Model m;
+  m.asset.version = "2.0";
+  m.asset.generator = "deformflow";
+  m.buffers.emplace_back();
+  // translation of joint j at frame t: its position less its parent's (a root: its position)
+  const auto offset = [&](std::size_t t, std::size_t j, int c) {
+    const float p = s.positions[(t * J + j) * 3 + static_cast<std::size_t>(c)];
+    return s.parents[j] < 0 ? p : p - s.positions[(t * J + static_cast<std::size_t>(s.parents[j])) * 3 + static_cast<std::size_t>(c)];
+  };
+  tinygltf::Scene scene;
+  for (std::size_t j = 0; j < J; ++j) {
+    tinygltf::Node node;
+    node.name = s.joint_names[j];
+    node.translation = {offset(0, j, 0), offset(0, j, 1), offset(0, j, 2)};
+    m.nodes.push_back(node);
+  }
+  for (std::size_t j = 0; j < J; ++j) {
+    if (s.parents[j] < 0)
+      scene.nodes.push_back(static_cast<int>(j));
+    else
+      m.nodes[static_cast<std::size_t>(s.parents[j])].children.push_back(static_cast<int>(j));
+  }
+  m.scenes.push_back(scene);
+  m.defaultScene = 0;
+  std::vector<float> times(T);
+  for (std::size_t t = 0; t < T; ++t) times[t] = static_cast<float>(static_cast<double>(t) / s.fps);
+  const int input = add_floats(m, times, TINYGLTF_TYPE_SCALAR, 1, true, 0);
+  tinygltf::Animation anim;
+  anim.name = s.name;
+  for (std::size_t j = 0; j < J; ++j) {
+    std::vector<float> values(3 * T);
+    for (std::size_t t = 0; t < T; ++t)
+      for (int c = 0; c < 3; ++c) values[3 * t + static_cast<std::size_t>(c)] = offset(t, j, c);
+    tinygltf::AnimationSampler sampler;
+    sampler.input = input;
+    sampler.output = add_floats(m, values, TINYGLTF_TYPE_VEC3, 3, false, 0);
+    sampler.interpolation = "LINEAR";
+    anim.samplers.push_back(sampler);
+    tinygltf::AnimationChannel channel;
+    channel.sampler = static_cast<int>(anim.samplers.size()) - 1;
+    channel.target_node = static_cast<int>(j);
+    channel.target_path = "translation";
+    anim.channels.push_back(channel);
+  }
+  m.animations.push_back(anim);
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToFile(&m, path, true, true, false, true))
+    throw IOError("cannot write the glTF file", path);
+}
+
 }  // namespace df::io

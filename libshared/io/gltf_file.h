@@ -4,6 +4,7 @@
 // linear between frames — so Blender, three.js and other glTF players play the sequence.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,5 +22,16 @@ struct GltfSequence {
 
 /// Writes `path` (.glb; the caller makes it atomic). InvalidInput for frames of unequal size.
 void write_gltf_sequence(const std::string& path, const GltfSequence& s);
+
+/// A skeleton sequence: one node per joint in the joints' hierarchy (a child's translation is
+/// its offset from its parent, no rotations), each node's translation animated over the frames.
+struct GltfSkeleton {
+  std::vector<std::int32_t> parents;    ///< [J], −1 for a root
+  std::vector<std::string> joint_names;  ///< [J]
+  std::vector<float> positions;          ///< [T, J, 3] joint positions
+  double fps = 30;
+  std::string name = "skeleton";
+};
+void write_gltf_skeleton(const std::string& path, const GltfSkeleton& s);
 
 }  // namespace df::io

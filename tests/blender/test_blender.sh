@@ -20,3 +20,19 @@ with open("expect.txt", "w") as out:
 PY
 blender -b --factory-startup --python "$here/import_gltf.py" -- f.glb expect.txt 2>&1 | grep -E "^blender:|Error|assert" || true
 blender -b --factory-startup --python-exit-code 1 --python "$here/import_gltf.py" -- f.glb expect.txt >/dev/null 2>&1
+# a skeleton sequence: every joint's world position at frame 11 (24 fps: Blender's own frame rate,
+# so that the keys fall on whole frames)
+"$DF_BIN/synth-actions" -q --classes walk --per-class 1 --frames 30 -o act.h5
+"$DF_BIN/export-gltf" -q act.h5 --fps 24 -o act.glb
+/usr/bin/python3 - <<'PY'
+import h5py
+with h5py.File("act.h5") as f:
+    p, names = f["poses"][...], [n.decode() if isinstance(n, bytes) else n for n in f["skeleton/joint_names"][...]]
+with open("act.txt", "w") as out:
+    out.write(f"{p.shape[1]} {p.shape[0]} 11\n")
+    for v in p[11]:
+        out.write(f"{v[0]:.9g} {v[1]:.9g} {v[2]:.9g}\n")
+open("act.txt.names", "w").write("\n".join(names) + "\n")
+PY
+blender -b --factory-startup --python "$here/import_skeleton.py" -- act.glb act.txt 2>&1 | grep -E "^blender:|Error|assert" || true
+blender -b --factory-startup --python-exit-code 1 --python "$here/import_skeleton.py" -- act.glb act.txt >/dev/null 2>&1

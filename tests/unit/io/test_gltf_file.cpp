@@ -61,3 +61,34 @@ TEST_CASE("glTF export: frames of unequal size are refused", "[io]") {
   s.frames.clear();
   CHECK_THROWS_WITH(io::write_gltf_sequence(dir / "x.glb", s), Catch::Contains("no frames"));
 }
+
+TEST_CASE("glTF export: a skeleton's joints read back as animated nodes", "[io]") {
+  TempDir dir;
+  io::GltfSkeleton s;
+  s.parents = {-1, 0, 1};
+  s.joint_names = {"hip", "knee", "foot"};
+  for (int t = 0; t < 4; ++t)
+    for (float v : {0.0f, 1.0f + 0.1f * t, 0.0f, 0.0f, 0.5f, 0.2f * t, 0.3f, 0.0f, 0.1f * t}) s.positions.push_back(v);
+  s.fps = 20;
+  const auto path = dir / "k.glb";
+  io::write_gltf_skeleton(path, s);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path, 0);
+  REQUIRE(scene);
+  const aiNode* knee = scene->mRootNode->FindNode("knee");
+  REQUIRE(knee);
+  REQUIRE(knee->mParent->mName == aiString("hip"));
+  REQUIRE(scene->mNumAnimations == 1);
+  const aiAnimation* anim = scene->mAnimations[0];
+  REQUIRE(anim->mNumChannels == 3);
+  for (unsigned c = 0; c < 3; ++c) {
+    const aiNodeAnim* ch = anim->mChannels[c];
+    const int j = ch->mNodeName == aiString("hip") ? 0 : ch->mNodeName == aiString("knee") ? 1 : 2;
+    REQUIRE(ch->mNumPositionKeys == 4);
+    for (unsigned t = 0; t < 4; ++t)
+      for (int k = 0; k < 3; ++k) {  // the offset from the parent
+        const float p = s.positions[(t * 3 + j) * 3 + k] - (j ? s.positions[(t * 3 + j - 1) * 3 + k] : 0.0f);
+        CHECK(std::abs(ch->mPositionKeys[t].mValue[k] - p) < 1e-6);
+      }
+  }
+}
