@@ -9,6 +9,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <unistd.h>
 #include <memory>
 #include <string>
 #include <tbb/global_control.h>
@@ -29,6 +32,7 @@
 #include "io/skeleton_file.h"
 #include "io/zstd_filter.h"
 #include "models/actgan/generate.h"
+#include "models/bdlstm/generate.h"
 #include "models/msae/model.h"
 
 namespace py = pybind11;
@@ -527,4 +531,96 @@ PYBIND11_MODULE(deformflow, m) {
       "`length` frames (0: the training clips'). A dict: poses [n, T, J, 3] in the model's normalized\n"
       "coordinates, raw_poses (normalization undone, root-centred), latents [n, T, Z], names,\n"
       "joint_names, parents, frame_rate.");
+
+  m.def(
+      "bdlstm_generate",
+      [](const std::string& model, const std::string& data, const std::vector<std::string>& from, int initial,
+         int length, int samples, std::uint64_t seed) {
+        if (from.empty()) throw py::value_error("from: give at least one frame (an index, or SEQUENCE:K)");
+        models::BdlstmGenerateOptions o;
+        o.model = model;
+        o.data = data;
+        o.from = from;
+        o.initial = initial;
+        o.length = length;
+        o.samples = samples;
+        CommonOptions common;
+        common.quiet = true;
+        common.force = true;
+        common.seed = seed;
+        // gen-bdlstm's own code, through a temporary file: the same numbers as the tool
+        const auto dir = std::filesystem::temp_directory_path();
+        const auto tmp = dir / ("deformflow-bdlstm-" + std::to_string(::getpid()) + "-" + std::to_string(reinterpret_cast<std::uintptr_t>(&o)) + ".h5");
+        o.output = tmp.string();
+        {
+          py::gil_scoped_release free;
+          models::generate_bdlstm(o, common);
+        }
+        py::dict d;
+        {
+          const io::AcapReader r(o.output);
+          const auto n = static_cast<py::ssize_t>(r.frames()), V = static_cast<py::ssize_t>(r.vertices());
+          std::vector<float> x(static_cast<std::size_t>(n * V * kDims));
+          r.read_normalized(0, static_cast<std::size_t>(n), x.data());
+          const auto nz = r.normalization();
+          F64 raw({n, V, py::ssize_t{kDims}});
+          for (py::ssize_t i = 0; i < raw.size(); ++i)
+            raw.mutable_data()[i] = nz.denormalize(static_cast<int>(i % kDims), x[static_cast<std::size_t>(i)]);
+          d["features"] = raw;
+          d["offsets"] = array_of(r.offsets(), {static_cast<py::ssize_t>(r.offsets().size())});
+          d["sequence_names"] = r.sequence_names();
+          if (r.has_source()) d["source"] = array_of(r.source(), {n});
+          if (r.has_steps()) d["steps"] = array_of(r.steps(), {n});
+          d["template"] = mesh_dict(r.read_template());
+        }
+        std::filesystem::remove(tmp);
+        return d;
+      },
+      py::arg("model"), py::arg("data"), py::arg("from"), py::arg("initial") = 1, py::arg("length") = 15,
+      py::arg("samples") = 1, py::arg("seed") = 0,
+      "Frames predicted by a BD-LSTM model (train-bdlstm) as gen-bdlstm makes them: from each\n"
+      "frame of `from` (global indices of the acap file `data`, or 'SEQUENCE:K' strings) with\n"
+      "`initial` given frames, `length` future frames, `samples` per case (random initial states,\n"
+      "`seed`). A dict: features [N, V, 9] raw (acap_reconstruct makes meshes), offsets and\n"
+      "sequence_names (one sequence per case and sample), source (the data frame of each), steps\n"
+      "(frames after the last given one), template.");
+
+  m.def(
+      "write_skeleton",
+      [](const std::string& path, const py::array& poses, const std::vector<std::int64_t>& offsets,
+         const std::vector<std::int32_t>& labels, const std::vector<std::string>& class_names,
+         const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names, double frame_rate) {
+        const auto J = static_cast<py::ssize_t>(parents.size());
+        auto p = doubles(poses, "poses", {-1, J, 3});
+        io::SkeletonFile s;
+        s.frames = static_cast<std::size_t>(p.shape(0));
+        s.joints = static_cast<std::size_t>(J);
+        s.poses.assign(p.data(), p.data() + p.size());
+        s.offsets = offsets;
+        if (s.offsets.size() < 2 || s.offsets.front() != 0 || s.offsets.back() != static_cast<std::int64_t>(s.frames) ||
+            !std::is_sorted(s.offsets.begin(), s.offsets.end()))
+          throw py::value_error("offsets must run from 0 to the number of frames, non-decreasing");
+        s.labels = labels;
+        s.class_names = class_names;
+        s.parents = parents;
+        s.joint_names = joint_names;
+        s.frame_rate = frame_rate;
+        s.sequence_names.assign(s.sequences(), "");
+        if (s.labels.size() != s.sequences()) throw py::value_error("labels: one per sequence");
+        for (auto l : s.labels)
+          if (l < 0 || static_cast<std::size_t>(l) >= class_names.size()) throw py::value_error("labels: a class index out of range");
+        if (joint_names.size() != parents.size()) throw py::value_error("joint_names: one per joint");
+        AtomicOutput out(path, AtomicOutput::Kind::file, true);
+        {
+          h5::File f(out.temp_path(), h5::File::Mode::create, path);
+          io::write_header(f, "skeleton");
+          io::write_skeleton_data(f, s);
+        }
+        out.commit();
+      },
+      py::arg("path"), py::arg("poses"), py::arg("offsets"), py::arg("labels"), py::arg("class_names"),
+      py::arg("parents"), py::arg("joint_names"), py::arg("frame_rate") = 30.0,
+      "Writes a skeleton file (raw coordinates, no normalization) that skel2h5, render-mesh and\n"
+      "export-gltf read: poses [T, J, 3] of all sequences concatenated, offsets [S+1], labels [S]\n"
+      "(class indices), class_names, parents [J] (-1 for a root), joint_names [J], frame_rate.");
 }

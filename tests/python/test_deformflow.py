@@ -143,3 +143,31 @@ def test_models_run_as_the_tools(tmp_path):
     s = df.read_skeleton(str(tmp_path / "g.h5"))
     assert len(g["names"]) == 4 and g["raw_poses"].shape == g["poses"].shape
     assert np.array_equal(g["poses"].reshape(s["poses"].shape), s["poses"])
+
+
+def test_bdlstm_generate_equals_gen_bdlstm(tmp_path):
+    tool("synth-meshseq", "-q", "--frames", "24", "--resolution", "3", "--periods", "2", "-o", str(tmp_path / "f.h5"))
+    tool("obj2acap", "-q", str(tmp_path / "f.h5"), "-o", str(tmp_path / "d.h5"))
+    tool("train-bdlstm", "-q", "--window", "6", "--batch", "2", "--latent", "4", "--hidden", "6", "--lstm-layers", "1",
+         "--iterations", "5", "--seed", "3", str(tmp_path / "d.h5"), "-o", str(tmp_path / "m.h5"))
+    tool("gen-bdlstm", "-q", "--seed", "4", "--from", "5", "--initial", "2", "--length", "4", "--samples", "2",
+         str(tmp_path / "m.h5"), str(tmp_path / "d.h5"), "-o", str(tmp_path / "g.h5"))
+    g = df.bdlstm_generate(str(tmp_path / "m.h5"), str(tmp_path / "d.h5"), ["5"], initial=2, length=4, samples=2, seed=4)
+    t = df.read_acap(str(tmp_path / "g.h5"))
+    lo, hi = t["normalization"]["min"], t["normalization"]["max"]
+    assert np.array_equal(df.normalize(g["features"], lo, hi).astype(np.float32), t["normalized"])
+    assert np.array_equal(g["source"], t["source"]) and g["sequence_names"] == t["sequence_names"]
+
+
+def test_write_skeleton_reads_back(tmp_path):
+    tool("synth-actions", "-q", "--classes", "walk,kick", "--per-class", "2", "--frames", "6", "-o", str(tmp_path / "s.h5"))
+    s = df.read_skeleton(str(tmp_path / "s.h5"))
+    out = str(tmp_path / "w.h5")
+    df.write_skeleton(out, s["raw_poses"].astype(np.float64), list(s["offsets"]), list(s["labels"]), s["class_names"],
+                      list(s["parents"]), s["joint_names"], s["frame_rate"])
+    w = df.read_skeleton(out)
+    assert np.array_equal(w["poses"], s["raw_poses"]) and w["class_names"] == s["class_names"]
+    tool("h5check", "-q", out)
+    with pytest.raises(ValueError, match="offsets"):
+        df.write_skeleton(out, s["raw_poses"].astype(np.float64), [0, 3], [0], s["class_names"], list(s["parents"]),
+                          s["joint_names"])
