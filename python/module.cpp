@@ -21,6 +21,7 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "eval/mesh_metrics.h"
+#include "eval/skeleton_metrics.h"
 #include "geometry/acap_features.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/reconstruction.h"
@@ -623,4 +624,51 @@ PYBIND11_MODULE(deformflow, m) {
       "Writes a skeleton file (raw coordinates, no normalization) that skel2h5, render-mesh and\n"
       "export-gltf read: poses [T, J, 3] of all sequences concatenated, offsets [S+1], labels [S]\n"
       "(class indices), class_names, parents [J] (-1 for a root), joint_names [J], frame_rate.");
+
+  m.def(
+      "sted",
+      [](const py::array& pred, const py::array& truth, const py::array& faces, int rings, double dt) {
+        auto t = doubles(truth, "truth", {-1, -1, 3});
+        auto p = doubles(pred, "pred", {t.shape(0), t.shape(1), 3});
+        const py::ssize_t n = t.shape(0), V = t.shape(1);
+        const io::Faces F = faces_of(faces, V);
+        const auto topo = geometry::mesh_topology(F, static_cast<int>(V));
+        const auto hoods = eval::edge_neighbourhoods(topo, rings);
+        double spatial = 0, temporal = 0;
+        for (py::ssize_t k = 0; k < n; ++k)
+          spatial += eval::sted_spatial(vertices_of(p.data() + k * V * 3, V), vertices_of(t.data() + k * V * 3, V), topo, hoods);
+        for (py::ssize_t k = 0; k + 1 < n; ++k)
+          temporal += eval::sted_temporal(vertices_of(p.data() + k * V * 3, V), vertices_of(p.data() + (k + 1) * V * 3, V),
+                                          vertices_of(t.data() + k * V * 3, V), vertices_of(t.data() + (k + 1) * V * 3, V),
+                                          topo, dt);
+        return py::dict(py::arg("spatial") = spatial / static_cast<double>(n),
+                        py::arg("temporal") = n > 1 ? temporal / static_cast<double>(n - 1) : 0.0);
+      },
+      py::arg("pred"), py::arg("truth"), py::arg("faces"), py::arg("rings") = 1, py::arg("dt") = 1.0,
+      "STED (Vasa & Skala 2011) of pred against truth [F, V, 3] on faces [T, 3]: {'spatial': the mean\n"
+      "over frames of the relative edge-length deviation's weighted spread in `rings`-ring\n"
+      "neighbourhoods, 'temporal': the mean over consecutive pairs of the relative speed\n"
+      "difference (frame interval dt)}; eval-metrics' STED without its alignment.");
+
+  m.def(
+      "mmd",
+      [](const py::array& x, const py::array& y) {
+        auto a = doubles(x, "x", {-1, -1});
+        auto b = doubles(y, "y", {-1, a.shape(1)});
+        if (a.shape(0) < 2 || b.shape(0) < 2) throw py::value_error("mmd needs at least 2 samples on each side");
+        const eval::RowMatrixF X = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+                                       a.data(), a.shape(0), a.shape(1)).cast<float>();
+        const eval::RowMatrixF Y = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+                                       b.data(), b.shape(0), b.shape(1)).cast<float>();
+        eval::MmdResult r;
+        {
+          py::gil_scoped_release free;
+          r = eval::mmd2_max(X, Y);
+        }
+        return py::make_tuple(r.mmd2, r.bandwidth);
+      },
+      py::arg("x"), py::arg("y"),
+      "(MMD_u^2, bandwidth): the unbiased squared MMD between the rows of x [m, D] and y [n, D]\n"
+      "with a Gaussian kernel, maximised over bandwidths 1e-4 ... 1e9 (ActGAN's MMD_avg / MMD_seq\n"
+      "when the rows are poses / flattened sequences), as eval-metrics computes it (float).");
 }

@@ -171,3 +171,18 @@ def test_write_skeleton_reads_back(tmp_path):
     with pytest.raises(ValueError, match="offsets"):
         df.write_skeleton(out, s["raw_poses"].astype(np.float64), [0, 3], [0], s["class_names"], list(s["parents"]),
                           s["joint_names"])
+
+
+def test_sted_and_mmd(finger):
+    a = df.read_acap(str(finger / "a.h5"))
+    truth = a["positions"].astype(np.float64)
+    pred = truth + 0.01 * np.cos(np.arange(truth.size)).reshape(truth.shape)
+    df.write_acap(str(finger / "q.h5"), a["template"]["vertices"], a["template"]["faces"], positions=pred)
+    printed = tool("eval-metrics", str(finger / "q.h5"), str(finger / "a.h5"))  # STED: translation-free
+    line = [l for l in printed.splitlines() if l.strip().startswith("STED")][0].split()
+    s = df.sted(pred.astype(np.float32).astype(np.float64), truth, a["template"]["faces"])
+    assert s["spatial"] == pytest.approx(float(line[2]), rel=1e-5)
+    assert df.sted(truth, truth, a["template"]["faces"])["spatial"] == 0
+    rng = np.random.default_rng(1)
+    x, y = rng.normal(size=(30, 4)), rng.normal(size=(30, 4)) + 2
+    assert df.mmd(x, y)[0] > df.mmd(x, rng.normal(size=(30, 4)))[0]
