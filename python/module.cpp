@@ -11,7 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <unistd.h>
+#include <cstdlib>  // mkdtemp
 #include <memory>
 #include <string>
 #include <tbb/global_control.h>
@@ -249,21 +249,28 @@ PYBIND11_MODULE(deformflow, m) {
 
   m.def(
       "erms",
-      [](const py::array& pred, const py::array& truth) {
+      [](const py::array& pred, const py::array& truth, const py::object& faces) {
         auto t = doubles(truth, "truth", {-1, -1, 3});
         auto p = doubles(pred, "pred", {t.shape(0), t.shape(1), 3});
         const py::ssize_t n = t.shape(0), V = t.shape(1);
-        const std::vector<int> one(static_cast<std::size_t>(V), 0);
+        // the parts aligned one by one, as eval-metrics does (one part without faces)
+        std::vector<int> part(static_cast<std::size_t>(V), 0);
+        int parts = 1;
+        if (!faces.is_none())
+          part = geometry::connected_components(geometry::mesh_topology(faces_of(faces.cast<py::array>(), V), static_cast<int>(V)),
+                                                0, &parts);
         double sum = 0;
         for (py::ssize_t k = 0; k < n; ++k) {
           const io::Vertices T = vertices_of(t.data() + k * V * 3, V);
-          sum += eval::unit_ball_squared_error(eval::align_translation(vertices_of(p.data() + k * V * 3, V), T, one, 1), T);
+          sum += eval::unit_ball_squared_error(eval::align_translation(vertices_of(p.data() + k * V * 3, V), T, part, parts),
+                                               T);
         }
         return eval::erms_from_sum(sum, static_cast<double>(n), static_cast<double>(V));
       },
-      py::arg("pred"), py::arg("truth"),
+      py::arg("pred"), py::arg("truth"), py::arg("faces") = py::none(),
       "E_rms x 1000 (MSAE paper, Table 2) of pred against truth [F, V, 3]: each frame translated\n"
-      "onto the truth's centroid, both scaled so the truth fits the unit ball.");
+      "onto the truth's centroid — each connected part on its own when faces [T, 3] are given, as\n"
+      "eval-metrics does — and both scaled so the truth fits the unit ball.");
   m.def(
       "vertex_error",
       [](const py::array& pred, const py::array& truth) {
@@ -550,8 +557,16 @@ PYBIND11_MODULE(deformflow, m) {
         common.force = true;
         common.seed = seed;
         // gen-bdlstm's own code, through a temporary file: the same numbers as the tool
-        const auto dir = std::filesystem::temp_directory_path();
-        const auto tmp = dir / ("deformflow-bdlstm-" + std::to_string(::getpid()) + "-" + std::to_string(reinterpret_cast<std::uintptr_t>(&o)) + ".h5");
+        std::string pattern = (std::filesystem::temp_directory_path() / "deformflow-bdlstm-XXXXXX").string();
+        if (!::mkdtemp(pattern.data())) throw py::value_error("cannot make a temporary folder");
+        const std::filesystem::path dir = pattern, tmp = dir / "generated.h5";
+        struct Remove {
+          std::filesystem::path p;
+          ~Remove() {
+            std::error_code ec;
+            std::filesystem::remove_all(p, ec);
+          }
+        } remove{dir};  // also when generation fails
         o.output = tmp.string();
         {
           py::gil_scoped_release free;
@@ -574,7 +589,6 @@ PYBIND11_MODULE(deformflow, m) {
           if (r.has_steps()) d["steps"] = array_of(r.steps(), {n});
           d["template"] = mesh_dict(r.read_template());
         }
-        std::filesystem::remove(tmp);
         return d;
       },
       py::arg("model"), py::arg("data"), py::arg("from"), py::arg("initial") = 1, py::arg("length") = 15,

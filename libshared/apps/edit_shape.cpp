@@ -69,11 +69,13 @@ Subspace select_directions(const io::Components& c, const EditShapeOptions& opt)
   return s;
 }
 
-// Where the edit starts: the shape's positions and raw features, and the weights it was made with.
+// Where the edit starts: the shape's positions and raw features (none for position
+// components), the weights it was made with, and its history.
 struct Start {
   io::Vertices positions;
   std::vector<double> features;  // [9V]
   std::vector<double> weights;   // [K] every component's
+  std::string history;
 };
 
 Start read_start(const EditShapeOptions& opt, const io::Components& c, const Subspace& s) {
@@ -88,37 +90,28 @@ Start read_start(const EditShapeOptions& opt, const io::Components& c, const Sub
     return st;
   }
   const io::AcapReader r(opt.from);
-  const auto faces = r.read_faces();
-  if (r.vertices() != V || faces.rows() != c.tmpl.faces.rows() || faces != c.tmpl.faces)
-    throw InvalidInput(fmt::format("is on another template than the components ({} vertices; theirs has {})",
-                                   r.vertices(), V),
-                       opt.from);
+  r.require_template(c.tmpl, "the components file");
   if (opt.from_frame < 0 || static_cast<std::size_t>(opt.from_frame) >= r.frames())
     throw UsageError(fmt::format("--from-frame {}: {} has frames 0..{}", opt.from_frame, opt.from, r.frames() - 1));
   const auto frame = static_cast<std::size_t>(opt.from_frame);
-  st.features.resize(V * kDims);
-  if (positions_space) {
-    if (!r.has_positions()) throw InvalidInput("has no positions to edit with position components", opt.from);
-    st.features.clear();
-  } else if (r.has_raw()) {
-    r.read_raw(frame, 1, st.features.data());
-  } else if (r.has_normalized()) {
-    std::vector<float> x(V * kDims);
-    r.read_normalized(frame, 1, x.data());
-    const auto nz = r.normalization();
-    for (std::size_t j = 0; j < x.size(); ++j) st.features[j] = nz.denormalize(static_cast<int>(j % kDims), x[j]);
-  } else {
-    throw InvalidInput("has positions but no ACAP features (run obj2acap on it first)", opt.from);
+  st.history = r.history();
+  if (positions_space && !r.has_positions())
+    throw InvalidInput("has no positions to edit with position components", opt.from);
+  if (!positions_space) {
+    st.features.resize(V * kDims);
+    if (r.has_raw()) {
+      r.read_raw(frame, 1, st.features.data());
+    } else if (r.has_normalized()) {
+      std::vector<float> x(V * kDims);
+      r.read_normalized(frame, 1, x.data());
+      const auto nz = r.normalization();
+      for (std::size_t j = 0; j < x.size(); ++j) st.features[j] = nz.denormalize(static_cast<int>(j % kDims), x[j]);
+    } else {
+      throw InvalidInput("has positions but no ACAP features (run obj2acap on it first)", opt.from);
+    }
   }
-  if (r.has_positions()) {  // (required above for position components)
-    std::vector<float> p(V * 3);
-    r.read_positions(frame, 1, p.data());
-    st.positions = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-                       p.data(), static_cast<Eigen::Index>(V), 3)
-                       .cast<double>();
-  } else {
-    st.positions = geometry::Reconstructor(c.tmpl.vertices, c.tmpl.faces).solve(st.features.data());
-  }
+  st.positions = r.has_positions() ? r.read_frame_positions(frame)
+                                   : geometry::Reconstructor(c.tmpl.vertices, c.tmpl.faces).solve(st.features.data());
   if (r.has_edit()) {
     const auto e = r.read_edit();
     if (e.weights.size() == s.level.size() && e.level == s.level)
@@ -135,22 +128,18 @@ void sample_handles(Handles& h, const EditShapeOptions& opt, const io::Component
   if (opt.sample <= 0) return;
   if (opt.to.empty()) throw UsageError("--sample needs --to (the shape whose positions are the targets)");
   const io::AcapReader r(opt.to);
-  const auto V = static_cast<std::size_t>(c.tmpl.vertices.rows());
-  const auto faces = r.read_faces();
-  if (r.vertices() != V || faces.rows() != c.tmpl.faces.rows() || faces != c.tmpl.faces)
-    throw InvalidInput("is on another template than the components", opt.to);
+  r.require_template(c.tmpl, "the components file");
   if (!r.has_positions()) throw InvalidInput("has no positions to take targets from", opt.to);
   if (opt.to_frame < 0 || static_cast<std::size_t>(opt.to_frame) >= r.frames())
     throw UsageError(fmt::format("--to-frame {}: {} has frames 0..{}", opt.to_frame, opt.to, r.frames() - 1));
-  if (opt.sample > static_cast<int>(V)) throw UsageError(fmt::format("--sample {}: the template has {} vertices", opt.sample, V));
-  std::vector<float> p(V * 3);
-  r.read_positions(static_cast<std::size_t>(opt.to_frame), 1, p.data());
+  const auto V = c.tmpl.vertices.rows();
+  if (opt.sample > V) throw UsageError(fmt::format("--sample {}: the template has {} vertices", opt.sample, V));
+  const io::Vertices p = r.read_frame_positions(static_cast<std::size_t>(opt.to_frame));
   std::set<int> seen(h.vertices.begin(), h.vertices.end());
   for (int v : furthest_point_sample(c.tmpl.vertices, opt.sample)) {
     if (!seen.insert(v).second) continue;  // a handle of the file wins
     h.vertices.push_back(v);
-    h.targets.emplace_back(p[3 * static_cast<std::size_t>(v)], p[3 * static_cast<std::size_t>(v) + 1],
-                           p[3 * static_cast<std::size_t>(v) + 2]);
+    h.targets.emplace_back(p.row(v));
   }
 }
 
@@ -200,18 +189,14 @@ void write_edit(const EditShapeOptions& opt, const io::Components& c, const std:
     if (!opt.to.empty()) f.write_source({opt.to_frame}, opt.to, "edit-shape");  // eval-metrics pairs them
     const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor> p = res.positions.cast<float>();
     f.write_positions(1, V, p.data());
-    if (res.features.empty()) {  // position components: positions only
-      f.write_edit(record);
-      f.close();
-      out.commit();
-      return;
+    if (!res.features.empty()) {  // (position components: positions only)
+      f.create_raw(1, V);
+      f.write_raw_rows(0, 1, res.features.data());
+      std::vector<float> x(res.features.size());
+      for (std::size_t j = 0; j < x.size(); ++j)
+        x[j] = static_cast<float>(c.normalization.normalize(static_cast<int>(j % kDims), res.features[j]));
+      f.write_normalized(1, V, x.data());
     }
-    f.create_raw(1, V);
-    f.write_raw_rows(0, 1, res.features.data());
-    std::vector<float> x(res.features.size());
-    for (std::size_t j = 0; j < x.size(); ++j)
-      x[j] = static_cast<float>(c.normalization.normalize(static_cast<int>(j % kDims), res.features[j]));
-    f.write_normalized(1, V, x.data());
     f.write_edit(record);
     f.close();
   }
@@ -370,7 +355,7 @@ void edit_shape(const EditShapeOptions& opt, const CommonOptions& common) {
     record.residual = handle_residual(c, res.features, handles);
   record.energy = res.energy;
   std::vector<std::string> histories{c.history};
-  if (!opt.from.empty()) histories.push_back(io::AcapReader(opt.from).history());
+  if (!opt.from.empty()) histories.push_back(start.history);
   write_edit(opt, c, histories, res, record, common.force);
 
   if (!res.converged)

@@ -529,6 +529,8 @@ std::vector<Panel> mesh_panels(const Scene& sc, const RenderOptions& opt, std::s
   return panels;
 }
 
+const std::vector<int> kNoPoints;
+
 // --points: per input, a handle file's vertices, or the handles of its /edit record (none
 // without one).
 std::vector<std::vector<int>> marked_points(const RenderOptions& opt, const Scene& sc) {
@@ -540,7 +542,7 @@ std::vector<std::vector<int>> marked_points(const RenderOptions& opt, const Scen
   bool any = false;
   for (const auto& p : opt.inputs) {
     points.emplace_back();
-    if (io::is_hdf5_path(p) && io::declared_kind(h5::File(p, h5::File::Mode::read)) == "acap") {
+    if (io::is_hdf5_path(p)) {  // (mesh inputs: an .h5 is an acap file, input_kind checked)
       const io::AcapReader r(p);
       if (!r.has_edit()) continue;
       const auto h = r.read_edit().handles;
@@ -583,7 +585,7 @@ void draw_pictures(const Scene& sc, const RenderOptions& opt, const CommonOption
             canvas.blit(panels[ri * (c1 - c0) + (c - c0)], x, y);
             const auto& shown = sc.rows[ri].shown[c];
             const auto input = sc.rows[ri].truth ? 0 : sc.rows[ri].input;
-            for (int v : sc.points.empty() ? std::vector<int>{} : sc.points[input]) {
+            for (int v : sc.points.empty() ? kNoPoints : sc.points[input]) {
               if (v >= shown.rows()) continue;
               const Eigen::Vector3d q = sc.camera.to_panel(shown.row(v).transpose(), opt.width, opt.height);
               canvas.disc(x + q.x(), y + q.y(), 4.5, Rgb{1, 1, 1});

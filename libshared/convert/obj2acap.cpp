@@ -118,8 +118,7 @@ geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
   geometry::NormalizationBuilder norm(opt.normalize);
   Progress progress("computing features", n);
   const std::size_t block = std::max<std::size_t>(1, opt.block_frames);
-  std::vector<Eigen::Vector3d> previous;
-  std::vector<std::vector<Eigen::Vector3d>> r;
+  geometry::FeatureSequence sequence(extractor, opt.consistency);
   std::vector<double> raw;
   std::vector<float> pos;
   double axis_gain = 0, angle_gain = 0, axis_before = 0, angle_before = 0;
@@ -168,15 +167,12 @@ geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
               tbb::filter_mode::serial_in_order, [&](Block* b) {
                 if (b->error) std::rethrow_exception(b->error);
                 const std::size_t first = b->first, count = b->count;
-                r.resize(count);
+                raw.resize(count * nv * kFeatureDims);  // fully overwritten below
+                pos.resize(count * nv * 3);
                 for (std::size_t k = 0; k < count; ++k) {  // consistency: in time order
                   const std::size_t i = first + k;
-                  if (!opt.consistency) {
-                    r[k] = geometry::principal_rotation_vectors(b->dec[k]);
-                    continue;
-                  }
-                  auto rep = extractor.make_consistent(b->dec[k], starts[i] ? nullptr : &previous, r[k]);
-                  previous = r[k];
+                  const auto rep = sequence.add(b->dec[k], starts[i] != 0, raw.data() + k * nv * kFeatureDims);
+                  if (!opt.consistency) continue;
                   axis_before += rep.axis_before;
                   angle_before += rep.angle_before;
                   axis_gain += rep.axis_after - rep.axis_before;
@@ -185,10 +181,7 @@ geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
                              frame_names[i], rep.axis_before, rep.axis_after, rep.angle_before, rep.angle_after,
                              rep.sweeps);
                 }
-                raw.resize(count * nv * kFeatureDims);  // fully overwritten below
-                pos.resize(count * nv * 3);
                 for (std::size_t k = 0; k < count; ++k) {
-                  geometry::pack_features(r[k], b->dec[k].stretch, raw.data() + k * nv * kFeatureDims);
                   const double* p = b->positions[k].data();
                   for (std::size_t c = 0; c < nv * 3; ++c) pos[k * nv * 3 + c] = static_cast<float>(p[c]);
                 }

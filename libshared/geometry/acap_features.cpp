@@ -106,6 +106,18 @@ std::array<double, kFeatureDims> identity_features(const Normalization* nz) {
   return id;
 }
 
+ConsistencyReport FeatureSequence::add(const FrameDecomposition& d, bool start, double* out) {
+  ConsistencyReport rep;
+  if (consistency_) {
+    rep = ex_.make_consistent(d, start ? nullptr : &previous_, r_);
+    previous_ = r_;
+  } else {
+    r_ = principal_rotation_vectors(d);
+  }
+  pack_features(r_, d.stretch, out);
+  return rep;
+}
+
 std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std::vector<io::Vertices>& frames,
                                       const std::vector<char>& starts, bool consistency) {
   const std::size_t n = frames.size(), nv = static_cast<std::size_t>(ex.n_vertices());
@@ -123,16 +135,9 @@ std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std:
   for (auto& e : errors)
     if (e) std::rethrow_exception(e);
   std::vector<double> out(n * nv * kFeatureDims);
-  std::vector<Eigen::Vector3d> r, previous;
-  for (std::size_t k = 0; k < n; ++k) {
-    if (consistency) {
-      ex.make_consistent(dec[k], (k == 0 || (k < starts.size() && starts[k])) ? nullptr : &previous, r);
-      previous = r;
-    } else {
-      r = principal_rotation_vectors(dec[k]);
-    }
-    pack_features(r, dec[k].stretch, out.data() + k * nv * kFeatureDims);
-  }
+  FeatureSequence seq(ex, consistency);
+  for (std::size_t k = 0; k < n; ++k)
+    seq.add(dec[k], k == 0 || (k < starts.size() && starts[k]), out.data() + k * nv * kFeatureDims);
   return out;
 }
 

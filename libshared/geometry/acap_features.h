@@ -52,10 +52,25 @@ class AcapFeatureExtractor {
   AcapConsistency consistency_;
 };
 
+/// The in-order part of computing features of a sequence (obj2acap's, and sequence_features'):
+/// each decomposed frame's rotation logs made consistent in space and with the previous frame
+/// of its sequence (`consistency`; principal logs otherwise), then packed.
+class FeatureSequence {
+ public:
+  FeatureSequence(const AcapFeatureExtractor& ex, bool consistency) : ex_(ex), consistency_(consistency) {}
+  /// Writes the frame's 9 features per vertex to `out`; `start`: the first frame of a sequence
+  /// (no temporal prior). The consistency solve's report (zeros without consistency).
+  ConsistencyReport add(const FrameDecomposition& d, bool start, double* out);
+
+ private:
+  const AcapFeatureExtractor& ex_;
+  bool consistency_;
+  std::vector<Eigen::Vector3d> previous_, r_;
+};
+
 /// Raw features [frames][9V] of frames in time order, as obj2acap computes them: each frame
-/// decomposed (in parallel), then its rotation logs made consistent (`consistency`) in space and
-/// with the previous frame, unless `starts[f]` marks frame f as a sequence's first; principal
-/// logs otherwise. InvalidInput naming the frame when one is degenerate.
+/// decomposed (in parallel), then a FeatureSequence (`starts[f]` marks frame f as a sequence's
+/// first; frame 0 always is). InvalidInput naming the frame when one has another vertex count.
 std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std::vector<io::Vertices>& frames,
                                       const std::vector<char>& starts, bool consistency);
 

@@ -24,6 +24,13 @@ Eigen::Matrix3d right_jacobian(const Eigen::Vector3d& r) {
   return I - (1 - std::cos(t)) / (t * t) * K + (t - std::sin(t)) / (t * t * t) * K * K;
 }
 
+// dT/dw_k at a vertex, T = exp(ρ) S = R S, its rotation vector and stretch moving along (dr, dS):
+// R ([J dr]× S + dS).
+Eigen::Matrix3d transform_change(const Eigen::Matrix3d& R, const Eigen::Matrix3d& J, const Eigen::Matrix3d& S,
+                                 const Eigen::Vector3d& dr, const Eigen::Matrix3d& dS) {
+  return R * (skew(J * dr) * S + dS);
+}
+
 }  // namespace
 
 SubspaceEditor::SubspaceEditor(const io::Vertices& reference, const io::Faces& faces, const std::vector<int>& handles,
@@ -66,7 +73,7 @@ Eigen::Matrix3d SubspaceEditor::transform_derivative(const Eigen::VectorXd& w, i
   Eigen::Matrix3d S, dS;
   unpack_features(f.data() + kFeatureDims * vertex, r, S);
   unpack_features(directions_.row(k).data() + kFeatureDims * vertex, dr, dS);
-  return rotation_exp(r) * (skew(right_jacobian(r) * dr) * S + dS);
+  return transform_change(rotation_exp(r), right_jacobian(r), S, dr, dS);
 }
 
 SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertices& pinned,
@@ -146,7 +153,7 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
     Eigen::Matrix3d dS;
     for (Eigen::Index k = 0; k < K; ++k) {
       unpack_features(directions_.row(k).data() + kFeatureDims * i, dr, dS);
-      dT[static_cast<std::size_t>(i * K + k)] = R[v] * (skew(J[v] * dr) * S[v] + dS);
+      dT[static_cast<std::size_t>(i * K + k)] = transform_change(R[v], J[v], S[v], dr, dS);
     }
   });
   RowMatrix G(3 * E, K), CG(3 * E, K);

@@ -1,5 +1,7 @@
 #include "io/acap_file.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <span>
 
@@ -115,6 +117,26 @@ void AcapReader::read_regions(std::vector<std::vector<std::uint8_t>>& masks, std
     masks[r].assign(m.data.begin() + static_cast<std::ptrdiff_t>(r * V),
                     m.data.begin() + static_cast<std::ptrdiff_t>((r + 1) * V));
   scale = file_.read<std::int32_t>(kRegionScale).data;
+}
+
+void AcapReader::require_template(const Mesh& tmpl, const std::string& whose) const {
+  const Faces faces = read_faces();
+  if (vertices() != static_cast<std::size_t>(tmpl.vertices.rows()) || faces.rows() != tmpl.faces.rows() ||
+      faces != tmpl.faces)
+    throw InvalidInput(fmt::format("has another template than {0} ({1} vertices, {2} triangles; {0}'s: {3}, {4}): "
+                                   "the two must share the template",
+                                   whose, vertices(), faces.rows(), tmpl.vertices.rows(), tmpl.faces.rows()),
+                       path_);
+}
+
+Vertices AcapReader::read_frame_positions(std::size_t frame) const {
+  if (frame >= frames())
+    throw InvalidInput(fmt::format("has frames 0..{}, not {}", frames() - 1, frame), path_);
+  std::vector<float> p(vertices() * 3);
+  read_positions(frame, 1, p.data());
+  return Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+             p.data(), static_cast<Eigen::Index>(vertices()), 3)
+      .cast<double>();
 }
 
 bool AcapReader::has_edit() const { return file_.exists(kEdit); }

@@ -85,6 +85,12 @@ class AcapReader {
 
   Mesh read_template() const;
   Faces read_faces() const;
+  /// InvalidInput naming the file unless its template has `tmpl`'s vertex count and faces;
+  /// `whose` names the other side ("the model", "the components file").
+  void require_template(const Mesh& tmpl, const std::string& whose) const;
+  /// Frame `frame`'s stored positions [V, 3] (has_positions first); InvalidInput for a frame
+  /// out of range.
+  Vertices read_frame_positions(std::size_t frame) const;
   std::vector<std::string> frame_names() const;
   std::vector<std::string> sequence_names() const;
   std::vector<std::int64_t> offsets() const;  ///< [S+1]

@@ -10,22 +10,25 @@
 namespace df::io {
 namespace {
 
-// Appends float data to the one buffer as a view and an accessor; returns the accessor's index.
-int add_floats(tinygltf::Model& m, const std::vector<float>& data, int type, int components, bool bounds,
-               int target = TINYGLTF_TARGET_ARRAY_BUFFER) {
+// Appends data to the one buffer as a view and an accessor of `components` numbers per element
+// (with its min / max when `bounds`: glTF asks them of positions and times); returns the
+// accessor's index.
+template <class T>
+int add_accessor(tinygltf::Model& m, const std::vector<T>& data, int component_type, int type, int components,
+                 bool bounds, int target) {
   auto& buf = m.buffers[0].data;
-  const std::size_t offset = buf.size();
-  buf.resize(offset + data.size() * sizeof(float));
-  std::memcpy(buf.data() + offset, data.data(), data.size() * sizeof(float));
+  const std::size_t offset = buf.size(), bytes = data.size() * sizeof(T);
+  buf.resize(offset + bytes);
+  std::memcpy(buf.data() + offset, data.data(), bytes);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = offset;
-  view.byteLength = data.size() * sizeof(float);
+  view.byteLength = bytes;
   if (target) view.target = target;
   m.bufferViews.push_back(view);
   tinygltf::Accessor a;
   a.bufferView = static_cast<int>(m.bufferViews.size()) - 1;
-  a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.componentType = component_type;
   a.count = data.size() / static_cast<std::size_t>(components);
   a.type = type;
   if (bounds) {
@@ -42,6 +45,25 @@ int add_floats(tinygltf::Model& m, const std::vector<float>& data, int type, int
   return static_cast<int>(m.accessors.size()) - 1;
 }
 
+int add_floats(tinygltf::Model& m, const std::vector<float>& data, int type, int components, bool bounds,
+               int target = TINYGLTF_TARGET_ARRAY_BUFFER) {
+  return add_accessor(m, data, TINYGLTF_COMPONENT_TYPE_FLOAT, type, components, bounds, target);
+}
+
+tinygltf::Model new_model() {
+  tinygltf::Model m;
+  m.asset.version = "2.0";
+  m.asset.generator = "deformflow";
+  m.buffers.emplace_back();
+  return m;
+}
+
+void save(tinygltf::Model& m, const std::string& path) {
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToFile(&m, path, true, true, false, true))
+    throw IOError("cannot write the glTF file", path);
+}
+
 std::vector<float> flat(const Vertices& v, const Vertices* minus = nullptr) {
   std::vector<float> out(static_cast<std::size_t>(v.size()));
   for (Eigen::Index i = 0; i < v.size(); ++i)
@@ -54,41 +76,21 @@ std::vector<float> flat(const Vertices& v, const Vertices* minus = nullptr) {
 void write_gltf_sequence(const std::string& path, const GltfSequence& s) {
   if (s.frames.empty()) throw InvalidInput("no frames to export", path);
   const Vertices& base = s.frames.front();
-  for (std::size_t k = 0; k < s.frames.size(); ++k)
-    if (s.frames[k].rows() != base.rows() || (!s.normals.empty() && s.normals[k].rows() != base.rows()))
-      throw InvalidInput("frame " + std::to_string(k) + " has another vertex count", path);
-  if (!s.normals.empty() && s.normals.size() != s.frames.size())
-    throw InvalidInput("normals are not one per frame", path);
   const bool normals = !s.normals.empty();
-  tinygltf::Model m;
-  m.asset.version = "2.0";
-  m.asset.generator = "deformflow";
-  m.buffers.emplace_back();
+  if (normals && s.normals.size() != s.frames.size()) throw InvalidInput("normals are not one per frame", path);
+  for (std::size_t k = 0; k < s.frames.size(); ++k)
+    if (s.frames[k].rows() != base.rows() || (normals && s.normals[k].rows() != base.rows()))
+      throw InvalidInput("frame " + std::to_string(k) + " has another vertex count", path);
+  tinygltf::Model m = new_model();
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.attributes["POSITION"] = add_floats(m, flat(base), TINYGLTF_TYPE_VEC3, 3, true);
   if (normals) prim.attributes["NORMAL"] = add_floats(m, flat(s.normals.front()), TINYGLTF_TYPE_VEC3, 3, false);
-  {  // indices
-    auto& buf = m.buffers[0].data;
-    const std::size_t offset = buf.size();
-    std::vector<std::uint32_t> idx(static_cast<std::size_t>(s.faces.size()));
-    for (Eigen::Index i = 0; i < s.faces.size(); ++i) idx[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(s.faces.data()[i]);
-    buf.resize(offset + idx.size() * 4);
-    std::memcpy(buf.data() + offset, idx.data(), idx.size() * 4);
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = offset;
-    view.byteLength = idx.size() * 4;
-    view.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
-    m.bufferViews.push_back(view);
-    tinygltf::Accessor a;
-    a.bufferView = static_cast<int>(m.bufferViews.size()) - 1;
-    a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    a.count = idx.size();
-    a.type = TINYGLTF_TYPE_SCALAR;
-    m.accessors.push_back(a);
-    prim.indices = static_cast<int>(m.accessors.size()) - 1;
-  }
+  std::vector<std::uint32_t> indices(static_cast<std::size_t>(s.faces.size()));
+  for (Eigen::Index i = 0; i < s.faces.size(); ++i)
+    indices[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(s.faces.data()[i]);
+  prim.indices = add_accessor(m, indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 1, false,
+                              TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   const std::size_t F = s.frames.size();
   for (std::size_t k = 0; k < F; ++k) {
     std::map<std::string, int> target{{"POSITION", add_floats(m, flat(s.frames[k], &base), TINYGLTF_TYPE_VEC3, 3, true)}};
@@ -125,9 +127,7 @@ void write_gltf_sequence(const std::string& path, const GltfSequence& s) {
   anim.samplers.push_back(sampler);
   anim.channels.push_back(channel);
   m.animations.push_back(anim);
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&m, path, true, true, false, true))
-    throw IOError("cannot write the glTF file", path);
+  save(m, path);
 }
 
 void write_gltf_skeleton(const std::string& path, const GltfSkeleton& s) {
@@ -138,10 +138,7 @@ void write_gltf_skeleton(const std::string& path, const GltfSkeleton& s) {
   for (std::size_t j = 0; j < J; ++j)
     if (s.parents[j] >= static_cast<std::int32_t>(j) && s.parents[j] >= 0)
       throw InvalidInput("joint " + std::to_string(j) + "'s parent does not come before it", path);
-  tinygltf::Model m;
-  m.asset.version = "2.0";
-  m.asset.generator = "deformflow";
-  m.buffers.emplace_back();
+  tinygltf::Model m = new_model();
   // translation of joint j at frame t: its position less its parent's (a root: its position)
   const auto offset = [&](std::size_t t, std::size_t j, int c) {
     const float p = s.positions[(t * J + j) * 3 + static_cast<std::size_t>(c)];
@@ -183,9 +180,7 @@ void write_gltf_skeleton(const std::string& path, const GltfSkeleton& s) {
     anim.channels.push_back(channel);
   }
   m.animations.push_back(anim);
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&m, path, true, true, false, true))
-    throw IOError("cannot write the glTF file", path);
+  save(m, path);
 }
 
 }  // namespace df::io

@@ -186,3 +186,19 @@ def test_sted_and_mmd(finger):
     rng = np.random.default_rng(1)
     x, y = rng.normal(size=(30, 4)), rng.normal(size=(30, 4)) + 2
     assert df.mmd(x, y)[0] > df.mmd(x, rng.normal(size=(30, 4)))[0]
+
+
+def test_erms_aligns_each_part_as_eval_metrics(finger, tmp_path):
+    a = df.read_acap(str(finger / "a.h5"))
+    v, f = a["positions"].astype(np.float64), a["template"]["faces"]
+    V = v.shape[1]
+    two = np.ascontiguousarray(np.concatenate([v, v + [3.0, 0, 0]], axis=1))  # two fingers side by side
+    faces = np.concatenate([f, f + V])
+    pred = two.copy()
+    pred[:, V:] += [0.2, -0.1, 0.3]  # the second part moved: no error once each part is aligned
+    df.write_acap(str(tmp_path / "t.h5"), two[0], faces, positions=two)
+    df.write_acap(str(tmp_path / "p.h5"), two[0], faces, positions=pred)
+    printed = tool("eval-metrics", str(tmp_path / "p.h5"), str(tmp_path / "t.h5"))
+    erms = float([l.split()[1] for l in printed.splitlines() if l.strip().startswith("E_rms")][0])
+    assert df.erms(pred, two, faces) == pytest.approx(erms, abs=1e-4)
+    assert df.erms(pred, two, faces) < 1e-3 < df.erms(pred, two)

@@ -175,92 +175,85 @@ Mat read_positions(const std::string& data, const std::vector<std::int64_t>& fra
   return out;
 }
 
-// A basis in normalized ACAP space [K, 9V] as a components file of one level, on the pattern of
-// extract-components: component k is the reference's features plus its direction scaled by the
-// training shapes' coefficient of largest magnitude (signed), so that a linear basis and an MSAE
-// decode alike; strength by eq. 7; centre, attention masks (eq. 5-6) and similarity (Fig. 3)
-// from the directions as from an MSAE block's C (masks) and its components (similarity). Every
-// component starts kept.
-io::Components basis_components(const MsaeModel& m, const Mat& basis, const Mat& coefficients,
-                                const std::string& source) {
-  const auto K = basis.rows();
-  const int V = static_cast<int>(m.tmpl.vertices.rows());
-  const auto ref = geometry::identity_features(&m.normalization);
+// What a linear basis [K, g V] gives a components file of one level, whatever its space: the
+// model's template, normalization and history, each component's scale (the training shapes'
+// coefficient of largest magnitude, signed, so that a linear basis and an MSAE decode alike),
+// centre (its strongest vertex), block 0, kept, and AE₀-style attention masks (eq. 5-6: each
+// vertex's share of the components' squared norms there).
+io::Components linear_components(const MsaeModel& m, const Mat& basis, const Mat& coefficients, Index g,
+                                 const std::string& source, std::vector<double>& scales) {
+  const Index K = basis.rows(), V = m.tmpl.vertices.rows();
   io::Components c;
   c.tmpl = m.tmpl;
   c.normalization = m.normalization;
   c.history = m.history;
   c.model = source;
   io::ComponentLevel L;
-  L.features.resize(K, 9 * static_cast<Index>(V));
+  L.features.resize(K, g * V);
+  scales.clear();
   for (Index k = 0; k < K; ++k) {
     Index top = 0;
     for (Index r = 0; r < coefficients.rows(); ++r)
       if (std::abs(coefficients(r, k)) > std::abs(coefficients(top, k))) top = r;
-    const double scale = coefficients.rows() ? coefficients(top, k) : 1.0;
-    for (Index j = 0; j < 9 * static_cast<Index>(V); ++j)
-      L.features(k, j) = static_cast<float>(ref[static_cast<std::size_t>(j % 9)] + scale * basis(k, j));
-    L.strength.push_back(component_strength(L.features.row(k).data(), V, ref, c.eps1));
-    L.center.push_back(static_cast<int>(strongest_vertex(basis.row(k), 9)));
+    scales.push_back(coefficients.rows() ? coefficients(top, k) : 1.0);
+    L.center.push_back(static_cast<int>(strongest_vertex(basis.row(k), g)));
     L.block.push_back(0);
-    L.code.push_back(scale);
+    L.code.push_back(scales.back());
     L.kept.push_back(1);
   }
   c.levels.push_back(std::move(L));
   c.attention.resize(K, V);
-  for (int i = 0; i < V; ++i) {
+  for (Index i = 0; i < V; ++i) {
     double sum = 0;
-    for (Index k = 0; k < K; ++k) sum += basis.row(k).segment(9 * i, 9).squaredNorm();
+    for (Index k = 0; k < K; ++k) sum += basis.row(k).segment(g * i, g).squaredNorm();
     for (Index k = 0; k < K; ++k)
-      c.attention(k, i) = sum > 0 ? static_cast<float>(basis.row(k).segment(9 * i, 9).squaredNorm() / sum) : 0.0f;
+      c.attention(k, i) = sum > 0 ? static_cast<float>(basis.row(k).segment(g * i, g).squaredNorm() / sum) : 0.0f;
   }
-  c.similarity = level0_similarity(c.levels[0], ref);
+  return c;
+}
+
+// A basis in normalized ACAP space [K, 9V] as a components file, on the pattern of
+// extract-components: component k is the reference's features plus its direction at its scale;
+// strength by eq. 7, similarity as Fig. 3's. Every component starts kept.
+io::Components basis_components(const MsaeModel& m, const Mat& basis, const Mat& coefficients,
+                                const std::string& source) {
+  std::vector<double> scale;
+  io::Components c = linear_components(m, basis, coefficients, 9, source, scale);
+  const int V = static_cast<int>(m.tmpl.vertices.rows());
+  const auto ref = geometry::identity_features(&m.normalization);
+  auto& L = c.levels[0];
+  for (Index k = 0; k < basis.rows(); ++k) {
+    for (Index j = 0; j < 9 * static_cast<Index>(V); ++j)
+      L.features(k, j) = static_cast<float>(ref[static_cast<std::size_t>(j % 9)] + scale[k] * basis(k, j));
+    L.strength.push_back(component_strength(L.features.row(k).data(), V, ref, c.eps1));
+  }
+  c.similarity = level0_similarity(L, ref);
   return c;
 }
 
 // SPLOCS' components on positions as a components file of space "positions": each one its
-// displacement scaled by the training shapes' coefficient of largest magnitude (signed), the mean
-// shape beside them; strength: the mean displacement over the vertices it moves by more than
-// eps1; centre, attention masks and similarity from the displacements as basis_components does.
+// displacement at its scale, the mean shape beside them; strength: the mean displacement over the
+// vertices it moves by more than eps1 (eq. 7 on positions); similarity: |cosine| of the
+// displacements.
 io::Components position_components(const MsaeModel& m, const Splocs& s, const Mat& coefficients,
                                    const std::string& source) {
+  std::vector<double> scale;
+  io::Components c = linear_components(m, s.components, coefficients, 3, source, scale);
   const Index K = s.components.rows(), V = m.tmpl.vertices.rows();
-  io::Components c;
   c.space = "positions";
   c.mean = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(s.mean.data(), V, 3);
-  c.tmpl = m.tmpl;
-  c.normalization = m.normalization;
-  c.history = m.history;
-  c.model = source;
-  io::ComponentLevel L;
-  L.features.resize(K, 3 * V);
+  auto& L = c.levels[0];
   Mat unit(K, 3 * V);
   for (Index k = 0; k < K; ++k) {
-    Index top = 0;
-    for (Index r = 0; r < coefficients.rows(); ++r)
-      if (std::abs(coefficients(r, k)) > std::abs(coefficients(top, k))) top = r;
-    const double scale = coefficients.rows() ? coefficients(top, k) : 1.0;
-    const Eigen::RowVectorXd d = scale * s.components.row(k);
+    const Eigen::RowVectorXd d = scale[k] * s.components.row(k);
     L.features.row(k) = d.cast<float>();
     double sum = 0;
     int moved = 0;
     for (Index i = 0; i < V; ++i)
       if (const double n = d.segment(3 * i, 3).norm(); n > c.eps1) sum += n, ++moved;
     L.strength.push_back(moved ? sum / moved : 0.0);
-    L.center.push_back(static_cast<int>(strongest_vertex(s.components.row(k), 3)));
-    L.block.push_back(0);
-    L.code.push_back(scale);
-    L.kept.push_back(1);
     const double n = s.components.row(k).norm();
     unit.row(k) = n > 0 ? Eigen::RowVectorXd(s.components.row(k) / n) : Eigen::RowVectorXd::Zero(3 * V);
-  }
-  c.levels.push_back(std::move(L));
-  c.attention.resize(K, V);
-  for (Index i = 0; i < V; ++i) {
-    double sum = 0;
-    for (Index k = 0; k < K; ++k) sum += s.components.row(k).segment(3 * i, 3).squaredNorm();
-    for (Index k = 0; k < K; ++k)
-      c.attention(k, i) = sum > 0 ? static_cast<float>(s.components.row(k).segment(3 * i, 3).squaredNorm() / sum) : 0.0f;
   }
   c.similarity = (unit * unit.transpose()).cwiseAbs();
   return c;

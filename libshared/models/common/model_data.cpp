@@ -9,14 +9,7 @@
 namespace df::models {
 
 ModelData::ModelData(const std::string& path, const io::Mesh& tmpl) : file_(path) {
-  const io::Faces faces = file_.read_faces();
-  if (file_.vertices() != static_cast<std::size_t>(tmpl.vertices.rows()) || faces.rows() != tmpl.faces.rows() ||
-      faces != tmpl.faces)
-    throw InvalidInput(
-        fmt::format("has another template than the model ({} vertices, {} triangles; the model's: {}, {}): "
-                    "model and data must share the template",
-                    file_.vertices(), faces.rows(), tmpl.vertices.rows(), tmpl.faces.rows()),
-        path);
+  file_.require_template(tmpl, "the model");
 }
 
 nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,

@@ -99,6 +99,6 @@ TEST_CASE("model data: the model's normalization from stored, raw or renormalize
   io::Mesh other = triangle();
   other.faces << 0, 2, 1;
   CHECK(error_message([&] { models::ModelData(dir / "a.h5", other); })
-            .find("has another template than the model (3 vertices, 1 triangles; the model's: 3, 1): model and data "
+            .find("has another template than the model (3 vertices, 1 triangles; the model's: 3, 1): the two "
                   "must share the template") == 0);
 }
