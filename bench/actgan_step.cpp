@@ -9,9 +9,11 @@
 // on 64 random clips (the peer's inputs are random too).
 //   bench_actgan [--case gan|gan-all|pretrain] [--threads N] [--iters 5]
 #include <cstdio>
+#include <memory>
 
 #include "core/tool.h"
 #include "models/actgan/train.h"
+#include "profile.h"
 #include "timing.h"
 
 int main(int argc, char** argv) {
@@ -22,6 +24,8 @@ int main(int argc, char** argv) {
   tool.app().add_option("--case", which)->check(CLI::IsMember({"gan", "gan-all", "pretrain"}));
   tool.app().add_option("--iters", iters, "Timed iterations")->default_val(iters);
   tool.app().add_option("--warmup", warmup, "Untimed iterations first")->default_val(warmup);
+  df::bench::ProfileOptions profile;
+  profile.add_to(tool.app());
   return tool.run(argc, argv, [&] {
     df::models::ActganModel m;
     m.config.pose = 60;
@@ -40,18 +44,24 @@ int main(int argc, char** argv) {
       clips.labels.push_back(c % 10);
       for (int k = 0; k < 50 * 60; ++k) clips.frames.push_back(static_cast<float>(rng.normal()));
     }
-    df::nn::Tape<float> tape;
-    const auto t = df::bench::time_iterations(warmup, iters, [&] {
+    auto tape = std::make_unique<df::nn::Tape<float>>();
+    auto step = [&] {
       if (which == "pretrain")
-        df::models::actgan_pretrain_iteration(m, clips, tape);
+        df::models::actgan_pretrain_iteration(m, clips, *tape);
       else
-        df::models::actgan_gan_iteration(m, clips, tape);
-    });
+        df::models::actgan_gan_iteration(m, clips, *tape);
+    };
+    const auto t = df::bench::time_iterations(warmup, iters, step);
     const std::size_t params = m.gen->store().size() + m.discriminator_store().size() + m.cls->store().size() +
                                (which == "pretrain" ? m.critic->store().size() : 0);
     const char* label = which == "gan"       ? "ActGAN 1D+2G (B 32, T 50)"
                         : which == "gan-all" ? "ActGAN 1D+2G, authors' discriminator (B 32, T 50)"
                                              : "ActGAN WGAN-GP 5C+1G (B 64)";
     std::printf("| %s | %zu | %.1f | %.1f |\n", label, params, t.median_ms, t.min_ms);
+    if (profile.steps > 0)
+      df::bench::print_profile(label, profile.steps, [&] {
+        tape = std::make_unique<df::nn::Tape<float>>();  // made while profiling is on
+        step();
+      }, profile.limits);
   });
 }

@@ -14,6 +14,7 @@
 #include "io/mesh_io.h"
 #include "models/msae/network.h"
 #include "nn/adam.h"
+#include "profile.h"
 #include "timing.h"
 
 int main(int argc, char** argv) {
@@ -28,6 +29,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"full", "distinct"}));
   tool.app().add_option("--iters", iters, "Timed iterations")->default_val(iters);
   tool.app().add_option("--warmup", warmup, "Untimed iterations first")->default_val(warmup);
+  df::bench::ProfileOptions profile;
+  profile.add_to(tool.app());
   tool.app().add_option("--batch", batch)->default_val(batch);
   tool.app()
       .add_option("--shapes", shapes, "Random shapes the batch is drawn from")
@@ -86,9 +89,9 @@ int main(int argc, char** argv) {
       adam.step(net.store().values(), net.store().grads());
     };
     const auto tm = df::bench::time_iterations(warmup, iters, step);
-    std::printf("| MSAE %s (%s rows) | %zu | %.1f | %.1f | X[%d,%d,9] |\n",
-                grid > 1 ? ("grid " + std::to_string(grid) + "x" + std::to_string(grid)).c_str()
-                         : mesh_path.c_str(),
-                mode.c_str(), net.store().size(), tm.median_ms, tm.min_ms, batch, V);
+    const std::string what = grid > 1 ? "grid " + std::to_string(grid) + "x" + std::to_string(grid) : mesh_path;
+    std::printf("| MSAE %s (%s rows) | %zu | %.1f | %.1f | X[%d,%d,9] |\n", what.c_str(), mode.c_str(),
+                net.store().size(), tm.median_ms, tm.min_ms, batch, V);
+    if (profile.steps > 0) df::bench::print_profile(("MSAE " + what).c_str(), profile.steps, step, profile.limits);
   });
 }

@@ -87,6 +87,32 @@ if [ "${2:-}" = render ]; then
   exit 0
 fi
 
+# The machine's limits (bench_roofline) and each training step op by op against them, at 1 and
+# 2 threads (the steps' shapes as in the sections below).
+bench_profile() {
+  local threads peak bw
+  echo "### Machine limits and the training steps op by op"
+  for threads in 1 2; do
+    echo
+    echo "#### $threads thread(s): bench_roofline"
+    echo
+    "$bin/bench_roofline" --threads $threads | tee "$out/roofline.txt" | grep '^|'
+    read -r peak bw < <(sed -n 's/^roofline: .* peak \([0-9.]*\) GFLOP.s bandwidth \([0-9.]*\) GB.s/\1 \2/p' "$out/roofline.txt")
+    echo
+    local limits=(--threads $threads --peak-gflops "$peak" --bandwidth "$bw" --profile 3)
+    if [ -n "${dirs[pcow]:-}" ]; then
+      "$bin/bench_bdlstm" --iters 2 --warmup 1 --mesh "${dirs[pcow]}/1.obj" "${limits[@]}" | grep -v '^| BD-LSTM'
+      "$bin/bench_msae" --iters 1 --warmup 1 --mesh "${dirs[pcow]}/1.obj" --mode distinct "${limits[@]}" | grep -v '^| MSAE'
+    fi
+    "$bin/bench_msae" --iters 1 --warmup 1 --grid 112 --mode full "${limits[@]}" | grep -v '^| MSAE'
+    "$bin/bench_actgan" --case gan --iters 2 --warmup 1 "${limits[@]}" | grep -v '^| ActGAN'
+  done
+}
+if [ "${2:-}" = profile ]; then
+  bench_profile | tee "$out/profile.md"
+  exit 0
+fi
+
 {
   echo "### ACAP conversion (obj2acap, acap2obj)"
   echo
@@ -112,6 +138,14 @@ fi
     echo "| $label | acap2obj → OBJ files | 2 | $s | $(rate $vf $s) | $m |"
   }
   bench_set finger "finger 12,602 v × 1,000 (HDF5 in)" "$out/finger12k.h5" 12602000
+  # A large template: 135,610 vertices, 8 frames (the factorisation dominates).
+  [ -f "$out/finger136k.h5" ] || "$bin/synth-meshseq" -q --kind finger --resolution 184 --frames 8 -o "$out/finger136k.h5"
+  "$bin/obj2acap" -q "$out/finger136k.h5" -f -o "$out/finger136k-acap.h5"
+  for threads in 1 2; do
+    read -r s m < <(measure "$bin/acap2obj" --threads $threads "$out/finger136k-acap.h5" -f -o "$out/finger136k-back.h5")
+    factor=$(sed -n 's/.*factored in \([0-9.]*\) s.*/\1/p' "$out/last.log")
+    echo "| finger 135,610 v × 8 (HDF5 in) | acap2obj (exact gradient solver) → .h5, factorisation ${factor} s | $threads | $s | $(rate 1084880 $s) | $m |"
+  done
   if [ -n "${dirs[pcow]:-}" ]; then
     bench_set pcow "pcow 2,904 v × 204 (OBJ in)" "${dirs[pcow]}" 592416
     bench_set chicken "chickenCrossing 3,030 v × 400 (OBJ in)" "${dirs[chickenCrossing]}" 1212000
@@ -243,5 +277,7 @@ fi
   done
   echo
   bench_render
+  echo
+  bench_profile
 } | tee "$results"
 echo "results: $results"

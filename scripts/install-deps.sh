@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libopenmesh-dev libhdf5-dev hdf5-tools
   libcli11-dev libfmt-dev libtbb-dev catch2 libzstd-dev nlohmann-json3-dev
   libcairo2-dev fonts-dejavu-core libassimp-dev libtinygltf-dev
+  libsuitesparse-dev libopenblas0-pthread  # CHOLMOD factors the reconstruction system; OpenBLAS its dense kernels
   assimp-testmodels zstd gnuplot-nox
   python3-dev pybind11-dev python3-numpy python3-pytest python3-h5py python3-venv  # the Python module
 )

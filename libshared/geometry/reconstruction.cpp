@@ -40,8 +40,7 @@ Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& fac
 
 void Reconstructor::factor() {
   auto t0 = std::chrono::steady_clock::now();
-  ldlt_.compute(solver_ == ReconstructionSolver::edges ? edge_system() : gradient_system());
-  if (ldlt_.info() != Eigen::Success) throw InvalidInput("the reconstruction system cannot be factored");
+  cholesky_.factor(solver_ == ReconstructionSolver::edges ? edge_system() : gradient_system());
   factor_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -157,7 +156,7 @@ io::Vertices Reconstructor::solve(const double* features, const io::Vertices* pi
     Eigen::MatrixXd g(3 * n, 3);  // row 3i+k, column = coordinate c: (T_i A_i P_i)(c, k)
     for (int i = 0; i < n; ++i) g.middleRows(3 * i, 3) = (T[i] * moment_[i]).transpose();
     for (const auto& t : pinned_terms_) g.row(t.row) -= t.coefficient * pinned.row(t.vertex);
-    x = ldlt_.solve(Eigen::MatrixXd(m_free_.transpose() * g));
+    x = cholesky_.solve(Eigen::MatrixXd(m_free_.transpose() * g));
   } else {
     Eigen::MatrixXd b = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(reduced_.size() - pinned_.size()), 3);
     for (std::size_t e = 0; e < topo_.edges.size(); ++e) {
@@ -171,7 +170,7 @@ io::Vertices Reconstructor::solve(const double* features, const io::Vertices* pi
       if (ri < 0 && rj >= 0) b.row(rj) += weights_[e] * pinned.row(i);
       if (rj < 0 && ri >= 0) b.row(ri) += weights_[e] * pinned.row(j);
     }
-    x = ldlt_.solve(b);
+    x = cholesky_.solve(b);
   }
   io::Vertices P(n, 3);
   for (int i = 0; i < n; ++i) P.row(i) = reduced_[i] >= 0 ? Eigen::RowVector3d(x.row(reduced_[i])) : Eigen::RowVector3d(pinned.row(i));

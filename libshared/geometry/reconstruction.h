@@ -3,8 +3,8 @@
 // with one anchor vertex pinned per connected component (the chosen anchor for its component,
 // the lowest-index vertex of every other component; all at their reference positions, since
 // the features carry no translation). The normal equations L p' = b have the weighted graph
-// Laplacian L of the template, which Reconstructor factors once (sparse LDLᵀ); every frame is
-// then two triangular solves, and frames may be solved in parallel.
+// Laplacian L of the template, which Reconstructor factors once (sparse Cholesky,
+// geometry/sparse_cholesky); every frame is then two triangular solves, and frames may be solved in parallel.
 //
 // ReconstructionSolver::gradients: the SPEC's system has a residual wherever a one-ring does not
 // deform affinely, so even features computed from a real mesh do not give that mesh back.
@@ -20,11 +20,12 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <memory>
 #include <vector>
 
 #include "geometry/mesh_topology.h"
+#include "geometry/sparse_cholesky.h"
 
 namespace df::geometry {
 
@@ -66,7 +67,7 @@ class Reconstructor {
   /// The unknown of each vertex in the reduced system, −1 for a pinned one.
   const std::vector<int>& reduced_index() const { return reduced_; }
   /// L⁻¹ b for right-hand sides over the free vertices (rows: reduced_index()).
-  Eigen::MatrixXd solve_reduced(const Eigen::MatrixXd& b) const { return ldlt_.solve(b); }
+  Eigen::MatrixXd solve_reduced(const Eigen::MatrixXd& b) const { return cholesky_.solve(b); }
 
  private:
   void pin_components(int anchor);
@@ -85,7 +86,7 @@ class Reconstructor {
   std::vector<int> component_;  // component of each vertex
   int n_components_ = 0;
   std::vector<int> reduced_;    // vertex -> unknown of the reduced system (−1 for a pinned vertex)
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
+  SparseCholesky cholesky_;
   double factor_seconds_ = 0;
 
   // gradient system: rows 3i+k of M (columns = free vertices), A_i P_i, pinned columns of M

@@ -67,6 +67,7 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
   }
   const int ix = x.id, iwx = wx.id, iwh = wh.id, ib = b.id, ih = h0.id, ic = c0.id,
             io = static_cast<int>(t.size());
+  const double flops = 2.0 * double(TB) * double(x.cols() + H) * double(4 * H);  // the products
   const bool rg = x.requires_grad() || wx.requires_grad() || wh.requires_grad() ||
                   b.requires_grad() || h0.requires_grad() || c0.requires_grad();
   return t.record(
@@ -112,7 +113,8 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
           packed_product_into_grad(t, iwx, t.value(ix).transpose(), dz_packed);
         if (t.requires_grad(ib)) t.add_to_grad(ib, dZ.colwise().sum());
         if (t.requires_grad(ix)) packed_product_into_grad(t, ix, dZ, pack_rhs(t.value(iwx), true));
-      });
+      },
+      {flops, 2 * flops});
 }
 
 template Var<float> lstm_sequence(Var<float>, Var<float>, Var<float>, Var<float>, Var<float>,

@@ -74,6 +74,7 @@ Var<T> matmul_repeated(Var<T> x, Var<T> w) {
   if (!s.w) s.w = detail::pack_rhs(w.value(), false);
   Matrix<T> y(x.rows(), w.cols());
   detail::packed_product<T>(y, x.value(), *s.w, false);
+  const double flops = 2.0 * double(x.rows()) * double(x.cols()) * double(w.cols());
   return t.record(std::move(y), x.requires_grad() || w.requires_grad(), [&t, ix, iw, io] {
     RepeatedWeight<T>& s = state_of(t, iw);
     if (t.requires_grad(ix)) {
@@ -88,7 +89,7 @@ Var<T> matmul_repeated(Var<T> x, Var<T> w) {
         });
       s.uses.push_back({ix, io});
     }
-  });
+  }, {flops, flops * (x.requires_grad() + w.requires_grad())});
 }
 
 template Var<float> matmul_repeated(Var<float>, Var<float>);

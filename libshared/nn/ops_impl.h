@@ -108,7 +108,7 @@ void for_chunks(Index n, Fn fn) {
 }
 
 template <class T, class F, class D>
-Var<T> unary(Var<T> a, F f, D d) {
+Var<T> unary(Var<T> a, F f, D d, std::source_location where = std::source_location::current()) {
   Tape<T>& t = *a.tape;
   const int ia = a.id, io = next_id(t);
   Matrix<T> out(a.rows(), a.cols());
@@ -131,7 +131,7 @@ Var<T> unary(Var<T> a, F f, D d) {
       else
         Flat(ga + k, n) = ConstFlat(go + k, n) * d(ConstFlat(x + k, n), ConstFlat(y + k, n));
     });
-  });
+  }, {}, where);
 }
 
 }  // namespace
@@ -145,11 +145,12 @@ Var<T> matmul(Var<T> a, Var<T> b) {
   const int ia = a.id, ib = b.id, io = next_id(t);
   Matrix<T> out(a.rows(), b.cols());
   parallel_product<T>(out, a.value(), b.value(), false);
+  const double flops = 2.0 * double(a.rows()) * double(a.cols()) * double(b.cols());
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     const Matrix<T>& g = t.grad(io);
     if (t.requires_grad(ia)) product_into_grad(t, ia, g, t.value(ib).transpose());
     if (t.requires_grad(ib)) product_into_grad(t, ib, t.value(ia).transpose(), g);
-  });
+  }, {flops, flops * (a.requires_grad() + b.requires_grad())});
 }
 
 template <class T>
@@ -159,11 +160,12 @@ Var<T> matmul_transposed(Var<T> a, Var<T> b) {
   const int ia = a.id, ib = b.id, io = next_id(t);
   Matrix<T> out(a.rows(), b.rows());
   parallel_product<T>(out, a.value(), b.value().transpose(), false);
+  const double flops = 2.0 * double(a.rows()) * double(a.cols()) * double(b.rows());
   return t.record(std::move(out), a.requires_grad() || b.requires_grad(), [&t, ia, ib, io] {
     const Matrix<T>& g = t.grad(io);
     if (t.requires_grad(ia)) product_into_grad(t, ia, g, t.value(ib));
     if (t.requires_grad(ib)) product_into_grad(t, ib, g.transpose(), t.value(ia));
-  });
+  }, {flops, flops * (a.requires_grad() + b.requires_grad())});
 }
 
 template <class T>
@@ -173,9 +175,10 @@ Var<T> sparse_matmul(std::shared_ptr<const SparseMatrix<T>> s, Var<T> x) {
     throw Error(fmt::format("internal: sparse_matmul of [{},{}] and [{},{}]", s->rows(), s->cols(), x.rows(), x.cols()));
   const int ix = x.id, io = next_id(t);
   Matrix<T> out = (*s) * x.value();
+  const double flops = 2.0 * double(s->nonZeros()) * double(x.cols());
   return t.record(std::move(out), x.requires_grad(), [&t, s, ix, io] {
     t.grad(ix).noalias() += s->transpose() * t.grad(io);
-  });
+  }, {flops, flops});
 }
 
 template <class T>

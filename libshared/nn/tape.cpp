@@ -1,5 +1,6 @@
 #include "nn/tape.h"
 
+#include <chrono>
 #include <utility>
 
 #include "core/error.h"
@@ -7,20 +8,40 @@
 namespace df::nn {
 
 template <class T>
+void Tape<T>::profile_forward(const Node& n, double flops) {
+  const auto now = OpProfile::Clock::now();
+  profile_->add_forward(n.where, std::chrono::duration<double>(now - last_).count(), flops,
+                        static_cast<double>(n.value.size() * sizeof(T)));
+  last_ = now;
+}
+
+template <class T>
 Var<T> Tape<T>::constant(Matrix<T> value) {
-  nodes_.push_back({std::move(value), {}, false, {}, {}, {}});
+  Node& n = nodes_.emplace_back();
+  n.value = std::move(value);
+  if (profile_) profile_forward(n, 0);
   return {this, static_cast<int>(nodes_.size()) - 1};
 }
 
 template <class T>
 Var<T> Tape<T>::variable(Matrix<T> value) {
-  nodes_.push_back({std::move(value), {}, true, {}, {}, {}});
+  Node& n = nodes_.emplace_back();
+  n.value = std::move(value);
+  n.requires_grad = true;
+  if (profile_) profile_forward(n, 0);
   return {this, static_cast<int>(nodes_.size()) - 1};
 }
 
 template <class T>
-Var<T> Tape<T>::record(Matrix<T> value, bool requires_grad, std::function<void()> backward) {
-  nodes_.push_back({std::move(value), {}, requires_grad, requires_grad ? std::move(backward) : nullptr, {}, {}});
+Var<T> Tape<T>::record(Matrix<T> value, bool requires_grad, std::function<void()> backward, OpCost cost,
+                       std::source_location where) {
+  Node& n = nodes_.emplace_back();
+  n.value = std::move(value);
+  n.requires_grad = requires_grad;
+  if (requires_grad) n.backward = std::move(backward);
+  n.where = where.function_name();
+  n.backward_flops = cost.backward_flops;
+  if (profile_) profile_forward(n, cost.forward_flops);
   return {this, static_cast<int>(nodes_.size()) - 1};
 }
 
@@ -50,16 +71,34 @@ void Tape<T>::backward(Var<T> from, const Matrix<T>& seed) {
   if (seed.rows() != value(from.id).rows() || seed.cols() != value(from.id).cols())
     throw Error("internal: seed gradient shape differs from the node's");
   grad(from.id) += seed;
-  for (int id = from.id; id >= 0; --id) {
-    Node& n = nodes_[static_cast<std::size_t>(id)];
+  for (int id = from.id; id >= 0; --id) run_backward(nodes_[static_cast<std::size_t>(id)]);
+}
+
+template <class T>
+void Tape<T>::run_backward(Node& n) {
+  if (!profile_) {
     if (n.pending) std::exchange(n.pending, nullptr)();
     if (n.backward && n.grad.size() > 0) n.backward();
+    return;
+  }
+  using Clock = OpProfile::Clock;
+  if (n.pending) {
+    const auto t0 = Clock::now();
+    std::exchange(n.pending, nullptr)();
+    profile_->add_backward(n.pending_where, std::chrono::duration<double>(Clock::now() - t0).count(), 0, 0);
+  }
+  if (n.backward && n.grad.size() > 0) {
+    const auto t0 = Clock::now();
+    n.backward();
+    profile_->add_backward(n.where, std::chrono::duration<double>(Clock::now() - t0).count(), n.backward_flops,
+                           static_cast<double>(n.grad.size() * sizeof(T)));
   }
 }
 
 template <class T>
 void Tape<T>::clear() {
   nodes_.clear();
+  if (profile_) last_ = OpProfile::Clock::now();
 }
 
 template class Tape<float>;

@@ -10,7 +10,10 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <source_location>
 #include <vector>
+
+#include "nn/op_profile.h"
 
 namespace df::nn {
 
@@ -37,7 +40,7 @@ struct Var {
 template <class T>
 class Tape {
  public:
-  Tape() = default;
+  Tape() : profile_(profile_every_tape_), last_(OpProfile::Clock::now()) {}
   Tape(const Tape&) = delete;
   Tape& operator=(const Tape&) = delete;
 
@@ -47,7 +50,9 @@ class Tape {
   Var<T> variable(Matrix<T> value);
   /// Records an op's result. `backward` runs once during backward(); it must only add into the
   /// gradients of inputs that require them. requires_grad = any input requires a gradient.
-  Var<T> record(Matrix<T> value, bool requires_grad, std::function<void()> backward);
+  /// `cost` and `where` (the recording op) serve only an attached OpProfile.
+  Var<T> record(Matrix<T> value, bool requires_grad, std::function<void()> backward, OpCost cost = {},
+                std::source_location where = std::source_location::current());
 
   /// Backpropagates from a 1×1 node (seed 1) or from any node with the given seed gradient.
   void backward(Var<T> from);
@@ -88,10 +93,18 @@ class Tape {
   /// before id's own — so that work adding into id's gradient from many uses can run as one
   /// (matmul_repeated: one weight-gradient product over all the steps that used the weight).
   /// A second call before backward() reaches id keeps the first `f`.
-  void when_backward_reaches(int id, std::function<void()> f) {
-    auto& pending = nodes_[static_cast<std::size_t>(id)].pending;
-    if (!pending) pending = std::move(f);
+  /// (In a profile, f's time counts as the op's that asked: `where`.)
+  void when_backward_reaches(int id, std::function<void()> f,
+                             std::source_location where = std::source_location::current()) {
+    Node& n = nodes_[static_cast<std::size_t>(id)];
+    if (n.pending) return;
+    n.pending = std::move(f);
+    n.pending_where = where.function_name();
   }
+
+  /// Every tape made from now on times its ops into `profile` (nullptr: stop) — the benchmarks'
+  /// --profile, for models that make their own tapes. Not for tapes recorded concurrently.
+  static void profile_every_tape(OpProfile* profile) { profile_every_tape_ = profile; }
 
  private:
   struct Node {
@@ -100,8 +113,16 @@ class Tape {
     std::function<void()> backward;
     std::shared_ptr<void> op_state;
     std::function<void()> pending;
+    const char* where = "leaf";  // the recording op (profile)
+    double backward_flops = 0;
+    const char* pending_where = nullptr;
   };
+  void profile_forward(const Node& n, double flops);
+  void run_backward(Node& n);
   std::vector<Node> nodes_;
+  OpProfile* profile_ = nullptr;
+  OpProfile::Clock::time_point last_;
+  static inline OpProfile* profile_every_tape_ = nullptr;
 };
 
 template <class T>
