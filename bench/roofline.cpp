@@ -1,6 +1,7 @@
 // This machine's limits, against which bench/run.sh sets the training steps' profiles:
-//   peak    — the best rate of a dense float product (2·n³ per product): Eigen's kernel on one
-//             square matrix per thread (n = 512, 1024, 2048), i.e. what the cores' FMA units
+//   peak    — the best rate of a dense float product (2·n³ per product), one square product per
+//             thread (n = 512, 1024, 2048) with Eigen's kernel and with the engine's packed
+//             product (nn/packed_product, which runs the LSTMs), i.e. what the cores' FMA units
 //             give a product that is all arithmetic, at --threads;
 //   memory  — a streaming triad a = b + s·c over three 128 MB float arrays, split into fixed
 //             chunks over the threads (bytes: two reads and one write per element).
@@ -9,9 +10,11 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdio>
 
 #include "core/tool.h"
+#include "nn/packed_product.h"
 #include "inputs.h"
 #include "timing.h"
 
@@ -26,6 +29,7 @@ int main(int argc, char** argv) {
     const int threads =
         static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     double peak = 0;
+    std::printf("| measure | Eigen | engine's packed product |\n|---|---|---|\n");
     for (Eigen::Index n : {512, 1024, 2048}) {
       std::vector<Mat> a, b, c;
       for (int t = 0; t < threads; ++t) {
@@ -34,15 +38,23 @@ int main(int argc, char** argv) {
         c.emplace_back(n, n);
       }
       const int reps = n >= 2048 ? 1 : n >= 1024 ? 4 : 16;
-      const auto tm = df::bench::time_iterations(1, iters, [&] {
+      std::vector<df::nn::detail::PackedRhs<float>> packed;
+      for (int t = 0; t < threads; ++t) packed.push_back(df::nn::detail::pack_rhs(b[t], false));
+      const auto eigen = df::bench::time_iterations(1, iters, [&] {
         tbb::parallel_for(0, threads, [&](int t) {
           for (int r = 0; r < reps; ++r) c[t].noalias() = a[t] * b[t];
         }, tbb::static_partitioner());
       });
-      const double gflops = 2.0 * double(n) * double(n) * double(n) * reps * threads / (tm.min_ms * 1e6);
-      std::printf("| product %ld² × %ld², one per thread | %.1f GFLOP/s |\n", static_cast<long>(n), static_cast<long>(n),
-                  gflops);
-      peak = std::max(peak, gflops);
+      const auto ours = df::bench::time_iterations(1, iters, [&] {
+        tbb::parallel_for(0, threads, [&](int t) {
+          for (int r = 0; r < reps; ++r) df::nn::detail::packed_product<float>(c[t], a[t], packed[t], false);
+        }, tbb::static_partitioner());
+      });
+      const double flop = 2.0 * double(n) * double(n) * double(n) * reps * threads;
+      const double e = flop / (eigen.min_ms * 1e6), p = flop / (ours.min_ms * 1e6);
+      std::printf("| product %ld² × %ld², one per thread | %.1f GFLOP/s | %.1f GFLOP/s |\n",
+                  static_cast<long>(n), static_cast<long>(n), e, p);
+      peak = std::max({peak, e, p});
     }
     const Eigen::Index n = Eigen::Index{32} << 20;  // 32 M floats: 128 MB per array
     Eigen::VectorXf a(n), b = Eigen::VectorXf::Constant(n, 1.0f), c = Eigen::VectorXf::Constant(n, 2.0f);
@@ -53,7 +65,7 @@ int main(int argc, char** argv) {
       });
     });
     const double gbs = 3.0 * double(n) * sizeof(float) / (tm.min_ms * 1e6);
-    std::printf("| triad over 3 × 128 MB | %.1f GB/s |\n", gbs);
+    std::printf("| triad over 3 × 128 MB (memory) | %.1f GB/s | |\n", gbs);
     std::printf("roofline: threads %d peak %.1f GFLOP/s bandwidth %.1f GB/s\n", threads, peak, gbs);
   });
 }

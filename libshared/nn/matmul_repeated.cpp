@@ -86,7 +86,7 @@ Var<T> matmul_repeated(Var<T> x, Var<T> w) {
         t.when_backward_reaches(iw, [&t, iw] {
           RepeatedWeight<T>& s = state_of(t, iw);
           weight_gradient(t, iw, std::exchange(s.uses, {}));
-        });
+        }, "matmul_repeated");
       s.uses.push_back({ix, io});
     }
   }, {flops, flops * (x.requires_grad() + w.requires_grad())});

@@ -108,7 +108,7 @@ void for_chunks(Index n, Fn fn) {
 }
 
 template <class T, class F, class D>
-Var<T> unary(Var<T> a, F f, D d, std::source_location where = std::source_location::current()) {
+Var<T> unary(Var<T> a, F f, D d, const char* where = __builtin_FUNCTION()) {
   Tape<T>& t = *a.tape;
   const int ia = a.id, io = next_id(t);
   Matrix<T> out(a.rows(), a.cols());

@@ -1,6 +1,5 @@
 #include "nn/tape.h"
 
-#include <chrono>
 #include <utility>
 
 #include "core/error.h"
@@ -9,10 +8,7 @@ namespace df::nn {
 
 template <class T>
 void Tape<T>::profile_forward(const Node& n, double flops) {
-  const auto now = OpProfile::Clock::now();
-  profile_->add_forward(n.where, std::chrono::duration<double>(now - last_).count(), flops,
-                        static_cast<double>(n.value.size() * sizeof(T)));
-  last_ = now;
+  profile_->add_forward(n.where, profile_->lap(), flops, static_cast<double>(n.value.size() * sizeof(T)));
 }
 
 template <class T>
@@ -34,12 +30,12 @@ Var<T> Tape<T>::variable(Matrix<T> value) {
 
 template <class T>
 Var<T> Tape<T>::record(Matrix<T> value, bool requires_grad, std::function<void()> backward, OpCost cost,
-                       std::source_location where) {
+                       const char* where) {
   Node& n = nodes_.emplace_back();
   n.value = std::move(value);
   n.requires_grad = requires_grad;
   if (requires_grad) n.backward = std::move(backward);
-  n.where = where.function_name();
+  n.where = where;
   n.backward_flops = cost.backward_flops;
   if (profile_) profile_forward(n, cost.forward_flops);
   return {this, static_cast<int>(nodes_.size()) - 1};
@@ -81,24 +77,22 @@ void Tape<T>::run_backward(Node& n) {
     if (n.backward && n.grad.size() > 0) n.backward();
     return;
   }
-  using Clock = OpProfile::Clock;
   if (n.pending) {
-    const auto t0 = Clock::now();
+    profile_->mark();
     std::exchange(n.pending, nullptr)();
-    profile_->add_backward(n.pending_where, std::chrono::duration<double>(Clock::now() - t0).count(), 0, 0);
+    profile_->add_backward(n.pending_where, profile_->lap(), 0, 0);
   }
   if (n.backward && n.grad.size() > 0) {
-    const auto t0 = Clock::now();
+    profile_->mark();
     n.backward();
-    profile_->add_backward(n.where, std::chrono::duration<double>(Clock::now() - t0).count(), n.backward_flops,
-                           static_cast<double>(n.grad.size() * sizeof(T)));
+    profile_->add_backward(n.where, profile_->lap(), n.backward_flops, static_cast<double>(n.grad.size() * sizeof(T)));
   }
 }
 
 template <class T>
 void Tape<T>::clear() {
   nodes_.clear();
-  if (profile_) last_ = OpProfile::Clock::now();
+  if (profile_) profile_->mark();
 }
 
 template class Tape<float>;

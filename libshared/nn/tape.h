@@ -10,7 +10,6 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
-#include <source_location>
 #include <vector>
 
 #include "nn/op_profile.h"
@@ -40,7 +39,9 @@ struct Var {
 template <class T>
 class Tape {
  public:
-  Tape() : profile_(profile_every_tape_), last_(OpProfile::Clock::now()) {}
+  Tape() : profile_(profile_every_tape_) {
+    if (profile_) profile_->mark();
+  }
   Tape(const Tape&) = delete;
   Tape& operator=(const Tape&) = delete;
 
@@ -52,7 +53,7 @@ class Tape {
   /// gradients of inputs that require them. requires_grad = any input requires a gradient.
   /// `cost` and `where` (the recording op) serve only an attached OpProfile.
   Var<T> record(Matrix<T> value, bool requires_grad, std::function<void()> backward, OpCost cost = {},
-                std::source_location where = std::source_location::current());
+                const char* where = __builtin_FUNCTION());
 
   /// Backpropagates from a 1×1 node (seed 1) or from any node with the given seed gradient.
   void backward(Var<T> from);
@@ -94,12 +95,11 @@ class Tape {
   /// (matmul_repeated: one weight-gradient product over all the steps that used the weight).
   /// A second call before backward() reaches id keeps the first `f`.
   /// (In a profile, f's time counts as the op's that asked: `where`.)
-  void when_backward_reaches(int id, std::function<void()> f,
-                             std::source_location where = std::source_location::current()) {
+  void when_backward_reaches(int id, std::function<void()> f, const char* where = __builtin_FUNCTION()) {
     Node& n = nodes_[static_cast<std::size_t>(id)];
     if (n.pending) return;
     n.pending = std::move(f);
-    n.pending_where = where.function_name();
+    n.pending_where = where;
   }
 
   /// Every tape made from now on times its ops into `profile` (nullptr: stop) — the benchmarks'
@@ -121,7 +121,6 @@ class Tape {
   void run_backward(Node& n);
   std::vector<Node> nodes_;
   OpProfile* profile_ = nullptr;
-  OpProfile::Clock::time_point last_;
   static inline OpProfile* profile_every_tape_ = nullptr;
 };
 
