@@ -26,14 +26,31 @@ struct Common {
 
 // The supernodal factorisation's dense kernels come from the system's BLAS: Debian's reference
 // BLAS (~3 GFLOP/s), or OpenBLAS where it is installed (libopenblas0-pthread, which
-// scripts/install-deps.sh installs; 2.6x faster on a 136,000-vertex template). OpenBLAS is kept
-// at one thread: its own threads would compete with TBB's, and its blocking may follow its
-// thread count, which must not change the factor's bits.
-void blas_on_one_thread() {
-  using SetThreads = void (*)(int);
-  static const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  if (set) set(1);
-}
+// scripts/install-deps.sh installs; 2.6x faster on a 136,000-vertex template). OpenBLAS runs the
+// factorisation on one thread — its own threads would compete with TBB's, and its blocking may
+// follow its thread count, which must not change the factor's bits — and gets its thread count
+// back afterwards (the Python module shares the process with the user's numpy).
+class BlasOnOneThread {
+ public:
+  BlasOnOneThread() {
+    if (set_ && get_) {
+      previous_ = get_();
+      set_(1);
+    }
+  }
+  ~BlasOnOneThread() {
+    if (set_ && get_) set_(previous_);
+  }
+  BlasOnOneThread(const BlasOnOneThread&) = delete;
+  BlasOnOneThread& operator=(const BlasOnOneThread&) = delete;
+
+ private:
+  using Set = void (*)(int);
+  using Get = int (*)();
+  static inline const Set set_ = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  static inline const Get get_ = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  int previous_ = 1;
+};
 
 }  // namespace
 
@@ -60,9 +77,12 @@ void SparseCholesky::factor(const Eigen::SparseMatrix<double>& a) {
   std::memcpy(m->p, lower.outerIndexPtr(), sizeof(int) * static_cast<size_t>(lower.cols() + 1));
   std::memcpy(m->i, lower.innerIndexPtr(), sizeof(int) * static_cast<size_t>(lower.nonZeros()));
   std::memcpy(m->x, lower.valuePtr(), sizeof(double) * static_cast<size_t>(lower.nonZeros()));
-  blas_on_one_thread();
-  factor_->l = cholmod_analyze(m, c);
-  const bool ok = factor_->l && cholmod_factorize(m, factor_->l, c) && c->status == CHOLMOD_OK;
+  bool ok = false;
+  {
+    const BlasOnOneThread one;
+    factor_->l = cholmod_analyze(m, c);
+    ok = factor_->l && cholmod_factorize(m, factor_->l, c) && c->status == CHOLMOD_OK;
+  }
   cholmod_free_sparse(&m, c);
   if (!ok) {
     const int status = c->status;
@@ -92,7 +112,5 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
   cholmod_free_dense(&out, &own.c);
   return x;
 }
-
-const char* SparseCholesky::kind() const { return factor_ && factor_->l->is_super ? "supernodal" : "simplicial"; }
 
 }  // namespace df::geometry
