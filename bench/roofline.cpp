@@ -14,20 +14,21 @@
 #include <cstdio>
 
 #include "core/tool.h"
-#include "nn/packed_product.h"
 #include "inputs.h"
+#include "nn/packed_product.h"
 #include "timing.h"
 
 int main(int argc, char** argv) {
-  df::Tool tool("bench_roofline", "Measure the peak product rate and the memory bandwidth (see bench/run.sh).");
+  df::Tool tool("bench_roofline",
+                "Measure the peak product rate and the memory bandwidth (see bench/run.sh).");
   tool.with_threads();
   int iters = 5;
   tool.app().add_option("--iters", iters, "Timed runs (the best counts)")->default_val(iters);
   return tool.run(argc, argv, [&] {
     using Mat = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     df::Rng rng(3);
-    const int threads =
-        static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    const int threads = static_cast<int>(
+        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     double peak = 0;
     std::printf("| measure | Eigen | engine's packed product |\n|---|---|---|\n");
     for (Eigen::Index n : {512, 1024, 2048}) {
@@ -41,14 +42,21 @@ int main(int argc, char** argv) {
       std::vector<df::nn::detail::PackedRhs<float>> packed;
       for (int t = 0; t < threads; ++t) packed.push_back(df::nn::detail::pack_rhs(b[t], false));
       const auto eigen = df::bench::time_iterations(1, iters, [&] {
-        tbb::parallel_for(0, threads, [&](int t) {
-          for (int r = 0; r < reps; ++r) c[t].noalias() = a[t] * b[t];
-        }, tbb::static_partitioner());
+        tbb::parallel_for(
+            0, threads,
+            [&](int t) {
+              for (int r = 0; r < reps; ++r) c[t].noalias() = a[t] * b[t];
+            },
+            tbb::static_partitioner());
       });
       const auto ours = df::bench::time_iterations(1, iters, [&] {
-        tbb::parallel_for(0, threads, [&](int t) {
-          for (int r = 0; r < reps; ++r) df::nn::detail::packed_product<float>(c[t], a[t], packed[t], false);
-        }, tbb::static_partitioner());
+        tbb::parallel_for(
+            0, threads,
+            [&](int t) {
+              for (int r = 0; r < reps; ++r)
+                df::nn::detail::packed_product<float>(c[t], a[t], packed[t], false);
+            },
+            tbb::static_partitioner());
       });
       const double flop = 2.0 * double(n) * double(n) * double(n) * reps * threads;
       const double e = flop / (eigen.min_ms * 1e6), p = flop / (ours.min_ms * 1e6);
@@ -57,11 +65,13 @@ int main(int argc, char** argv) {
       peak = std::max({peak, e, p});
     }
     const Eigen::Index n = Eigen::Index{32} << 20;  // 32 M floats: 128 MB per array
-    Eigen::VectorXf a(n), b = Eigen::VectorXf::Constant(n, 1.0f), c = Eigen::VectorXf::Constant(n, 2.0f);
+    Eigen::VectorXf a(n), b = Eigen::VectorXf::Constant(n, 1.0f),
+                          c = Eigen::VectorXf::Constant(n, 2.0f);
     constexpr Eigen::Index kChunk = Eigen::Index{1} << 18;
     const auto tm = df::bench::time_iterations(1, iters, [&] {
       tbb::parallel_for(Eigen::Index{0}, n / kChunk, [&](Eigen::Index k) {
-        a.segment(k * kChunk, kChunk) = b.segment(k * kChunk, kChunk) + 0.5f * c.segment(k * kChunk, kChunk);
+        a.segment(k * kChunk, kChunk) =
+            b.segment(k * kChunk, kChunk) + 0.5f * c.segment(k * kChunk, kChunk);
       });
     });
     const double gbs = 3.0 * double(n) * sizeof(float) / (tm.min_ms * 1e6);

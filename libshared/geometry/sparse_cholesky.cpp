@@ -1,7 +1,6 @@
 #include "geometry/sparse_cholesky.h"
 
 #include <cholmod.h>
-
 #include <dlfcn.h>
 
 #include <cstring>
@@ -47,8 +46,10 @@ class BlasOnOneThread {
  private:
   using Set = void (*)(int);
   using Get = int (*)();
-  static inline const Set set_ = reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-  static inline const Get get_ = reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  static inline const Set set_ =
+      reinterpret_cast<Set>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+  static inline const Get get_ =
+      reinterpret_cast<Get>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
   int previous_ = 1;
 };
 
@@ -71,8 +72,9 @@ void SparseCholesky::factor(const Eigen::SparseMatrix<double>& a) {
   cholmod_common* c = &factor_->common.c;
   // The lower triangle as CHOLMOD's packed, sorted column-compressed matrix (stype −1).
   const Eigen::SparseMatrix<double> lower = a.triangularView<Eigen::Lower>();
-  cholmod_sparse* m = cholmod_allocate_sparse(static_cast<size_t>(lower.rows()), static_cast<size_t>(lower.cols()),
-                                              static_cast<size_t>(lower.nonZeros()), 1, 1, -1, CHOLMOD_REAL, c);
+  cholmod_sparse* m =
+      cholmod_allocate_sparse(static_cast<size_t>(lower.rows()), static_cast<size_t>(lower.cols()),
+                              static_cast<size_t>(lower.nonZeros()), 1, 1, -1, CHOLMOD_REAL, c);
   if (!m) throw Error("out of memory for the reconstruction system");
   std::memcpy(m->p, lower.outerIndexPtr(), sizeof(int) * static_cast<size_t>(lower.cols() + 1));
   std::memcpy(m->i, lower.innerIndexPtr(), sizeof(int) * static_cast<size_t>(lower.nonZeros()));
@@ -89,14 +91,16 @@ void SparseCholesky::factor(const Eigen::SparseMatrix<double>& a) {
     factor_.reset();
     throw InvalidInput(status == CHOLMOD_NOT_POSDEF
                            ? "the reconstruction system cannot be factored (not positive definite)"
-                           : "the reconstruction system cannot be factored (CHOLMOD status " + std::to_string(status) + ")");
+                           : "the reconstruction system cannot be factored (CHOLMOD status " +
+                                 std::to_string(status) + ")");
   }
   rows_ = a.rows();
 }
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
   if (!factor_) throw Error("internal: SparseCholesky::solve before factor");
-  if (b.rows() != rows_) throw Error("internal: SparseCholesky::solve with the wrong number of rows");
+  if (b.rows() != rows_)
+    throw Error("internal: SparseCholesky::solve with the wrong number of rows");
   Common own;  // this call's workspace: solves may run on several threads at once
   cholmod_dense in;
   in.nrow = in.d = static_cast<size_t>(b.rows());
@@ -108,7 +112,8 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& b) const {
   in.dtype = CHOLMOD_DOUBLE;
   cholmod_dense* out = cholmod_solve(CHOLMOD_A, factor_->l, &in, &own.c);
   if (!out) throw Error("out of memory solving the reconstruction system");
-  Eigen::MatrixXd x = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(out->x), b.rows(), b.cols());
+  Eigen::MatrixXd x =
+      Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(out->x), b.rows(), b.cols());
   cholmod_free_dense(&out, &own.c);
   return x;
 }

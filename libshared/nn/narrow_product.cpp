@@ -44,10 +44,13 @@ void store(T* p, const V<T>& v, bool accumulate_into) {
 
 // R rows of C; N (the output width) fixed, so every row is NV vectors and the last one's count
 // is known.
-template <class T, Index N, Index R>
-void rows_tile(T* c, Index ldc, const T* a, Index lda, Index k, const T* w, const T* b, Index ldb,
+// KFixed > 0: k known at compile time (the loops unroll, the accumulators stay in registers);
+// HasB: b (and u) known present. 0 / false: both decided at run time.
+template <class T, Index N, Index R, Index KFixed, bool HasB>
+void rows_tile(T* c, Index ldc, const T* a, Index lda, Index k_runtime, const T* w, const T* b, Index ldb,
                const T* u, const T* bias, bool accumulate_into) {
   constexpr Index L = kLanes<T>, NV = (N + L - 1) / L;
+  const Index k = KFixed > 0 ? KFixed : k_runtime;
   V<T> acc[R][NV];
   for (Index j = 0; j < NV; ++j) {
     const V<T> start = bias ? load(bias + j * L) : V<T>{};
@@ -58,7 +61,7 @@ void rows_tile(T* c, Index ldc, const T* a, Index lda, Index k, const T* w, cons
       const V<T> wv = load(w + (i * NV + j) * L);
       for (Index r = 0; r < R; ++r) acc[r][j] += a[r * lda + i] * wv;
     }
-  if (b)
+  if (HasB || b)
     for (Index i = 0; i < k; ++i)
       for (Index j = 0; j < NV; ++j) {
         const V<T> uv = load(u + (i * NV + j) * L);
@@ -70,22 +73,18 @@ void rows_tile(T* c, Index ldc, const T* a, Index lda, Index k, const T* w, cons
   }
 }
 
-template <class T, Index N>
+template <class T, Index N, Index KFixed = 0, bool HasB = false>
 void product(T* c, Index ldc, Index m, const T* a, Index lda, Index k, const T* w, const T* b,
              Index ldb, const T* u, const T* bias, bool accumulate_into) {
   Index r = 0;
   for (; r + kRows <= m; r += kRows)
-    rows_tile<T, N, kRows>(c + r * ldc, ldc, a + r * lda, lda, k, w, b ? b + r * ldb : nullptr, ldb,
-                           u, bias, accumulate_into);
+    rows_tile<T, N, kRows, KFixed, HasB>(c + r * ldc, ldc, a + r * lda, lda, k, w, b ? b + r * ldb : nullptr, ldb,
+                                         u, bias, accumulate_into);
   for (; r < m; ++r)
-    rows_tile<T, N, 1>(c + r * ldc, ldc, a + r * lda, lda, k, w, b ? b + r * ldb : nullptr, ldb, u,
-                       bias, accumulate_into);
+    rows_tile<T, N, 1, KFixed, HasB>(c + r * ldc, ldc, a + r * lda, lda, k, w, b ? b + r * ldb : nullptr, ldb, u,
+                                     bias, accumulate_into);
 }
 
-// UB: du and db are both wanted (the mesh convolution's case), known at compile time, so the row
-// loop has no branch and all 2K + 1 accumulators stay in registers (with the tests inside the
-// loop GCC kept dU's accumulators on the stack: a load and a store per row each, and the kernel
-// ran at a quarter of its rate). Otherwise du and db are tested at run time.
 template <class T, Index K, Index NV, bool UB>
 void weight_gradients(T* dw, T* du, T* db, Index m, Index n, const T* a, Index lda, const T* b,
                       Index ldb, const T* g, Index ldg, bool accumulate_into) {
@@ -191,6 +190,17 @@ void narrow_product(T* c, Index ldc, Index m, const T* a, Index lda, const Narro
   // The bias padded to whole vectors like W's rows.
   T padded_bias[kNarrowMax + kLanes<T>] = {};
   if (bias) std::copy_n(bias, w.n, padded_bias);
+  // ACAP's nine features in and out (mesh_conv's forward, with neighbours, and its input gradient,
+  // without): k known at compile time, so the loops unroll and the accumulators stay in registers.
+  if (w.k == 9 && w.n == 9) {
+    if (b)
+      product<T, 9, 9, true>(c, ldc, m, a, lda, w.k, w.data.data(), b, ldb, u->data.data(),
+                             bias ? padded_bias : nullptr, accumulate_into);
+    else
+      product<T, 9, 9, false>(c, ldc, m, a, lda, w.k, w.data.data(), nullptr, ldb, nullptr,
+                              bias ? padded_bias : nullptr, accumulate_into);
+    return;
+  }
   with_width(
       w.n,
       [&]<Index N>() {

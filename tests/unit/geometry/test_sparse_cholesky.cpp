@@ -1,9 +1,7 @@
-#include <catch2/catch.hpp>
-
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
-
+#include <catch2/catch.hpp>
 #include <vector>
 
 #include "core/error.h"
@@ -32,7 +30,8 @@ Eigen::SparseMatrix<double> test_system(int n, double shift, df::Rng& rng) {
 }
 }  // namespace
 
-TEST_CASE("SparseCholesky solves an SPD system like a dense solver, from many threads alike", "[geometry]") {
+TEST_CASE("SparseCholesky solves an SPD system like a dense solver, from many threads alike",
+          "[geometry]") {
   df::Rng rng(11);
   const int n = 600;
   const Eigen::SparseMatrix<double> a = test_system(n, 0.01, rng);

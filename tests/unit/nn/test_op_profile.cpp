@@ -8,14 +8,17 @@ using df::nn::OpProfile;
 using df::nn::Tape;
 
 TEST_CASE("OpProfile names ops by the function that recorded them", "[nn]") {
-  CHECK(OpProfile::op_name("df::nn::Var<T> df::nn::matmul(df::nn::Var<T>, df::nn::Var<T>) [with T = float]") ==
+  CHECK(OpProfile::op_name(
+            "df::nn::Var<T> df::nn::matmul(df::nn::Var<T>, df::nn::Var<T>) [with T = float]") ==
         "matmul");
-  CHECK(OpProfile::op_name("df::nn::matmul_repeated<float>(df::nn::Var<float>, df::nn::Var<float>)::<lambda()>") ==
+  CHECK(OpProfile::op_name(
+            "df::nn::matmul_repeated<float>(df::nn::Var<float>, df::nn::Var<float>)::<lambda()>") ==
         "matmul_repeated");
   CHECK(OpProfile::op_name("leaf") == "leaf");
 }
 
-TEST_CASE("A profiled tape counts each op's calls, FLOPs and time; an unprofiled one nothing", "[nn]") {
+TEST_CASE("A profiled tape counts each op's calls, FLOPs and time; an unprofiled one nothing",
+          "[nn]") {
   OpProfile profile;
   Tape<float>::profile_every_tape(&profile);
   Tape<float> t;
