@@ -55,7 +55,33 @@ void check_against_reference(double tolerance) {
               CHECK(static_cast<double>(error) <= tolerance * std::sqrt(static_cast<double>(k)));
             }
 }
+
+// Long K: the panel is walked in chunks (2,048 of its rows at a time), the running sums carried
+// between them; and K = 0.
+template <class T>
+void check_long_and_empty_k(double tolerance) {
+  std::uint64_t seed = 500;
+  for (Index m : {1, 13, 16})
+    for (Index k : {0, 2048, 2049, 5000})
+      for (bool transpose : {false, true})
+        for (bool accumulate : {false, true}) {
+          INFO("m " << m << " k " << k << " Wᵀ " << transpose << " accumulate " << accumulate);
+          const Index n = 33;
+          const Matrix<T> w = transpose ? seeded_matrix<T>(n, k, ++seed) : seeded_matrix<T>(k, n, ++seed);
+          const Matrix<T> a = seeded_matrix<T>(m, k, ++seed), c0 = seeded_matrix<T>(m, n, ++seed);
+          Matrix<T> c = c0;
+          packed_product<T>(c, a, pack_rhs(w, transpose), accumulate);
+          const Matrix<long double> expected = reference<T>(accumulate ? c0 : Matrix<T>::Zero(m, n), a, w, transpose);
+          const long double error = (c.template cast<long double>() - expected).cwiseAbs().maxCoeff();
+          CHECK(static_cast<double>(error) <= tolerance * std::sqrt(static_cast<double>(std::max<Index>(k, 1))));
+        }
+}
 }  // namespace
+
+TEST_CASE("nn packed product: a long K walked in chunks, and K = 0", "[nn]") {
+  check_long_and_empty_k<double>(1e-14);
+  check_long_and_empty_k<float>(1e-5);
+}
 
 TEST_CASE("nn packed product: A · W and A · Wᵀ against a long-double reference, every remainder",
           "[nn]") {
