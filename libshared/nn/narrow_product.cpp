@@ -96,12 +96,12 @@ void weight_gradients(T* dw, T* du, T* db, Index m, Index n, const T* a, Index l
       const T x = a[r * lda + i];
       for (Index j = 0; j < NV; ++j) aw[i][j] += x * gv[j];
     }
-    if (UB || want_u)
+    if (want_u)
       for (Index i = 0; i < K; ++i) {
         const T x = b[r * ldb + i];
         for (Index j = 0; j < NV; ++j) au[i][j] += x * gv[j];
       }
-    if (UB || want_b)
+    if (want_b)
       for (Index j = 0; j < NV; ++j) ab[j] += gv[j];
   };
   // Rows whose whole vectors lie inside G are loaded directly (lanes past n carry the next row's
