@@ -2,7 +2,8 @@
 // threads at once (acap2obj solves its frames in parallel): CHOLMOD's Cholesky factorisation
 // (SuiteSparse, Debian's libsuitesparse-dev), supernodal where CHOLMOD judges it pays (large
 // templates: blocks of columns factored with dense kernels), simplicial otherwise, with its
-// fill-reducing ordering. On a 136,000-vertex template it factors 2.4-2.7x faster than Eigen's
+// fill-reducing ordering; solved on a simplicial copy (no BLAS: the same bits whatever the BLAS's
+// thread count). On a 136,000-vertex template it factors 2.4-2.7x faster than Eigen's
 // SimplicialLDLT, which it replaced (with OpenBLAS as the system's BLAS; docs/speed.md).
 #pragma once
 
