@@ -576,12 +576,8 @@ PYBIND11_MODULE(deformflow, m) {
         {
           const io::AcapReader r(o.output);
           const auto n = static_cast<py::ssize_t>(r.frames()), V = static_cast<py::ssize_t>(r.vertices());
-          std::vector<float> x(static_cast<std::size_t>(n * V * kDims));
-          r.read_normalized(0, static_cast<std::size_t>(n), x.data());
-          const auto nz = r.normalization();
           F64 raw({n, V, py::ssize_t{kDims}});
-          for (py::ssize_t i = 0; i < raw.size(); ++i)
-            raw.mutable_data()[i] = nz.denormalize(static_cast<int>(i % kDims), x[static_cast<std::size_t>(i)]);
+          r.read_features(0, static_cast<std::size_t>(n), raw.mutable_data());
           d["features"] = raw;
           d["offsets"] = array_of(r.offsets(), {static_cast<py::ssize_t>(r.offsets().size())});
           d["sequence_names"] = r.sequence_names();

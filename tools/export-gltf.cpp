@@ -23,8 +23,8 @@ int main(int argc, char** argv) {
                  "Frame rate of the input (default: a skeleton file's own, 30 for meshes); with --every K\n"
                  "the kept frames play at the same speed");
   app.add_option("--sequence", opt.sequence,
-                 "Only this sequence (by name; a skeleton file: name or index, default the first;\n"
-                 "meshes: default every frame)");
+                 "Only this sequence (by name, or index when no name matches; default: every frame of\n"
+                 "meshes, a skeleton file's first sequence)");
   app.add_option("--every", opt.every, "Every K-th frame")->default_val(opt.every);
   tool.footer(
       "Examples:\n"

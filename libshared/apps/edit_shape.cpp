@@ -99,16 +99,7 @@ Start read_start(const EditShapeOptions& opt, const io::Components& c, const Sub
     throw InvalidInput("has no positions to edit with position components", opt.from);
   if (!positions_space) {
     st.features.resize(V * kDims);
-    if (r.has_raw()) {
-      r.read_raw(frame, 1, st.features.data());
-    } else if (r.has_normalized()) {
-      std::vector<float> x(V * kDims);
-      r.read_normalized(frame, 1, x.data());
-      const auto nz = r.normalization();
-      for (std::size_t j = 0; j < x.size(); ++j) st.features[j] = nz.denormalize(static_cast<int>(j % kDims), x[j]);
-    } else {
-      throw InvalidInput("has positions but no ACAP features (run obj2acap on it first)", opt.from);
-    }
+    r.read_features(frame, 1, st.features.data());
   }
   st.positions = r.has_positions() ? r.read_frame_positions(frame)
                                    : geometry::Reconstructor(c.tmpl.vertices, c.tmpl.faces).solve(st.features.data());

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "apps/sequence_choice.h"
 #include "convert/frame_set.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
@@ -19,14 +20,11 @@
 namespace df::apps {
 namespace {
 
-// The frames to export: one sequence's (by name) or all, every K-th.
+// The frames to export: one sequence's (by name or index) or all, every K-th.
 std::vector<std::size_t> chosen_frames(const convert::FrameSet& fs, const ExportGltfOptions& opt) {
   std::size_t first = 0, last = fs.size();
   if (!opt.sequence.empty()) {
-    const auto it = std::find(fs.sequences.begin(), fs.sequences.end(), opt.sequence);
-    if (it == fs.sequences.end())
-      throw UsageError(fmt::format("--sequence: {} has no sequence '{}'", opt.input, opt.sequence));
-    const auto s = static_cast<std::size_t>(it - fs.sequences.begin());
+    const std::size_t s = sequence_index(opt.sequence, fs.sequences, opt.input);
     first = static_cast<std::size_t>(fs.offsets[s]), last = static_cast<std::size_t>(fs.offsets[s + 1]);
   }
   std::vector<std::size_t> frames;
@@ -40,20 +38,7 @@ void export_skeleton(const ExportGltfOptions& opt, const CommonOptions& common) 
   const io::SkeletonFile s = io::read_skeleton_file(opt.input);
   std::size_t seq = 0;
   if (!opt.sequence.empty()) {
-    const auto it = std::find(s.sequence_names.begin(), s.sequence_names.end(), opt.sequence);
-    if (it != s.sequence_names.end()) {
-      seq = static_cast<std::size_t>(it - s.sequence_names.begin());
-    } else {
-      try {
-        std::size_t used = 0;
-        seq = std::stoul(opt.sequence, &used);
-        if (used != opt.sequence.size()) throw std::invalid_argument("");
-      } catch (const std::exception&) {
-        throw UsageError(fmt::format("--sequence: {} has no sequence '{}'", opt.input, opt.sequence));
-      }
-      if (seq >= s.sequences())
-        throw UsageError(fmt::format("--sequence: {} has sequences 0..{}", opt.input, s.sequences() - 1));
-    }
+    seq = sequence_index(opt.sequence, s.sequence_names, opt.input);
   } else if (s.sequences() > 1) {
     log::info("{} holds {} sequences: exporting the first ('{}'; --sequence chooses)", opt.input, s.sequences(),
               s.sequence_names.front());

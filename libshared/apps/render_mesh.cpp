@@ -1,6 +1,7 @@
 #include "apps/render_mesh.h"
 
 #include "apps/edit_shape.h"
+#include "apps/sequence_choice.h"
 
 #include <fmt/args.h>
 #include <fmt/format.h>
@@ -74,22 +75,7 @@ std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted
                                           const std::vector<std::string>& names,
                                           const std::string& path) {
   std::vector<std::size_t> out;
-  for (const auto& w : wanted) {
-    auto it = std::find(names.begin(), names.end(), w);
-    if (it != names.end()) {
-      out.push_back(static_cast<std::size_t>(it - names.begin()));
-      continue;
-    }
-    if (!w.empty() && w.size() < 10 && w.find_first_not_of("0123456789") == std::string::npos &&
-        std::stoul(w) < names.size()) {
-      out.push_back(std::stoul(w));
-      continue;
-    }
-    throw UsageError(
-        fmt::format("no sequence '{}' in {} (it has {} sequences{}{})", w, path, names.size(),
-                    names.size() <= 12 ? ": " : "",
-                    names.size() <= 12 ? fmt::format("{}", fmt::join(names, ", ")) : ""));
-  }
+  for (const auto& w : wanted) out.push_back(sequence_index(w, names, path));
   return out;
 }
 

@@ -51,19 +51,11 @@ FrameSet read_frame_set(const std::string& path) {
   fs.names = f.frame_names();
   const std::size_t n = f.frames(), nv = f.vertices(), row = nv * kFeatureDims;
   if (f.has_normalization()) fs.normalization = f.normalization();
-  if (f.has_raw()) {
+  if (f.has_raw() || f.has_normalized()) {
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(
         static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
-    f.read_raw(0, n, m.data());
+    f.read_features(0, n, m.data());
     fs.raw = m;
-  } else if (f.has_normalized()) {
-    std::vector<float> v(n * row);
-    f.read_normalized(0, n, v.data());
-    fs.raw.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(row));
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < row; ++k)
-        fs.raw(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) =
-            fs.normalization->denormalize(static_cast<int>(k % kFeatureDims), v[i * row + k]);
   }
   fs.positions.resize(n);
   if (f.has_positions()) {

@@ -172,6 +172,17 @@ void AcapReader::read_normalized(std::size_t first, std::size_t count, float* ou
   check_finite_rows(out, first, count, vertices() * kDims, file_.where(kNormalized));
 }
 
+void AcapReader::read_features(std::size_t first, std::size_t count, double* out) const {
+  if (has_raw()) return read_raw(first, count, out);
+  if (!has_normalized())
+    throw InvalidInput("has no ACAP features (/features/raw or /features/normalized): run obj2acap on it first", path_);
+  const std::size_t n = count * vertices() * kDims;
+  std::vector<float> x(n);
+  read_normalized(first, count, x.data());
+  const auto nz = normalization();
+  for (std::size_t j = 0; j < n; ++j) out[j] = nz.denormalize(static_cast<int>(j % kDims), x[j]);
+}
+
 // --- AcapWriter
 
 AcapWriter::AcapWriter(const std::string& temp_path, const std::string& display,

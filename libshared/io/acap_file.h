@@ -120,6 +120,9 @@ class AcapReader {
   void read_positions(std::size_t first, std::size_t count, float* out) const;
   void read_raw(std::size_t first, std::size_t count, double* out) const;
   void read_normalized(std::size_t first, std::size_t count, float* out) const;
+  /// Raw features of rows [first, first + count): /features/raw when stored, else
+  /// /features/normalized with the file's normalization undone; InvalidInput when it has neither.
+  void read_features(std::size_t first, std::size_t count, double* out) const;
 
  private:
   std::string path_;

@@ -50,6 +50,27 @@ int add_floats(tinygltf::Model& m, const std::vector<float>& data, int type, int
   return add_accessor(m, data, TINYGLTF_COMPONENT_TYPE_FLOAT, type, components, bounds, target);
 }
 
+// The animation's key times, frame k at k / fps, as an accessor (its samplers' input).
+int add_key_times(tinygltf::Model& m, std::size_t frames, double fps) {
+  std::vector<float> times(frames);
+  for (std::size_t k = 0; k < frames; ++k) times[k] = static_cast<float>(static_cast<double>(k) / fps);
+  return add_floats(m, times, TINYGLTF_TYPE_SCALAR, 1, true, 0);
+}
+
+// A linear sampler from the key times `input` to the values `output`, driving `path` of `node`.
+void add_channel(tinygltf::Animation& anim, int input, int output, int node, const std::string& path) {
+  tinygltf::AnimationSampler sampler;
+  sampler.input = input;
+  sampler.output = output;
+  sampler.interpolation = "LINEAR";
+  anim.samplers.push_back(sampler);
+  tinygltf::AnimationChannel channel;
+  channel.sampler = static_cast<int>(anim.samplers.size()) - 1;
+  channel.target_node = node;
+  channel.target_path = path;
+  anim.channels.push_back(channel);
+}
+
 tinygltf::Model new_model() {
   tinygltf::Model m;
   m.asset.version = "2.0";
@@ -112,20 +133,12 @@ void write_gltf_sequence(const std::string& path, const GltfSequence& s) {
   m.scenes.push_back(scene);
   m.defaultScene = 0;
   // The animation: at time k / fps the weights are the k-th unit vector.
-  std::vector<float> times(F), weights(F * F, 0.0f);
-  for (std::size_t k = 0; k < F; ++k) times[k] = static_cast<float>(static_cast<double>(k) / s.fps), weights[k * F + k] = 1;
-  tinygltf::AnimationSampler sampler;
-  sampler.input = add_floats(m, times, TINYGLTF_TYPE_SCALAR, 1, true, 0);
-  sampler.output = add_floats(m, weights, TINYGLTF_TYPE_SCALAR, 1, false, 0);
-  sampler.interpolation = "LINEAR";
-  tinygltf::AnimationChannel channel;
-  channel.sampler = 0;
-  channel.target_node = 0;
-  channel.target_path = "weights";
+  std::vector<float> weights(F * F, 0.0f);
+  for (std::size_t k = 0; k < F; ++k) weights[k * F + k] = 1;
   tinygltf::Animation anim;
   anim.name = s.name;
-  anim.samplers.push_back(sampler);
-  anim.channels.push_back(channel);
+  const int times = add_key_times(m, F, s.fps);
+  add_channel(anim, times, add_floats(m, weights, TINYGLTF_TYPE_SCALAR, 1, false, 0), 0, "weights");
   m.animations.push_back(anim);
   save(m, path);
 }
@@ -159,25 +172,15 @@ void write_gltf_skeleton(const std::string& path, const GltfSkeleton& s) {
   }
   m.scenes.push_back(scene);
   m.defaultScene = 0;
-  std::vector<float> times(T);
-  for (std::size_t t = 0; t < T; ++t) times[t] = static_cast<float>(static_cast<double>(t) / s.fps);
-  const int input = add_floats(m, times, TINYGLTF_TYPE_SCALAR, 1, true, 0);
+  const int times = add_key_times(m, T, s.fps);
   tinygltf::Animation anim;
   anim.name = s.name;
   for (std::size_t j = 0; j < J; ++j) {
     std::vector<float> values(3 * T);
     for (std::size_t t = 0; t < T; ++t)
       for (int c = 0; c < 3; ++c) values[3 * t + static_cast<std::size_t>(c)] = offset(t, j, c);
-    tinygltf::AnimationSampler sampler;
-    sampler.input = input;
-    sampler.output = add_floats(m, values, TINYGLTF_TYPE_VEC3, 3, false, 0);
-    sampler.interpolation = "LINEAR";
-    anim.samplers.push_back(sampler);
-    tinygltf::AnimationChannel channel;
-    channel.sampler = static_cast<int>(anim.samplers.size()) - 1;
-    channel.target_node = static_cast<int>(j);
-    channel.target_path = "translation";
-    anim.channels.push_back(channel);
+    add_channel(anim, times, add_floats(m, values, TINYGLTF_TYPE_VEC3, 3, false, 0), static_cast<int>(j),
+                "translation");
   }
   m.animations.push_back(anim);
   save(m, path);

@@ -78,6 +78,31 @@ TEST_CASE("ACAP file: written by AcapWriter, read back by AcapReader", "[io]") {
   CHECK(raw[4] == Approx(0.5));
 }
 
+TEST_CASE("ACAP file: raw features from /features/raw, else from the normalized ones", "[io]") {
+  TempDir dir;
+  const auto nz = numbers(-1, 2);
+  write_file(dir / "a.h5", nz, true);
+  write_file(dir / "no-raw.h5", nz, false);
+  std::vector<double> stored(27), undone(27);
+  io::AcapReader(dir / "a.h5").read_features(1, 1, stored.data());
+  io::AcapReader(dir / "no-raw.h5").read_features(1, 1, undone.data());
+  for (std::size_t k = 0; k < 27; ++k) {
+    CHECK(stored[k] == 0.1 * static_cast<double>(k % 9 + 1));  // as written
+    CHECK(undone[k] == Approx(stored[k]).epsilon(1e-6));          // through float
+  }
+  {  // positions only
+    io::AcapWriter w(dir / "p.h5", dir / "p.h5", {});
+    w.write_template(triangle());
+    w.write_frame_names({"a"});
+    w.write_sequences({0, 1}, {"s"});
+    std::vector<float> positions(9, 0.5f);
+    w.write_positions(1, 3, positions.data());
+    w.close();
+  }
+  CHECK(error_message([&] { io::AcapReader(dir / "p.h5").read_features(0, 1, stored.data()); })
+            .find("run obj2acap") != std::string::npos);
+}
+
 TEST_CASE("model data: the model's normalization from stored, raw or renormalized features", "[io]") {
   TempDir dir;
   const auto file_nz = numbers(-1, 2), model_nz = numbers(0, 1);

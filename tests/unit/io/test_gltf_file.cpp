@@ -13,6 +13,15 @@
 using namespace df;
 using df::test::TempDir;
 
+namespace {
+// `path` read back by assimp (the importer owns the scene).
+const aiScene* read_back(Assimp::Importer& importer, const std::string& path) {
+  const aiScene* scene = importer.ReadFile(path, 0);
+  REQUIRE(scene);
+  return scene;
+}
+}  // namespace
+
 TEST_CASE("glTF export: assimp reads every frame back", "[io]") {
   TempDir dir;
   io::GltfSequence s;
@@ -28,8 +37,7 @@ TEST_CASE("glTF export: assimp reads every frame back", "[io]") {
   const auto path = dir / "s.glb";
   io::write_gltf_sequence(path, s);
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(path, 0);
-  REQUIRE(scene);
+  const aiScene* scene = read_back(importer, path);
   REQUIRE(scene->mNumMeshes == 1);
   const aiMesh* mesh = scene->mMeshes[0];
   REQUIRE(mesh->mNumVertices == 4);
@@ -73,8 +81,7 @@ TEST_CASE("glTF export: a skeleton's joints read back as animated nodes", "[io]"
   const auto path = dir / "k.glb";
   io::write_gltf_skeleton(path, s);
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(path, 0);
-  REQUIRE(scene);
+  const aiScene* scene = read_back(importer, path);
   const aiNode* knee = scene->mRootNode->FindNode("knee");
   REQUIRE(knee);
   REQUIRE(knee->mParent->mName == aiString("hip"));
