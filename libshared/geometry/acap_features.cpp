@@ -22,12 +22,13 @@ AcapFeatureExtractor::AcapFeatureExtractor(const io::Vertices& reference, const 
 void AcapFeatureExtractor::decompose(const io::Vertices& frame, FrameDecomposition& out) const {
   std::vector<Eigen::Matrix3d> T;
   gradients_->compute(frame, T);
+  std::vector<PolarDecomposition> p(T.size());
+  polar_decompose(T, p);
   out.rotation.resize(T.size());
   out.stretch.resize(T.size());
   for (std::size_t i = 0; i < T.size(); ++i) {
-    PolarDecomposition p = polar_decompose(T[i]);
-    out.rotation[i] = rotation_log(p.R);
-    out.stretch[i] = p.S;
+    out.rotation[i] = rotation_log(p[i].R);
+    out.stretch[i] = p[i].S;
   }
 }
 

@@ -45,7 +45,7 @@ struct DatasetInfo {
 /// How a dataset is stored.
 struct StorageOptions {
   bool compress = true;     ///< chunk + shuffle + zstd when the data exceeds 4 KiB
-  int zstd_level = 3;
+  int zstd_level = 1;
   std::size_t chunk_bytes = 1 << 20;  ///< target chunk size
 };
 

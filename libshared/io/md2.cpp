@@ -10,12 +10,13 @@
 #include <iterator>
 
 #include "core/error.h"
+#include "io/file_bytes.h"
 
 namespace df::io {
 namespace {
 
 template <class T>
-T get(const std::vector<char>& d, std::size_t offset, const std::string& path) {
+T get(const std::string& d, std::size_t offset, const std::string& path) {
   if (offset + sizeof(T) > d.size()) throw InvalidInput("truncated MD2 file", path);
   T v;
   std::memcpy(&v, d.data() + offset, sizeof(T));
@@ -33,9 +34,7 @@ std::string stem_of(const std::string& frame_name) {
 bool is_md2_file(const std::string& path) { return lower_extension(path) == ".md2"; }
 
 Md2Model read_md2(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IOError(std::filesystem::exists(path) ? "cannot read file" : "no such file", path);
-  std::vector<char> d{std::istreambuf_iterator<char>(in), {}};
+  const std::string d = read_file_bytes(path);
   if (d.size() < 68 || std::memcmp(d.data(), "IDP2", 4) != 0) throw InvalidInput("not an MD2 file (no IDP2 signature)", path);
   std::int32_t h[17];
   std::memcpy(h, d.data(), sizeof h);

@@ -11,15 +11,10 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/file_bytes.h"
 
 namespace df::io {
 namespace {
-
-std::string read_all(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IOError("cannot read file", path);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 // What std::istream >> (the readers' tokenizer) treats as white space.
 bool is_space(char c) {
@@ -360,7 +355,7 @@ void check_ply(const std::string& path, const std::string& text) {
 }  // namespace
 
 MeshTextScan check_mesh_structure(const std::string& path, const std::string& ext) {
-  const std::string text = read_all(path);
+  const std::string text = read_file_bytes(path);
   if (ext == ".obj") return check_obj(path, text);
   if (ext == ".off") check_off(path, text);
   if (ext == ".ply") check_ply(path, text);

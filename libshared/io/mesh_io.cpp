@@ -19,6 +19,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "io/file_bytes.h"
 #include "io/mesh_check.h"
 
 namespace fs = std::filesystem;
@@ -227,9 +228,7 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
 }
 
 Vertices read_obj_frame(const std::string& path, const Mesh& reference, const std::string& reference_name) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IOError(fs::exists(path) ? "cannot read file" : "no such file", path);
-  std::string text{std::istreambuf_iterator<char>(in), {}};
+  const std::string text = read_file_bytes(path);
   if (text.empty()) throw InvalidInput("empty file", path);
   const auto nv = reference.vertices.rows();
   Vertices V(nv, 3);

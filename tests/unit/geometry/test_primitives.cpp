@@ -94,6 +94,31 @@ TEST_CASE("polar_decompose: T = RS with R a rotation and S symmetric, also for d
   CHECK(p.S.isApprox(M));
 }
 
+TEST_CASE("polar_decompose: a batch gives each matrix's result alone, bit for bit, whatever its lane", "[geometry]") {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Eigen::Matrix3d> T(21);  // two full batches of eight and a partial one
+  for (std::size_t i = 0; i < T.size(); ++i) {
+    for (int k = 0; k < 9; ++k) T[i](k / 3, k % 3) = u(rng);
+    if (i % 3 == 0) T[i] = random_rotation(rng) * (Eigen::Matrix3d::Identity() + 0.05 * T[i]);
+  }
+  T[5] = Eigen::Vector3d(2, 1.5, -0.5).asDiagonal();  // det < 0: the SVD fallback inside a batch
+  T[9].setZero();                                       // singular: the fallback too
+  for (std::size_t offset : {std::size_t{0}, std::size_t{3}}) {  // each matrix in another lane
+    std::span<const Eigen::Matrix3d> in(T.data() + offset, T.size() - offset);
+    std::vector<PolarDecomposition> out(in.size());
+    polar_decompose(in, out);
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      const PolarDecomposition alone = polar_decompose(in[i]);
+      CHECK(out[i].R == alone.R);
+      CHECK(out[i].S == alone.S);
+      CHECK((out[i].R * out[i].S - in[i]).norm() < 1e-12 * (1 + in[i].norm()));
+    }
+  }
+  std::vector<PolarDecomposition> too_few(2);
+  CHECK_THROWS(polar_decompose(std::span<const Eigen::Matrix3d>(T), too_few));
+}
+
 TEST_CASE("rotation_log / rotation_exp: round trip, near 0 and near pi", "[geometry]") {
   std::mt19937 rng(1);
   for (int trial = 0; trial < 300; ++trial) {
