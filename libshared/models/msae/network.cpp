@@ -69,6 +69,15 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     width *= kz;
   }
   level_begin_.push_back(static_cast<int>(blocks_.size()));
+  // Added last, so that the blocks' weights are drawn as without it.
+  if (config_.centre_features) offset_ = store_.add("offset", 1, 9 * Index{n_vertices});
+}
+
+template <class T>
+void MsaeNet<T>::set_offset(const Matrix& mean) {
+  if (offset_ < 0) throw Error("internal: set_offset needs centre_features");
+  if (mean.rows() != 1 || mean.cols() != frame_size()) throw Error("internal: set_offset needs [1, 9V]");
+  store_.value(offset_) = mean;
 }
 
 template <class T>
@@ -97,9 +106,12 @@ nn::Var<T> MsaeNet<T>::decoder(const nn::Bound<T>& p, int b, Var z) const {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   Var y = nn::matmul(z, p[bl.c]);
   if (config_.decoder_fc == "tanh") y = nn::tanh(y);
-  return nn::tanh(config_.decoder_conv == "shared" ? nn::mesh_conv(y, p[bl.conv.w_point], p[bl.conv.w_nb],
-                                                                   p[bl.b_dec], bl.conv.adjacency)
-                                                   : bl.conv.tied_transpose(p, y, p[bl.b_dec]));
+  Var out = nn::tanh(config_.decoder_conv == "shared" ? nn::mesh_conv(y, p[bl.conv.w_point], p[bl.conv.w_nb],
+                                                                      p[bl.b_dec], bl.conv.adjacency)
+                                                      : bl.conv.tied_transpose(p, y, p[bl.b_dec]));
+  // The offset is a constant of the tape: it never receives a gradient, so Adam leaves it.
+  if (b == 0 && offset_ >= 0) out = nn::add(out, z.tape->constant(store_.value(offset_)));
+  return out;
 }
 
 template <class T>
@@ -167,7 +179,8 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
                                                            const Matrix* weights) const {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   Var C = p[bl.c];
-  Var h = nn::tanh(bl.conv(p, x));
+  const Var in = b == 0 && offset_ >= 0 ? nn::sub(x, x.tape->constant(store_.value(offset_))) : x;
+  Var h = nn::tanh(bl.conv(p, in));
   Var z = nn::matmul_transposed(h, C);
   if (config_.latent == "tanh") z = nn::tanh(z);
   BlockOutput out;

@@ -75,6 +75,12 @@ struct MsaeConfig {
   /// after every optimizer step the groups of C where Λ_ik = 1 (outside the component's radius)
   /// are set to zero — Ω's limit of infinite weight, strictly local components
   std::string support = "soft";
+  /// Subtract a fixed offset (the training shapes' mean features, set by train-msae) from AE₀'s
+  /// input and add it back to its output, so that the autoencoders model deviations from the mean
+  /// shape and no component is spent on the mean deformation itself (the diagnosis found one
+  /// level-0 component carrying a constant offset; docs/msae.md). Stored as a parameter that
+  /// never receives a gradient.
+  bool centre_features = false;
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
   int levels() const { return static_cast<int>(kz.size()); }
 };
@@ -180,6 +186,8 @@ class MsaeNet {
   /// Makes vertex `vertices[b][k]` the centre of component k of block b (its group of C becomes
   /// twice the row's largest group norm): where the centres start with --centres spread.
   void place_centres(const std::vector<std::vector<int>>& vertices);
+  /// With config().centre_features: sets the offset AE₀ subtracts and adds back ([1, 9V]).
+  void set_offset(const Matrix& mean);
   /// The attention masks AM [kz, V] of a block from its C (eq. 5-6): each column sums to 1.
   Matrix attention_masks(int block) const;
 
@@ -222,7 +230,7 @@ class MsaeNet {
   BlockOutput forward_block(const nn::Bound<T>& p, int b, Var x, const Matrix* lambda, Var* loss,
                             MsaeLossTerms* terms, const Matrix* weights = nullptr) const;
   Var masks_of(const nn::Bound<T>& p, int b) const;
-  /// The decoder of block b on codes z: tanh(conv'(act(z C))).
+  /// The decoder of block b on codes z: tanh(conv'(act(z C))), plus the offset for AE₀.
   Var decoder(const nn::Bound<T>& p, int b, Var z) const;
   /// Only block b's parameters as leaves of `tape` (variables when gradients are wanted, else
   /// constants); the other entries stay empty — binding the whole store would copy every block's
@@ -242,6 +250,7 @@ class MsaeNet {
   std::shared_ptr<const nn::SparseMatrix<T>> adjacency_;
   std::vector<Block> blocks_;
   std::vector<int> level_begin_;
+  int offset_ = -1;  ///< store index of the features' offset [1, 9V] (centre_features), else -1
 };
 
 extern template class MsaeNet<float>;

@@ -62,6 +62,12 @@ Settings msae_network_settings(MsaeConfig& c) {
                "Omega's limit: strictly local components)",
        .choices = {"soft", "hard"},
        .optional = true},
+      {.name = "centre_features",
+       .target = &c.centre_features,
+       .help = "Subtract the training shapes' mean features before the first autoencoder and add\n"
+               "them back after it: the autoencoders model deviations from the mean shape, and no\n"
+               "component is spent on the mean deformation (see docs/msae.md)",
+       .optional = true},
       {.name = "lambda_recon", .target = &c.lambda_recon, .help = "Weight of the reconstruction MSE"},
       {.name = "lambda_sparse", .target = &c.lambda_sparse, .help = "Weight of Omega(C)"},
       {.name = "theta",

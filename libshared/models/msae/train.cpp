@@ -363,6 +363,8 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
   in.read_normalized(0, in.frames(), data.data());
   const nn::Matrix<float> validation = gather(data, m.split.validation);
+  if (m.config.centre_features && m.iteration == 0)  // a fresh model: the training shapes' mean
+    m.net->set_offset(gather(data, m.split.train).colwise().mean());
   log::info(
       "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "
       "blocks "

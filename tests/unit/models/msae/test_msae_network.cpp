@@ -350,3 +350,37 @@ TEST_CASE("MSAE: --support hard zeroes C outside each component's radius", "[mod
   config.support = "firm";
   CHECK_THROWS_AS(MsaeNet<double>(config, 9, grid_edges(), 3), UsageError);
 }
+
+TEST_CASE("MSAE: --centre-features models deviations from a fixed offset, which gets no gradient",
+          "[models][msae]") {
+  MsaeConfig config = tiny({3, 2}, true);
+  MsaeNet<double> plain(config, 9, grid_edges(), 6);
+  config.centre_features = true;
+  MsaeNet<double> centred(config, 9, grid_edges(), 6);
+  const auto x = random_shapes(4, 9);
+  const nn::Matrix<double> mean = random_shapes(1, 10) * 0.5;
+  CHECK_THROWS(plain.set_offset(mean));
+  CHECK_THROWS(centred.set_offset(random_shapes(2, 10)));
+  centred.set_offset(mean);
+  // The same blocks' weights (the offset is drawn last): centred(x) = mean + plain(x − mean).
+  for (const auto& b : plain.blocks()) REQUIRE(plain.store().value(b.c) == centred.store().value(b.c));
+  const nn::Matrix<double> shifted = x.rowwise() - mean.row(0);
+  for (int levels : {1, 2}) {
+    const nn::Matrix<double> expected = plain.reconstruct(shifted, levels).rowwise() + mean.row(0);
+    CHECK((centred.reconstruct(x, levels) - expected).cwiseAbs().maxCoeff() < 1e-12);
+  }
+  CHECK((centred.decode(0, nn::Matrix<double>::Zero(1, 3)) - plain.decode(0, nn::Matrix<double>::Zero(1, 3)) - mean)
+            .cwiseAbs()
+            .maxCoeff() < 1e-12);
+  // The loss is the plain network's on the shifted shapes; the offset's gradient stays zero, so
+  // Adam leaves it where train-msae put it.
+  const auto lambda = random_lambda(centred, 11);
+  centred.store().zero_grad();
+  const MsaeLossTerms c = centred.loss_and_gradient(x, lambda);
+  const MsaeLossTerms p = plain.loss_and_gradient(shifted, lambda);
+  CHECK(c.total == Approx(p.total).epsilon(1e-12));
+  const auto& views = centred.store().views();
+  const auto& offset_view = views.back();  // the offset is the last parameter
+  CHECK(centred.store().grads().segment(offset_view.offset, offset_view.rows * offset_view.cols).cwiseAbs().maxCoeff() == 0);
+  CHECK(centred.store().value(static_cast<int>(views.size()) - 1) == mean);
+}
