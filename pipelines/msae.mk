@@ -20,7 +20,8 @@
 #                         one-level AE, PCA, SPLOCS on positions and on ACAP features, mean E_rms over
 #                         MS_FIG6_SHAPES test shapes
 #   $(MS)/S/fig14.png     the middle test shape rebuilt from 20 control points by each method, coloured
-#                         by error, the control points drawn (paper Fig. 14)
+#                         by error (clipped at 5% of the diagonal: the colour bar's top), the control
+#                         points drawn (paper Fig. 14)
 # and on bumps $(MS)/bumps/localization.md: per planted region the IoU of the best kept component
 # at its level (and of the best of all, before pruning). Validation shapes (10% of the held-out
 # ones, 25% for the 9-pose collections) are excluded from every test number.
@@ -192,7 +193,7 @@ $(MS)/%/fig14.png: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.
 	$(BIN)/render-mesh -q -f $(foreach m,$(ms_fig14_methods),$(MS)/$*/fig14-$(firstword $(subst :, ,$(m))).h5) \
 	  --error-vs $(MS)/$*/data.h5 --show-truth --fit first --range 0,0.05 --points edit $($*_VIEW) --size 240 \
 	  --row-labels "test shape $$frame,MSAE,one-level AE,PCA,SPLOCS,SPLOCS (ACAP)" --column-labels "$(MS_FIG14_POINTS) control points" \
-	  --title "$*: a test shape rebuilt from $(MS_FIG14_POINTS) control points (paper Fig. 14), colour: error, clipped at 5% of the diagonal" -o $@
+	  --title "$*: rebuilt from $(MS_FIG14_POINTS) points (Fig. 14)" -o $@
 $(MS)/%/fig6.md: $(MS)/%/fig6.tsv
 	{ echo "$* — test shapes rebuilt from N control points (paper Fig. 6): mean E_rms (x1000, unit ball, each aligned by a translation) of $(MS_FIG6_SHAPES) test shapes, edit-shape with each method's components (MSAE: all 10 + 50, one-level AE: 60, PCA and SPLOCS on ACAP features: as many as Table 2's; SPLOCS on positions: the handles fitted by its linear model, the others hold them)"; echo; \
 	  head -1 $< | sed 's/^/| /; s/\t/ | /g; s/$$/ |/'; head -1 $< | sed 's/[^\t]*/---:/g; s/^/|/; s/\t/|/g; s/$$/|/'; \
