@@ -45,7 +45,7 @@ struct DatasetInfo {
 /// How a dataset is stored.
 struct StorageOptions {
   bool compress = true;     ///< chunk + shuffle + zstd when the data exceeds 4 KiB
-  int zstd_level = 1;
+  int zstd_level = 1;        ///< level 3 took twice as long for 0.6% smaller feature files
   std::size_t chunk_bytes = 1 << 20;  ///< target chunk size
 };
 
