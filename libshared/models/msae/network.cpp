@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "core/rng.h"
 #include "nn/adam.h"
@@ -300,13 +302,19 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
         g_r += g;
         continue;
       }
-      // Vertices in parallel: each owns its 9 columns of g_r and its entry of g_am.
-      tbb::parallel_for(Index{0}, Index{n_vertices_}, [&](Index i) {
-        for (Index row = 0; row < r.rows(); ++row) {
-          const auto gi = g.row(row).segment(9 * i, 9);
-          g_r.row(row).segment(9 * i, 9) += gi * (*am)(cb.slot, i);
-          g_am(cb.slot, i) += gi.dot(r.row(row).segment(9 * i, 9));
-        }
+      // Blocks of vertices in parallel: each owns its columns of g_r and its entries of g_am,
+      // walked row by row (contiguous; one vertex down all rows touched a new page per row: 9.5%
+      // of an MSAE step). Each g_am entry still sums the rows in order.
+      constexpr Index kBlock = 64;
+      const Index nv = n_vertices_;
+      tbb::parallel_for(Index{0}, (nv + kBlock - 1) / kBlock, [&](Index blk) {
+        const Index i0 = blk * kBlock, i1 = std::min(nv, i0 + kBlock);
+        for (Index row = 0; row < r.rows(); ++row)
+          for (Index i = i0; i < i1; ++i) {
+            const auto gi = g.row(row).segment(9 * i, 9);
+            g_r.row(row).segment(9 * i, 9) += gi * (*am)(cb.slot, i);
+            g_am(cb.slot, i) += gi.dot(r.row(row).segment(9 * i, 9));
+          }
       });
     }
     Var surrogate = nn::dot_constant(out.residual, std::move(g_r));
