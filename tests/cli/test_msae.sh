@@ -64,6 +64,14 @@ grep -q '"frame_pairs": 36,' recon.json || fail "36 frame pairs expected: $(head
 erms=$(sed -n 's/^ *"erms": \([0-9.e+-]*\).*/\1/p' recon.json)
 awk -v e="$erms" 'BEGIN { exit !(e > 0 && e < 1000) }' || fail "E_rms '$erms'"
 recon-msae -q --levels 1 m.h5 data.h5 -o recon1.h5
+# --levels all (what --help shows as the default) is every level: the default's features
+recon-msae -q --levels all m.h5 data.h5 -o recon-all.h5
+[ "$(h5dump -d /features/normalized recon-all.h5 | sed 1d)" = "$(h5dump -d /features/normalized recon.h5 | sed 1d)" ] ||
+  fail "--levels all differs from the default"
+[ "$(h5dump -d /features/normalized recon1.h5 | sed 1d)" != "$(h5dump -d /features/normalized recon.h5 | sed 1d)" ] ||
+  fail "--levels 1 equals every level"
+run recon-msae m.h5 data.h5 -o x.h5 --levels most
+expect_rc 2; expect_err "--levels = most"
 recon-msae -q --part train m.h5 data.h5 -o recon-train.h5
 [ "$(h5dump -H -d /frames/source recon-train.h5 | grep -o 'SIMPLE { ( [0-9]* )' | grep -o '[0-9]*')" = 4 ] ||
   fail "--part train: 4 shapes"
