@@ -34,6 +34,8 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--centres must be random or spread");
   if (config_.support != "soft" && config_.support != "hard")
     throw UsageError("--support must be soft or hard");
+  if (config_.attention_sharpness != 1 && config_.attention_sharpness != 2 && config_.attention_sharpness != 4)
+    throw UsageError(fmt::format("--attention-sharpness must be 1, 2 or 4 (got {})", config_.attention_sharpness));
   if (!(config_.centre_separation >= 0 && config_.centre_separation <= 4))
     throw UsageError("--centre-separation must be between 0 and 4 (a fraction of d)");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
@@ -164,6 +166,7 @@ void MsaeNet<T>::place_centres(const std::vector<std::vector<int>>& vertices) {
 template <class T>
 nn::Var<T> MsaeNet<T>::masks_of(const nn::Bound<T>& p, int b) const {
   nn::Var<T> am = nn::square(nn::group_norm(p[blocks_[static_cast<std::size_t>(b)].c], Index{9}));
+  for (int q = 1; q < config_.attention_sharpness; q *= 2) am = nn::square(am);  // am^p
   // A vertex no component touches would divide 0 by 0; the tiny floor keeps it finite.
   return nn::div(am, nn::add_scalar(nn::sum_rows(am), T(1e-20)));
 }

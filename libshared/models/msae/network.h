@@ -81,6 +81,10 @@ struct MsaeConfig {
   /// level-0 component carrying a constant offset; docs/msae.md). Stored as a parameter that
   /// never receives a gradient.
   bool centre_features = false;
+  /// The attention masks from am_k,i^p instead of am_k,i (eq. 5-6; p = 1, the paper, 2 or 4): where
+  /// overlapping level-0 components spread a vertex's mask thin, p > 1 gives more of its residual
+  /// to the component that owns it most (the masks still sum to 1 per vertex; docs/msae.md)
+  int attention_sharpness = 1;
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
   int levels() const { return static_cast<int>(kz.size()); }
 };

@@ -68,6 +68,13 @@ Settings msae_network_settings(MsaeConfig& c) {
                "them back after it: the autoencoders model deviations from the mean shape, and no\n"
                "component is spent on the mean deformation (see docs/msae.md)",
        .optional = true},
+      {.name = "attention_sharpness",
+       .target = &c.attention_sharpness,
+       .help = "Attention masks from am^p instead of am (eq. 5-6): 1 (the paper), 2 or 4. Where\n"
+               "level-0 components overlap, the masks spread each vertex's residual thin over them\n"
+               "and the second level starves; p > 1 gives more of it to the component that owns the\n"
+               "vertex most (the masks still sum to 1; see docs/msae.md)",
+       .optional = true},
       {.name = "lambda_recon", .target = &c.lambda_recon, .help = "Weight of the reconstruction MSE"},
       {.name = "lambda_sparse", .target = &c.lambda_sparse, .help = "Weight of Omega(C)"},
       {.name = "theta",

@@ -389,3 +389,36 @@ TEST_CASE("MSAE: --centre-features models deviations from a fixed offset, which 
   CHECK(centred.store().value(centred.blocks()[0].c) != c0_before);
   CHECK(centred.store().value(offset) == mean);
 }
+
+TEST_CASE("MSAE: --attention-sharpness raises the masks' am to the power p, gradient-checked",
+          "[models][msae]") {
+  MsaeConfig config = tiny({3, 2}, true);
+  MsaeNet<double> plain(config, 9, grid_edges(), 7);
+  for (int p : {2, 4}) {
+    config.attention_sharpness = p;
+    MsaeNet<double> sharp(config, 9, grid_edges(), 7);
+    // AM_k,i = am_k,i^p / Σ_k am_k,i^p, with am the plain masks' numerators (same weights)
+    const auto am = plain.attention_masks(0);
+    nn::Matrix<double> expected = am.array().pow(p).matrix();
+    expected.array().rowwise() /= expected.colwise().sum().array();
+    const auto got = sharp.attention_masks(0);
+    CHECK((got - expected).cwiseAbs().maxCoeff() < 1e-10);
+    CHECK((got.colwise().sum().array() - 1).abs().maxCoeff() < 1e-12);
+    // sharper: each vertex's largest mask grows
+    CHECK(got.colwise().maxCoeff().sum() > am.colwise().maxCoeff().sum());
+    const auto x = random_shapes(4, 1);
+    const auto lambda = random_lambda(sharp, 2);
+    std::vector<nn::Matrix<double>> params;
+    for (std::size_t i = 0; i < sharp.store().views().size(); ++i)
+      params.push_back(sharp.store().value(static_cast<int>(i)));
+    auto r = nn::gradient_check(
+        [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& v) {
+          return sharp.loss(t, nn::Bound<double>{v}, x, lambda);
+        },
+        params);
+    INFO("p " << p << "\n" << r.report);
+    REQUIRE(r.max_error <= 1e-6);
+  }
+  config.attention_sharpness = 3;
+  CHECK_THROWS_AS(MsaeNet<double>(config, 9, grid_edges(), 7), UsageError);
+}
