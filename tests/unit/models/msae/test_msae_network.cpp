@@ -37,6 +37,19 @@ std::vector<nn::Matrix<double>> random_lambda(const MsaeNet<double>& net, std::u
   return out;
 }
 
+// The loss's gradient against finite differences, for every parameter of `net`, on shapes x.
+nn::GradientCheck check_loss_gradient(MsaeNet<double>& net, const nn::Matrix<double>& x,
+                                      const std::vector<nn::Matrix<double>>& lambda) {
+  std::vector<nn::Matrix<double>> params;
+  for (std::size_t i = 0; i < net.store().views().size(); ++i)
+    params.push_back(net.store().value(static_cast<int>(i)));
+  return nn::gradient_check(
+      [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& v) {
+        return net.loss(t, nn::Bound<double>{v}, x, lambda);
+      },
+      params);
+}
+
 MsaeConfig tiny(std::vector<int> kz, bool attention) {
   MsaeConfig c;
   c.kz = kz;
@@ -69,19 +82,12 @@ TEST_CASE("MSAE loss: gradients of every parameter (attention, none, three level
     MsaeNet<double> net(tiny(kz, attention), 9, grid_edges(), 3);
     const auto x = random_shapes(4, 1);
     const auto lambda = random_lambda(net, 2);
-    std::vector<nn::Matrix<double>> params;
-    for (std::size_t i = 0; i < net.store().views().size(); ++i)
-      params.push_back(net.store().value(static_cast<int>(i)));
     MsaeLossTerms terms;
     {
       nn::Tape<double> t;
       net.loss(t, net.store().bind(t), x, lambda, &terms);
     }
-    auto r = nn::gradient_check(
-        [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& v) {
-          return net.loss(t, nn::Bound<double>{v}, x, lambda);
-        },
-        params);
+    const auto r = check_loss_gradient(net, x, lambda);
     INFO("levels " << kz.size() << " attention " << attention << "\n" << r.report);
     CHECK(terms.latent > 0);  // every term is exercised
     CHECK(terms.sparsity > 0);
@@ -215,15 +221,7 @@ TEST_CASE("MSAE: the convMesh variants (linear decoder FC, shared decoder convol
   g.init = "glorot";
   MsaeNet<double> checked(g, 9, grid_edges(), 3);
   const auto x = random_shapes(4, 1);
-  const auto lambda = random_lambda(checked, 2);
-  std::vector<nn::Matrix<double>> params;
-  for (std::size_t i = 0; i < checked.store().views().size(); ++i)
-    params.push_back(checked.store().value(static_cast<int>(i)));
-  auto r = nn::gradient_check(
-      [&](nn::Tape<double>& tape, const std::vector<nn::Var<double>>& v) {
-        return checked.loss(tape, nn::Bound<double>{v}, x, lambda);
-      },
-      params);
+  const auto r = check_loss_gradient(checked, x, random_lambda(checked, 2));
   INFO(r.report);
   REQUIRE(r.max_error <= 1e-6);
   // "small": C at Glorot × 0.01, the convolutions as Glorot's.
@@ -407,15 +405,7 @@ TEST_CASE("MSAE: --attention-sharpness raises the masks' am to the power p, grad
     // sharper: each vertex's largest mask grows
     CHECK(got.colwise().maxCoeff().sum() > am.colwise().maxCoeff().sum());
     const auto x = random_shapes(4, 1);
-    const auto lambda = random_lambda(sharp, 2);
-    std::vector<nn::Matrix<double>> params;
-    for (std::size_t i = 0; i < sharp.store().views().size(); ++i)
-      params.push_back(sharp.store().value(static_cast<int>(i)));
-    auto r = nn::gradient_check(
-        [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& v) {
-          return sharp.loss(t, nn::Bound<double>{v}, x, lambda);
-        },
-        params);
+    const auto r = check_loss_gradient(sharp, x, random_lambda(sharp, 2));
     INFO("p " << p << "\n" << r.report);
     REQUIRE(r.max_error <= 1e-6);
   }
