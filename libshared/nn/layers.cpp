@@ -199,10 +199,7 @@ void add_neighbour_means_adjoint(T* gx, const SparseMatrix<T>& at, const Matrix<
         T* o = gx + (s * V + r) * c;
         if (r + 8 < r1) __builtin_prefetch(o + 8 * c, 1);  // as vertex_major's reads: backward -5%
         const T* from = acc.data() + s * c;
-        if (c == 9)  // ACAP's nine features: the loop unrolled (each element one add, as below)
-          for (Index i = 0; i < 9; ++i) o[i] += from[i];
-        else
-          for (Index i = 0; i < c; ++i) o[i] += from[i];
+        for (Index i = 0; i < c; ++i) o[i] += from[i];
       }
     }
   });
