@@ -7,6 +7,7 @@
 #include <cmath>
 #include <set>
 
+#include "core/error.h"
 #include "models/msae/components.h"
 
 namespace df::models {
@@ -50,7 +51,62 @@ std::vector<double> shares(const MsaeNet<float>& net, int b, const nn::Matrix<fl
   return share;
 }
 
+// The projection of m's rows onto its top `rank` left singular vectors (m [n, cols]).
+nn::Matrix<double> top_projection(const nn::Matrix<double>& m, int rank) {
+  const Index n = m.rows();
+  if (rank >= n) return m;
+  if (rank <= 0) return nn::Matrix<double>::Zero(n, m.cols());
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(m * m.transpose());
+  const Eigen::MatrixXd u = es.eigenvectors().rightCols(rank);  // eigenvalues ascend
+  return u * (u.transpose() * m);
+}
+
+SecondLevelDiagnosis second_level(const MsaeNet<float>& net, const nn::Matrix<float>& training) {
+  SecondLevelDiagnosis s;
+  const auto& root = net.blocks()[0];
+  const nn::Matrix<double> x = training.cast<double>();
+  const nn::Matrix<double> r = x - net.reconstruct(training, 1).cast<double>();
+  const double total = r.squaredNorm();
+  if (!(total > 0)) return s;
+  std::vector<int> ranks;
+  if (root.children.empty()) return s;
+  for (int c : root.children) ranks.push_back(net.blocks()[static_cast<std::size_t>(c)].kz);
+  s.children = static_cast<int>(ranks.size());
+  for (int k : ranks) s.components += k;
+  const bool attention = net.config().attention && ranks.size() > 1;
+  const nn::Matrix<double> masks = attention ? net.attention_masks(0).cast<double>() : nn::Matrix<double>();
+  double fed = 0;
+  if (attention) {
+    for (Index k = 0; k < masks.rows(); ++k)
+      for (Index i = 0; i < masks.cols(); ++i)
+        fed += masks(k, i) * masks(k, i) * r.middleCols(9 * i, 9).squaredNorm();
+  } else {
+    fed = total;
+  }
+  s.fed = fed / total;
+  s.left_trained = (x - net.reconstruct(training, 2).cast<double>()).squaredNorm() / total;
+  s.left_linear = (r - best_linear_children(r, masks, ranks)).squaredNorm() / total;
+  s.left_one = (r - top_projection(r, s.components)).squaredNorm() / total;
+  s.child_kz = *std::max_element(ranks.begin(), ranks.end());
+  s.left_one_child = (r - top_projection(r, s.child_kz)).squaredNorm() / total;
+  return s;
+}
+
 }  // namespace
+
+nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r, const nn::Matrix<double>& masks,
+                                        const std::vector<int>& ranks) {
+  if (masks.size() == 0) return top_projection(r, ranks.empty() ? 0 : ranks[0]);
+  if (masks.cols() * 9 != r.cols() || static_cast<std::size_t>(masks.rows()) != ranks.size())
+    throw Error("best_linear_children: masks [K, V] against r [n, 9V] and K ranks");
+  nn::Matrix<double> sum = nn::Matrix<double>::Zero(r.rows(), r.cols());
+  for (Index k = 0; k < masks.rows(); ++k) {
+    nn::Matrix<double> in = r;
+    for (Index i = 0; i < masks.cols(); ++i) in.middleCols(9 * i, 9) *= masks(k, i);
+    sum += top_projection(in, ranks[static_cast<std::size_t>(k)]);
+  }
+  return sum;
+}
 
 MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const nn::Matrix<float>& training,
                             const std::vector<nn::Matrix<float>>& codes, const nn::Matrix<float>& heldout) {
@@ -111,6 +167,10 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
     for (Index j = 0; j < dirs.cols(); ++j) dirs.col(j).array() -= ref[static_cast<std::size_t>(j % 9)];
     level.singular_values = relative_singular_values(dirs, 1e-2, &level.effective_rank);
   }
+  if (net.config().levels() >= 2 && !net.blocks()[0].children.empty() && training.rows() > 0) {
+    d.has_second_level = true;
+    d.second = second_level(net, training);
+  }
   return d;
 }
 
@@ -132,6 +192,18 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
       t += fmt::format("  {:>5} {:>3} {:>6} {:>7.3f} {:>6} {:>7} {:>8.4f} {:>9.3g}..{:<9.3g} {:>5.1f}%\n", c.block, c.k,
                        c.centre, c.weight_norm, c.inside < 0 ? std::string("-") : fmt::format("{:.2f}", c.inside),
                        c.support, c.strength, c.code_min, c.code_max, 100 * c.share);
+  }
+  if (d.has_second_level) {
+    const auto& s = d.second;
+    t += fmt::format(
+        "\nlevel 1 on the training shapes' residual R after level 0 (shares of its energy):\n"
+        "  fed to its {} autoencoder(s) ({} components){}: {:.1f}%\n"
+        "  left by the trained level 1: {:.1f}%\n"
+        "  left by the best linear autoencoders of the same sizes on the same inputs: {:.1f}%\n"
+        "  left by one linear autoencoder on R whole: {:.1f}% with {} components, {:.1f}% with {}\n",
+        s.children, s.components, s.children > 1 ? " through the attention masks" : "", 100 * s.fed,
+        100 * s.left_trained, 100 * s.left_linear, 100 * s.left_one, s.components, 100 * s.left_one_child,
+        s.child_kz);
   }
   return t;
 }

@@ -34,11 +34,36 @@ struct LevelDiagnosis {
   int effective_rank = 0;
 };
 
+/// What the second level can do with what it is fed (models of two or more levels): the training
+/// shapes' residual after level 0, R, is split among AE₀'s children by the attention masks (each
+/// child k reconstructs diag(AM_k)·R; without attention one child gets R whole). Energies are
+/// shares of ‖R‖² in normalized features.
+struct SecondLevelDiagnosis {
+  int children = 0;
+  int components = 0;      ///< Σ K_z over the children
+  double fed = 0;          ///< Σ_k ‖AM_k ⊙ R‖² / ‖R‖²
+  double left_trained = 0; ///< ‖X − X̂ (levels 0-1)‖² / ‖R‖²
+  double left_linear = 0;  ///< best linear children: rank K_z of each masked input, outputs summed
+  double left_one = 0;     ///< best rank-`components` reconstruction of R (one linear autoencoder)
+  int child_kz = 0;        ///< the largest child's K_z
+  double left_one_child = 0;  ///< best rank-`child_kz` reconstruction of R: what spread masks tend to
+};
+
 struct MsaeDiagnosis {
   std::vector<LevelDiagnosis> levels;
   int n_training = 0, n_heldout = 0;
   int pca_rank = 0;  ///< rank of the centred training shapes: what PCA can span
+  bool has_second_level = false;
+  SecondLevelDiagnosis second;
 };
+
+/// The best linear children's reconstruction of r [n, 9V]: Σ_k P_k(diag(mask_k)·r), P_k the
+/// projection onto the top `ranks[k]` left singular vectors of child k's input (the optimum of a
+/// linear autoencoder of ranks[k] components on it). masks [K, V]; an empty masks matrix means
+/// one child fed r whole. With masks spread over the same vertices, children of rank K_z learn
+/// the same top directions and their sum spans little more than one of them.
+nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r, const nn::Matrix<double>& masks,
+                                        const std::vector<int>& ranks);
 
 /// @param comps           the model's components (extract_components of training_codes)
 /// @param training        the training shapes [n, 9V] (normalized): PCA's rank

@@ -1,0 +1,62 @@
+#include <catch2/catch.hpp>
+
+#include "core/error.h"
+#include "models/msae/diagnosis.h"
+
+using namespace df;
+using namespace df::models;
+
+namespace {
+
+// n shapes of V vertices whose residual is a[s]·u + b[s]·w: u lives on the first half of the
+// vertices, w on the second, so two regions each vary along one direction.
+nn::Matrix<double> two_regions(int n, int V) {
+  nn::Matrix<double> r = nn::Matrix<double>::Zero(n, 9 * V);
+  for (int s = 0; s < n; ++s)
+    for (int i = 0; i < V; ++i)
+      for (int f = 0; f < 9; ++f) {
+        const double a = (s % 3) - 1.0, b = s % 2 ? 0.7 : -0.4 * s;
+        r(s, 9 * i + f) = i < V / 2 ? a * (1 + 0.1 * f + 0.01 * i) : b * (0.5 - 0.05 * f + 0.02 * i);
+      }
+  return r;
+}
+
+double left(const nn::Matrix<double>& r, const nn::Matrix<double>& approx) {
+  return (r - approx).squaredNorm() / r.squaredNorm();
+}
+
+}  // namespace
+
+TEST_CASE("MSAE diagnosis: children on disjoint masks each take their own region", "[models][msae]") {
+  const int n = 6, V = 8;
+  const auto r = two_regions(n, V);
+  nn::Matrix<double> one_hot = nn::Matrix<double>::Zero(2, V);
+  for (int i = 0; i < V; ++i) one_hot(i < V / 2 ? 0 : 1, i) = 1;
+  // One component per child suffices: each region varies along one direction.
+  CHECK(left(r, best_linear_children(r, one_hot, {1, 1})) < 1e-20);
+  // One autoencoder of two components on the whole residual spans both as well.
+  CHECK(left(r, best_linear_children(r, nn::Matrix<double>(), {2})) < 1e-20);
+  // ... and one of one component cannot.
+  CHECK(left(r, best_linear_children(r, nn::Matrix<double>(), {1})) > 0.05);
+}
+
+TEST_CASE("MSAE diagnosis: children on spread masks span little more than one of them",
+          "[models][msae]") {
+  const int n = 6, V = 8;
+  const auto r = two_regions(n, V);
+  // Uniform masks: both children are fed r/2 and their best rank-1 maps both take its top
+  // direction, so their sum is the rank-1 projection of r, not a rank-2 one.
+  const nn::Matrix<double> uniform = nn::Matrix<double>::Constant(2, V, 0.5);
+  const double spread = left(r, best_linear_children(r, uniform, {1, 1}));
+  CHECK(spread == Approx(left(r, best_linear_children(r, nn::Matrix<double>(), {1}))).epsilon(1e-9));
+  CHECK(spread > 0.05);
+  // Partly spread masks lie between the two.
+  nn::Matrix<double> soft = nn::Matrix<double>::Zero(2, V);
+  for (int i = 0; i < V; ++i) soft(0, i) = i < V / 2 ? 0.8 : 0.2, soft(1, i) = 1 - soft(0, i);
+  const double partly = left(r, best_linear_children(r, soft, {1, 1}));
+  CHECK(partly > 1e-6);
+  CHECK(partly < spread);
+  // Enough components per child take everything back, however spread the masks.
+  CHECK(left(r, best_linear_children(r, uniform, {2, 2})) < 1e-20);
+  CHECK_THROWS_AS(best_linear_children(r, uniform, {1}), Error);
+}
