@@ -5,7 +5,7 @@
 # 1:9; cactus, cat-poses, lion-poses: collections, split 1:1 by the seed):
 #   $(MS)/S/table2.md     E_rms and STED on the test shapes: MSAE (its encoder's codes, and codes fitted
 #                         through its decoders) vs PCA vs the one-level sparse AE of Tan et al. vs
-#                         SPLOCS, each with the same number of components (Table 2); E_rms with each
+#                         SPLOCS, the last three with 60 components (Table 2); E_rms with each
 #                         part aligned by a translation and, as the paper, by a rotation too
 #   $(MS)/S/table4.md     E_rms of joint / separate training with / without attention (Table 4), both
 #                         alignments
