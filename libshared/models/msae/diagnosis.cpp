@@ -63,31 +63,28 @@ nn::Matrix<double> top_projection(const nn::Matrix<double>& m, int rank) {
 
 SecondLevelDiagnosis second_level(const MsaeNet<float>& net, const nn::Matrix<float>& training) {
   SecondLevelDiagnosis s;
-  const auto& root = net.blocks()[0];
   const nn::Matrix<double> x = training.cast<double>();
   const nn::Matrix<double> r = x - net.reconstruct(training, 1).cast<double>();
   const double total = r.squaredNorm();
-  if (!(total > 0)) return s;
+  if (!(total > 0)) return s;  // level 0 reconstructs the training shapes: nothing to split
   std::vector<int> ranks;
-  if (root.children.empty()) return s;
-  for (int c : root.children) ranks.push_back(net.blocks()[static_cast<std::size_t>(c)].kz);
+  for (int c : net.blocks()[0].children) ranks.push_back(net.blocks()[static_cast<std::size_t>(c)].kz);
   s.children = static_cast<int>(ranks.size());
   for (int k : ranks) s.components += k;
+  s.child_kz = *std::max_element(ranks.begin(), ranks.end());
   const bool attention = net.config().attention && ranks.size() > 1;
   const nn::Matrix<double> masks = attention ? net.attention_masks(0).cast<double>() : nn::Matrix<double>();
-  double fed = 0;
+  double fed = total;
   if (attention) {
+    fed = 0;
     for (Index k = 0; k < masks.rows(); ++k)
       for (Index i = 0; i < masks.cols(); ++i)
         fed += masks(k, i) * masks(k, i) * r.middleCols(9 * i, 9).squaredNorm();
-  } else {
-    fed = total;
   }
   s.fed = fed / total;
   s.left_trained = (x - net.reconstruct(training, 2).cast<double>()).squaredNorm() / total;
   s.left_linear = (r - best_linear_children(r, masks, ranks)).squaredNorm() / total;
   s.left_one = (r - top_projection(r, s.components)).squaredNorm() / total;
-  s.child_kz = *std::max_element(ranks.begin(), ranks.end());
   s.left_one_child = (r - top_projection(r, s.child_kz)).squaredNorm() / total;
   return s;
 }
@@ -167,10 +164,7 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
     for (Index j = 0; j < dirs.cols(); ++j) dirs.col(j).array() -= ref[static_cast<std::size_t>(j % 9)];
     level.singular_values = relative_singular_values(dirs, 1e-2, &level.effective_rank);
   }
-  if (net.config().levels() >= 2 && !net.blocks()[0].children.empty() && training.rows() > 0) {
-    d.has_second_level = true;
-    d.second = second_level(net, training);
-  }
+  if (!net.blocks()[0].children.empty() && training.rows() > 0) d.second = second_level(net, training);
   return d;
 }
 
@@ -193,7 +187,7 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
                        c.centre, c.weight_norm, c.inside < 0 ? std::string("-") : fmt::format("{:.2f}", c.inside),
                        c.support, c.strength, c.code_min, c.code_max, 100 * c.share);
   }
-  if (d.has_second_level) {
+  if (d.second.children > 0) {
     const auto& s = d.second;
     t += fmt::format(
         "\nlevel 1 on the training shapes' residual R after level 0 (shares of its energy):\n"

@@ -39,7 +39,7 @@ struct LevelDiagnosis {
 /// child k reconstructs diag(AM_k)·R; without attention one child gets R whole). Energies are
 /// shares of ‖R‖² in normalized features.
 struct SecondLevelDiagnosis {
-  int children = 0;
+  int children = 0;        ///< AE₀'s children (0: not measured)
   int components = 0;      ///< Σ K_z over the children
   double fed = 0;          ///< Σ_k ‖AM_k ⊙ R‖² / ‖R‖²
   double left_trained = 0; ///< ‖X − X̂ (levels 0-1)‖² / ‖R‖²
@@ -53,8 +53,7 @@ struct MsaeDiagnosis {
   std::vector<LevelDiagnosis> levels;
   int n_training = 0, n_heldout = 0;
   int pca_rank = 0;  ///< rank of the centred training shapes: what PCA can span
-  bool has_second_level = false;
-  SecondLevelDiagnosis second;
+  SecondLevelDiagnosis second;  ///< children == 0: one level, or level 0 leaves no residual
 };
 
 /// The best linear children's reconstruction of r [n, 9V]: Σ_k P_k(diag(mask_k)·r), P_k the
