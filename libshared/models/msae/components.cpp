@@ -34,13 +34,22 @@ std::vector<double> deformation_per_vertex(const float* x, int n_vertices,
   return out;
 }
 
+StrengthParts strength_parts(const std::vector<double>& d, double eps1) {
+  StrengthParts p;
+  const double peak = d.empty() ? 0.0 : *std::max_element(d.begin(), d.end());
+  double counted_sum = 0, support_sum = 0;
+  for (double v : d) {
+    if (v > eps1) counted_sum += v, ++p.counted;
+    if (peak > 0 && v >= 0.1 * peak) support_sum += v, ++p.support;
+  }
+  p.strength = p.counted ? counted_sum / p.counted : 0.0;
+  p.support_strength = p.support ? support_sum / p.support : 0.0;
+  return p;
+}
+
 double component_strength(const float* x, int n_vertices, const std::array<double, 9>& reference,
                           double eps1) {
-  double sum = 0;
-  int n = 0;
-  for (double norm : deformation_per_vertex(x, n_vertices, reference))
-    if (norm > eps1) sum += norm, ++n;
-  return n ? sum / n : 0.0;
+  return strength_parts(deformation_per_vertex(x, n_vertices, reference), eps1).strength;
 }
 
 std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& shapes) {

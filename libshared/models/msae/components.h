@@ -35,6 +35,16 @@ using io::write_components_acap;
 std::vector<double> deformation_per_vertex(const float* x, int n_vertices,
                                            const std::array<double, 9>& reference);
 
+/// Eq. 7's parts for a component's per-vertex deformation d: its strength (the mean of d over the
+/// `counted` vertices with d > eps1), its support (vertices reaching 10% of the peak) and the same
+/// mean over the support only. A decoded component that moves every vertex by a little more than
+/// eps1 is counted over the whole mesh, so a local one's strength falls with the mesh's size.
+struct StrengthParts {
+  double strength = 0, support_strength = 0;
+  int counted = 0, support = 0;
+};
+StrengthParts strength_parts(const std::vector<double>& d, double eps1);
+
 /// Eq. 7 for a component's features x [9V] and the reference's X_r.
 double component_strength(const float* x, int n_vertices, const std::array<double, 9>& reference,
                           double eps1);

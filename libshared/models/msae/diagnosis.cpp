@@ -111,6 +111,9 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
   const int V = net.n_vertices();
   MsaeDiagnosis d;
   d.n_training = static_cast<int>(training.rows());
+  d.n_vertices = V;
+  d.eps1 = comps.eps1;
+  d.eps2 = comps.eps2;
   d.n_heldout = static_cast<int>(heldout.rows());
   {
     nn::Matrix<double> centred = training.cast<double>();
@@ -146,10 +149,11 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
       }
       const auto& lv = comps.levels[static_cast<std::size_t>(block.level)];
       const int row = next[static_cast<std::size_t>(block.level)]++;
+      const auto parts = strength_parts(deformation_per_vertex(lv.features.row(row).data(), V, ref), comps.eps1);
       c.strength = lv.strength[static_cast<std::size_t>(row)];
-      const auto dev = deformation_per_vertex(lv.features.row(row).data(), V, ref);
-      const double peak = *std::max_element(dev.begin(), dev.end());
-      for (double v : dev) c.support += peak > 0 && v >= 0.1 * peak ? 1 : 0;
+      c.support = parts.support;
+      c.counted = parts.counted;
+      c.support_strength = parts.support_strength;
       if (codes[b].rows()) c.code_min = codes[b].col(k).minCoeff(), c.code_max = codes[b].col(k).maxCoeff();
       c.share = share[static_cast<std::size_t>(k)];
       level.components.push_back(c);
@@ -172,20 +176,34 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
   std::string t = fmt::format(
       "MSAE diagnosis: {} training shapes (PCA spans {} direction(s)), {} {} shapes\n"
       "  |C_k|: the component's weights; inside: share of |C_k|^2 within Omega's radius of its centre;\n"
-      "  support: vertices whose decoded deformation reaches 10% of its peak; strength: eq. 7;\n"
+      "  support: vertices whose decoded deformation reaches 10% of its peak; strength: eq. 7, the\n"
+      "  mean deformation over the vertices it moves by more than eps1 = {:g} ('counted', of the mesh's\n"
+      "  {}); on support: the same mean over the support's vertices only;\n"
       "  codes: range over the training shapes; share: mean part of its block's deformation of the\n"
       "  {} shapes.\n",
-      d.n_training, d.pca_rank, d.n_heldout, heldout_part, heldout_part);
+      d.n_training, d.pca_rank, d.n_heldout, heldout_part, d.eps1, d.n_vertices, heldout_part);
   for (const auto& level : d.levels) {
     t += fmt::format("\nlevel {}: {} components, {} distinct centres; decoded directions' effective rank {} (singular values / largest: {:.3f})\n",
                      level.level, level.components.size(), level.distinct_centres, level.effective_rank,
                      fmt::join(level.singular_values, " "));
-    t += fmt::format("  {:>5} {:>3} {:>6} {:>7} {:>6} {:>7} {:>8} {:>19} {:>6}\n", "block", "k", "centre", "|C_k|", "inside",
-                     "support", "strength", "codes", "share");
+    t += fmt::format("  {:>5} {:>3} {:>6} {:>7} {:>6} {:>7} {:>8} {:>7} {:>10} {:>19} {:>6}\n", "block", "k", "centre", "|C_k|",
+                     "inside", "support", "strength", "counted", "on support", "codes", "share");
     for (const auto& c : level.components)
-      t += fmt::format("  {:>5} {:>3} {:>6} {:>7.3f} {:>6} {:>7} {:>8.4f} {:>9.3g}..{:<9.3g} {:>5.1f}%\n", c.block, c.k,
-                       c.centre, c.weight_norm, c.inside < 0 ? std::string("-") : fmt::format("{:.2f}", c.inside),
-                       c.support, c.strength, c.code_min, c.code_max, 100 * c.share);
+      t += fmt::format("  {:>5} {:>3} {:>6} {:>7.3f} {:>6} {:>7} {:>8.4f} {:>7} {:>10.4f} {:>9.3g}..{:<9.3g} {:>5.1f}%\n", c.block,
+                       c.k, c.centre, c.weight_norm, c.inside < 0 ? std::string("-") : fmt::format("{:.2f}", c.inside),
+                       c.support, c.strength, c.counted, c.support_strength, c.code_min, c.code_max, 100 * c.share);
+    if (level.components.empty()) continue;
+    std::vector<int> counted;
+    int pass = 0, pass_support = 0;
+    for (const auto& c : level.components) {
+      counted.push_back(c.counted);
+      pass += c.strength >= d.eps2 ? 1 : 0;
+      pass_support += c.support_strength >= d.eps2 ? 1 : 0;
+    }
+    std::nth_element(counted.begin(), counted.begin() + static_cast<std::ptrdiff_t>(counted.size() / 2), counted.end());
+    t += fmt::format("  eq. 7 counts a median {} of {} vertices; {} of {} reach eps2 = {:g} (the pruning threshold), {} over "
+                     "their support only\n",
+                     counted[counted.size() / 2], d.n_vertices, pass, level.components.size(), d.eps2, pass_support);
   }
   if (d.second.children > 0) {
     const auto& s = d.second;

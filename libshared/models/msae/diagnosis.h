@@ -20,6 +20,8 @@ struct ComponentDiagnosis {
   double inside = -1;
   int support = 0;          ///< vertices where the decoded deformation reaches 10% of its peak
   double strength = 0;      ///< eq. 7 of the decoded component at its extreme training code
+  int counted = 0;          ///< eq. 7's denominator: vertices whose deformation exceeds eps1
+  double support_strength = 0;  ///< eq. 7's mean over the support's vertices only
   double code_min = 0, code_max = 0;  ///< over the training shapes
   double share = 0;  ///< mean over the held-out shapes of its part of its block's deformation
 };
@@ -52,6 +54,8 @@ struct SecondLevelDiagnosis {
 struct MsaeDiagnosis {
   std::vector<LevelDiagnosis> levels;
   int n_training = 0, n_heldout = 0;
+  int n_vertices = 0;
+  double eps1 = 0, eps2 = 0;  ///< eq. 7's noise floor and the pruning threshold of the components
   int pca_rank = 0;  ///< rank of the centred training shapes: what PCA can span
   SecondLevelDiagnosis second;  ///< children == 0: one level, or level 0 leaves no residual
 };

@@ -60,3 +60,27 @@ TEST_CASE("MSAE diagnosis: children on spread masks span little more than one of
   CHECK(left(r, best_linear_children(r, uniform, {2, 2})) < 1e-20);
   CHECK_THROWS_AS(best_linear_children(r, uniform, {1}), Error);
 }
+
+TEST_CASE("MSAE eq. 7: a local component leaking a little everywhere is counted over the whole mesh",
+          "[models][msae]") {
+  // 20 of 1,000 vertices moved by 0.5: exactly local, eq. 7 is 0.5.
+  std::vector<double> d(1000, 0.0);
+  for (int i = 0; i < 20; ++i) d[static_cast<std::size_t>(i)] = 0.5;
+  auto p = strength_parts(d, 1e-6);
+  CHECK(p.counted == 20);
+  CHECK(p.support == 20);
+  CHECK(p.strength == Approx(0.5));
+  CHECK(p.support_strength == Approx(0.5));
+  // The same component with 1e-4 elsewhere (above eps1): eq. 7 averages over all 1,000 vertices
+  // and falls below the pruning threshold 0.01, while the mean over its support stays 0.5.
+  for (std::size_t i = 20; i < d.size(); ++i) d[i] = 1e-4;
+  p = strength_parts(d, 1e-6);
+  CHECK(p.counted == 1000);
+  CHECK(p.support == 20);
+  CHECK(p.strength == Approx((20 * 0.5 + 980 * 1e-4) / 1000));
+  CHECK(p.strength < 0.011);
+  CHECK(p.support_strength == Approx(0.5));
+  // A noise floor above the leak counts the support again.
+  CHECK(strength_parts(d, 1e-3).strength == Approx(0.5));
+  CHECK(strength_parts(std::vector<double>(5, 0.0), 1e-6).strength == 0.0);
+}
