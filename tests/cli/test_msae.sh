@@ -32,6 +32,15 @@ train-msae -q "${tiny[@]}" --iterations 30 --resume --checkpoint m20.h5 data.h5 
 for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
   run h5diff m.h5 resumed.h5 $obj; expect_rc 0
 done
+# a checkpoint taken before the first loss line (SIGTERM early in a run) keeps the log's columns,
+# the validation shapes' E_rms included
+long=(--kz 3,2 --batch 16 --seed 3 --validation-fraction 0.2 --print-every 100000000)
+timeout -s TERM 3 train-msae -q "${long[@]}" --iterations 100000000 data.h5 -o never.h5 \
+  --checkpoint early.h5 2>/dev/null || true
+[ -f early.h5 ] || fail "SIGTERM left no checkpoint"
+n=$(h5dump -a /iteration early.h5 | sed -n 's/.*(0): \([0-9]*\).*/\1/p')
+train-msae -q "${long[@]}" --iterations $((n + 5)) --resume --checkpoint early.h5 data.h5 -o late.h5
+h5dump -A -d /training/log late.h5 | grep -q validation_erms || fail "the resumed log lost validation_erms"
 run train-msae "${tiny[@]}" --kz 3,3 --iterations 30 --resume --checkpoint m20.h5 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-msae; expect_err "made with --kz 3,2, this run has 3,2,3,3"
 echo "ok (resume)"

@@ -297,7 +297,7 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
     m.rng = ck.rng;
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
-    m.log_validation_erms = ck.log_validation_erms;  // its log's columns go on as they began
+    m.log_validation_erms = ck.log_validation_erms;  // its log's columns go on as they began (if any)
     m.unprinted = std::move(ck.unprinted);
     m.geodesic_diameter = ck.geodesic_diameter;
     auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
@@ -405,7 +405,9 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   std::function<LossTerms()> evaluate;
   std::vector<std::string> evaluate_names = {"validation"};
   MsaeShapeMeasure erms;
-  if (validation.rows() > 0 && opt.position_error && (m.iteration == 0 || m.log_validation_erms)) {
+  // A fresh run, or a checkpoint taken before the first loss line (its log has no columns yet),
+  // logs the validation shapes' E_rms; a log that began without it goes on without it.
+  if (validation.rows() > 0 && opt.position_error && (m.log.empty() || m.log_validation_erms)) {
     m.log_validation_erms = true;
     erms = opt.position_error(m, m.split.validation);
     evaluate_names.push_back("validation_erms");
