@@ -244,13 +244,14 @@ $(MS)/%/fig3.png: $(MS)/%/components.h5
 # model resumed from a checkpoint taken before its first loss line had before 2026-11-27, has 6.)
 ms_log_columns = h5dump -a /training/log/columns $(1) | sed -n 's/.*(0): "\(.*\)".*/\1/p' | wc -w
 $(MS)/%/curve.png: $(MS)/%/msae.h5
-	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n $$($(call ms_log_columns,$<)) > $(@:.png=.txt)
+	n=$$($(call ms_log_columns,$<)) && \
+	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n $$n > $(@:.png=.txt) && \
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; set logscale y; set logscale y2; \
 	  set ytics nomirror; set y2tics; set ylabel 'loss, feature error'; set y2label 'E_rms x 1000' noenhanced; \
 	  set title '$*: MSAE training (validation shapes are held out, not test shapes)'; set xlabel 'iteration'; \
 	  plot '$(@:.png=.txt)' using 1:2 with lines title 'training loss (all blocks)', \
 	       '' using 1:6 with linespoints title 'validation: mean |X - X_hat|^2 per shape' noenhanced \
-	  $$([ $$($(call ms_log_columns,$<)) -ge 7 ] && echo ", '' using 1:7 axes x1y2 with linespoints title 'validation: E_rms of positions (right axis)' noenhanced")"
+	  $$([ $$n -ge 7 ] && echo ", '' using 1:7 axes x1y2 with linespoints title 'validation: E_rms of positions (right axis)' noenhanced")"
 # The localization table of the components in $(1) against bumps' planted regions, indented.
 ms_localization = $(BIN)/eval-metrics $(1) $(MS)/bumps/frames.h5 | sed -n '2,$$p' | sed 's/^/    /'
 $(MS)/bumps/localization.md: $(MS)/bumps/kept.h5 $(MS)/bumps/components.h5 $(MS)/bumps/frames.h5

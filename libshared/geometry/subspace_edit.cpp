@@ -217,15 +217,16 @@ SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::
     const bool lower = trial.value < cur.value;
     const double gain = lower ? (cur.value - trial.value) / std::max(cur.value, 1e-300) : 0.0;
     const bool small = step.lpNorm<Eigen::Infinity>() < 1e-13 * (1 + res.weights.lpNorm<Eigen::Infinity>());
-    if (lower) {
+    // Only a step that lowers E by the tolerance is taken: one below it changes E at the level of
+    // rounding, where whether it is "lower" at all depends on the machine's arithmetic, and taking
+    // it would make the step count (and the file's energy trace) differ between builds.
+    if (lower && gain >= opt.tolerance && !small) {
       res.weights += step;
       cur = std::move(trial);
       res.energy.push_back(cur.value);
       ++res.iterations;
       if (progress) progress(res.iterations, cur.value);
       mu = std::max(mu / 3, 1e-12);
-    }
-    if (lower && gain >= opt.tolerance && !small) {
       // the old matrix converges linearly: take the current one every few steps
       if (++stale_steps % 4 == 0) {
         H = energy(res.weights, pinned, opt, EnergyParts::gauss_newton).gauss_newton;

@@ -149,11 +149,7 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
       }
       const auto& lv = comps.levels[static_cast<std::size_t>(block.level)];
       const int row = next[static_cast<std::size_t>(block.level)]++;
-      const auto parts = strength_parts(deformation_per_vertex(lv.features.row(row).data(), V, ref), comps.eps1);
-      c.strength = lv.strength[static_cast<std::size_t>(row)];
-      c.support = parts.support;
-      c.counted = parts.counted;
-      c.support_strength = parts.support_strength;
+      c.eq7 = strength_parts(deformation_per_vertex(lv.features.row(row).data(), V, ref), comps.eps1);
       if (codes[b].rows()) c.code_min = codes[b].col(k).minCoeff(), c.code_max = codes[b].col(k).maxCoeff();
       c.share = share[static_cast<std::size_t>(k)];
       level.components.push_back(c);
@@ -191,14 +187,14 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
     for (const auto& c : level.components)
       t += fmt::format("  {:>5} {:>3} {:>6} {:>7.3f} {:>6} {:>7} {:>8.4f} {:>7} {:>10.4f} {:>9.3g}..{:<9.3g} {:>5.1f}%\n", c.block,
                        c.k, c.centre, c.weight_norm, c.inside < 0 ? std::string("-") : fmt::format("{:.2f}", c.inside),
-                       c.support, c.strength, c.counted, c.support_strength, c.code_min, c.code_max, 100 * c.share);
+                       c.eq7.support, c.eq7.strength, c.eq7.counted, c.eq7.support_strength, c.code_min, c.code_max, 100 * c.share);
     if (level.components.empty()) continue;
     std::vector<int> counted;
     int pass = 0, pass_support = 0;
     for (const auto& c : level.components) {
-      counted.push_back(c.counted);
-      pass += c.strength >= d.eps2 ? 1 : 0;
-      pass_support += c.support_strength >= d.eps2 ? 1 : 0;
+      counted.push_back(c.eq7.counted);
+      pass += c.eq7.strength >= d.eps2 ? 1 : 0;
+      pass_support += c.eq7.support_strength >= d.eps2 ? 1 : 0;
     }
     std::nth_element(counted.begin(), counted.begin() + static_cast<std::ptrdiff_t>(counted.size() / 2), counted.end());
     t += fmt::format("  eq. 7 counts a median {} of {} vertices; {} of {} reach eps2 = {:g} (the pruning threshold), {} over "

@@ -18,10 +18,7 @@ struct ComponentDiagnosis {
   /// Share of ‖C_k‖² on vertices within Ω's radius d of the centre (1 = as local as Ω asks);
   /// −1 when the model file has no distances from that centre
   double inside = -1;
-  int support = 0;          ///< vertices where the decoded deformation reaches 10% of its peak
-  double strength = 0;      ///< eq. 7 of the decoded component at its extreme training code
-  int counted = 0;          ///< eq. 7's denominator: vertices whose deformation exceeds eps1
-  double support_strength = 0;  ///< eq. 7's mean over the support's vertices only
+  StrengthParts eq7;  ///< eq. 7 of the decoded component at its extreme training code, and its parts
   double code_min = 0, code_max = 0;  ///< over the training shapes
   double share = 0;  ///< mean over the held-out shapes of its part of its block's deformation
 };

@@ -137,6 +137,17 @@ TEST_CASE("subspace edit: a shape inside the span is recovered from a few handle
     CHECK((fd - at.gauss_newton.col(k)).cwiseAbs().maxCoeff() < 1e-6 * (1 + at.gauss_newton.cwiseAbs().maxCoeff()));
   }
   for (std::size_t i = 1; i < r.energy.size(); ++i) CHECK(r.energy[i] < r.energy[i - 1]);
+  for (std::size_t i = 1; i < r.energy.size(); ++i) CHECK(r.energy[i] <= r.energy[i - 1] * (1 - opt.tolerance));
+
+  // A shape outside the span (its handles moved off the affine image): the minimum is above zero,
+  // and the steps near it gain less than the tolerance; none of them is taken, so the step count
+  // does not depend on rounding.
+  Vertices off = pinned;
+  for (std::size_t h = 0; h < handles.size(); ++h) off(handles[h], 2) += 0.05 * (h % 2 ? 1.0 : -1.0);
+  const auto o = ed.edit(Eigen::VectorXd::Zero(4), off, opt);
+  CHECK(o.converged);
+  CHECK(o.energy.back() > 1e-8);
+  for (std::size_t i = 1; i < o.energy.size(); ++i) CHECK(o.energy[i] <= o.energy[i - 1] * (1 - opt.tolerance));
 }
 
 TEST_CASE("subspace edit: handles out of range or a span of another size are refused", "[geometry]") {
