@@ -176,7 +176,7 @@ step_err = awk -v k=$(2) '/^\#/ { next } NF == 0 { exit } $$1 == k { printf "%.2
 
 $(BD)/%/table1.md: $(BD)/%/pred1.eval $(BD)/%/pred3.eval $(BD)/%/linear.eval $(BD)/%/static.eval
 	{ echo "**$(*F)** — per-vertex position error at the k-th future frame, x 1e-3 of the bounding-box diagonal"; \
-	  part=$$(h5dump -a /config/test_part -y $(BD)/$*/model.h5 | sed -n 's/^ *"\(.*\)"$$/\1/p'); \
+	  part=$$($(call h5_string_attr,$(BD)/$*/model.h5,/config/test_part)); \
 	  [ "$$part" = random ] && part="a part of each sequence placed by the seed" || part="the $$part of each sequence"; \
 	  frames=$$(h5dump -y -w 0 -d /split/test $(BD)/$*/model.h5 | awk '/DATA \{/ { d = 1; next } d && /\}/ { exit } \
 	    d { gsub(/,/, " "); n++; a = $$1; b = $$2 } END { if (n == 1) printf ", frames %d-%d", a, b - 1 }'); \

@@ -161,7 +161,7 @@ $(MS)/%/table2.md: $(foreach r,$(MS_TABLE2),$(MS)/%/$(r).eval $(MS)/%/$(r).reval
 	  echo "| method | components | E_rms | E_rms, rigid | STED |"; echo "|---|---:|---:|---:|---:|"; \
 	  echo "| MSAE (2 levels, attention, joint), encoder's codes (the paper's protocol) | $(ms_kz_label) | $(call ms_row,recon) |"; \
 	  echo "| MSAE, codes fitted through the decoders (the baselines' protocol) | $(ms_kz_label) | $(call ms_row,recon-fit) |"; \
-	  echo "| PCA on ACAP features | $$(h5dump -a /frames/source/method $(MS)/$*/recon-pca.h5 | sed -n 's/.*"pca: \([0-9]*\) comp.*/\1/p') | $(call ms_row,recon-pca) |"; \
+	  echo "| PCA on ACAP features | $$($(call h5_string_attr,$(MS)/$*/recon-pca.h5,/frames/source/method) | sed -n 's/^pca: \([0-9]*\) comp.*/\1/p') | $(call ms_row,recon-pca) |"; \
 	  echo "| one-level sparse AE (Tan et al.) | 60 | $(call ms_row,recon-tan) |"; \
 	  echo "| SPLOCS (positions) | 60 | $(call ms_row,recon-splocs) |"; \
 	} $(write_if_changed)
@@ -242,7 +242,7 @@ $(MS)/%/fig3.png: $(MS)/%/components.h5
 	  plot '$(@:.png=.txt)' matrix with image notitle"
 # (The log's columns are its attribute's words: a log without the validation shapes' E_rms, as a
 # model resumed from a checkpoint taken before its first loss line had before 2026-11-27, has 6.)
-ms_log_columns = h5dump -a /training/log/columns $(1) | sed -n 's/.*(0): "\(.*\)".*/\1/p' | wc -w
+ms_log_columns = $(call h5_string_attr,$(1),/training/log/columns) | wc -w
 $(MS)/%/curve.png: $(MS)/%/msae.h5
 	n=$$($(call ms_log_columns,$<)) && \
 	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n $$n > $(@:.png=.txt) && \
