@@ -6,14 +6,29 @@
 
 namespace df::nn {
 
+namespace {
+
+double rate_at(const AdamOptions& opt, long step) {
+  const double t = static_cast<double>(step);
+  switch (opt.schedule) {
+    case AdamOptions::Schedule::exponential: return opt.lr * std::pow(opt.decay_rate, t / opt.decay_steps);
+    case AdamOptions::Schedule::step: return opt.lr * std::pow(opt.decay_rate, std::floor(t / opt.decay_steps));
+    default: return opt.lr;
+  }
+}
+
+}  // namespace
+
 template <class T>
 double Adam<T>::learning_rate() const {
-  const double t = static_cast<double>(t_);
-  switch (opt_.schedule) {
-    case AdamOptions::Schedule::exponential: return opt_.lr * std::pow(opt_.decay_rate, t / opt_.decay_steps);
-    case AdamOptions::Schedule::step: return opt_.lr * std::pow(opt_.decay_rate, std::floor(t / opt_.decay_steps));
-    default: return opt_.lr;
-  }
+  return rate_at(opt_, t_);
+}
+
+template <class T>
+typename Adam<T>::StepSizes Adam<T>::last_step_sizes() const {
+  if (t_ == 0) return {&v_, T(0), T(1), T(1)};
+  return {&v_, static_cast<T>(rate_at(opt_, t_ - 1)),
+          static_cast<T>(1.0 - std::pow(opt_.beta2, static_cast<double>(t_))), static_cast<T>(opt_.eps)};
 }
 
 template <class T>

@@ -4,6 +4,8 @@
 // model file can save it and training resumes bit-exactly.
 #pragma once
 
+#include <cmath>
+
 #include "nn/parameters.h"
 
 namespace df::nn {
@@ -26,6 +28,16 @@ class Adam {
   void step(Vector<T>& values, Vector<T>& grads);
   /// The learning rate used by the next step.
   double learning_rate() const;
+
+  /// Adam's diagonal preconditioner after the last step(): coordinate j moved by
+  /// (m̂_j / c₁) · size(j), size(j) = rate / (√(v_j / c₂) + ε). A proximal step on a penalty that
+  /// was left out of the gradient scales its threshold by it. All zero before the first step.
+  struct StepSizes {
+    const Vector<T>* v = nullptr;
+    T rate = 0, c2 = 1, eps = 0;
+    T operator()(Eigen::Index j) const { return rate / (std::sqrt((*v)(j) / c2) + eps); }
+  };
+  StepSizes last_step_sizes() const;
 
   long steps() const { return t_; }
   Vector<T>& first_moment() { return m_; }

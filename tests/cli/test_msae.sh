@@ -49,6 +49,20 @@ echo "ok (resume)"
 train-msae "${tiny[@]}" --iterations 20 --separate data.h5 -o sep.h5 2>sep.err
 grep -q "level 1 from iteration 11" sep.err || fail "separate training did not switch levels: $(cat sep.err)"
 train-msae -q "${tiny[@]}" --iterations 10 --no-attention data.h5 -o plain.h5
+# --support proximal: Omega's proximal step leaves groups C_k,i (9 weights) exactly zero; the soft
+# penalty's gradient at the same weight leaves none (a large weight: in 30 iterations on this tiny
+# set the reconstruction's gradient outweighs the default one everywhere)
+zero_groups() {
+  h5dump -d "$2" -y -w 0 -m %.9g "$1" | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+-' ' ' |
+    awk '{ for (i = 1; i <= NF; i++) { n++; if ($i != 0) nz = 1; if (n % 9 == 0) { z += !nz; nz = 0 } } } END { print z + 0 }'
+}
+train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 data.h5 -o soft.h5
+train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 --support proximal data.h5 -o prox.h5
+for c in /params/ae0.0.C /params/ae1.0.C; do
+  [ "$(zero_groups soft.h5 $c)" = 0 ] || fail "soft support: $c has $(zero_groups soft.h5 $c) zero groups"
+  [ "$(zero_groups prox.h5 $c)" -gt 0 ] || fail "proximal support: $c has no zero group"
+done
+echo "ok (proximal support: $(zero_groups prox.h5 /params/ae0.0.C) of 243 level-0 groups zero)"
 [ "$(h5dump -H -d '/params/ae1.0.C' plain.h5 | grep -o 'SIMPLE { ( [0-9, ]* )' | tr -dc '0-9,')" = "6,729" ] ||
   fail "no attention: one level-1 block with 3 x 2 components expected"
 train-msae -q --levels 3 --kz 2,2,2 --batch 8 --iterations 10 --validation-fraction 0.25 data.h5 -o three.h5

@@ -32,8 +32,8 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--init must be glorot, normal or small");
   if (config_.centres != "random" && config_.centres != "spread")
     throw UsageError("--centres must be random or spread");
-  if (config_.support != "soft" && config_.support != "hard")
-    throw UsageError("--support must be soft or hard");
+  if (config_.support != "soft" && config_.support != "hard" && config_.support != "proximal")
+    throw UsageError("--support must be soft, hard or proximal");
   if (config_.attention_sharpness != 1 && config_.attention_sharpness != 2 && config_.attention_sharpness != 4)
     throw UsageError(fmt::format("--attention-sharpness must be 1, 2 or 4 (got {})", config_.attention_sharpness));
   if (!(config_.centre_separation >= 0 && config_.centre_separation <= 4))
@@ -148,6 +148,35 @@ void MsaeNet<T>::project_onto_support(const std::vector<Matrix>& lambda) {
 }
 
 template <class T>
+void MsaeNet<T>::proximal_sparsity(const std::vector<Matrix>& lambda,
+                                   const typename nn::Adam<T>::StepSizes& eta,
+                                   const std::vector<int>& levels) {
+  if (lambda.size() != blocks_.size()) throw Error("internal: proximal_sparsity needs every block");
+  if (!eta.v || eta.v->size() != static_cast<Index>(store_.size()))
+    throw Error("internal: proximal_sparsity needs the optimizer of this model");
+  for (std::size_t b = 0; b < blocks_.size(); ++b) {
+    const Block& bl = blocks_[b];
+    if (!levels.empty() && std::find(levels.begin(), levels.end(), bl.level) == levels.end()) continue;
+    auto C = store_.value(bl.c);
+    const Index base = store_.views()[static_cast<std::size_t>(bl.c)].offset;
+    const T weight = static_cast<T>(config_.lambda_sparse) / static_cast<T>(bl.kz);
+    tbb::parallel_for(0, bl.kz, [&](int k) {
+      for (int i = 0; i < n_vertices_; ++i) {
+        const T mask = lambda[b](k, i);
+        if (mask == T(0)) continue;
+        auto group = C.row(k).segment(9 * Index{i}, 9);
+        const Index first = base + Index{k} * C.cols() + 9 * Index{i};
+        T mean_step = 0;
+        for (Index j = 0; j < 9; ++j) mean_step += eta(first + j);
+        const T tau = mean_step / T(9) * weight * mask, norm = group.norm();
+        if (norm <= tau) group.setZero();
+        else group *= (norm - tau) / norm;
+      }
+    });
+  }
+}
+
+template <class T>
 void MsaeNet<T>::place_centres(const std::vector<std::vector<int>>& vertices) {
   if (vertices.size() != blocks_.size()) throw Error("internal: place_centres needs every block");
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
@@ -202,12 +231,16 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
         nn::scale(nn::sum(nn::mul(nn::group_norm(C, Index{9}), tape.constant(*lambda))), inv_kz);
     Var vz = nn::mean(
         nn::relu(nn::add_scalar(nn::max_rows(nn::abs(z)), static_cast<T>(-config_.theta))));
-    Var l = nn::add(nn::add(nn::scale(recon, static_cast<T>(config_.lambda_recon)),
-                            nn::scale(omega, static_cast<T>(config_.lambda_sparse))),
-                    vz);
+    // With --support proximal Ω stays out of the gradient: its proximal step follows the
+    // optimizer's (proximal_sparsity). The reported total includes it either way.
+    const bool proximal = config_.support == "proximal";
+    Var fit = nn::scale(recon, static_cast<T>(config_.lambda_recon));
+    Var l = proximal ? nn::add(fit, vz)
+                     : nn::add(nn::add(fit, nn::scale(omega, static_cast<T>(config_.lambda_sparse))), vz);
     *loss = loss->id < 0 ? l : nn::add(*loss, l);
     if (terms) {
-      terms->total += static_cast<double>(l.value()(0, 0));
+      terms->total += static_cast<double>(l.value()(0, 0)) +
+                      (proximal ? config_.lambda_sparse * static_cast<double>(omega.value()(0, 0)) : 0.0);
       terms->recon += static_cast<double>(recon.value()(0, 0));
       terms->sparsity += static_cast<double>(omega.value()(0, 0));
       terms->latent += static_cast<double>(vz.value()(0, 0));

@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "nn/adam.h"
 #include "nn/layers.h"
 
 namespace df::models {
@@ -187,6 +188,15 @@ class MsaeNet {
   }
   /// --support hard: zeroes every block's groups C_{k,i} where its mask Λ_ik is 1.
   void project_onto_support(const std::vector<Matrix>& lambda);
+  /// --support proximal: Ω's proximal step, after an optimizer step whose gradient left Ω out.
+  /// Each group C_{k,i} with Λ_ik > 0 shrinks towards zero by τ = η·λ_sparse·Λ_ik / K_z (Ω's
+  /// gradient norm in the loss times η, the mean of its coordinates' step sizes in the last
+  /// Adam step) and is exactly zero where its norm is at most τ. The soft penalty's gradient
+  /// never zeroes a group: it leaves weights of the order of the step size all over the mesh,
+  /// which eq. 7 counts (docs/msae.md). Only blocks of `levels` (empty: all) — a level frozen
+  /// in separate training keeps its weights.
+  void proximal_sparsity(const std::vector<Matrix>& lambda, const typename nn::Adam<T>::StepSizes& eta,
+                         const std::vector<int>& levels);
   /// Makes vertex `vertices[b][k]` the centre of component k of block b (its group of C becomes
   /// twice the row's largest group norm): where the centres start with --centres spread.
   void place_centres(const std::vector<std::vector<int>>& vertices);

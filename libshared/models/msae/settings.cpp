@@ -57,10 +57,14 @@ Settings msae_network_settings(MsaeConfig& c) {
        .optional = true},
       {.name = "support",
        .target = &c.support,
-       .help = "Omega as a penalty only (soft, the paper), or also as a hard support (hard: after\n"
-               "every step the weights of C outside each component's radius d are set to zero,\n"
-               "Omega's limit: strictly local components)",
-       .choices = {"soft", "hard"},
+       .help = "Omega as a penalty only (soft, the paper: its gradient leaves weights of the\n"
+               "order of the step size all over the mesh), as a proximal step (proximal: Omega\n"
+               "out of the gradient; after every Adam step each group of C outside a component's\n"
+               "radius shrinks by Omega's weight times its step size, and is exactly zero where\n"
+               "the reconstruction does not hold it up), or as a hard support (hard: after every\n"
+               "step the weights of C outside each radius d are set to zero, Omega's limit:\n"
+               "strictly local components)",
+       .choices = {"soft", "proximal", "hard"},
        .optional = true},
       {.name = "centre_features",
        .target = &c.centre_features,

@@ -395,6 +395,9 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
         for (int p : m.net->level_parameters(l)) m.net->store().grad(p).setZero();
     m.adam->step(m.net->store().values(), m.net->store().grads());
     if (m.config.support == "hard") m.net->project_onto_support(lambda);
+    if (m.config.support == "proximal")
+      m.net->proximal_sparsity(lambda, m.adam->last_step_sizes(),
+                               stage < 0 ? std::vector<int>{} : std::vector<int>{stage});
     return {terms.total, terms.recon, terms.sparsity, terms.latent};
   };
   auto checkpoint = [&] {
