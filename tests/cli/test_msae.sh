@@ -58,6 +58,7 @@ zero_groups() {
 }
 train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 data.h5 -o soft.h5
 train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 --support proximal data.h5 -o prox.h5
+h5check -q --kind msae-model prox.h5
 for c in /params/ae0.0.C /params/ae1.0.C; do
   [ "$(zero_groups soft.h5 $c)" = 0 ] || fail "soft support: $c has $(zero_groups soft.h5 $c) zero groups"
   [ "$(zero_groups prox.h5 $c)" -gt 0 ] || fail "proximal support: $c has no zero group"
