@@ -50,9 +50,9 @@ MS_COLLECTION := --split collection --validation-fraction 0.25
 # chickenCrossing 28.8 at 10,5, 25.9 at 10,50, 19.5 at 10,50 with a tenth of Omega's weight (its
 # children, fed 1-9% of the residual each, were held by Omega); bumps 0.511 at 10,5, 0.16 at 10,50
 # (no other width or weight measured). A one-level AE of 510 components validated worse than one
-# of 60 (pcow 75.0 against 69.2). Omega as a proximal step (--support proximal: exact zeros outside
-# each radius) validates at 0.145 against 0.162 on bumps, 60.5 against 59.1 on pcow and 20.4
-# against 19.5 on chickenCrossing (docs/msae.md).
+# of 60 (pcow 75.0 against 69.2). Omega as a proximal step (--support proximal: weights outside
+# each radius exactly zero unless the reconstruction holds them up) validates at 0.145 against
+# 0.162 on bumps, 60.5 against 59.1 on pcow and 20.4 against 19.5 on chickenCrossing (docs/msae.md).
 bumps_MSAE := $(MS_SEQUENCE) --iterations 12000 --lr-decay-steps 3000
 bumps_BLOCKS := --kz 10,50 --support proximal
 pcow_MSAE := $(MS_SEQUENCE) --iterations 3000
