@@ -18,6 +18,8 @@ expect_one_error_line() {
   [ "$(grep -c . err.txt)" = 1 ] || fail "expected one stderr line, got: $(cat err.txt)"
   grep -qE "^$1: error: " err.txt || fail "expected '$1: error: ...', got: $(cat err.txt)"
 }
+# h5_data FILE DATASET [FORMAT]: the dataset's values as h5dump prints them, its DATA block only
+h5_data() { h5dump -d "$2" -y -w 0 ${3:+-m "$3"} "$1" | sed -n '/^   DATA {/,/^   }/p'; }
 # No temporaries (.NAME.tmp-*) left in a directory.
 expect_no_temporaries() {
   local left

@@ -17,7 +17,7 @@ for obj in /params /optimizer/m /training/log; do
   run h5diff m.h5 m2.h5 $obj; expect_rc 0
 done
 echo "ok (train, threads)"
-log=$(h5dump -d /training/log -y -w 0 -m %.9g m.h5 | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9.e+-' ' ')
+log=$(h5_data m.h5 /training/log %.9g | tr -c '0-9.e+-' ' ')
 read -r -a v <<<"$log"
 [ "${#v[@]}" = 24 ] || fail "training log has ${#v[@]} numbers, expected 4 rows x 6"
 echo "ok (train log: loss ${v[1]} -> ${v[19]})"
@@ -67,7 +67,7 @@ echo "ok (resume)"
 
 # --- a held-out part inside the sequence (--test-part middle): the test cases come from it
 train-bdlstm -q "${tiny[@]}" --iterations 10 --test-part middle data.h5 -o mid.h5
-ints() { h5dump -d "$1" -y -w 0 "$2" | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9-' ' ' | xargs; }
+ints() { h5_data "$2" "$1" | tr -c '0-9-' ' ' | xargs; }
 [ "$(ints /split/test mid.h5)" = "24 36" ] || fail "middle held-out part is '$(ints /split/test mid.h5)', expected 24 36"
 gen-bdlstm -q mid.h5 data.h5 --test-every 2 --initial 2 --length 4 -o midp.h5
 src=$(ints /frames/source midp.h5)

@@ -17,7 +17,7 @@ train-msae -q "${tiny[@]}" --iterations 30 --threads 2 data.h5 -o m2.h5
 for obj in /params /optimizer/m /training/log /geodesic/distances; do
   run h5diff m.h5 m2.h5 $obj; expect_rc 0
 done
-log=$(h5dump -d /training/log -y -w 0 -m %.9g m.h5 | sed -n '/^   DATA {/,/^   }/p' | tr -c '0-9.e+-' ' ')
+log=$(h5_data m.h5 /training/log %.9g | tr -c '0-9.e+-' ' ')
 read -r -a v <<<"$log"
 [ "${#v[@]}" = 15 ] || fail "training log has ${#v[@]} numbers, expected 3 rows x 5"
 awk -v a="${v[1]}" -v b="${v[11]}" 'BEGIN { exit !(b < a) }' || fail "loss did not fall: ${v[1]} -> ${v[11]}"
@@ -53,7 +53,7 @@ train-msae -q "${tiny[@]}" --iterations 10 --no-attention data.h5 -o plain.h5
 # penalty's gradient at the same weight leaves none (a large weight: in 30 iterations on this tiny
 # set the reconstruction's gradient outweighs the default one everywhere)
 zero_groups() {
-  h5dump -d "$2" -y -w 0 -m %.9g "$1" | sed -n '/DATA {/,/}/p' | tr -c '0-9.e+-' ' ' |
+  h5_data "$1" "$2" %.9g | tr -c '0-9.e+-' ' ' |
     awk '{ for (i = 1; i <= NF; i++) { n++; if ($i != 0) nz = 1; if (n % 9 == 0) { z += !nz; nz = 0 } } } END { print z + 0 }'
 }
 train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 data.h5 -o soft.h5
@@ -73,10 +73,10 @@ h5dump -a /training/log/columns three.h5 | grep -q "validation" || fail "validat
 train-msae -q "${tiny[@]}" --iterations 10 --split collection data.h5 -o coll.h5
 [ "$(h5dump -H -d /split/train coll.h5 | grep -o 'SIMPLE { ( [0-9]* )' | grep -o '[0-9]*')" = 20 ] ||
   fail "collection split: half of 40 should train"
-names=$(h5dump -d /frames/names -y -w 0 data.h5 | sed -n '/DATA {/,/}/p' | grep -o '"[^"]*"' | tr -d '"')
+names=$(h5_data data.h5 /frames/names | grep -o '"[^"]*"' | tr -d '"')
 printf '%s\n# a comment\n\n5\n%s\n' "$(sed -n 1p <<<"$names")" "$(sed -n 8p <<<"$names")" > train.txt
 train-msae -q "${tiny[@]}" --iterations 10 --train train.txt data.h5 -o lists.h5
-[ "$(h5dump -d /split/train -y -w 0 lists.h5 | sed -n '/DATA {/,/}/p' | tr -dc '0-9 ,' | tr -s ' ,' ' ' | xargs)" = "0 5 7" ] ||
+[ "$(h5_data lists.h5 /split/train | tr -dc '0-9 ,' | tr -s ' ,' ' ' | xargs)" = "0 5 7" ] ||
   fail "list split: $(h5dump -d /split/train lists.h5)"
 echo "ok (separate, no attention, levels, validation, splits)"
 
