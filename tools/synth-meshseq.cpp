@@ -9,7 +9,7 @@ int main(int argc, char** argv) {
                 "          degrees at the tip, may exceed 180 or 360) periodically;\n"
                 "  flag    a cloth grid pinned at one side with travelling waves;\n"
                 "  bumps   a surface with planted localized deformations at two scales (2 coarse,\n"
-                "          4 fine regions), each frame a random mix; regions, centres and weights\n"
+                "          --fine-regions fine ones), each frame a random mix; regions, centres and weights\n"
                 "          are stored under /synthetic as ground truth.\n"
                 "Output: -o NAME.h5 writes the 'acap' file kind with /template and\n"
                 "/frames/positions (features are added later by obj2acap); any other -o is a\n"
@@ -28,12 +28,17 @@ int main(int argc, char** argv) {
   app.add_option("--amplitude", p.amplitude, "Deformation scale")->default_val(p.amplitude);
   app.add_option("--twist", p.twist_degrees, "finger: tip twist in degrees at the peak")->default_val(p.twist_degrees);
   app.add_option("--periods", p.periods, "Motion periods per sequence")->default_val(p.periods);
+  app.add_option("--fine-regions", p.fine_regions,
+                 "bumps: fine regions beside the 2 coarse ones (more regions than a model's first level "
+                 "has components make it place fine ones on its second)")
+      ->default_val(p.fine_regions)->check(CLI::Range(0, 16));
   app.add_option("--mesh-format", format, "Mesh files when -o is a directory: obj, ply, off")
       ->default_val(format)->check(CLI::IsMember({"obj", "ply", "off"}));
   app.add_option("-o,--output", output, "Output: NAME.h5 (acap kind) or a directory")->required();
   tool.footer("Examples:\n"
               "  synth-meshseq --kind finger --twist 400 --frames 120 -o finger.h5\n"
               "  synth-meshseq --kind bumps --frames 500 -o bumps.h5 && h5check bumps.h5\n"
+              "  synth-meshseq --kind bumps --fine-regions 12 --resolution 40 -o bumps14.h5\n"
               "  synth-meshseq --kind flag -o flag-frames/   # OBJ files for obj2acap");
   return tool.run(argc, argv, [&] {
     p.kind = df::synth::mesh_seq_kind_from_name(kind);

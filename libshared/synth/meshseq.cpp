@@ -59,6 +59,8 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
   if (p.frames < 1) throw UsageError("--frames must be at least 1");
   if (p.sequences < 1) throw UsageError("--sequences must be at least 1");
   if (p.resolution < 3) throw UsageError("--resolution must be at least 3");
+  if (p.fine_regions < 0 || p.fine_regions > 16)
+    throw UsageError("--fine-regions must be from 0 to 16 (more do not fit the surface apart)");
   if (!std::isfinite(p.amplitude) || !std::isfinite(p.twist_degrees) || !std::isfinite(p.periods))
     throw UsageError("--amplitude, --twist and --periods must be finite numbers");
   for (int k = 0; k < p.sequences; ++k) {
@@ -104,17 +106,23 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
     rest_ = grid(3 * p.resolution / 2, p.resolution, 0.0, 3.0, 0.0, 2.0);
   } else {
     rest_ = grid(p.resolution, p.resolution, -1.0, 1.0, -1.0, 1.0);
-    // Planted regions: 2 coarse (radius 0.45), 4 fine (radius 0.15), centres apart.
+    // Planted regions: 2 coarse (radius 0.45), --fine-regions fine (radius 0.15), centres apart.
+    // Each region's draws follow the previous ones', so adding fine regions leaves the first
+    // ones (and their weights in every frame) as they were.
     Rng rng(p.seed, 1000003);
     struct C { double x, y, r; int scale; };
     std::vector<C> centers;
-    for (auto [count, radius, scale] : {std::tuple{2, 0.45, 0}, std::tuple{4, 0.15, 1}}) {
+    for (auto [count, radius, scale] : {std::tuple{2, 0.45, 0}, std::tuple{p.fine_regions, 0.15, 1}}) {
       for (int n = 0; n < count; ++n) {
         for (int attempt = 0;; ++attempt) {
+          if (attempt == 100000)
+            throw UsageError(fmt::format("--fine-regions {}: no room for region {} apart from the others "
+                                         "(seed {}); ask for fewer or try another seed",
+                                         p.fine_regions, centers.size() + 1, p.seed));
           C c{rng.uniform(-1 + radius, 1 - radius), rng.uniform(-1 + radius, 1 - radius), radius, scale};
           bool ok = true;
-          for (const auto& o : centers)
-            ok = ok && std::hypot(c.x - o.x, c.y - o.y) > (c.r + o.r) * (attempt < 1000 ? 1.05 : 0.5);
+          for (const auto& o : centers)  // a little apart first, then touching at most
+            ok = ok && std::hypot(c.x - o.x, c.y - o.y) > (c.r + o.r) * (attempt < 1000 ? 1.05 : 1.0);
           if (ok) {
             centers.push_back(c);
             break;

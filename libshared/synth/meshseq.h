@@ -4,7 +4,7 @@
 //           (--twist degrees at the tip; past 180 and 360 to test ACAP consistency)
 //   flag    a cloth grid pinned at x = 0 with travelling waves
 //   bumps   a grid surface with planted smooth localized deformations at two scales (2 coarse,
-//           4 fine regions); each frame activates every region with a random weight, and the
+//           4 fine regions by default); each frame activates every region with a random weight, and the
 //           regions, their scales, centres and weights are recorded (ground truth for MSAE)
 #pragma once
 
@@ -29,6 +29,7 @@ struct MeshSeqParams {
   double amplitude = 1.0;    ///< deformation scale (finger bend: amplitude x 90 deg)
   double twist_degrees = 90; ///< finger: twist of the tip at the peak of each period
   double periods = 2;        ///< motion periods per sequence
+  int fine_regions = 4;      ///< bumps: planted fine regions (beside the 2 coarse ones)
   std::uint64_t seed = 0;
 };
 

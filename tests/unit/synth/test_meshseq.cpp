@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -86,6 +87,37 @@ TEST_CASE("synth bumps: regions at two scales with recorded ground truth", "[syn
     for (std::size_t b = a + 1; b < g.regions().size(); ++b)
       for (std::size_t v = 0; v < g.regions()[a].mask.size(); ++v)
         REQUIRE_FALSE((g.regions()[a].mask[v] && g.regions()[b].mask[v]));
+}
+
+TEST_CASE("synth bumps: --fine-regions adds fine regions apart, leaving the first ones as they were", "[synth]") {
+  MeshSeqParams p;
+  p.kind = MeshSeqKind::bumps;
+  p.frames = 4;
+  p.resolution = 40;
+  p.seed = 1;
+  MeshSequenceGenerator base(p);
+  p.fine_regions = 12;
+  MeshSequenceGenerator many(p);
+  REQUIRE(many.regions().size() == 14);
+  int fine = 0;
+  for (const auto& r : many.regions()) fine += r.scale;
+  CHECK(fine == 12);
+  for (std::size_t r = 0; r < base.regions().size(); ++r) {
+    CHECK(many.regions()[r].center == base.regions()[r].center);
+    CHECK(many.regions()[r].mask == base.regions()[r].mask);
+    CHECK(many.region_weights(2)[r] == base.region_weights(2)[r]);
+  }
+  for (std::size_t a = 0; a < many.regions().size(); ++a) {
+    CHECK(std::count(many.regions()[a].mask.begin(), many.regions()[a].mask.end(), 1) > 10);
+    for (std::size_t b = a + 1; b < many.regions().size(); ++b)
+      for (std::size_t v = 0; v < many.regions()[a].mask.size(); ++v)
+        REQUIRE_FALSE((many.regions()[a].mask[v] && many.regions()[b].mask[v]));
+  }
+  // More than fit apart: a usage error that says so, never overlapping regions.
+  p.fine_regions = 16;
+  CHECK_THROWS_WITH(MeshSequenceGenerator(p), Catch::Contains("no room for region 17"));
+  p.fine_regions = 17;
+  CHECK_THROWS_AS(MeshSequenceGenerator(p), df::UsageError);
 }
 
 TEST_CASE("synth: frames are pure functions of (params, t); seeds change bumps", "[synth]") {
