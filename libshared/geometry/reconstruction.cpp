@@ -39,9 +39,13 @@ Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& fac
 }
 
 void Reconstructor::factor() {
-  auto t0 = std::chrono::steady_clock::now();
-  cholesky_.factor(solver_ == ReconstructionSolver::edges ? edge_system() : gradient_system());
-  factor_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const Eigen::SparseMatrix<double> system =
+      solver_ == ReconstructionSolver::edges ? edge_system() : gradient_system();
+  assemble_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+  cholesky_.factor(system);
+  factor_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
 Reconstructor::~Reconstructor() = default;

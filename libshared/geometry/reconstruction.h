@@ -60,6 +60,9 @@ class Reconstructor {
   /// Connected component of each vertex (0 = the anchor's, or vertex 0's).
   const std::vector<int>& component_of() const { return component_; }
   double factor_seconds() const { return factor_seconds_; }
+  /// Of factor_seconds(): the system's assembly, and what the factorisation itself did.
+  double assemble_seconds() const { return assemble_seconds_; }
+  const SparseCholesky::Stats& factor_stats() const { return cholesky_.stats(); }
 
   // The edge system's parts, for solvers built on it (geometry/subspace_edit):
   const MeshTopology& topology() const { return topo_; }
@@ -87,7 +90,7 @@ class Reconstructor {
   int n_components_ = 0;
   std::vector<int> reduced_;    // vertex -> unknown of the reduced system (−1 for a pinned vertex)
   SparseCholesky cholesky_;
-  double factor_seconds_ = 0;
+  double factor_seconds_ = 0, assemble_seconds_ = 0;
 
   // gradient system: rows 3i+k of M (columns = free vertices), A_i P_i, pinned columns of M
   std::vector<Eigen::Matrix3d> moment_;
