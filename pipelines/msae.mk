@@ -232,10 +232,15 @@ $(MS)/%/components.h5: $(MS)/%/msae.h5
 	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/kept.h5: $(MS)/%/components.h5
 	$(BIN)/prune-components -f $< -o $@ --acap $(MS)/$*/kept-acap.h5 --json $(MS)/$*/pruning.json > $(MS)/$*/pruning.txt
+# (At most MS_SHEET_COMPONENTS of them, level 0's first: a sheet is one row, and with many planted
+# regions the proximal step keeps dozens of second-level components.)
+MS_SHEET_COMPONENTS := 24
 $(MS)/%/components.png: $(MS)/%/kept.h5
-	$(BIN)/render-mesh -q -f $(MS)/$*/kept-acap.h5 --color deformation $($*_VIEW) --size 200 \
-	  --column-labels "$$($(call frame_names,$(MS)/$*/kept-acap.h5))" --row-labels "kept" \
-	  --title "$*: kept MSAE components L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
+	names=$$($(call frame_names,$(MS)/$*/kept-acap.h5)); n=$$(echo "$$names" | tr ',' '\n' | wc -l); \
+	  shown=$$(( n < $(MS_SHEET_COMPONENTS) ? n : $(MS_SHEET_COMPONENTS) )); \
+	  $(BIN)/render-mesh -q -f $(MS)/$*/kept-acap.h5 --color deformation $($*_VIEW) --size 200 --frames 0-$$((shown - 1)) \
+	  --column-labels "$$(echo "$$names" | cut -d, -f1-$$shown)" --row-labels "kept" \
+	  --title "$*: kept MSAE components L<level>.<block>.<k>$$([ $$n -gt $$shown ] && echo " (the first $$shown of $$n)"), colour |X - X_r| per vertex" -o $@
 $(MS)/%/fig3.png: $(MS)/%/components.h5
 	$(call h5_values,$<,/similarity,%.5f) | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 560,500; set output '$@'; \
