@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "core/error.h"
@@ -58,13 +59,29 @@ TEST_CASE("synth finger: bending keeps the centreline length (near-isometric)", 
   CHECK(edge_length_change(g, V) < 0.5);
 }
 
-TEST_CASE("synth bumps: regions at two scales with recorded ground truth", "[synth]") {
+namespace {
+MeshSeqParams bumps_params(int frames, int resolution, std::uint64_t seed) {
   MeshSeqParams p;
   p.kind = MeshSeqKind::bumps;
-  p.frames = 10;
-  p.resolution = 30;
-  p.seed = 3;
-  MeshSequenceGenerator g(p);
+  p.frames = frames;
+  p.resolution = resolution;
+  p.seed = seed;
+  return p;
+}
+
+// Whether any vertex lies inside two planted regions.
+bool regions_overlap(const MeshSequenceGenerator& g) {
+  const auto& r = g.regions();
+  for (std::size_t a = 0; a < r.size(); ++a)
+    for (std::size_t b = a + 1; b < r.size(); ++b)
+      for (std::size_t v = 0; v < r[a].mask.size(); ++v)
+        if (r[a].mask[v] && r[b].mask[v]) return true;
+  return false;
+}
+}  // namespace
+
+TEST_CASE("synth bumps: regions at two scales with recorded ground truth", "[synth]") {
+  MeshSequenceGenerator g(bumps_params(10, 30, 3));
   REQUIRE(g.regions().size() == 6);
   int coarse = 0, fine = 0;
   for (const auto& r : g.regions()) (r.scale == 0 ? coarse : fine)++;
@@ -82,19 +99,11 @@ TEST_CASE("synth bumps: regions at two scales with recorded ground truth", "[syn
     double w = g.region_weights(5)[r];
     CHECK(V(reg.center, 2) == Approx(reg.height * w * std::pow(1 - std::pow((g.rest().vertices.row(reg.center) - g.rest().vertices.row(reg.center)).norm(), 2), 2)).margin(0.02));
   }
-  // Regions of one sequence do not overlap.
-  for (std::size_t a = 0; a < g.regions().size(); ++a)
-    for (std::size_t b = a + 1; b < g.regions().size(); ++b)
-      for (std::size_t v = 0; v < g.regions()[a].mask.size(); ++v)
-        REQUIRE_FALSE((g.regions()[a].mask[v] && g.regions()[b].mask[v]));
+  CHECK_FALSE(regions_overlap(g));
 }
 
 TEST_CASE("synth bumps: --fine-regions adds fine regions apart, leaving the first ones as they were", "[synth]") {
-  MeshSeqParams p;
-  p.kind = MeshSeqKind::bumps;
-  p.frames = 4;
-  p.resolution = 40;
-  p.seed = 1;
+  MeshSeqParams p = bumps_params(4, 40, 1);
   MeshSequenceGenerator base(p);
   p.fine_regions = 12;
   MeshSequenceGenerator many(p);
@@ -107,12 +116,8 @@ TEST_CASE("synth bumps: --fine-regions adds fine regions apart, leaving the firs
     CHECK(many.regions()[r].mask == base.regions()[r].mask);
     CHECK(many.region_weights(2)[r] == base.region_weights(2)[r]);
   }
-  for (std::size_t a = 0; a < many.regions().size(); ++a) {
-    CHECK(std::count(many.regions()[a].mask.begin(), many.regions()[a].mask.end(), 1) > 10);
-    for (std::size_t b = a + 1; b < many.regions().size(); ++b)
-      for (std::size_t v = 0; v < many.regions()[a].mask.size(); ++v)
-        REQUIRE_FALSE((many.regions()[a].mask[v] && many.regions()[b].mask[v]));
-  }
+  for (const auto& r : many.regions()) CHECK(std::count(r.mask.begin(), r.mask.end(), 1) > 10);
+  CHECK_FALSE(regions_overlap(many));
   // More than fit apart: a usage error that says so, never overlapping regions.
   p.fine_regions = 16;
   CHECK_THROWS_WITH(MeshSequenceGenerator(p), Catch::Contains("no room for region 17"));
