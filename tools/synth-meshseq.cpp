@@ -9,8 +9,8 @@ int main(int argc, char** argv) {
                 "          degrees at the tip, may exceed 180 or 360) periodically;\n"
                 "  flag    a cloth grid pinned at one side with travelling waves;\n"
                 "  bumps   a surface with planted localized deformations at two scales (2 coarse,\n"
-                "          --fine-regions fine ones), each frame a random mix; regions, centres and weights\n"
-                "          are stored under /synthetic as ground truth.\n"
+                "          --fine-regions fine ones), each frame a random mix; regions, centres\n"
+                "          and weights are stored under /synthetic as ground truth.\n"
                 "Output: -o NAME.h5 writes the 'acap' file kind with /template and\n"
                 "/frames/positions (features are added later by obj2acap); any other -o is a\n"
                 "directory of mesh files 0000.obj, 0001.obj, ... (--mesh-format).");

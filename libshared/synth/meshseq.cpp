@@ -116,9 +116,9 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
       for (int n = 0; n < count; ++n) {
         for (int attempt = 0;; ++attempt) {
           if (attempt == 100000)
-            throw UsageError(fmt::format("--fine-regions {}: no room for region {} apart from the others "
-                                         "(seed {}); ask for fewer or try another seed",
-                                         p.fine_regions, centers.size() + 1, p.seed));
+            throw UsageError(fmt::format("--fine-regions {}: no room for region {} of {} apart from the "
+                                         "others (seed {}); ask for fewer or try another seed",
+                                         p.fine_regions, centers.size() + 1, 2 + p.fine_regions, p.seed));
           C c{rng.uniform(-1 + radius, 1 - radius), rng.uniform(-1 + radius, 1 - radius), radius, scale};
           bool ok = true;
           for (const auto& o : centers)  // a little apart first, then touching at most

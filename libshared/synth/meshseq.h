@@ -4,8 +4,9 @@
 //           (--twist degrees at the tip; past 180 and 360 to test ACAP consistency)
 //   flag    a cloth grid pinned at x = 0 with travelling waves
 //   bumps   a grid surface with planted smooth localized deformations at two scales (2 coarse,
-//           4 fine regions by default); each frame activates every region with a random weight, and the
-//           regions, their scales, centres and weights are recorded (ground truth for MSAE)
+//           4 fine regions by default); each frame activates every region with a random weight,
+//           and the regions, their scales, centres and weights are recorded (ground truth for
+//           MSAE)
 #pragma once
 
 #include <cstdint>

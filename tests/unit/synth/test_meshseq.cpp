@@ -120,7 +120,7 @@ TEST_CASE("synth bumps: --fine-regions adds fine regions apart, leaving the firs
   CHECK_FALSE(regions_overlap(many));
   // More than fit apart: a usage error that says so, never overlapping regions.
   p.fine_regions = 16;
-  CHECK_THROWS_WITH(MeshSequenceGenerator(p), Catch::Contains("no room for region 17"));
+  CHECK_THROWS_WITH(MeshSequenceGenerator(p), Catch::Contains("no room for region 17 of 18"));
   p.fine_regions = 17;
   CHECK_THROWS_AS(MeshSequenceGenerator(p), df::UsageError);
 }
