@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   app.add_option("--fine-regions", p.fine_regions,
                  "bumps: fine regions beside the 2 coarse ones (more regions than a model's first level "
                  "has components make it place fine ones on its second)")
-      ->default_val(p.fine_regions)->check(CLI::Range(0, 16));
+      ->default_val(p.fine_regions)->check(CLI::Range(0, df::synth::kMaxFineRegions));
   app.add_option("--mesh-format", format, "Mesh files when -o is a directory: obj, ply, off")
       ->default_val(format)->check(CLI::IsMember({"obj", "ply", "off"}));
   app.add_option("-o,--output", output, "Output: NAME.h5 (acap kind) or a directory")->required();

@@ -59,8 +59,9 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
   if (p.frames < 1) throw UsageError("--frames must be at least 1");
   if (p.sequences < 1) throw UsageError("--sequences must be at least 1");
   if (p.resolution < 3) throw UsageError("--resolution must be at least 3");
-  if (p.fine_regions < 0 || p.fine_regions > 16)
-    throw UsageError("--fine-regions must be from 0 to 16 (more do not fit the surface apart)");
+  if (p.fine_regions < 0 || p.fine_regions > kMaxFineRegions)
+    throw UsageError(fmt::format("--fine-regions must be from 0 to {} (more do not fit the surface apart)",
+                                 kMaxFineRegions));
   if (!std::isfinite(p.amplitude) || !std::isfinite(p.twist_degrees) || !std::isfinite(p.periods))
     throw UsageError("--amplitude, --twist and --periods must be finite numbers");
   for (int k = 0; k < p.sequences; ++k) {

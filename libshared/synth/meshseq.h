@@ -22,6 +22,9 @@ enum class MeshSeqKind { finger, flag, bumps };
 MeshSeqKind mesh_seq_kind_from_name(const std::string& name);
 const char* mesh_seq_kind_name(MeshSeqKind k);
 
+/// The most fine regions bumps plants (more do not fit the surface apart at any seed tried).
+constexpr int kMaxFineRegions = 16;
+
 struct MeshSeqParams {
   MeshSeqKind kind = MeshSeqKind::finger;
   int frames = 100;          ///< frames per sequence

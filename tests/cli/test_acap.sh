@@ -18,6 +18,10 @@ err=$(sed -n 's/.*round-trip error.*: max \([0-9.e+-]*\) x bbox.*/\1/p' err.txt)
 [ -n "$err" ] || fail "no round-trip error reported: $(cat err.txt)"
 # (floor: the float32 storage of the positions the error is measured against)
 awk -v e="$err" 'BEGIN { exit !(e < 1e-6) }' || fail "round-trip error $err >= 1e-6 of the diagonal"
+# -v: the factorisation's time in its parts
+run acap2obj -v --frames 0 f.h5 -o back-v
+expect_rc 0
+expect_err "of which: assembly [0-9.]+ s, ordering and analysis [0-9.]+ s, numeric factorisation [0-9.]+ s \\([0-9.]+ GFLOP"
 run acap2obj --solver edges f.h5 -o back-edges       # the papers' system: approximate
 expect_rc 0
 expect_err "edge system"

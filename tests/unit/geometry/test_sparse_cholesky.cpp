@@ -44,7 +44,9 @@ TEST_CASE("SparseCholesky solves an SPD system like a dense solver, from many th
   CHECK(st.factor_nonzeros >= double(Eigen::SparseMatrix<double>(a.triangularView<Eigen::Lower>()).nonZeros()));
   CHECK(st.flops > 0);
   CHECK(st.flops <= double(n) * n * n / 3 + 10.0 * n * n);
-  CHECK((st.analyse_seconds >= 0 && st.factor_seconds >= 0 && st.simplicial_seconds >= 0));
+  CHECK(st.analyse_seconds > 0);  // measured, not left at zero
+  CHECK(st.factor_seconds > 0);
+  CHECK(st.simplicial_seconds >= 0);  // zero work when CHOLMOD chose a simplicial factor
   Eigen::MatrixXd b(n, 3);
   for (Eigen::Index k = 0; k < b.size(); ++k) b.data()[k] = rng.normal();
   const Eigen::MatrixXd x = chol.solve(b);

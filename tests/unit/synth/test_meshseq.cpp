@@ -119,9 +119,9 @@ TEST_CASE("synth bumps: --fine-regions adds fine regions apart, leaving the firs
   for (const auto& r : many.regions()) CHECK(std::count(r.mask.begin(), r.mask.end(), 1) > 10);
   CHECK_FALSE(regions_overlap(many));
   // More than fit apart: a usage error that says so, never overlapping regions.
-  p.fine_regions = 16;
+  p.fine_regions = df::synth::kMaxFineRegions;
   CHECK_THROWS_WITH(MeshSequenceGenerator(p), Catch::Contains("no room for region 17 of 18"));
-  p.fine_regions = 17;
+  p.fine_regions = df::synth::kMaxFineRegions + 1;
   CHECK_THROWS_AS(MeshSequenceGenerator(p), df::UsageError);
 }
 
