@@ -45,6 +45,21 @@ run train-msae "${tiny[@]}" --kz 3,3 --iterations 30 --resume --checkpoint m20.h
 expect_rc 1; expect_one_error_line train-msae; expect_err "made with --kz 3,2, this run has 3,2,3,3"
 echo "ok (resume)"
 
+# --synthetic: recombined shapes in every batch; thread-independent, resumable, in /config
+train-msae -q "${tiny[@]}" --iterations 30 --synthetic 4 --threads 1 data.h5 -o syn.h5
+train-msae -q "${tiny[@]}" --iterations 30 --synthetic 4 --threads 2 data.h5 -o syn2.h5
+train-msae -q "${tiny[@]}" --iterations 20 --synthetic 4 data.h5 -o syn20.h5
+train-msae -q "${tiny[@]}" --iterations 30 --synthetic 4 --resume --checkpoint syn20.h5 data.h5 -o syn-r.h5
+for obj in /params /rng/state /training/log; do
+  run h5diff syn.h5 syn2.h5 $obj; expect_rc 0
+  run h5diff syn.h5 syn-r.h5 $obj; expect_rc 0
+done
+run h5diff -q m.h5 syn.h5 /params; expect_rc 1
+h5dump -a /config/synthetic syn.h5 | grep -q '(0): 4' || fail "/config/synthetic is not 4"
+run train-msae "${tiny[@]}" --synthetic -1 data.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-msae; expect_err "synthetic"
+echo "ok (synthetic shapes)"
+
 # --- separate training, no attention, three levels, a validation part, a collection split
 train-msae "${tiny[@]}" --iterations 20 --separate data.h5 -o sep.h5 2>sep.err
 grep -q "level 1 from iteration 11" sep.err || fail "separate training did not switch levels: $(cat sep.err)"

@@ -41,6 +41,13 @@ struct MsaeTraining {
   /// run's schedule has reached when the level starts ("continue": the rate joint training has
   /// there, so that Table 4 compares strategies rather than schedules).
   std::string separate_rate = "restart";
+  /// Shapes the decoders make, added to every batch: each of their codes is the same code of a
+  /// training shape of the batch drawn at random, independently per code (every block's, through
+  /// the current encoder), so that the encoder learns to invert the decoders on combinations of
+  /// the components no training shape shows (docs/msae.md). 0 = none (the paper).
+  int synthetic = 0;
+  /// Their share of the reconstruction loss against the batch's real shapes (1 = as much).
+  double synthetic_weight = 1;
   std::uint64_t seed = 0;
 };
 

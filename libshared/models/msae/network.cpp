@@ -412,6 +412,21 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::decode(int block, const Matrix& z) const
 }
 
 template <class T>
+typename MsaeNet<T>::Matrix MsaeNet<T>::recombined_shapes(const Matrix& x, int count, Rng& rng) const {
+  std::vector<Matrix> codes;
+  reconstruct(x, config_.levels(), &codes);
+  Matrix shapes = Matrix::Zero(count, x.cols());
+  for (std::size_t b = 0; b < codes.size(); ++b) {
+    Matrix mixed(count, codes[b].cols());
+    for (Eigen::Index j = 0; j < mixed.cols(); ++j)
+      for (Eigen::Index r = 0; r < count; ++r)
+        mixed(r, j) = codes[b](static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(x.rows()))), j);
+    shapes += decode(static_cast<int>(b), mixed);
+  }
+  return shapes;
+}
+
+template <class T>
 typename MsaeNet<T>::Matrix MsaeNet<T>::fit_codes(const Matrix& x, int levels,
                                                   std::vector<Matrix>& codes, int iterations,
                                                   double lr) const {

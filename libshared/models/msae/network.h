@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "core/rng.h"
 #include "nn/adam.h"
 #include "nn/layers.h"
 
@@ -225,6 +226,11 @@ class MsaeNet {
   Matrix reconstruct(const Matrix& x, int levels, std::vector<Matrix>* codes = nullptr) const;
   /// The decoder of one block applied to latent codes z [rows, kz] → [rows, 9V].
   Matrix decode(int block, const Matrix& z) const;
+  /// `count` shapes [count, 9V] the decoders of every level make from recombined codes of x
+  /// [B, 9V]: each code of every block is the same code of a row of x (encoded as reconstruct()
+  /// does) drawn with `rng`, independently per code. With one row they are its reconstruction;
+  /// train-msae --synthetic adds them to batches (docs/msae.md).
+  Matrix recombined_shapes(const Matrix& x, int count, Rng& rng) const;
   /// The codes that reconstruct x [B, 9V] best through the decoders of the first `levels` levels
   /// (least squares: min over every block's z_b of ‖x − Σ_b Dec_b(z_b)‖², each shape on its own),
   /// a diagnostic and the baselines' protocol (PCA and SPLOCS fit each test shape). `codes` come

@@ -114,6 +114,17 @@ Settings msae_training_settings(MsaeTraining& t) {
                "there, so that joint and separate differ in strategy only)",
        .choices = {"restart", "continue"},
        .optional = true},
+      {.name = "synthetic",
+       .target = &t.synthetic,
+       .help = "Add N shapes the decoders make to every batch, each code the same code of one of\n"
+               "the batch's training shapes drawn at random (independently per code): the encoder\n"
+               "learns to invert the decoders beyond the training shapes' code combinations, where\n"
+               "unseen shapes lie (docs/msae.md). 0 = none (the paper)",
+       .optional = true},
+      {.name = "synthetic_weight",
+       .target = &t.synthetic_weight,
+       .help = "--synthetic shapes' share of the reconstruction loss against the real ones",
+       .optional = true},
       // The split is compared as the frames it chose (train.cpp), not as its settings.
       {.name = "split",
        .target = &t.split,

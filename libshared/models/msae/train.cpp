@@ -37,6 +37,8 @@ void check_options(const MsaeTrainOptions& opt) {
     throw UsageError("--kz and --d need one value per level");
   for (double d : opt.net.d)
     if (!(d > 0 && d <= 1)) throw UsageError("--d values are normalized geodesic radii in (0, 1]");
+  if (t.synthetic < 0 || !(t.synthetic_weight > 0))
+    throw UsageError("--synthetic must not be negative, --synthetic-weight positive");
   if (t.separate_rate != "restart" && t.separate_rate != "continue")
     throw UsageError("--separate-rate must be restart or continue");
   if (t.separate && t.iterations < static_cast<std::int64_t>(opt.net.kz.size()))
@@ -150,6 +152,19 @@ void draw_batch(const nn::Matrix<float>& data, const std::vector<std::int64_t>& 
     batch.row(static_cast<Eigen::Index>(r)) = data.row(frames[order[r]]);
     weights(static_cast<Eigen::Index>(r), 0) = count[r];
   }
+}
+
+// --synthetic: `count` shapes the decoders make from recombined codes of the batch's shapes,
+// appended to the batch; together they weigh `share` × the batch's weight.
+void add_synthetic_shapes(const MsaeNet<float>& net, int count, double share, Rng& rng,
+                          nn::Matrix<float>& batch, nn::Matrix<float>& weights) {
+  const nn::Matrix<float> shapes = net.recombined_shapes(batch, count, rng);
+  const Eigen::Index real = batch.rows();
+  const float each = static_cast<float>(share * static_cast<double>(weights.sum()) / count);
+  batch.conservativeResize(real + count, Eigen::NoChange);
+  batch.bottomRows(count) = shapes;
+  weights.conservativeResize(real + count, Eigen::NoChange);
+  weights.bottomRows(count).setConstant(each);
 }
 
 // Which level an iteration trains: all (−1) jointly, or one after another when separate.
@@ -380,6 +395,9 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   // separate: a new Adam at each level's start, the other levels' gradients dropped).
   auto step = [&](std::int64_t done) -> LossTerms {
     draw_batch(data, m.split.train, m.training.batch, m.rng, batch, weights);
+    if (m.training.synthetic > 0)
+      add_synthetic_shapes(*m.net, m.training.synthetic, m.training.synthetic_weight, m.rng, batch,
+                           weights);
     const auto lambda = current_sparsity_masks(m, *geodesic);
     const int stage = stage_of(m, done);
     if (stage > 0 && stage_of(m, done - 1) != stage) {

@@ -262,6 +262,50 @@ TEST_CASE("MSAE: fitted codes reconstruct at least as well as the encoder's and 
   CHECK_THROWS(net.fit_codes(x, 3, start, 10, 0.05));
 }
 
+TEST_CASE("MSAE: recombined shapes are the decoders' sums on codes taken from the shapes given",
+          "[models][msae]") {
+  MsaeNet<double> net(tiny({3, 2}, true), 9, grid_edges(), 13);
+  // One shape: every recombined shape is its reconstruction.
+  const auto one = random_shapes(1, 14);
+  Rng rng(1, 2);
+  const auto same = net.recombined_shapes(one, 4, rng);
+  REQUIRE(same.rows() == 4);
+  for (Eigen::Index r = 0; r < 4; ++r)
+    CHECK((same.row(r) - net.reconstruct(one, 2).row(0)).cwiseAbs().maxCoeff() < 1e-12);
+  // Two shapes: each shape is Σ_b decode(b, z_b) with every code z_b,j one of the two shapes'
+  // codes z_b,j; over many shapes both choices occur for every code, and the draws follow the Rng.
+  const auto two = random_shapes(2, 15);
+  std::vector<nn::Matrix<double>> codes;
+  net.reconstruct(two, 2, &codes);
+  Rng a(3, 4), b(3, 4);
+  const int n = 40;
+  const auto mixed = net.recombined_shapes(two, n, a);
+  CHECK((mixed - net.recombined_shapes(two, n, b)).cwiseAbs().maxCoeff() == 0);
+  Rng replay(3, 4);
+  nn::Matrix<double> expect = nn::Matrix<double>::Zero(n, 81);
+  for (std::size_t k = 0; k < codes.size(); ++k) {
+    nn::Matrix<double> z(n, codes[k].cols());
+    nn::Matrix<int> from(n, codes[k].cols());
+    for (Eigen::Index j = 0; j < z.cols(); ++j)
+      for (Eigen::Index r = 0; r < n; ++r) {
+        from(r, j) = static_cast<int>(replay.below(2));
+        z(r, j) = codes[k](from(r, j), j);
+      }
+    for (Eigen::Index j = 0; j < z.cols(); ++j) {
+      CHECK(from.col(j).sum() > 0);
+      CHECK(from.col(j).sum() < n);
+    }
+    expect += net.decode(static_cast<int>(k), z);
+  }
+  CHECK((mixed - expect).cwiseAbs().maxCoeff() < 1e-12);
+  // Some recombined shapes are neither of the two shapes' reconstructions.
+  const auto rec = net.reconstruct(two, 2);
+  int new_ones = 0;
+  for (Eigen::Index r = 0; r < n; ++r)
+    new_ones += (mixed.row(r) - rec.row(0)).norm() > 1e-6 && (mixed.row(r) - rec.row(1)).norm() > 1e-6;
+  CHECK(new_ones > n / 2);
+}
+
 TEST_CASE("MSAE: place_centres makes the given vertices the centres", "[models][msae]") {
   MsaeNet<float> net(tiny({3, 2}, true), 9, grid_edges(), 7);
   std::vector<std::vector<int>> want = {{8, 0, 4}, {1, 2}, {3, 5}, {6, 7}};
