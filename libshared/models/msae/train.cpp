@@ -155,7 +155,10 @@ void draw_batch(const nn::Matrix<float>& data, const std::vector<std::int64_t>& 
 }
 
 // --synthetic: `count` shapes the decoders make from recombined codes of the batch's shapes,
-// appended to the batch; together they weigh `share` × the batch's weight.
+// appended to the batch; together they weigh `share` × the batch's weight. Costs one more
+// forward pass of the real shapes per iteration: their codes are needed before the batch exists,
+// and the loss's own forward pass comes after (taking the previous iteration's codes instead would
+// change the draws and need them in the checkpoint).
 void add_synthetic_shapes(const MsaeNet<float>& net, int count, double share, Rng& rng,
                           nn::Matrix<float>& batch, nn::Matrix<float>& weights) {
   const nn::Matrix<float> shapes = net.recombined_shapes(batch, count, rng);
