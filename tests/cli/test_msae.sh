@@ -60,6 +60,23 @@ run train-msae "${tiny[@]}" --synthetic -1 data.h5 -o x.h5
 expect_rc 2; expect_one_error_line train-msae; expect_err "synthetic"
 echo "ok (synthetic shapes)"
 
+# --lambda-whole: the whole reconstruction's MSE in the loss; thread-independent, resumable, in /config
+train-msae -q "${tiny[@]}" --iterations 30 --lambda-whole 10 --threads 1 data.h5 -o whole.h5
+train-msae -q "${tiny[@]}" --iterations 30 --lambda-whole 10 --threads 2 data.h5 -o whole2.h5
+train-msae -q "${tiny[@]}" --iterations 20 --lambda-whole 10 data.h5 -o whole20.h5
+train-msae -q "${tiny[@]}" --iterations 30 --lambda-whole 10 --resume --checkpoint whole20.h5 data.h5 -o whole-r.h5
+for obj in /params /optimizer/m /training/log; do
+  run h5diff whole.h5 whole2.h5 $obj; expect_rc 0
+  run h5diff whole.h5 whole-r.h5 $obj; expect_rc 0
+done
+run h5diff -q m.h5 whole.h5 /params; expect_rc 1
+h5dump -a /config/lambda_whole whole.h5 | grep -q '(0): 10' || fail "/config/lambda_whole is not 10"
+run train-msae "${tiny[@]}" --iterations 30 --resume --checkpoint whole20.h5 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-msae; expect_err "lambda"
+run train-msae "${tiny[@]}" --lambda-whole -1 data.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-msae; expect_err "lambda-whole"
+echo "ok (whole reconstruction's loss)"
+
 # --- separate training, no attention, three levels, a validation part, a collection split
 train-msae "${tiny[@]}" --iterations 20 --separate data.h5 -o sep.h5 2>sep.err
 grep -q "level 1 from iteration 11" sep.err || fail "separate training did not switch levels: $(cat sep.err)"

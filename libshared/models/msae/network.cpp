@@ -38,6 +38,7 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError(fmt::format("--attention-sharpness must be 1, 2 or 4 (got {})", config_.attention_sharpness));
   if (!(config_.centre_separation >= 0 && config_.centre_separation <= 4))
     throw UsageError("--centre-separation must be between 0 and 4 (a fraction of d)");
+  if (!(config_.lambda_whole >= 0)) throw UsageError("--lambda-whole must not be negative");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
   Rng rng(seed, 0);
   // The tree, level by level: with attention every block has kz children; without, one block
@@ -284,7 +285,7 @@ nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matr
   const auto trains = training_levels(config_.levels(), levels, deepest);
   std::vector<Var> input(blocks_.size()), residual(blocks_.size()), masks(blocks_.size());
   input[0] = tape.constant(x);
-  Var total;
+  Var total, whole_xhat;
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     const Block& bl = blocks_[b];
     if (bl.level > deepest) break;
@@ -304,6 +305,18 @@ nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matr
                                     terms, weights);
     residual[b] = out.residual;
     masks[b] = out.masks;
+    if (config_.lambda_whole > 0) whole_xhat = whole_xhat.id < 0 ? out.xhat : nn::add(whole_xhat, out.xhat);
+  }
+  if (config_.lambda_whole > 0) {
+    const Var e = nn::sub(input[0], whole_xhat);
+    const Var whole = weights ? nn::scale(nn::sum_squares(e, weights), T(1) / weights->sum())
+                              : nn::scale(nn::sum_squares(e), T(1) / static_cast<T>(x.rows()));
+    const Var l = nn::scale(whole, static_cast<T>(config_.lambda_whole));
+    total = total.id < 0 ? l : nn::add(total, l);
+    if (terms) {
+      terms->total += static_cast<double>(l.value()(0, 0));
+      terms->whole += static_cast<double>(whole.value()(0, 0));
+    }
   }
   return total;
 }
@@ -313,7 +326,7 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
                                                 const std::vector<Matrix>& lambda,
                                                 const std::vector<char>& trains,
                                                 bool want_input_gradient, MsaeLossTerms& terms,
-                                                const Matrix* weights) {
+                                                const Matrix* weights, const Matrix* g_whole) {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   nn::Tape<T> tape;
   const nn::Bound<T> p = bind_block(tape, b, true);
@@ -322,6 +335,12 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
   BlockOutput out =
       forward_block(p, b, in, &lambda[static_cast<std::size_t>(b)],
                     trains[static_cast<std::size_t>(bl.level)] ? &total : nullptr, &terms, weights);
+  // The whole reconstruction's term reaches x̂_b as ⟨x̂_b, G⟩ (every block visited lies at or above
+  // the deepest level in training).
+  if (g_whole) {
+    Var s = nn::dot_constant(out.xhat, Matrix(*g_whole));
+    total = total.id < 0 ? s : nn::add(total, s);
+  }
   // Children, one at a time; their gradients w.r.t. their inputs become G_r and G_AM.
   bool children_train = false;
   for (std::size_t l = static_cast<std::size_t>(bl.level) + 1; l < trains.size(); ++l)
@@ -333,7 +352,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
     Matrix g_am = am ? Matrix::Zero(am->rows(), am->cols()) : Matrix();
     for (int child : bl.children) {
       const Block& cb = blocks_[static_cast<std::size_t>(child)];
-      const Matrix g = subtree(child, child_input(cb, r, am), lambda, trains, true, terms, weights);
+      const Matrix g = subtree(child, child_input(cb, r, am), lambda, trains, true, terms, weights,
+                                 g_whole);
       if (!am) {
         g_r += g;
         continue;
@@ -373,7 +393,21 @@ MsaeLossTerms MsaeNet<T>::loss_and_gradient(const Matrix& x, const std::vector<M
   int deepest = 0;
   const auto trains = training_levels(config_.levels(), levels, deepest);
   MsaeLossTerms terms;
-  subtree(0, x, lambda, trains, false, terms, weights);
+  // The whole reconstruction's term needs x − Σ_b x̂_b before any block's backward pass: one more
+  // forward pass (without tapes) gives it, and its gradient G = −2 λ_w w_r (x − Σ_b x̂_b)_r / Σ w
+  // with respect to every x̂_b.
+  Matrix g_whole;
+  if (config_.lambda_whole > 0) {
+    const Matrix e = x - reconstruct(x, deepest + 1);
+    const T sum_w = weights ? weights->sum() : static_cast<T>(x.rows());
+    const Eigen::Matrix<T, Eigen::Dynamic, 1> row_sq = e.rowwise().squaredNorm();
+    const T whole = (weights ? row_sq.dot(weights->col(0)) : row_sq.sum()) / sum_w;
+    g_whole = e * (T(-2) * static_cast<T>(config_.lambda_whole) / sum_w);
+    if (weights) g_whole.array().colwise() *= weights->col(0).array();
+    terms.total += config_.lambda_whole * static_cast<double>(whole);
+    terms.whole += static_cast<double>(whole);
+  }
+  subtree(0, x, lambda, trains, false, terms, weights, g_whole.size() ? &g_whole : nullptr);
   return terms;
 }
 

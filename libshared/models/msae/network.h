@@ -88,12 +88,19 @@ struct MsaeConfig {
   /// to the component that owns it most (the masks still sum to 1 per vertex; docs/msae.md)
   int attention_sharpness = 1;
   double lambda_recon = 10, lambda_sparse = 1, theta = 5;
+  /// Weight of the whole reconstruction's MSE, λ_w · mean ‖x − Σ_b x̂_b‖² over the blocks of the
+  /// levels in training and those above them, added to the blocks' own losses (0 = none, the
+  /// paper). Each second-level block reconstructs only its masked share of the residual; this
+  /// term makes the children's encoders fit the residual together, as fitted codes do
+  /// (docs/msae.md)
+  double lambda_whole = 0;
   int levels() const { return static_cast<int>(kz.size()); }
 };
 
 /// Loss terms summed over the blocks of a batch (the first is what is minimised).
 struct MsaeLossTerms {
   double total = 0, recon = 0, sparsity = 0, latent = 0;
+  double whole = 0;  ///< mean ‖x − Σ_b x̂_b‖² (computed with lambda_whole > 0), unweighted
 };
 
 template <class T>
@@ -260,9 +267,11 @@ class MsaeNet {
   Matrix child_input(const Block& child, const Matrix& residual, const Matrix* masks) const;
   /// loss_and_gradient's recursion: processes block b and its subtree on input x; returns
   /// ∂(subtree loss)/∂x when `want_input_gradient`.
+  /// `g_whole` (null without lambda_whole) is the whole-reconstruction term's gradient with
+  /// respect to every output x̂_b of the levels up to the deepest in training.
   Matrix subtree(int b, const Matrix& x, const std::vector<Matrix>& lambda,
                  const std::vector<char>& trains, bool want_input_gradient, MsaeLossTerms& terms,
-                 const Matrix* weights);
+                 const Matrix* weights, const Matrix* g_whole);
 
   MsaeConfig config_;
   int n_vertices_;

@@ -81,6 +81,13 @@ Settings msae_network_settings(MsaeConfig& c) {
        .optional = true},
       {.name = "lambda_recon", .target = &c.lambda_recon, .help = "Weight of the reconstruction MSE"},
       {.name = "lambda_sparse", .target = &c.lambda_sparse, .help = "Weight of Omega(C)"},
+      {.name = "lambda_whole",
+       .target = &c.lambda_whole,
+       .help = "Weight of the whole reconstruction's MSE |X - sum of every block's X^|^2, added to\n"
+               "the blocks' own losses: each second-level autoencoder reconstructs only its masked\n"
+               "share of the residual, and this term makes them fit it together (as the codes\n"
+               "recon-msae --fit-codes finds do; docs/msae.md). 0 = none (the paper)",
+       .optional = true},
       {.name = "theta",
        .target = &c.theta,
        .help = "V(Z)'s bound on the codes (tanh codes stay below 1: inactive)"},

@@ -522,3 +522,54 @@ TEST_CASE("MSAE: --attention-sharpness raises the masks' am to the power p, grad
   config.attention_sharpness = 3;
   CHECK_THROWS_AS(MsaeNet<double>(config, 9, grid_edges(), 7), UsageError);
 }
+
+TEST_CASE("MSAE: --lambda-whole adds the whole reconstruction's MSE, gradient-checked, block by "
+          "block as on one tape",
+          "[models][msae]") {
+  for (bool attention : {true, false}) {
+    MsaeConfig config = tiny({3, 2, 2}, attention);
+    MsaeNet<double> plain(config, 9, grid_edges(), 4);
+    config.lambda_whole = 2.5;
+    MsaeNet<double> net(config, 9, grid_edges(), 4);
+    const auto x = random_shapes(5, 7);
+    const auto lambda = random_lambda(net, 8);
+    INFO("attention " << attention);
+    // the term's value: λ_w · mean over the shapes of ‖x − Σ_b x̂_b‖² through the levels trained
+    for (std::vector<int> levels : {std::vector<int>{}, std::vector<int>{1}}) {
+      const int through = levels.empty() ? 3 : 2;
+      const double whole = (x - net.reconstruct(x, through)).rowwise().squaredNorm().mean();
+      MsaeLossTerms with, without;
+      nn::Tape<double> t;
+      net.loss(t, net.store().bind(t), x, lambda, &with, levels);
+      plain.loss(t, plain.store().bind(t), x, lambda, &without, levels);
+      CHECK(with.whole == Approx(whole).epsilon(1e-12));
+      CHECK(with.total == Approx(without.total + 2.5 * whole).epsilon(1e-12));
+      CHECK(with.recon == Approx(without.recon).epsilon(1e-12));
+    }
+    const auto r = check_loss_gradient(net, x, lambda);
+    INFO(r.report);
+    REQUIRE(r.max_error <= 1e-6);
+    // the block-by-block gradient equals the one-tape gradient, with repeated rows weighted
+    const nn::Matrix<double> w = (nn::Matrix<double>(5, 1) << 1, 3, 2, 1, 4).finished();
+    for (std::vector<int> levels : {std::vector<int>{}, std::vector<int>{1}, std::vector<int>{0}}) {
+      nn::Tape<double> t;
+      auto p = net.store().bind(t);
+      MsaeLossTerms one;
+      auto l = net.loss(t, p, x, lambda, &one, levels, &w);
+      t.backward(l);
+      net.store().zero_grad();
+      net.store().collect(p);
+      const Eigen::VectorXd expected = net.store().grads();
+      net.store().zero_grad();
+      const MsaeLossTerms staged = net.loss_and_gradient(x, lambda, levels, &w);
+      INFO("levels " << levels.size());
+      CHECK(staged.total == Approx(one.total).epsilon(1e-12));
+      CHECK(staged.whole == Approx(one.whole).epsilon(1e-12));
+      REQUIRE((net.store().grads() - expected).cwiseAbs().maxCoeff() <=
+              1e-10 * (1 + expected.cwiseAbs().maxCoeff()));
+    }
+  }
+  MsaeConfig bad = tiny({3, 2}, true);
+  bad.lambda_whole = -1;
+  CHECK_THROWS_AS(MsaeNet<double>(bad, 9, grid_edges(), 7), UsageError);
+}
