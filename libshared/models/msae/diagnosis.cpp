@@ -89,7 +89,36 @@ SecondLevelDiagnosis second_level(const MsaeNet<float>& net, const nn::Matrix<fl
   return s;
 }
 
+
+
 }  // namespace
+
+ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float>& shapes) {
+  ChildrenErrors out;
+  if (net.config().levels() < 2 || shapes.rows() == 0) return out;
+  std::vector<nn::Matrix<float>> codes;
+  const nn::Matrix<double> x = shapes.cast<double>();
+  const nn::Matrix<double> r = x - net.reconstruct(shapes, 1).cast<double>();
+  out.residual = r.squaredNorm();
+  net.reconstruct(shapes, 2, &codes);
+  const bool attention = net.config().attention;
+  const nn::Matrix<double> masks = attention ? net.attention_masks(0).cast<double>() : nn::Matrix<double>();
+  nn::Matrix<double> sum = nn::Matrix<double>::Zero(r.rows(), r.cols());
+  for (int c : net.blocks()[0].children) {
+    const auto& child = net.blocks()[static_cast<std::size_t>(c)];
+    nn::Matrix<double> e = -net.decode(c, codes[static_cast<std::size_t>(c)]).cast<double>();
+    if (!attention) {
+      e += r;
+    } else {
+      for (Index i = 0; i < masks.cols(); ++i)
+        e.middleCols(9 * i, 9) += masks(child.slot, i) * r.middleCols(9 * i, 9);
+    }
+    out.own += e.squaredNorm();
+    sum += e;
+  }
+  out.whole = sum.squaredNorm();
+  return out;
+}
 
 nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r, const nn::Matrix<double>& masks,
                                         const std::vector<int>& ranks) {
@@ -164,7 +193,14 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
     for (Index j = 0; j < dirs.cols(); ++j) dirs.col(j).array() -= ref[static_cast<std::size_t>(j % 9)];
     level.singular_values = relative_singular_values(dirs, 1e-2, &level.effective_rank);
   }
-  if (!net.blocks()[0].children.empty() && training.rows() > 0) d.second = second_level(net, training);
+  if (!net.blocks()[0].children.empty() && training.rows() > 0) {
+    d.second = second_level(net, training);
+    const ChildrenErrors e = children_errors(net, heldout);
+    if (d.second.children > 0 && e.residual > 0) {
+      d.second.heldout_own = e.own / e.residual;
+      d.second.heldout_whole = e.whole / e.residual;
+    }
+  }
   return d;
 }
 
@@ -212,6 +248,12 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
         s.children, s.components, s.children > 1 ? " through the attention masks" : "", 100 * s.fed,
         100 * s.left_trained, 100 * s.left_linear, 100 * s.left_one, s.components, 100 * s.left_one_child,
         s.child_kz);
+    if (s.heldout_whole >= 0)
+      t += fmt::format(
+          "  on the {} shapes, through the encoders (shares of their residual after level 0):\n"
+          "    the children's own errors sum to {:.1f}% (what their losses see); the shapes are left with\n"
+          "    {:.1f}%, the cross terms between the children's errors adding {:+.1f}%\n",
+          heldout_part, 100 * s.heldout_own, 100 * s.heldout_whole, 100 * (s.heldout_whole - s.heldout_own));
   }
   return t;
 }

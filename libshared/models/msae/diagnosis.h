@@ -46,6 +46,12 @@ struct SecondLevelDiagnosis {
   double left_one = 0;     ///< best rank-`components` reconstruction of R (one linear autoencoder)
   int child_kz = 0;        ///< the largest child's K_z
   double left_one_child = 0;  ///< best rank-`child_kz` reconstruction of R: what spread masks tend to
+  /// The held-out shapes through the encoders, as shares of their residual's energy ‖R‖² after
+  /// level 0: each child k leaves e_k = diag(AM_k)·R − X̂_k of its own input, and the shapes are
+  /// left with Σ_k e_k. `heldout_own` = Σ_k ‖e_k‖² (what the children's own losses measure),
+  /// `heldout_whole` = ‖Σ_k e_k‖²; the difference is the cross terms 2 Σ_{j<k} ⟨e_j, e_k⟩, which
+  /// no block's loss sees. −1: not measured (no held-out shapes).
+  double heldout_own = -1, heldout_whole = -1;
 };
 
 struct MsaeDiagnosis {
@@ -64,6 +70,16 @@ struct MsaeDiagnosis {
 /// the same top directions and their sum spans little more than one of them.
 nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r, const nn::Matrix<double>& masks,
                                         const std::vector<int>& ranks);
+
+/// The second level's errors on shapes [n, 9V] through the encoders (models of two or more
+/// levels; zeros otherwise): R = X − X̂₀ the residual after level 0, child k of AE₀ leaves
+/// e_k = diag(AM_k)·R − X̂_k of its own input (R whole without attention).
+struct ChildrenErrors {
+  double residual = 0;  ///< ‖R‖²
+  double own = 0;       ///< Σ_k ‖e_k‖²: what the children's own losses see
+  double whole = 0;     ///< ‖Σ_k e_k‖²: what the shapes are left with through levels 0-1
+};
+ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float>& shapes);
 
 /// @param comps           the model's components (extract_components of training_codes)
 /// @param training        the training shapes [n, 9V] (normalized): PCA's rank

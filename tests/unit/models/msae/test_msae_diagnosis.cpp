@@ -1,7 +1,10 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.h"
+#include "geometry/mesh_topology.h"
 #include "models/msae/diagnosis.h"
+#include "models/msae/network.h"
+#include "nn/gradient_check.h"
 
 using namespace df;
 using namespace df::models;
@@ -83,4 +86,36 @@ TEST_CASE("MSAE eq. 7: a local component leaking a little everywhere is counted 
   // A noise floor above the leak counts the support again.
   CHECK(strength_parts(d, 1e-3).strength == Approx(0.5));
   CHECK(strength_parts(std::vector<double>(5, 0.0), 1e-6).strength == 0.0);
+}
+
+TEST_CASE("MSAE diagnosis: the children's own errors are their losses; their sum is what the shapes "
+          "are left with",
+          "[models][msae]") {
+  io::Faces f(8, 3);
+  f << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7;
+  const auto edges = geometry::mesh_topology(f, 9).edges;
+  Rng rng(3, 5);
+  const nn::Matrix<float> x = nn::random_matrix(6, 81, rng, -0.9, 0.9).cast<float>();
+  for (bool attention : {true, false}) {
+    MsaeConfig c;
+    c.kz = {3, 2};
+    c.d = {0.3, 0.3};
+    c.attention = attention;
+    const MsaeNet<float> net(c, 9, edges, 4);
+    const ChildrenErrors e = children_errors(net, x);
+    INFO("attention " << attention);
+    CHECK(e.residual == Approx((x - net.reconstruct(x, 1)).cast<double>().squaredNorm()).epsilon(1e-5));
+    CHECK(e.whole == Approx((x - net.reconstruct(x, 2)).cast<double>().squaredNorm()).epsilon(1e-5));
+    // Σ_k ‖e_k‖² / n is level 1's reconstruction term of the loss (levels {1}: its blocks only)
+    std::vector<nn::Matrix<float>> lambda;
+    for (const auto& b : net.blocks()) lambda.push_back(nn::Matrix<float>::Zero(b.kz, 9));
+    MsaeLossTerms terms;
+    nn::Tape<float> t;
+    net.loss(t, net.store().bind(t), x, lambda, &terms, {1});
+    CHECK(e.own / 6 == Approx(terms.recon).epsilon(1e-5));
+    if (attention)
+      CHECK(e.own != Approx(e.whole).epsilon(1e-3));  // three children: cross terms
+    else
+      CHECK(e.own == Approx(e.whole).epsilon(1e-12));  // one child on R whole: none
+  }
 }
