@@ -199,6 +199,7 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
     if (d.second.children > 0 && e.residual > 0) {
       d.second.heldout_own = e.own / e.residual;
       d.second.heldout_whole = e.whole / e.residual;
+      d.second.heldout_residual = e.residual / static_cast<double>(heldout.rows());
     }
   }
   return d;
@@ -250,10 +251,10 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
         s.child_kz);
     if (s.heldout_whole >= 0)
       t += fmt::format(
-          "  on the {} shapes, through the encoders (shares of their residual after level 0):\n"
+          "  on the {} shapes, through the encoders (shares of their residual after level 0, {:.3g} per shape):\n"
           "    the children's own errors sum to {:.1f}% (what their losses see); the shapes are left with\n"
           "    {:.1f}%, the cross terms between the children's errors adding {:+.1f}%\n",
-          heldout_part, 100 * s.heldout_own, 100 * s.heldout_whole, 100 * (s.heldout_whole - s.heldout_own));
+          heldout_part, s.heldout_residual, 100 * s.heldout_own, 100 * s.heldout_whole, 100 * (s.heldout_whole - s.heldout_own));
   }
   return t;
 }

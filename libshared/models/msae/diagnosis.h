@@ -52,6 +52,7 @@ struct SecondLevelDiagnosis {
   /// `heldout_whole` = ‖Σ_k e_k‖²; the difference is the cross terms 2 Σ_{j<k} ⟨e_j, e_k⟩, which
   /// no block's loss sees. −1: not measured (no held-out shapes).
   double heldout_own = -1, heldout_whole = -1;
+  double heldout_residual = 0;  ///< ‖R‖² per held-out shape (normalized features): the shares' scale
 };
 
 struct MsaeDiagnosis {
