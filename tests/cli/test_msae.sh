@@ -45,36 +45,31 @@ run train-msae "${tiny[@]}" --kz 3,3 --iterations 30 --resume --checkpoint m20.h
 expect_rc 1; expect_one_error_line train-msae; expect_err "made with --kz 3,2, this run has 3,2,3,3"
 echo "ok (resume)"
 
-# --synthetic: recombined shapes in every batch; thread-independent, resumable, in /config
-train-msae -q "${tiny[@]}" --iterations 30 --synthetic 4 --threads 1 data.h5 -o syn.h5
-train-msae -q "${tiny[@]}" --iterations 30 --synthetic 4 --threads 2 data.h5 -o syn2.h5
-train-msae -q "${tiny[@]}" --iterations 20 --synthetic 4 data.h5 -o syn20.h5
-train-msae -q "${tiny[@]}" --iterations 30 --synthetic 4 --resume --checkpoint syn20.h5 data.h5 -o syn-r.h5
-for obj in /params /rng/state /training/log; do
-  run h5diff syn.h5 syn2.h5 $obj; expect_rc 0
-  run h5diff syn.h5 syn-r.h5 $obj; expect_rc 0
-done
-run h5diff -q m.h5 syn.h5 /params; expect_rc 1
-h5dump -a /config/synthetic syn.h5 | grep -q '(0): 4' || fail "/config/synthetic is not 4"
-run train-msae "${tiny[@]}" --synthetic -1 data.h5 -o x.h5
-expect_rc 2; expect_one_error_line train-msae; expect_err "synthetic"
-echo "ok (synthetic shapes)"
+# A training option: thread-independent, resumable (bit-identical), stored as /config/ATTR, a
+# different model from m.h5's, and its bad value refused. option_run NAME ATTR VALUE BAD OPTION...
+option_run() {
+  local name=$1 attr=$2 value=$3 bad=$4; shift 4
+  train-msae -q "${tiny[@]}" --iterations 30 "$@" --threads 1 data.h5 -o "$name.h5"
+  train-msae -q "${tiny[@]}" --iterations 30 "$@" --threads 2 data.h5 -o "${name}2.h5"
+  train-msae -q "${tiny[@]}" --iterations 20 "$@" data.h5 -o "${name}20.h5"
+  train-msae -q "${tiny[@]}" --iterations 30 "$@" --resume --checkpoint "${name}20.h5" data.h5 -o "$name-r.h5"
+  for obj in /params /optimizer/m /rng/state /training/log; do
+    run h5diff "$name.h5" "${name}2.h5" $obj; expect_rc 0
+    run h5diff "$name.h5" "$name-r.h5" $obj; expect_rc 0
+  done
+  run h5diff -q m.h5 "$name.h5" /params; expect_rc 1
+  h5dump -a "/config/$attr" "$name.h5" | grep -q "(0): $value" || fail "/config/$attr is not $value"
+  run train-msae "${tiny[@]}" "--${attr//_/-}" "$bad" data.h5 -o x.h5
+  expect_rc 2; expect_one_error_line train-msae; expect_err "${attr//_/-}"
+}
 
-# --lambda-whole: the whole reconstruction's MSE in the loss; thread-independent, resumable, in /config
-train-msae -q "${tiny[@]}" --iterations 30 --lambda-whole 10 --threads 1 data.h5 -o whole.h5
-train-msae -q "${tiny[@]}" --iterations 30 --lambda-whole 10 --threads 2 data.h5 -o whole2.h5
-train-msae -q "${tiny[@]}" --iterations 20 --lambda-whole 10 data.h5 -o whole20.h5
-train-msae -q "${tiny[@]}" --iterations 30 --lambda-whole 10 --resume --checkpoint whole20.h5 data.h5 -o whole-r.h5
-for obj in /params /optimizer/m /training/log; do
-  run h5diff whole.h5 whole2.h5 $obj; expect_rc 0
-  run h5diff whole.h5 whole-r.h5 $obj; expect_rc 0
-done
-run h5diff -q m.h5 whole.h5 /params; expect_rc 1
-h5dump -a /config/lambda_whole whole.h5 | grep -q '(0): 10' || fail "/config/lambda_whole is not 10"
+# --synthetic: recombined shapes in every batch
+option_run syn synthetic 4 -1 --synthetic 4
+echo "ok (synthetic shapes)"
+# --lambda-whole: the whole reconstruction's MSE in the loss; a checkpoint without it is refused
+option_run whole lambda_whole 10 -1 --lambda-whole 10
 run train-msae "${tiny[@]}" --iterations 30 --resume --checkpoint whole20.h5 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-msae; expect_err "lambda"
-run train-msae "${tiny[@]}" --lambda-whole -1 data.h5 -o x.h5
-expect_rc 2; expect_one_error_line train-msae; expect_err "lambda-whole"
 echo "ok (whole reconstruction's loss)"
 
 # --- separate training, no attention, three levels, a validation part, a collection split
