@@ -89,8 +89,6 @@ SecondLevelDiagnosis second_level(const MsaeNet<float>& net, const nn::Matrix<fl
   return s;
 }
 
-
-
 }  // namespace
 
 ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float>& shapes) {

@@ -91,8 +91,8 @@ struct MsaeConfig {
   /// Weight of the whole reconstruction's MSE, λ_w · mean ‖x − Σ_b x̂_b‖² over the blocks of the
   /// levels in training and those above them, added to the blocks' own losses (0 = none, the
   /// paper). Each second-level block reconstructs only its masked share of the residual; this
-  /// term makes the children's encoders fit the residual together, as fitted codes do
-  /// (docs/msae.md)
+  /// term trains the children on their sum, as fitted codes fit it (on pcow it validated worse
+  /// at weights 1 and 10; docs/msae.md)
   double lambda_whole = 0;
   int levels() const { return static_cast<int>(kz.size()); }
 };
@@ -100,7 +100,7 @@ struct MsaeConfig {
 /// Loss terms summed over the blocks of a batch (the first is what is minimised).
 struct MsaeLossTerms {
   double total = 0, recon = 0, sparsity = 0, latent = 0;
-  double whole = 0;  ///< mean ‖x − Σ_b x̂_b‖² (computed with lambda_whole > 0), unweighted
+  double whole = 0;  ///< mean ‖x − Σ_b x̂_b‖² over the batch, rows weighted as in L_recon (lambda_whole > 0)
 };
 
 template <class T>
