@@ -3,11 +3,14 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
+#include "geometry/mesh_topology.h"
 #include "io/mesh_io.h"
 
 namespace df::test {
@@ -53,6 +56,14 @@ inline io::Mesh tetrahedron() {
   m.faces.resize(4, 3);
   m.faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
   return m;
+}
+
+/// The edges of a 3 × 3 vertex grid of 8 triangles: a mesh small enough for finite differences of
+/// every weight of a network on it.
+inline std::vector<std::array<int, 2>> grid3x3_edges() {
+  io::Faces f(8, 3);
+  f << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7;
+  return geometry::mesh_topology(f, 9).edges;
 }
 
 }  // namespace df::test

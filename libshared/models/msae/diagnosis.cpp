@@ -95,22 +95,16 @@ ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float
   ChildrenErrors out;
   if (net.config().levels() < 2 || shapes.rows() == 0) return out;
   std::vector<nn::Matrix<float>> codes;
-  const nn::Matrix<double> x = shapes.cast<double>();
-  const nn::Matrix<double> r = x - net.reconstruct(shapes, 1).cast<double>();
-  out.residual = r.squaredNorm();
   net.reconstruct(shapes, 2, &codes);
-  const bool attention = net.config().attention;
-  const nn::Matrix<double> masks = attention ? net.attention_masks(0).cast<double>() : nn::Matrix<double>();
+  const nn::Matrix<float> r = shapes - net.decode(0, codes[0]);  // the residual after level 0
+  out.residual = r.cast<double>().squaredNorm();
+  const nn::Matrix<float> masks = net.config().attention ? net.attention_masks(0) : nn::Matrix<float>();
   nn::Matrix<double> sum = nn::Matrix<double>::Zero(r.rows(), r.cols());
   for (int c : net.blocks()[0].children) {
     const auto& child = net.blocks()[static_cast<std::size_t>(c)];
-    nn::Matrix<double> e = -net.decode(c, codes[static_cast<std::size_t>(c)]).cast<double>();
-    if (!attention) {
-      e += r;
-    } else {
-      for (Index i = 0; i < masks.cols(); ++i)
-        e.middleCols(9 * i, 9) += masks(child.slot, i) * r.middleCols(9 * i, 9);
-    }
+    const nn::Matrix<double> e =
+        (net.child_input(child, r, masks.size() ? &masks : nullptr) - net.decode(c, codes[static_cast<std::size_t>(c)]))
+            .cast<double>();
     out.own += e.squaredNorm();
     sum += e;
   }

@@ -212,6 +212,9 @@ class MsaeNet {
   void set_offset(const Matrix& mean);
   /// The attention masks AM [kz, V] of a block from its C (eq. 5-6): each column sums to 1.
   Matrix attention_masks(int block) const;
+  /// Input of `child` from its parent's residual [B, 9V]: diag(AM_slot)·residual with the parent's
+  /// attention masks [kz, V], the residual whole when `masks` is null (no attention).
+  Matrix child_input(const Block& child, const Matrix& residual, const Matrix* masks) const;
 
   /// The training loss of a batch x [B, 9V] on one tape (every block's activations alive at once).
   /// @param lambda   Ω's masks, one per block (sparsity_masks)
@@ -263,8 +266,6 @@ class MsaeNet {
   /// constants); the other entries stay empty — binding the whole store would copy every block's
   /// weights once per block.
   nn::Bound<T> bind_block(nn::Tape<T>& tape, int b, bool variables) const;
-  /// Input of `child` from its parent's residual (and masks), as a value.
-  Matrix child_input(const Block& child, const Matrix& residual, const Matrix* masks) const;
   /// loss_and_gradient's recursion: processes block b and its subtree on input x; returns
   /// ∂(subtree loss)/∂x when `want_input_gradient`.
   /// `g_whole` (null without lambda_whole) is the whole-reconstruction term's gradient with

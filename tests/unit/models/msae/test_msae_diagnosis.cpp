@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "core/error.h"
-#include "geometry/mesh_topology.h"
+#include "helpers.h"
 #include "models/msae/diagnosis.h"
 #include "models/msae/network.h"
 #include "nn/gradient_check.h"
@@ -91,9 +91,7 @@ TEST_CASE("MSAE eq. 7: a local component leaking a little everywhere is counted 
 TEST_CASE("MSAE diagnosis: the children's own errors are their losses; their sum is what the shapes "
           "are left with",
           "[models][msae]") {
-  io::Faces f(8, 3);
-  f << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7;
-  const auto edges = geometry::mesh_topology(f, 9).edges;
+  const auto edges = test::grid3x3_edges();
   Rng rng(3, 5);
   const nn::Matrix<float> x = nn::random_matrix(6, 81, rng, -0.9, 0.9).cast<float>();
   for (bool attention : {true, false}) {

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "geometry/mesh_topology.h"
+#include "helpers.h"
 #include "core/error.h"
 #include "models/msae/model.h"
 #include "models/msae/network.h"
@@ -13,12 +13,7 @@ using namespace df::models;
 
 namespace {
 
-// A 3 × 3 vertex grid (8 triangles): small enough for finite differences of every weight.
-std::vector<std::array<int, 2>> grid_edges() {
-  io::Faces f(8, 3);
-  f << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7;
-  return geometry::mesh_topology(f, 9).edges;
-}
+std::vector<std::array<int, 2>> grid_edges() { return test::grid3x3_edges(); }
 
 nn::Matrix<double> random_shapes(int rows, std::uint64_t seed) {
   Rng rng(seed, 5);
