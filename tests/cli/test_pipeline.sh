@@ -148,3 +148,27 @@ grep -qF "| 2 | 0.3000 | 0.1000 | 0.5000 | 0.9000 | 0.4000 | 0.2000 | 0.5000 | 0
   grep -qF "| motion MMD_seq | 0.8000 (0.7000 - 0.9000) | 0.8000 (0.8000 - 0.8000) | 1 of 2 seeds |" $j/seeds.md ||
   fail "seeds.md: $(cat $j/seeds.md)"
 echo "ok (ActGAN seeds)"
+
+# MSAE's Table 2 adds the Table 4 strategy whose model ends with the lowest validation E_rms
+# (the last loss line of its log), and its test E_rms is that strategy's Table 4 cell; without
+# validation shapes there is no such row. (Real tools, tiny bumps, 40 iterations per model.)
+mstables() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/$1" MS_SETS=bumps MS_LEVEL3_SETS= \
+               MS_BUMPS="--frames 40 --resolution 8" bumps_MSAE="--split sequence $2 --iterations 40 --batch 16" \
+               TRAIN_THREADS=1 "$DF_TMP/$1/msae/bumps/table2.md" "$DF_TMP/$1/msae/bumps/table4.md" >/dev/null 2>&1 ||
+               fail "MSAE tables ($2) were not made"; }
+mstables ms-val "--validation-fraction 0.2"
+m=ms-val/msae/bumps
+best=$(for v in msae:joint,with msae-noatt:joint,without msae-separate:separate,with msae-separate-noatt:separate,without; do
+         tail -n 2 "$m/${v%%:*}.log" | sed -n 's/.*validation_erms \([0-9.]*\).*/\1/p' | tail -n 1 | sed "s/\$/ ${v#*:}/"
+       done | sort -g | head -n 1)
+[ -n "$best" ] || fail "the MSAE logs have no validation E_rms"
+row=$(grep "validation shapes choose" $m/table2.md) || fail "Table 2 has no row for the strategy chosen on validation: $(cat $m/table2.md)"
+strategy=${best#* }; training=${strategy%,*}; attention=${strategy#*,}
+echo "$row" | grep -q "($training training $attention attention: validation E_rms " ||
+  fail "Table 2 chose another strategy than the lowest validation E_rms ($best): $row"
+cell=$(grep "^| $training |" $m/table4.md | awk -F'|' -v c=$([ "$attention" = with ] && echo 3 || echo 4) '{ print $c }' | cut -d/ -f1 | tr -d ' ')
+[ "$(echo "$row" | awk -F'|' '{ print $4 }' | tr -d ' ')" = "$cell" ] ||
+  fail "the chosen strategy's E_rms is not its Table 4 cell ($cell): $row"
+mstables ms-noval ""
+! grep -q "validation shapes choose" ms-noval/msae/bumps/table2.md || fail "a chosen row without validation shapes"
+echo "ok (MSAE's Table 2: the strategy chosen on validation, $training training $attention attention)"
