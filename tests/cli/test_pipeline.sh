@@ -149,6 +149,18 @@ grep -qF "| 2 | 0.3000 | 0.1000 | 0.5000 | 0.9000 | 0.4000 | 0.2000 | 0.5000 | 0
   fail "seeds.md: $(cat $j/seeds.md)"
 echo "ok (ActGAN seeds)"
 
+# A set's options for separate training (<set>_SEPARATE) go to its separately trained variants only.
+msargs() { make -s -C "$DF_SOURCE" -f Makefile.data OUT="$DF_TMP/out" tiny_MSAE="--iterations 9" tiny_SEPARATE="--separate-rate continue" \
+             --eval "print-args: ; @echo '\$(call ms_args,tiny,$1)'" print-args; }
+for v in separate separate-noatt; do
+  [ "$(msargs $v)" = "--iterations 9 $(make -s -C "$DF_SOURCE" -f Makefile.data --eval "p: ; @echo '\$(${v}_FLAGS)'" p) --separate-rate continue" ] ||
+    fail "variant $v lacks the set's separate-training options: $(msargs $v)"
+done
+for v in "" noatt tan; do
+  case "$(msargs "$v")" in *separate-rate*) fail "variant '$v' got the separate-training options: $(msargs "$v")" ;; esac
+done
+echo "ok (MSAE's separate-training options per set)"
+
 # MSAE's Table 2 adds the Table 4 strategy whose model ends with the lowest validation E_rms
 # (the last loss line of its log), and its test E_rms is that strategy's Table 4 cell; without
 # validation shapes there is no such row. (Real tools, tiny bumps, 40 iterations per model.)
