@@ -176,12 +176,13 @@ MS_STRATEGIES := :joint_training_with_attention -noatt:joint_training_without_at
   -separate:separate_training_with_attention -separate-noatt:separate_training_without_attention
 ms_chosen_strategy = for s in $(MS_STRATEGIES); do f=$(MS)/$*/msae$${s%%:*}.h5; \
 	  n=$$($(call ms_log_columns,$$f)); [ $$n -ge 7 ] || continue; \
-	  $(call h5_values,$$f,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n $$n | tail -1 | \
+	  $(call ms_log_rows,$$f,$$n) | tail -1 | \
 	    awk -v s="$$s" '{ i = index(s, ":"); l = substr(s, i + 1); gsub("_", " ", l); printf "recon%s %.2f %s\n", substr(s, 1, i - 1), $$7, l }'; \
 	done | sort -k2,2g | head -1
 MS_TABLE2 := recon recon-fit recon-pca recon-tan recon-splocs
-$(MS)/%/table2.md: $(foreach r,$(MS_TABLE2) recon-noatt recon-separate recon-separate-noatt,$(MS)/%/$(r).eval $(MS)/%/$(r).reval)
-	set -- $$($(ms_chosen_strategy)); chosen=$$1; chosen_erms=$$2; shift 2 2>/dev/null; chosen_label="$$*"; \
+MS_TABLE4 := recon recon-noatt recon-separate recon-separate-noatt
+$(MS)/%/table2.md: $(foreach r,$(sort $(MS_TABLE2) $(MS_TABLE4)),$(MS)/%/$(r).eval $(MS)/%/$(r).reval)
+	read -r chosen chosen_erms chosen_label < <($(ms_chosen_strategy)); \
 	{ echo "$* — reconstruction of the $$($(call ms_pairs,$<)) test shapes (paper Table 2): E_rms (x1000, unit ball; each part aligned by a translation, or by a rotation and translation as the paper aligns models) and STED (spatial)"; echo; \
 	  echo "| method | components | E_rms | E_rms, rigid | STED |"; echo "|---|---:|---:|---:|---:|"; \
 	  echo "| MSAE (2 levels, attention, joint), encoder's codes (the paper's protocol) | $(ms_kz_label) | $(call ms_row,recon) |"; \
@@ -192,7 +193,7 @@ $(MS)/%/table2.md: $(foreach r,$(MS_TABLE2) recon-noatt recon-separate recon-sep
 	  echo "| SPLOCS (positions) | 60 | $(call ms_row,recon-splocs) |"; \
 	} $(write_if_changed)
 ms_both = $$($(call ms_erms,$(MS)/$*/$(1).eval)) / $$($(call ms_erms,$(MS)/$*/$(1).reval))
-$(MS)/%/table4.md: $(foreach r,recon recon-noatt recon-separate recon-separate-noatt,$(MS)/%/$(r).eval $(MS)/%/$(r).reval)
+$(MS)/%/table4.md: $(foreach r,$(MS_TABLE4),$(MS)/%/$(r).eval $(MS)/%/$(r).reval)
 	{ echo "$* — E_rms of the test shapes by training strategy (paper Table 4), each part aligned by a translation / by a rotation and translation"; echo; \
 	  echo "| | with attention | without attention |"; echo "|---|---:|---:|"; \
 	  echo "| joint | $(call ms_both,recon) | $(call ms_both,recon-noatt) |"; \
@@ -274,9 +275,11 @@ $(MS)/%/fig3.png: $(MS)/%/components.h5
 # (The log's columns are its attribute's words: a log without the validation shapes' E_rms, as a
 # model resumed from a checkpoint taken before its first loss line had before 2026-11-27, has 6.)
 ms_log_columns = $(call h5_string_attr,$(1),/training/log/columns) | wc -w
+# $(call ms_log_rows,MODEL,COLUMNS): its training log, one line per loss line.
+ms_log_rows = $(call h5_values,$(1),/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n $(2)
 $(MS)/%/curve.png: $(MS)/%/msae.h5
 	n=$$($(call ms_log_columns,$<)) && \
-	$(call h5_values,$<,/training/log,%.6g) | tr -c '0-9.e+\n-' ' ' | xargs -n $$n > $(@:.png=.txt) && \
+	$(call ms_log_rows,$<,$$n) > $(@:.png=.txt) && \
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$@'; set logscale y; set logscale y2; \
 	  set ytics nomirror; set y2tics; set ylabel 'loss, feature error'; set y2label 'E_rms x 1000' noenhanced; \
 	  set title '$*: MSAE training (validation shapes are held out, not test shapes)'; set xlabel 'iteration'; \
