@@ -184,3 +184,17 @@ cell=$(grep "^| $training |" $m/table4.md | awk -F'|' -v c=$([ "$attention" = wi
 mstables ms-noval ""
 ! grep -q "validation shapes choose" ms-noval/msae/bumps/table2.md || fail "a chosen row without validation shapes"
 echo "ok (MSAE's Table 2: the strategy chosen on validation, $training training $attention attention)"
+
+# Each synthetic set is made with its own arguments and its localization is measured against its
+# own planted regions: bumps12 with one fine region has 3, the tiny bumps above 6.
+make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=bumps12 MS_LEVEL3_SETS= \
+  MS_BUMPS12="--frames 40 --resolution 8 --fine-regions 1" bumps12_MSAE="--split sequence --iterations 40 --batch 16" \
+  TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/bumps12/localization.md" >/dev/null 2>&1 || fail "bumps12's localization was not made"
+regions() { grep -cE '^ +[0-9]' "$1"; }
+[ "$(regions ms-val/msae/bumps12/localization.md)" = 6 ] && [ "$(head -n 1 ms-val/msae/bumps12/localization.md | cut -d' ' -f1)" = bumps12 ] ||
+  fail "bumps12's localization is not of its own 3 regions (kept and before pruning): $(cat ms-val/msae/bumps12/localization.md)"
+make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=bumps MS_LEVEL3_SETS= \
+  MS_BUMPS="--frames 40 --resolution 8" bumps_MSAE="--split sequence --validation-fraction 0.2 --iterations 40 --batch 16" \
+  TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/bumps/localization.md" >/dev/null 2>&1 || fail "bumps' localization was not made"
+[ "$(regions ms-val/msae/bumps/localization.md)" = 12 ] || fail "bumps' localization is not of its 6 regions: $(cat ms-val/msae/bumps/localization.md)"
+echo "ok (MSAE's synthetic sets: each with its own arguments and planted regions)"
