@@ -12,7 +12,8 @@
 #   $(MS)/S/table5.md     maximum relative squared error (eq. 8) through 1, 2 and 3 levels (Table 5; the
 #                         third from a three-level model, for the sets of MS_LEVEL3_SETS: all by default)
 #   $(MS)/S/fig3.png      cosine similarity of the level-0 components (Fig. 3)
-#   $(MS)/S/components.png  the kept components (prune-components), coloured by deformation
+#   $(MS)/S/components.png  the kept components (prune-components) of level 0, coloured by deformation;
+#                         components-L1.png those of level 1 (own colour range), where any are kept
 #   $(MS)/S/curve.png     training loss and validation error (features, and E_rms of positions) over
 #                         iterations (where it stops improving chose the iteration count)
 #   $(MS)/S/fig6.md, fig6.png  test shapes rebuilt from N = 5..80 control points with each method's
@@ -113,7 +114,7 @@ msae: $(foreach s,$(MS_SETS),$(MS)/$(s)/table2.md $(MS)/$(s)/table4.md $(MS)/$(s
 	  echo; echo "=== $$s"; cat $(MS)/$$s/table2.md; echo; cat $(MS)/$$s/table4.md; echo; cat $(MS)/$$s/table5.md; \
 	  [ -f $(MS)/$$s/localization.md ] && { echo; cat $(MS)/$$s/localization.md; }; \
 	  echo; cat $(MS)/$$s/fig6.md; \
-	  echo; echo "pictures: $(MS)/$$s/components.png, fig3.png, curve.png, fig6.png"; \
+	  echo; echo "pictures: $(MS)/$$s/components.png$$([ -f $(MS)/$$s/components-L1.png ] && echo ", components-L1.png"), fig3.png, curve.png, fig6.png"; \
 	done
 
 # --- data: ACAP features of each set (real sets unpacked as in bdlstm.mk)
@@ -269,15 +270,27 @@ $(MS)/%/components.h5: $(MS)/%/msae.h5
 	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/kept.h5: $(MS)/%/components.h5
 	$(BIN)/prune-components -f $< -o $@ --acap $(MS)/$*/kept-acap.h5 --json $(MS)/$*/pruning.json > $(MS)/$*/pruning.txt
-# (At most MS_SHEET_COMPONENTS of them, level 0's first: a sheet is one row, and with many planted
-# regions the proximal step keeps dozens of second-level components.)
+# One sheet per level, each with its own colour range (a second-level component moves a few per
+# cent of what a first-level one does, and drawn beside it would be black): components.png the
+# kept level-0 components, components-L1.png the kept second-level ones where there are any. At
+# most MS_SHEET_COMPONENTS per sheet, in file order: a sheet is one row, and with many planted
+# regions the proximal step keeps dozens of second-level components.
 MS_SHEET_COMPONENTS := 24
+# $(call ms_level_sheet,SET,LEVEL,PNG): the kept components of LEVEL drawn into PNG; none, no PNG.
+define ms_level_sheet
+names=$$($(call frame_names,$(MS)/$(1)/kept-acap.h5)); \
+  rows=$$(echo "$$names" | tr ',' '\n' | grep -n '^L$(2)\.' | cut -d: -f1); n=$$(echo "$$rows" | grep -c .); \
+  if [ $$n -eq 0 ]; then rm -f $(3); else \
+    shown=$$(echo "$$rows" | head -n $(MS_SHEET_COMPONENTS)); \
+    $(BIN)/render-mesh -q -f $(MS)/$(1)/kept-acap.h5 --color deformation $($(1)_VIEW) --size 200 \
+      --frames "$$(echo "$$shown" | awk '{ print $$1 - 1 }' | paste -sd,)" \
+      --column-labels "$$(echo "$$names" | tr ',' '\n' | sed -n "$$(echo "$$shown" | sed 's/$$/p/' | paste -sd';')" | paste -sd,)" \
+      --row-labels "level $(2)" \
+      --title "$(1): kept level-$(2) MSAE components L<level>.<block>.<k>$$([ $$n -gt $(MS_SHEET_COMPONENTS) ] && echo " (the first $(MS_SHEET_COMPONENTS) of $$n)"), colour |X - X_r| per vertex" -o $(3); fi
+endef
 $(MS)/%/components.png: $(MS)/%/kept.h5
-	names=$$($(call frame_names,$(MS)/$*/kept-acap.h5)); n=$$(echo "$$names" | tr ',' '\n' | wc -l); \
-	  shown=$$(( n < $(MS_SHEET_COMPONENTS) ? n : $(MS_SHEET_COMPONENTS) )); \
-	  $(BIN)/render-mesh -q -f $(MS)/$*/kept-acap.h5 --color deformation $($*_VIEW) --size 200 --frames 0-$$((shown - 1)) \
-	  --column-labels "$$(echo "$$names" | cut -d, -f1-$$shown)" --row-labels "kept" \
-	  --title "$*: kept MSAE components L<level>.<block>.<k>$$([ $$n -gt $$shown ] && echo " (the first $$shown of $$n)"), colour |X - X_r| per vertex" -o $@
+	$(call ms_level_sheet,$*,0,$@)
+	$(call ms_level_sheet,$*,1,$(MS)/$*/components-L1.png)
 $(MS)/%/fig3.png: $(MS)/%/components.h5
 	$(call h5_values,$<,/similarity,%.5f) | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
 	gnuplot -e "set terminal pngcairo size 560,500; set output '$@'; \

@@ -198,3 +198,20 @@ make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_S
   TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/bumps/localization.md" >/dev/null 2>&1 || fail "bumps' localization was not made"
 [ "$(regions ms-val/msae/bumps/localization.md)" = 12 ] || fail "bumps' localization is not of its 6 regions: $(cat ms-val/msae/bumps/localization.md)"
 echo "ok (MSAE's synthetic sets: each with its own arguments and planted regions)"
+
+# The kept components are drawn one sheet per level; a level with none kept has no sheet.
+make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=bumps12 MS_LEVEL3_SETS= \
+  MS_BUMPS12="--frames 40 --resolution 8 --fine-regions 1" bumps12_MSAE="--split sequence --iterations 40 --batch 16" \
+  TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/bumps12/components.png" >/dev/null 2>&1 || fail "bumps12's components.png was not made"
+m=ms-val/msae/bumps12
+for level in 0 1; do
+  kept=$(sed -n "s/^level $level: \([0-9]*\) kept.*/\1/p" $m/pruning.txt)
+  sheet=$m/components.png; [ $level = 0 ] || sheet=$m/components-L1.png
+  if [ "${kept:-0}" -gt 0 ]; then
+    [ "$(head -c 4 "$sheet" | tail -c 3)" = PNG ] || fail "level $level keeps $kept components but has no sheet $sheet"
+  else
+    [ ! -e "$sheet" ] || fail "level $level keeps none but has a sheet $sheet"
+  fi
+done
+grep -q "^level 1: [1-9]" $m/pruning.txt || fail "the tiny bumps12 keeps no level-1 component, so the level-1 sheet is not checked: $(cat $m/pruning.txt)"
+echo "ok (MSAE's components drawn one sheet per level)"
