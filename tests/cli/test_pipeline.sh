@@ -187,22 +187,20 @@ echo "ok (MSAE's Table 2: the strategy chosen on validation, $training training 
 
 # Each synthetic set is made with its own arguments and its localization is measured against its
 # own planted regions: bumps12 with one fine region has 3, the tiny bumps above 6.
-make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=bumps12 MS_LEVEL3_SETS= \
-  MS_BUMPS12="--frames 40 --resolution 8 --fine-regions 1" bumps12_MSAE="--split sequence --iterations 40 --batch 16" \
-  TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/bumps12/localization.md" >/dev/null 2>&1 || fail "bumps12's localization was not made"
+mssynth() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=$1 MS_LEVEL3_SETS= \
+              MS_BUMPS="--frames 40 --resolution 8" bumps_MSAE="--split sequence --validation-fraction 0.2 --iterations 40 --batch 16" \
+              MS_BUMPS12="--frames 40 --resolution 8 --fine-regions 1" bumps12_MSAE="--split sequence --iterations 40 --batch 16" \
+              TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/$1/$2" >/dev/null 2>&1 || fail "$1's $2 was not made"; }
 regions() { grep -cE '^ +[0-9]' "$1"; }
+mssynth bumps12 localization.md
 [ "$(regions ms-val/msae/bumps12/localization.md)" = 6 ] && [ "$(head -n 1 ms-val/msae/bumps12/localization.md | cut -d' ' -f1)" = bumps12 ] ||
   fail "bumps12's localization is not of its own 3 regions (kept and before pruning): $(cat ms-val/msae/bumps12/localization.md)"
-make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=bumps MS_LEVEL3_SETS= \
-  MS_BUMPS="--frames 40 --resolution 8" bumps_MSAE="--split sequence --validation-fraction 0.2 --iterations 40 --batch 16" \
-  TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/bumps/localization.md" >/dev/null 2>&1 || fail "bumps' localization was not made"
+mssynth bumps localization.md
 [ "$(regions ms-val/msae/bumps/localization.md)" = 12 ] || fail "bumps' localization is not of its 6 regions: $(cat ms-val/msae/bumps/localization.md)"
 echo "ok (MSAE's synthetic sets: each with its own arguments and planted regions)"
 
 # The kept components are drawn one sheet per level; a level with none kept has no sheet.
-make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=bumps12 MS_LEVEL3_SETS= \
-  MS_BUMPS12="--frames 40 --resolution 8 --fine-regions 1" bumps12_MSAE="--split sequence --iterations 40 --batch 16" \
-  TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/bumps12/components.png" >/dev/null 2>&1 || fail "bumps12's components.png was not made"
+mssynth bumps12 components.png
 m=ms-val/msae/bumps12
 for level in 0 1; do
   kept=$(sed -n "s/^level $level: \([0-9]*\) kept.*/\1/p" $m/pruning.txt)
