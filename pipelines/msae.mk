@@ -277,19 +277,19 @@ $(MS)/%/kept.h5: $(MS)/%/components.h5
 # regions the proximal step keeps dozens of second-level components.
 MS_SHEET_COMPONENTS := 24
 # $(call ms_level_sheet,SET,LEVEL,PNG): the kept components of LEVEL drawn into PNG; none, no PNG.
+# $$names holds the kept components' names (kept-acap.h5's frames), read once per recipe.
 define ms_level_sheet
-names=$$($(call frame_names,$(MS)/$(1)/kept-acap.h5)); \
-  rows=$$(echo "$$names" | tr ',' '\n' | grep -n '^L$(2)\.' | cut -d: -f1); n=$$(echo "$$rows" | grep -c .); \
+shown=$$(echo "$$names" | tr ',' '\n' | awk '/^L$(2)\./ { print NR - 1, $$0 }'); n=$$(echo "$$shown" | grep -c .); \
+  shown=$$(echo "$$shown" | head -n $(MS_SHEET_COMPONENTS)); \
   if [ $$n -eq 0 ]; then rm -f $(3); else \
-    shown=$$(echo "$$rows" | head -n $(MS_SHEET_COMPONENTS)); \
     $(BIN)/render-mesh -q -f $(MS)/$(1)/kept-acap.h5 --color deformation $($(1)_VIEW) --size 200 \
-      --frames "$$(echo "$$shown" | awk '{ print $$1 - 1 }' | paste -sd,)" \
-      --column-labels "$$(echo "$$names" | tr ',' '\n' | sed -n "$$(echo "$$shown" | sed 's/$$/p/' | paste -sd';')" | paste -sd,)" \
+      --frames "$$(echo "$$shown" | cut -d' ' -f1 | paste -sd,)" --column-labels "$$(echo "$$shown" | cut -d' ' -f2 | paste -sd,)" \
       --row-labels "level $(2)" \
       --title "$(1): kept level-$(2) MSAE components L<level>.<block>.<k>$$([ $$n -gt $(MS_SHEET_COMPONENTS) ] && echo " (the first $(MS_SHEET_COMPONENTS) of $$n)"), colour |X - X_r| per vertex" -o $(3); fi
 endef
 $(MS)/%/components.png: $(MS)/%/kept.h5
-	$(call ms_level_sheet,$*,0,$@)
+	names=$$($(call frame_names,$(MS)/$*/kept-acap.h5)); \
+	$(call ms_level_sheet,$*,0,$@); \
 	$(call ms_level_sheet,$*,1,$(MS)/$*/components-L1.png)
 $(MS)/%/fig3.png: $(MS)/%/components.h5
 	$(call h5_values,$<,/similarity,%.5f) | tr -c '0-9.\n' ' ' | xargs -n 10 > $(@:.png=.txt)
