@@ -18,7 +18,6 @@
 
 int main(int argc, char** argv) {
   df::Tool tool("bench_actgan", "Time one ActGAN training iteration (see bench/run.sh).");
-  tool.with_threads();
   std::string which = "gan";
   int iters = 5, warmup = 1;
   tool.app().add_option("--case", which)->check(CLI::IsMember({"gan", "gan-all", "pretrain"}));

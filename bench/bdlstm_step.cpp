@@ -16,7 +16,6 @@
 
 int main(int argc, char** argv) {
   df::Tool tool("bench_bdlstm", "Time one BD-LSTM training iteration (see bench/run.sh).");
-  tool.with_threads();
   std::string mesh_path;
   int iters = 10, warmup = 2, batch = 8, window = 32;
   tool.app().add_option("--mesh", mesh_path, "Template mesh (the peer uses pcow/1.obj)")->required();

@@ -17,7 +17,6 @@
 
 int main(int argc, char** argv) {
   df::Tool tool("bench_edit", "Time one edit-shape edit (see bench/run.sh).");
-  tool.with_threads();
   int resolution = 99, K = 60, H = 20, iters = 3;
   tool.app().add_option("--resolution", resolution, "Bumps grid resolution (vertices: (r+1)^2)")->default_val(resolution);
   tool.app().add_option("--components", K, "Deformation directions")->default_val(K);

@@ -11,7 +11,6 @@
 
 int main(int argc, char** argv) {
   df::Tool tool("bench_mmd", "Time MMD_u^2 of 1000 x 1000 sequences of [50, 60] (see bench/run.sh).");
-  tool.with_threads();
   int iters = 5, n = 1000, frames = 50, dims = 60;
   bool per_frame = false;
   tool.app().add_option("--iters", iters, "Timed runs")->default_val(iters);

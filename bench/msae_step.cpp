@@ -19,7 +19,6 @@
 
 int main(int argc, char** argv) {
   df::Tool tool("bench_msae", "Time one joint MSAE training iteration (see bench/run.sh).");
-  tool.with_threads();
   std::string mesh_path, mode = "full";
   int grid = 0, iters = 5, warmup = 1, batch = 256, shapes = 64;
   tool.app().add_option("--mesh", mesh_path, "Template mesh (the peer uses pcow/1.obj)");

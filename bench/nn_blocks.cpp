@@ -38,7 +38,6 @@ void time_case(Case& c, int iters) {
 
 int main(int argc, char** argv) {
   df::Tool tool("bench_nn_blocks", "Time the network building blocks (see bench/run.sh).");
-  tool.with_threads();
   std::string mesh_path;
   int iters = 30, only = 0;
   tool.app().add_option("--mesh", mesh_path, "Mesh for MeshConv (default: a synthetic 2,904-vertex-like grid)");

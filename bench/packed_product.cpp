@@ -23,7 +23,6 @@ using Eigen::Index;
 int main(int argc, char** argv) {
   df::Tool tool("bench_packed_product",
                 "Time the packed product against Eigen's (see bench/run.sh).");
-  tool.with_threads();
   int iters = 9, reps = 200;
   tool.app().add_option("--iters", iters, "Timed runs")->default_val(iters);
   tool.app()

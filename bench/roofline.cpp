@@ -21,7 +21,6 @@
 int main(int argc, char** argv) {
   df::Tool tool("bench_roofline",
                 "Measure the peak product rate and the memory bandwidth (see bench/run.sh).");
-  tool.with_threads();
   int iters = 5;
   tool.app().add_option("--iters", iters, "Timed runs (the best counts)")->default_val(iters);
   return tool.run(argc, argv, [&] {

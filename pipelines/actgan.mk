@@ -114,14 +114,14 @@ $(AG)/%/gen-$(1).h5: $(AG)/%/model-$(1).h5
 endef
 $(foreach v,$(AG_VARIANTS) $(AG_SEED_MODELS),$(eval $(call AG_GEN_RULES,$(v))))
 $(AG)/%.mmd.json: $(AG)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< $(dir $<)data.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
-ag_mmd = sed -n 's/^  "mmd_$(2)": \([^,]*\),*$$/\1/p' $(1) | awk '{ printf "%.4f", $$1 }'
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $(dir $<)data.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
+ag_mmd = $(call json_values,$(1),mmd_$(2)) | awk '{ printf "%.4f", $$1 }'
 $(AG)/%/real.mmd.json: $(AG)/%/data.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< $< --pred-subjects $($*_TRAIN_SUBJECTS) --json $@.tmp > /dev/null && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $< --pred-subjects $($*_TRAIN_SUBJECTS) --json $@.tmp > /dev/null && mv $@.tmp $@
 ag_mmd_row = $$($(call ag_mmd,$(1),avg)) | $$($(call ag_mmd,$(1),seq)) | $$($(call ag_mmd,$(1),motion_avg)) | $$($(call ag_mmd,$(1),motion_seq))
 # variety: the mean distance between two sequences of a class over the real test clips' (1: as
 # varied as the data; eval-metrics' pairwise_ratio, averaged over the classes)
-ag_variety = $$(sed -n 's/^  "pairwise_ratio": \([^,]*\),*$$/\1/p' $(1) | awk '{ printf "%.3f", $$1 }')
+ag_variety = $$($(call json_values,$(1),pairwise_ratio) | awk '{ printf "%.3f", $$1 }')
 $(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json) $(AG)/%/real.mmd.json
 	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences; variety: see below the table. Every model trained against the same discriminator ($(or $(AG_GAN),the paper's BiLSTM)), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) GAN iterations."; echo; \
 	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | variety |"; echo "|---|---:|---:|---:|---:|---:|"; \
@@ -152,16 +152,19 @@ $(AG)/%/seeds.md: $(foreach n,1 $(AG_SEEDS),$(call ag_seed_json,%,,$(n)) $(call 
 	      m[c - 2], s[c] / n, lo[c], hi[c], s[c + 4] / n, lo[c + 4], hi[c + 4], w[c], n }'; \
 	} $(write_if_changed)
 
-ag_acc = sed -n "s/^$(2) *[0-9]* *[0-9]* *\([0-9.]*\)\$$/\1/p" $(1)
+# $(call ag_acc_of,JSON,CLASS): a class's accuracy in classify-actions' JSON (CLASS a shell word;
+# "all": the overall accuracy).
+ag_acc_of = p=accuracy.$(2).accuracy; [ $(2) = all ] && p=overall; \
+  $(BIN)/collect-metrics --values --columns $$p $(1) | awk '{ printf "%.3f", $$1 }'
 $(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 $(AG)/%/data.h5
-	$(BIN)/classify-actions $(AG)/$*/model.h5 $(AG)/$*/data.h5 > $(AG)/$*/acc-ours-real.txt
-	$(BIN)/classify-actions $(AG)/$*/model.h5 $(AG)/$*/gen.h5 > $(AG)/$*/acc-ours-gen.txt
-	$(BIN)/classify-actions $(AG)/$*/model-cls-alone.h5 $(AG)/$*/data.h5 > $(AG)/$*/acc-alone-real.txt
-	$(BIN)/classify-actions $(AG)/$*/model-cls-alone.h5 $(AG)/$*/gen.h5 > $(AG)/$*/acc-alone-gen.txt
+	$(BIN)/classify-actions -f $(AG)/$*/model.h5 $(AG)/$*/data.h5 --json $(AG)/$*/acc-ours-real.json > $(AG)/$*/acc-ours-real.txt
+	$(BIN)/classify-actions -f $(AG)/$*/model.h5 $(AG)/$*/gen.h5 --json $(AG)/$*/acc-ours-gen.json > $(AG)/$*/acc-ours-gen.txt
+	$(BIN)/classify-actions -f $(AG)/$*/model-cls-alone.h5 $(AG)/$*/data.h5 --json $(AG)/$*/acc-alone-real.json > $(AG)/$*/acc-alone-real.txt
+	$(BIN)/classify-actions -f $(AG)/$*/model-cls-alone.h5 $(AG)/$*/gen.h5 --json $(AG)/$*/acc-alone-gen.json > $(AG)/$*/acc-alone-gen.txt
 	{ echo "$* — classification accuracy per class (paper Table 2): real test clips (T) and our generated sequences (G)"; echo; \
 	  echo "| class | Baseline_T | Baseline_G | Ours_T | Ours_G |"; echo "|---|---:|---:|---:|---:|"; \
 	  for c in $$($(call h5_values,$(AG)/$*/data.h5,/classes/names) | grep -o '"[^"]*"' | tr -d '"') all; do \
-	    echo "| $$c | $$($(call ag_acc,$(AG)/$*/acc-alone-real.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-alone-gen.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-ours-real.txt,$$c)) | $$($(call ag_acc,$(AG)/$*/acc-ours-gen.txt,$$c)) |"; \
+	    echo "| $$c | $$($(call ag_acc_of,$(AG)/$*/acc-alone-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-alone-gen.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-gen.json,$$c)) |"; \
 	  done; } $(write_if_changed)
 
 # --- pictures
@@ -170,9 +173,9 @@ $(AG)/%/generated.png: $(AG)/%/gen.h5
 	  --every 3 --size 100 --view 30,10 --title "$*: one generated sequence per class (every 3rd frame)" -o $@
 $(AG)/%/mixed.png: $(AG)/%/model.h5
 	$(BIN)/gen-actgan -q -f --mix $($*_MIX) --count 3 --seed 8 $< -o $(AG)/$*/mixed.h5
-	$(BIN)/classify-actions --probabilities $< $(AG)/$*/mixed.h5 | sed -n '/^sequence/,$$p' > $(AG)/$*/mixed.md
+	$(BIN)/classify-actions -f --probabilities $< $(AG)/$*/mixed.h5 --json $(AG)/$*/mixed.json | sed -n '/^sequence/,$$p' > $(AG)/$*/mixed.md
 	$(BIN)/render-mesh -q -f $(AG)/$*/mixed.h5 --every 3 --size 100 --view 30,10 \
-	  --row-labels "$$($(DF_ROOT)/scripts/classified-labels < $(AG)/$*/mixed.md)" \
+	  --row-labels "$$($(DF_ROOT)/scripts/classified-labels $(AG)/$*/mixed.json)" \
 	  --title "$*: generated for the mixture $($*_MIX), each with the trained classifier's verdict" -o $@
 $(AG)/%/latent.png: $(AG)/%/model-latent2.h5
 	$(BIN)/gen-actgan -q -f --count 5 --seed 9 --latents $(AG)/$*/latent.tsv $< -o $(AG)/$*/latent.h5
@@ -288,7 +291,7 @@ endef
 $(foreach v,$(AG_VAL_MODELS),$(eval $(call AG_VAL_RULES,$(v))))
 $(AG)/%/validate/real.mmd.json: $(AG)/%/data.h5
 	@mkdir -p $(@D)
-	$(call launch,eval) $(BIN)/eval-metrics -q $< $< --pred-subjects $($*_VAL_REF_SUBJECTS) \
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $< --pred-subjects $($*_VAL_REF_SUBJECTS) \
 	  --truth-subjects $($*_VAL_SUBJECTS) --json $@.tmp > /dev/null && mv $@.tmp $@
 $(AG)/%/data.norms: $(AG)/%/data.h5
 	$(DF_ROOT)/scripts/pose-norms $< > $@.tmp && mv $@.tmp $@

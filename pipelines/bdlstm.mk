@@ -163,13 +163,16 @@ $(BD)/%/pred3-$(1).h5: $(BD)/%/model-$(1).h5 $(BD)/%/data.h5
 endef
 $(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_PRED,$(v))))
 
-# Evaluation of any generated file against its data: table on stdout, TSV for the plots.
+# Evaluation of any generated file against its data: the table for people, JSON for the tables
+# below (json_milli), TSV for the plots.
 $(BD)/%.eval: $(BD)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< $(dir $<)data.h5 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $(dir $<)data.h5 --tsv $@.tsv --json $@.json > $@.tmp && mv $@.tmp $@
+# $(call json_milli,FILE,PATH): a relative error of an evaluation's JSON, x 1e-3.
+json_milli = $(call json_values,$(1),$(2)) | awk '{ printf "%.2f", 1000 * $$1 }'
 $(BD)/%.change: $(BD)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 $(BD)/%.change10: $(BD)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< --change-span 10 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< --change-span 10 --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 
 # Error at future frame k of an evaluation's TSV, / bounding-box diagonal x 1000.
 step_err = awk -v k=$(2) '/^\#/ { next } NF == 0 { exit } $$1 == k { printf "%.2f", 1000 * $$4; f = 1 } END { if (!f) printf "-" }' $(1).tsv
@@ -180,11 +183,11 @@ $(BD)/%/table1.md: $(BD)/%/pred1.eval $(BD)/%/pred3.eval $(BD)/%/linear.eval $(B
 	  [ "$$part" = random ] && part="a part of each sequence placed by the seed" || part="the $$part of each sequence"; \
 	  frames=$$(h5dump -y -w 0 -d /split/test $(BD)/$*/model.h5 | awk '/DATA \{/ { d = 1; next } d && /\}/ { exit } \
 	    d { gsub(/,/, " "); n++; a = $$1; b = $$2 } END { if (n == 1) printf ", frames %d-%d", a, b - 1 }'); \
-	  echo "(held out: $$part$$frames; $$(sed -n 's/.*(\([0-9]*\) frame pairs.*/\1/p' $(BD)/$*/pred3.eval) frame pairs per method; paper Table 1)"; echo; \
+	  echo "(held out: $$part$$frames; $$($(call json_values,$(BD)/$*/pred3.eval.json,frame_pairs)) frame pairs per method; paper Table 1)"; echo; \
 	  echo "| method | 5th | 10th | 15th | mean over 1..$($(*F)_LENGTH) |"; echo "|---|---:|---:|---:|---:|"; \
 	  for m in "BD-LSTM, 1 initial frame:pred1" "BD-LSTM, 3 initial frames:pred3" "linear extrapolation (2 frames):linear" "zero motion (last given frame):static"; do \
 	    f=$(BD)/$*/$${m#*:}.eval; \
-	    echo "| $${m%%:*} | $$($(call step_err,$$f,5)) | $$($(call step_err,$$f,10)) | $$($(call step_err,$$f,15)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$f | awk '{ printf "%.2f", 1000 * $$1 }') |"; \
+	    echo "| $${m%%:*} | $$($(call step_err,$$f,5)) | $$($(call step_err,$$f,10)) | $$($(call step_err,$$f,15)) | $$($(call json_milli,$$f.json,vertex_error.mean_relative)) |"; \
 	  done; } > $@.tmp && mv $@.tmp $@
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/fig1.png'; \
 	  set title '$(*F): prediction error on the held-out part'; set xlabel 'future frame'; \
@@ -207,9 +210,9 @@ endef
 $(foreach v,$(BD_VARIANTS),$(eval $(call VARIANT_LONG,$(v))))
 # The data's change over the frames one generated step spans (the model's --stride), and over 10 steps.
 $(BD)/%/data.change: $(BD)/%/data.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< --change-span $(or $($*_STRIDE),1) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< --change-span $(or $($*_STRIDE),1) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 $(BD)/%/data.change10: $(BD)/%/data.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< --change-span $$(( 10 * $(or $($*_STRIDE),1) )) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< --change-span $$(( 10 * $(or $($*_STRIDE),1) )) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 
 fig2_variants = $(if $(filter $(1),$(BD_ABLATION_SETS)),$(call set_variants,$(1)))
 # Mean of the values of a feature-change TSV, or of its last $(2).
@@ -248,7 +251,7 @@ $(BD)/%/table2.md: $(BD)/%/pred3.eval $$(foreach v,$$(call set_variants,$$*),$(B
 	    f=$(BD)/$*/pred3-$$v.eval; c=$(BD)/$*/long-$$v.change.tsv; [ $$v = full ] && { f=$(BD)/$*/pred3.eval; c=$(BD)/$*/long.change.tsv; }; \
 	    name=$$v; [ $$v = full ] && name="share-weight BD-LSTM, $(or $($*_CHOSEN),train-bdlstm's defaults) (the set's model)"; \
 	    [ $$v = paper ] && name="share-weight BD-LSTM, the paper's form"; \
-	    echo "| $$name | $$($(call step_err,$$f,5)) | $$($(call step_err,$$f,10)) | $$($(call step_err,$$f,15)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$f | awk '{ printf "%.2f", 1000 * $$1 }') | $$(awk '/^\#/ { next } NF == 2 { n++; s += $$2; if (!lo || $$2 < lo) lo = $$2 } END { printf "%.4f / %.4f", s / n, lo }' $$c) |"; \
+	    echo "| $$name | $$($(call step_err,$$f,5)) | $$($(call step_err,$$f,10)) | $$($(call step_err,$$f,15)) | $$($(call json_milli,$$f.json,vertex_error.mean_relative)) | $$(awk '/^\#/ { next } NF == 2 { n++; s += $$2; if (!lo || $$2 < lo) lo = $$2 } END { printf "%.4f / %.4f", s / n, lo }' $$c) |"; \
 	  done; } > $@.tmp && mv $@.tmp $@
 
 # --- (d) completion of 9-frame gaps in the held-out part: BD-LSTM (8 diverse samples) vs linear
@@ -261,8 +264,8 @@ $(BD)/%/interp.h5: $(BD)/%/model.h5 $(BD)/%/data.h5
 $(BD)/%/completion.md: $(BD)/%/complete.eval $(BD)/%/interp.eval
 	{ echo "**$*** — completion of gaps between two keyframes (held-out part; paper §4.4)"; echo; \
 	  echo "| method | mean vertex error x 1e-3 diag (mean of 8) | best of 8 | spread of 8 samples x 1e-3 diag | merged |"; echo "|---|---:|---:|---:|---|"; \
-	  echo "| BD-LSTM (8 samples, random initial states) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $(BD)/$*/complete.eval | awk '{ printf "%.2f", 1000 * $$1 }') | $$(sed -n 's/.*error per sample.*x bbox diagonal [0-9.e-]* \/ \([0-9.e-]*\) \/.*/\1/p' $(BD)/$*/complete.eval | awk '{ printf "%.2f", 1000 * $$1 }') | $$(sed -n 's/.*spread of samples.*(\([0-9.e-]*\) x bbox.*/\1/p' $(BD)/$*/complete.eval | awk '{ printf "%.2f", 1000 * $$1 }') | $$(n=$$(sed -n 's/.*wrote \([0-9]*\) sequence.*/\1/p' $(BD)/$*/complete.log); u=$$(sed -n 's/.*warning: \([0-9]*\) completion.*/\1/p' $(BD)/$*/complete.log); echo "$$(( n - $${u:-0} )) of $$n below the threshold") |"; \
-	  echo "| linear interpolation in ACAP space | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $(BD)/$*/interp.eval | awk '{ printf "%.2f", 1000 * $$1 }') | | 0 | |"; \
+	  echo "| BD-LSTM (8 samples, random initial states) | $$($(call json_milli,$(BD)/$*/complete.eval.json,vertex_error.mean_relative)) | $$($(call json_milli,$(BD)/$*/complete.eval.json,samples_vs_truth.best_of_k_relative)) | $$($(call json_milli,$(BD)/$*/complete.eval.json,sample_spread.mean_relative)) | $$(n=$$(sed -n 's/.*wrote \([0-9]*\) sequence.*/\1/p' $(BD)/$*/complete.log); u=$$(sed -n 's/.*warning: \([0-9]*\) completion.*/\1/p' $(BD)/$*/complete.log); echo "$$(( n - $${u:-0} )) of $$n below the threshold") |"; \
+	  echo "| linear interpolation in ACAP space | $$($(call json_milli,$(BD)/$*/interp.eval.json,vertex_error.mean_relative)) | | 0 | |"; \
 	} > $@.tmp && mv $@.tmp $@
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/fig3.png'; \
 	  set title '$*: completion error inside the gap'; set xlabel 'frame after the first keyframe'; \
@@ -287,7 +290,7 @@ $(BD)/%/long.png: $(BD)/%/long.h5
 # --- (f) what the model learned: loss terms over training, KL per latent dimension, and windows
 # of the training part predicted with z = mean / prior draw / 0 beside zero motion.
 $(BD)/%/latent.txt: $(BD)/%/model.h5 $(BD)/%/data.h5
-	$(call launch,generate) $(BIN)/inspect-bdlstm -q $^ $($*_INSPECT) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
+	$(call launch,generate) $(BIN)/inspect-bdlstm -q -f $^ $($*_INSPECT) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 $(BD)/%/fig-latent.png: $(BD)/%/latent.txt
 	gnuplot -e "set terminal pngcairo size 1500,450; set output '$@'; set multiplot layout 1,3 title '$*: what the model learned'; \
 	  set key top right; set xlabel 'iteration'; set ylabel 'loss term (interval mean)'; set logscale y; \
@@ -363,7 +366,7 @@ $(foreach c,$(BD_CANDIDATES),$(eval $(call CANDIDATE_RULES,$(c))))
 
 # What a candidate learned, on its validation part (training log with the validation column).
 $(BD)/%.vlatent: $(BD)/%.h5
-	$(call launch,generate) $(BIN)/inspect-bdlstm -q $< $(BD)/$(vset)/data.h5 --part validation --initial 1 --length 5 \
+	$(call launch,generate) $(BIN)/inspect-bdlstm -q -f $< $(BD)/$(vset)/data.h5 --part validation --initial 1 --length 5 \
 	  --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 # The set of a target under $(BD) (its first directory), and its stride.
 vset = $(firstword $(subst /, ,$*))
@@ -393,9 +396,8 @@ $(BD)/%.complete-weighted.h5: $(BD)/%.h5
 $(BD)/%.complete-linear.h5: $(BD)/%.h5
 	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 --mode complete --part validation --test-every 1 --gap 9 --method linear -o $@
 $(BD)/%.veval: $(BD)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q $< $(BD)/$(vset)/data.h5 --json $@.json > $@.tmp && mv $@.tmp $@
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $(BD)/$(vset)/data.h5 --json $@.json > $@.tmp && mv $@.tmp $@
 
-json_num = awk -v key='"$(2)":' '$$1 == key { gsub(/,/, "", $$2); printf "%.2f", 1000 * $$2; exit }' $(1)
 $(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlatent $(BD)/%/validate/$(c).long-window.change10 \
                          $(BD)/%/validate/$(c).vpred-mean.veval $(BD)/%/validate/$(c).vpred-sample.veval \
                          $(BD)/%/validate/$(c).long-never.change10 $(BD)/%/validate/$(c).complete-switch.veval \
@@ -408,7 +410,7 @@ $(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlaten
 	  for c in $(BD_CANDIDATES); do v=$(BD)/$*/validate/$$c; \
 	    curve=$$(awk '/^# training_log/ { on = 1; next } on && NF == 0 { exit } on && NF >= 7 { if (!n++ || $$7 < m) { m = $$7; at = $$1 } last = $$7 } \
 	                  END { printf "%.3f (%d) | %.3f", m, at, last }' $$v.vlatent.tsv); \
-	    echo "| $$c | $$curve | $$($(call json_num,$$v.vpred-mean.veval.json,mean_relative)) / $$($(call json_num,$$v.vpred-sample.veval.json,mean_relative)) | $$($(call change_mean,$$v.long-window.change10.tsv,90)) / $$($(call change_mean,$$v.long-never.change10.tsv,90)) | $$($(call json_num,$$v.complete-switch.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-switch.veval.json,best_of_k_relative)) | $$($(call json_num,$$v.complete-blend.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-blend.veval.json,best_of_k_relative)) | $$($(call json_num,$$v.complete-weighted.veval.json,mean_of_k_relative)) / $$($(call json_num,$$v.complete-weighted.veval.json,best_of_k_relative)) | $$(sed -n 's/.*position error.*(\([0-9.e-]*\) x bbox.*/\1/p' $$v.complete-linear.veval | awk '{ printf "%.2f", 1000 * $$1 }') |"; \
+	    echo "| $$c | $$curve | $$($(call json_milli,$$v.vpred-mean.veval.json,vertex_error.mean_relative)) / $$($(call json_milli,$$v.vpred-sample.veval.json,vertex_error.mean_relative)) | $$($(call change_mean,$$v.long-window.change10.tsv,90)) / $$($(call change_mean,$$v.long-never.change10.tsv,90)) | $$($(call json_milli,$$v.complete-switch.veval.json,samples_vs_truth.mean_of_k_relative)) / $$($(call json_milli,$$v.complete-switch.veval.json,samples_vs_truth.best_of_k_relative)) | $$($(call json_milli,$$v.complete-blend.veval.json,samples_vs_truth.mean_of_k_relative)) / $$($(call json_milli,$$v.complete-blend.veval.json,samples_vs_truth.best_of_k_relative)) | $$($(call json_milli,$$v.complete-weighted.veval.json,samples_vs_truth.mean_of_k_relative)) / $$($(call json_milli,$$v.complete-weighted.veval.json,samples_vs_truth.best_of_k_relative)) | $$($(call json_milli,$$v.complete-linear.veval.json,vertex_error.mean_relative)) |"; \
 	  done; } > $@.tmp && mv $@.tmp $@
 	gnuplot -e "set terminal pngcairo size 800,500; set output '$(BD)/$*/validation.png'; \
 	  set title '$*: validation error during training (relative to zero motion)'; set xlabel 'iteration'; \

@@ -6,10 +6,10 @@ DEMO_MSAE_ITERATIONS ?= 1000
 .PHONY: demo
 demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
       $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
-      $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-long.glb $(DEMO)/bdlstm-pred.txt $(DEMO)/bdlstm-linear.txt \
+      $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-long.glb $(DEMO)/bdlstm-pred.json $(DEMO)/bdlstm-linear.json \
       $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png \
-      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.txt $(DEMO)/edit.png \
-      $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png $(DEMO)/actgan-mmd.txt $(DEMO)/actgan-accuracy.txt
+      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.json $(DEMO)/edit.png \
+      $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png $(DEMO)/actgan-mmd.json $(DEMO)/actgan-accuracy.json
 	@echo
 	@echo "== h5check: file kinds, shapes, compression, history"
 	$(BIN)/h5check --no-history $(DEMO)/faerie.h5
@@ -20,15 +20,18 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo
 	@echo "== BD-LSTM (train-bdlstm, 300 iterations on a walking finger; gen-bdlstm; eval-metrics)"
 	@echo "   prediction of 15 frames from 3 initial frames on the held-out part:"
-	@sed -n 's/^  per-vertex position error *\(.*\)/     BD-LSTM:              \1/p' $(DEMO)/bdlstm-pred.txt
-	@sed -n 's/^  per-vertex position error *\(.*\)/     linear extrapolation: \1/p' $(DEMO)/bdlstm-linear.txt
+	@echo "   mean vertex error (x bounding-box diagonal) over the predicted frames:"
+	@printf '     BD-LSTM:              %.4g  (%.4g x %.4g)\n' $$($(call json_values,$(DEMO)/bdlstm-pred.json,$(demo_vertex_error)))
+	@printf '     linear extrapolation: %.4g  (%.4g x %.4g)\n' $$($(call json_values,$(DEMO)/bdlstm-linear.json,$(demo_vertex_error)))
 	@echo "   (a short demo run; pipelines/bdlstm.mk trains longer and reproduces the paper's tables)"
 	@echo
 	@echo "== MSAE (train-msae, $(DEMO_MSAE_ITERATIONS) iterations on the bumps surface: 2 coarse + 4 fine planted regions)"
 	@echo "   reconstruction of the 162 held-out shapes (recon-msae; eval-metrics):"
-	@sed -n 's/^  E_rms *\(.*\)/     E_rms \1/p; s/^  relative squared error *\(.*\)/     relative squared error \1/p' $(DEMO)/msae-recon.txt
+	@printf '     E_rms %.4g; relative squared error of the features: max %.4g, mean %.4g\n' \
+	  $$($(call json_values,$(DEMO)/msae-recon.json,erms relative_squared_error.max relative_squared_error.mean))
 	@echo "   components kept by prune-components (strength >= 0.01):"
-	@sed -n 's/^level \([0-9]\): /     level \1: /p' $(DEMO)/msae-pruning.txt
+	@for l in 0 1; do printf '     level %s: %s kept, %s dropped\n' $$l \
+	  $$($(call json_values,$(DEMO)/msae-pruning.json,levels.$$l.kept levels.$$l.dropped)); done
 	@echo "   where they are: per planted region the best kept component at its level (IoU of supports):"
 	@sed -n '2,$$p' $(DEMO)/msae-localization.txt | sed 's/^/     /'
 	@echo "   (pipelines/msae.mk trains longer, adds the baselines and reproduces the paper's tables)"
@@ -38,11 +41,12 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo
 	@echo "== ActGAN (train-actgan: 400 WGAN-GP + 400 GAN iterations, small networks, on 5 synthetic actions)"
 	@echo "   generated from noise vs the real test clips (eval-metrics; MMD_u^2, lower is closer):"
-	@tail -n 1 $(DEMO)/actgan-mmd.txt | sed 's/^mean */     MMD_avg, MMD_seq, the same of motion: /'
+	@printf '     MMD_avg %.4g, MMD_seq %.4g; of motion (frame differences): MMD_avg %.4g, MMD_seq %.4g\n' \
+	  $$($(call json_values,$(DEMO)/actgan-mmd.json,mmd_avg mmd_seq mmd_motion_avg mmd_motion_seq))
 	@echo "   recognised by the trained classifier (classify-actions): real test clips / generated:"
-	@awk '/^all / { a[++n] = $$4 } END { printf "     %s / %s\n", a[1], a[2] }' $(DEMO)/actgan-accuracy.txt
+	@printf '     %.3f / %.3f\n' $$($(call json_values,$(DEMO)/actgan-accuracy.json $(DEMO)/actgan-accuracy-generated.json,overall))
 	@echo "   a mixture walk:0.5,wave:0.5, its class probabilities (walk wave jump kick squat; most probable):"
-	@sed -n 's/^\(walk+wave~[0-9]\) */     \1  /p' $(DEMO)/actgan-mixed.txt
+	@sed -n '/^sequence /,$$p' $(DEMO)/actgan-mixed.txt | sed 's/^/     /'
 	@echo "   (a short demo run with small networks; train-actgan's defaults are the authors' sizes)"
 	@echo
 	@echo "== pictures (render-mesh)"
@@ -129,8 +133,10 @@ $(DEMO)/bdlstm-prediction.png: $(DEMO)/bdlstm-pred.h5 $(DEMO)/bdlstm-linear.h5 $
 	  --row-labels "ground truth,BD-LSTM (3 initial frames),linear extrapolation" \
 	  --title "walking finger: prediction of held-out frames" -o $@
 
-$(DEMO)/bdlstm-%.txt: $(DEMO)/bdlstm-%.h5 $(DEMO)/bdlstm-finger.h5
-	$(BIN)/eval-metrics -q $^ > $@.tmp && mv $@.tmp $@
+# The demo's printed numbers come from the tools' --json (the tables beside them are for people).
+demo_vertex_error := vertex_error.mean vertex_error.mean_relative diagonal
+$(DEMO)/bdlstm-%.json: $(DEMO)/bdlstm-%.h5 $(DEMO)/bdlstm-finger.h5
+	$(BIN)/eval-metrics -q -f $^ --json $@ > $(@:.json=.txt)
 
 # MSAE: a short training run on the bumps surface, its components (extracted, pruned, drawn),
 # how well they find the planted regions, and the reconstruction of the held-out shapes.
@@ -140,13 +146,14 @@ $(DEMO)/msae-model.h5: $(DEMO)/bumps-acap.h5
 	$(BIN)/train-msae -f --iterations $(DEMO_MSAE_ITERATIONS) --print-every 250 $< -o $@
 $(DEMO)/msae-kept.h5: $(DEMO)/msae-model.h5
 	$(BIN)/extract-components -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-components.h5
-	$(BIN)/prune-components -f $(DEMO)/msae-components.h5 -o $@ --acap $(DEMO)/msae-kept-acap.h5 > $(DEMO)/msae-pruning.txt
+	$(BIN)/prune-components -f $(DEMO)/msae-components.h5 -o $@ --acap $(DEMO)/msae-kept-acap.h5 \
+	  --json $(DEMO)/msae-pruning.json > $(DEMO)/msae-pruning.txt
 $(DEMO)/msae-components.png: $(DEMO)/msae-kept.h5
 	$(BIN)/render-mesh -q -f $(DEMO)/msae-kept-acap.h5 --color deformation --view 30,50 --size 160 \
 	  --column-labels "$$($(call frame_names,$(DEMO)/msae-kept-acap.h5))" --row-labels "kept" \
 	  --title "MSAE components of the bumps surface, L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
 $(DEMO)/msae-localization.txt: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
-	$(BIN)/eval-metrics $< $(DEMO)/bumps.h5 > $@
+	$(BIN)/eval-metrics -f $< $(DEMO)/bumps.h5 > $@
 # Multiscale editing (paper 2, §5): the centre of the first planted (coarse) region dragged up
 # with the level-0 components, then the centre of a fine one with level 1 from that result; the
 # grid's corners held.
@@ -163,9 +170,9 @@ $(DEMO)/edit.png: $(DEMO)/edit-fine.h5
 	$(BIN)/render-mesh -q -f $(DEMO)/edit-coarse.h5 $< --color displacement --points edit --view 30,50 \
 	  --row-labels "coarse (level 0),fine (level 1)" --column-labels "edit" \
 	  --title "bumps: multiscale editing with MSAE components (red: handles)" -o $@
-$(DEMO)/msae-recon.txt: $(DEMO)/msae-model.h5
+$(DEMO)/msae-recon.json: $(DEMO)/msae-model.h5
 	$(BIN)/recon-msae -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-recon.h5
-	$(BIN)/eval-metrics $(DEMO)/msae-recon.h5 $(DEMO)/bumps-acap.h5 > $@
+	$(BIN)/eval-metrics -f $(DEMO)/msae-recon.h5 $(DEMO)/bumps-acap.h5 --json $@ > $(@:.json=.txt)
 
 # ActGAN: a short training run with small networks on synthetic actions, sequences generated
 # for every class and for a mixture of two, their MMD to the real test clips and how often the
@@ -183,12 +190,13 @@ $(DEMO)/actgan-mixed.h5: $(DEMO)/actgan-model.h5
 $(DEMO)/actgan-generated.png: $(DEMO)/actgan-generated.h5
 	$(BIN)/render-mesh -q -f $< --sequence walk~0 --sequence wave~0 --sequence jump~0 --sequence kick~0 \
 	  --sequence squat~0 --every 3 --size 100 --view 30,10 --title "ActGAN: actions generated from noise" -o $@
-$(DEMO)/actgan-mixed.png: $(DEMO)/actgan-mixed.h5 $(DEMO)/actgan-accuracy.txt
+$(DEMO)/actgan-mixed.png: $(DEMO)/actgan-mixed.h5 $(DEMO)/actgan-accuracy.json
 	$(BIN)/render-mesh -q -f $< --every 3 --size 100 --view 30,10 \
-	  --row-labels "$$($(DF_ROOT)/scripts/classified-labels < $(DEMO)/actgan-mixed.txt)" \
+	  --row-labels "$$($(DF_ROOT)/scripts/classified-labels $(DEMO)/actgan-mixed.json)" \
 	  --title "ActGAN: generated for the mixture walk 0.5 + wave 0.5, with the classifier's verdict" -o $@
-$(DEMO)/actgan-mmd.txt: $(DEMO)/actgan-generated.h5 $(DEMO)/actions.h5
-	$(BIN)/eval-metrics $^ > $@.tmp && mv $@.tmp $@
-$(DEMO)/actgan-accuracy.txt: $(DEMO)/actgan-model.h5 $(DEMO)/actions.h5 $(DEMO)/actgan-generated.h5 $(DEMO)/actgan-mixed.h5
-	{ $(BIN)/classify-actions $< $(DEMO)/actions.h5 && $(BIN)/classify-actions $< $(DEMO)/actgan-generated.h5; } > $@.tmp && mv $@.tmp $@
-	$(BIN)/classify-actions --probabilities $< $(DEMO)/actgan-mixed.h5 > $(DEMO)/actgan-mixed.txt
+$(DEMO)/actgan-mmd.json: $(DEMO)/actgan-generated.h5 $(DEMO)/actions.h5
+	$(BIN)/eval-metrics -f $^ --json $@ > $(@:.json=.txt)
+$(DEMO)/actgan-accuracy.json: $(DEMO)/actgan-model.h5 $(DEMO)/actions.h5 $(DEMO)/actgan-generated.h5 $(DEMO)/actgan-mixed.h5
+	$(BIN)/classify-actions -f $< $(DEMO)/actions.h5 --json $@ > $(@:.json=.txt)
+	$(BIN)/classify-actions -f $< $(DEMO)/actgan-generated.h5 --json $(DEMO)/actgan-accuracy-generated.json >> $(@:.json=.txt)
+	$(BIN)/classify-actions -f --probabilities $< $(DEMO)/actgan-mixed.h5 --json $(DEMO)/actgan-mixed.json > $(DEMO)/actgan-mixed.txt

@@ -161,21 +161,22 @@ $(MS)/%/recon-$(1).h5: $(MS)/%/msae-$(1).h5
 	$$(call launch,generate) $$(BIN)/recon-msae -q -f $$< $(MS)/$$*/data.h5 -o $$@
 endef
 $(foreach v,$(MS_VARIANTS),$(eval $(call MS_RECON_RULES,$(v))))
+# Evaluations as eval-metrics' JSON: the tables below read their numbers from it.
 $(MS)/%.eval: $(MS)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics $< $(dir $<)data.h5 $(write_if_changed)
+	$(call launch,eval) $(BIN)/eval-metrics -f $< $(dir $<)data.h5 --json - $(write_if_changed)
 # The paper's protocol aligns models before measuring: each part by a rotation too (Kabsch).
 $(MS)/%.reval: $(MS)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics --align rigid $< $(dir $<)data.h5 $(write_if_changed)
+	$(call launch,eval) $(BIN)/eval-metrics -f --align rigid $< $(dir $<)data.h5 --json - $(write_if_changed)
 # MSAE under the baselines' protocol: each test shape's codes fitted through the decoders.
 MS_FIT_STEPS ?= 300
 $(MS)/%/recon-fit.h5: $(MS)/%/msae.h5
 	$(call launch,generate) $(BIN)/recon-msae -q -f --fit-codes $(MS_FIT_STEPS) $< $(MS)/$*/data.h5 -o $@
 
-# Numbers out of an eval-metrics table.
-ms_erms = sed -n 's/^ *E_rms *\([0-9.e+-]*\).*/\1/p' $(1) | awk '{ printf "%.3f", $$1 }'
-ms_sted = sed -n 's/^ *STED *spatial \([0-9.e+-]*\).*/\1/p' $(1) | awk '{ printf "%.4f", $$1 }'
-ms_rse_max = sed -n 's/^ *relative squared error *max \([0-9.e+-]*\).*/\1/p' $(1) | awk '{ printf "%.4g", $$1 }'
-ms_pairs = sed -n 's/.*(\([0-9]*\) frame pairs).*/\1/p' $(1)
+# Numbers out of an evaluation's JSON.
+ms_erms = $(call json_values,$(1),erms) | awk '{ printf "%.3f", $$1 }'
+ms_sted = $(call json_values,$(1),sted.spatial) | awk '{ printf "%.4f", $$1 }'
+ms_rse_max = $(call json_values,$(1),relative_squared_error.max) | awk '{ printf "%.4g", $$1 }'
+ms_pairs = $(call json_values,$(1),frame_pairs)
 
 # MSAE's components per level as the set's K_z gives them ("10 + 10 x 5").
 ms_kz_label = $$(sed -n 's/.*--kz \([0-9]*\),\([0-9]*\).*/\1 + \1 x \2/p' $(MS)/$*/msae.args | grep . || echo '10 + 10 x 5')
@@ -312,7 +313,7 @@ $(MS)/%/curve.png: $(MS)/%/msae.h5
 	       '' using 1:6 with linespoints title 'validation: mean |X - X_hat|^2 per shape' noenhanced \
 	  $$([ $$n -ge 7 ] && echo ", '' using 1:7 axes x1y2 with linespoints title 'validation: E_rms of positions (right axis)' noenhanced")"
 # The localization table of the components in $(1) against the planted regions of frames $(2), indented.
-ms_localization = $(BIN)/eval-metrics $(1) $(2) | sed -n '2,$$p' | sed 's/^/    /'
+ms_localization = $(BIN)/eval-metrics -f $(1) $(2) | sed -n '2,$$p' | sed 's/^/    /'
 $(foreach s,$(MS_SYNTHETIC),$(MS)/$(s)/localization.md): $(MS)/%/localization.md: $(MS)/%/kept.h5 $(MS)/%/components.h5 $(MS)/%/frames.h5
 	{ echo "$* — localization of the planted regions by the kept components (support: deformation >= 10% of the component's peak; IoU with the region's disc)"; echo; \
 	  $(call ms_localization,$<,$(MS)/$*/frames.h5); echo; \

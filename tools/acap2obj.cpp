@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
                 "OUTPUT: a directory of mesh files (format from --name's extension), or NAME.h5\n"
                 "(acap kind with the reconstructed /frames/positions; the features stay in INPUT).\n"
                 "When the input stores original positions, the round-trip error is reported.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::convert::Acap2ObjOptions opt;
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "acap .h5 file with features")->required();

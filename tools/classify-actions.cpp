@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
       "have no right answer: they are not scored, and their class probabilities are printed.\n"
       "--probabilities prints every sequence's class probabilities.\n\n"
       "OUTPUT: the table on stdout; --json FILE (or -) with accuracies and probabilities.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::models::ClassifyOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "actgan-model .h5")->required();

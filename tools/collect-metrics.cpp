@@ -18,11 +18,19 @@ int main(int argc, char** argv) {
   app.add_option("FILE", opt.files, "Metrics JSON files, one row each")->required();
   app.add_option("--names", opt.names, "Row names, one per file (comma-separated)")
       ->delimiter(',');
+  app.add_option("--columns", opt.columns,
+                 "Only these columns, in this order (comma-separated paths: members by name, array\n"
+                 "elements by index, e.g. erms,sted.spatial,levels.1.kept; strings and booleans too)")
+      ->delimiter(',');
+  app.add_flag("--values", opt.values,
+               "Print the cells alone (no header, no row names); each file must have every column.\n"
+               "What a script or Makefile reads instead of a tool's human-readable table");
   app.add_option("-o,--output", opt.output, "Output table (.tsv); default stdout");
   tool.footer(
       "Examples:\n"
       "  collect-metrics sweep/*/metrics.json -o sweep/table.tsv\n"
-      "  collect-metrics a.json b.json --names joint,separate | column -t");
+      "  collect-metrics a.json b.json --names joint,separate | column -t\n"
+      "  erms=$(collect-metrics --values --columns erms recon.json)   # one number, in a script");
   return tool.run(argc, argv, [&] {
     opt.force = tool.common().force;
     df::eval::collect_metrics_tool(opt);

@@ -13,14 +13,20 @@ int main(int argc, char** argv) {
       "ACAP deformation the weights give vertex i (acap2obj's system, q the template). Solved by\n"
       "Levenberg-Marquardt on w, p eliminated (one factorisation per handle set).\n\n"
       "COMPONENTS: a components file (extract-components, prune-components, or fit-baseline\n"
-      "--components-out for PCA or SPLOCS on ACAP features). Multiscale editing: --levels 0\n"
-      "moves only the coarse components; then --levels 1 --from that result adds a detail, the\n"
-      "coarse weights kept.\n"
+      "--components-out for PCA or SPLOCS on ACAP features). Only the components that\n"
+      "prune-components kept are used (--include-pruned: all).\n\n"
+      "Multiscale editing, coarse then fine: --levels 0 moves only the coarse components; then\n"
+      "--levels 1 --from that result adds a detail. The coarse step's weights are kept, and so are\n"
+      "its handles: each stays where the coarse step put it (unless the new handle file moves it,\n"
+      "or --release-handles frees them all), so that one detail handle cannot turn the rest of the\n"
+      "shape about it. A model trained with train-msae's default soft penalty Ω often keeps no\n"
+      "level-1 component after pruning (prune-components' report says 'level 1: 0 kept'): give\n"
+      "--include-pruned to edit with them anyway, or train with --support proximal.\n"
       "OUTPUT: an acap .h5 with one frame (positions, raw and normalized features) and /edit:\n"
       "every component's weight, the handles and targets, the energy per step, and per handle\n"
       "the residual: its distance from the target in the shape the weights give with nothing\n"
       "held (how far the components reach it; the handles themselves sit on their targets).");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::apps::EditShapeOptions opt;
   auto& app = tool.app();
   app.add_option("COMPONENTS", opt.components, "components .h5")->required();
@@ -43,7 +49,11 @@ int main(int argc, char** argv) {
   app.add_flag("--relative", opt.relative,
                "The handle file's x y z are displacements from where each vertex is in the shape\n"
                "edited from (drag by an amount)");
-  app.add_flag("--include-pruned", opt.include_pruned, "Use the components prune-components dropped too");
+  app.add_flag("--include-pruned", opt.include_pruned,
+               "Use the components prune-components dropped too (needed for a level whose\n"
+               "components were all pruned)");
+  app.add_flag("--release-handles", opt.release_handles,
+               "With --from an earlier edit: do not hold that edit's handles where it put them");
   app.add_option("--l2", opt.solver.l2, "λ: weight of ‖w‖² (keeps underdetermined edits small)")
       ->default_val(opt.solver.l2)
       ->check(CLI::NonNegativeNumber);
@@ -61,7 +71,8 @@ int main(int argc, char** argv) {
       "  printf '120 0.1 0.9 0.3\\n0\\n' > h.txt     # drag vertex 120, hold vertex 0\n"
       "  edit-shape comps.h5 --handles h.txt -o edit.h5 && acap2obj edit.h5 -o edit/\n"
       "  edit-shape comps.h5 --handles h.txt --levels 0 -o coarse.h5            # coarse first\n"
-      "  edit-shape comps.h5 --handles h2.txt --levels 1 --from coarse.h5 -o fine.h5   # then a detail\n"
+      "  edit-shape comps.h5 --handles h2.txt --levels 1 --from coarse.h5 -o fine.h5   # then a detail,\n"
+      "                                          # coarse.h5's handles held where it put them\n"
       "  edit-shape comps.h5 --sample 20 --to test.h5 --to-frame 3 -o fit.h5 && eval-metrics ...\n"
       "  edit-shape -v ...   # the energy at every step");
   return tool.run(argc, argv, [&] { df::apps::edit_shape(opt, tool.common()); });

@@ -47,16 +47,22 @@ int main(int argc, char** argv) {
                 "INPUT: PRED [TRUTH]: acap .h5 files or mesh directories (or two skeleton files, or\n"
                 "a components file and a bumps file); with PRED alone only the\n"
                 "feature change is measured. OUTPUT: the table on stdout; --json FILE (or -).");
-  tool.with_threads();
+  tool.with_force();
   df::apps::EvalOptions opt;
   auto& app = tool.app();
   app.add_option("PRED", opt.pred, "Predicted / generated frames")->required();
   app.add_option("TRUTH", opt.truth, "Ground truth on the same template");
-  app.add_option("--json", opt.json, "Write every number as JSON to FILE (- = stdout, no table)");
+  app.add_option("--json", opt.json,
+                 "Write every number as JSON to FILE (- = stdout, no table); pipelines read this,\n"
+                 "never the table");
   app.add_option("--tsv", opt.tsv,
-                 "Write two tables for plots to FILE: per-step errors (gnuplot: index 'step') and\n"
-                 "the feature change per time index (index 'feature_change')");
-  app.add_option("--steps", opt.steps, "Steps shown in the table, e.g. 5,10,15 (default: all, or every 5th)")
+                 "Write two tables for plots to FILE: the error per step after the given frames of a\n"
+                 "gen-bdlstm prediction (gnuplot: index 'step'), or per frame pair of other files\n"
+                 "(index 'frame': the frame's number in PRED and in TRUTH), and the feature change per\n"
+                 "time index (index 'feature_change')");
+  app.add_option("--steps", opt.steps,
+                 "Rows of the table: steps of a prediction, or PRED's frames, e.g. 5,10,15 (default:\n"
+                 "all, or every 5th)")
       ->delimiter(',')
       ->allow_extra_args(false);
   app.add_option("--support-threshold", opt.support_threshold,

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
       "skeleton's hierarchy, its normalization undone.\n"
       "Blender: File > Import > glTF 2.0, then play the timeline; three.js and other viewers\n"
       "open the file directly.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::apps::ExportGltfOptions opt;
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "acap .h5, or mesh files / directories")->required();

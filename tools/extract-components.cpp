@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
       "MODEL: from train-msae. DATA: the acap file it was trained on (for the code ranges).\n"
       "OUTPUT: a components .h5 for prune-components; --acap also writes the components as an\n"
       "acap file (one sequence per level) for acap2obj and render-mesh --color deformation.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::models::ExtractOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "msae-model .h5")->required();

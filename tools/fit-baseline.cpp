@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
       "components). DATA: the acap file it was trained on.\n"
       "OUTPUT: an acap .h5 like recon-msae's (pca, splocs-acap: features; splocs: positions), for\n"
       "eval-metrics against DATA.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::models::BaselineOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "msae-model .h5 (for its split)")->required();

@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
       "/normalization copied, so render-mesh and eval-metrics read it like the data), named\n"
       "CLASS~k (or A+B~k for a mixture, labelled by its strongest class); --latents FILE adds\n"
       "the latent trajectories h_t as a table (sequence, frame, h1..hZ; paper Fig. 3).");
-  tool.with_threads().with_seed(0).with_force();
+  tool.with_seed(0).with_force();
   df::models::ActganGenerateOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "actgan-model .h5")->required();

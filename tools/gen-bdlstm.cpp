@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
                 "/frames/source names the DATA frame of the same time (-1 past its end) and\n"
                 "/frames/step the frames after the last given one. acap2obj makes meshes of it;\n"
                 "eval-metrics compares it with DATA.");
-  tool.with_threads().with_seed(1).with_force();
+  tool.with_seed(1).with_force();
   df::models::BdlstmGenerateOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "bdlstm-model .h5 from train-bdlstm")->required();

@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
       "well as the mean, the LSTM does not use what the encoder sees.\n\n"
       "INPUT: MODEL (bdlstm-model .h5) DATA (the acap .h5 it was trained on). Output: a report\n"
       "on stdout; --tsv FILE adds the KL per dimension and the error per step for plots.");
-  tool.with_threads().with_seed(0);
+  tool.with_seed(0).with_force();
   df::models::BdlstmInspectOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "bdlstm-model .h5")->required();

@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
                 "  FRAMES.h5    an acap file with /frames/positions (e.g. from synth-meshseq)\n"
                 "OUTPUT: an acap .h5 with /template, /frames/positions, /features/raw [N,V,9] f64,\n"
                 "/features/normalized [N,V,9] f32 in [-0.95,0.95], /normalization, /sequences.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::convert::Obj2AcapOptions opt;
   std::string normalize = "group";
   bool no_consistency = false;

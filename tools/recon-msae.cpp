@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
       "every frame of DATA (any file on the same template).\n"
       "OUTPUT: an acap .h5 with /features/normalized and /frames/source (the DATA frame each\n"
       "one reconstructs), so that eval-metrics pairs it with DATA.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::models::MsaeReconOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "msae-model .h5")->required();

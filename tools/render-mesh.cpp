@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
       "row) for one PNG per selected frame, e.g. frames/{index:04d}.png, then\n"
       "  ffmpeg -i frames/%04d.png -pix_fmt yuv420p movie.mp4\n"
       "The same input gives byte-identical PNGs at any --threads.");
-  tool.with_threads().with_force();
+  tool.with_force();
   df::apps::RenderOptions opt;
   auto& app = tool.app();
   app.add_option("INPUT", opt.inputs, "Files to draw, one row each (or one per --sequence)")

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
                 "Output: -o NAME.h5 writes the 'acap' file kind with /template and\n"
                 "/frames/positions (features are added later by obj2acap); any other -o is a\n"
                 "directory of mesh files 0000.obj, 0001.obj, ... (--mesh-format).");
-  tool.with_threads().with_seed(0).with_force();
+  tool.with_seed(0).with_force();
   df::synth::MeshSeqParams p;
   std::string kind = "finger", output, format = "obj";
   auto& app = tool.app();

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
       "INPUT: a skeleton .h5 of equal-length clips (skel2h5 --length; its test part is not\n"
       "trained on). OUTPUT: an actgan-model .h5 for gen-actgan (weights, Adam and RNG state,\n"
       "config, classes, skeleton, normalization, loss log).");
-  tool.with_threads().with_seed(1).with_force().with_stop_requests();
+  tool.with_seed(1).with_force().with_stop_requests();
   df::models::ActganTrainOptions opt;
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "skeleton .h5 of equal-length clips")->required();

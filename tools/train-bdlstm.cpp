@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
                 "normalization, train/test split, loss log), for gen-bdlstm. A contiguous --test-fraction\n"
                 "of every sequence is held out (not trained on): at its end by default; --test-part\n"
                 "random places it by the seed, as the paper does (no window crosses it).");
-  tool.with_threads().with_seed(1).with_force().with_stop_requests();
+  tool.with_seed(1).with_force().with_stop_requests();
   df::models::BdlstmTrainOptions opt;
   // The defaults learn on new data; --paper-form restores the paper's exact loss and start.
   df::models::apply_learning_defaults(opt.net, opt.training);

@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
       "split, geodesic distances from the centres, loss log) for recon-msae and\n"
       "extract-components. Split as in the paper: sequences train on every 10th shape (1:9),\n"
       "collections (--split collection) on a random half; or explicit --train/--test lists.");
-  tool.with_threads().with_seed(1).with_force().with_stop_requests();
+  tool.with_seed(1).with_force().with_stop_requests();
   df::models::MsaeTrainOptions opt;
   int levels = 0;
   auto& app = tool.app();

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "io/acap_file.h"
 
@@ -50,7 +51,7 @@ std::vector<RegionMatch> localization_scores(const models::Components& c,
 }
 
 void eval_components(const std::string& components, const std::string& truth,
-                     const std::string& json, double threshold) {
+                     const std::string& json, double threshold, bool force) {
   if (!(threshold > 0 && threshold < 1)) throw UsageError("--support-threshold must be in (0, 1)");
   const models::Components c = models::read_components(components);
   io::require_acap_components(c, components, "localization");
@@ -96,9 +97,7 @@ void eval_components(const std::string& components, const std::string& truth,
   if (json == "-") {
     fmt::print("{}\n", js.dump(2));
   } else {
-    std::ofstream out(json);
-    out << js.dump(2) << "\n";
-    if (!out) throw IOError("cannot write", json);
+    write_text_output(json, js.dump(2) + "\n", force, {components, truth});
   }
 }
 

@@ -30,8 +30,8 @@ std::vector<RegionMatch> localization_scores(const models::Components& c,
                                              double threshold = 0.1);
 
 /// eval-metrics COMPONENTS TRUTH: prints the table (and JSON) of localization_scores against
-/// TRUTH's /synthetic regions.
+/// TRUTH's /synthetic regions; `force` lets the JSON file replace an existing one.
 void eval_components(const std::string& components, const std::string& truth,
-                     const std::string& json, double threshold);
+                     const std::string& json, double threshold, bool force);
 
 }  // namespace df::apps

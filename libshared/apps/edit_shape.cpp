@@ -75,6 +75,7 @@ struct Start {
   io::Vertices positions;
   std::vector<double> features;  // [9V]
   std::vector<double> weights;   // [K] every component's
+  std::vector<int> handles;      // the vertices the edit it came from held
   std::string history;
 };
 
@@ -105,6 +106,7 @@ Start read_start(const EditShapeOptions& opt, const io::Components& c, const Sub
                                    : geometry::Reconstructor(c.tmpl.vertices, c.tmpl.faces).solve(st.features.data());
   if (r.has_edit()) {
     const auto e = r.read_edit();
+    st.handles.assign(e.handles.begin(), e.handles.end());
     if (e.weights.size() == s.level.size() && e.level == s.level)
       st.weights = e.weights;
     else
@@ -112,6 +114,23 @@ Start read_start(const EditShapeOptions& opt, const io::Components& c, const Sub
                 opt.from, e.components);
   }
   return st;
+}
+
+// Coarse then fine: the handles of the edit the shape came from stay where they are, unless this
+// edit moves them or --release-handles frees them. (Without them a detail edit with one handle
+// is free to turn the whole shape about it: the coarse step's placement is lost.)
+void keep_earlier_handles(Handles& h, const Start& start, const EditShapeOptions& opt) {
+  if (opt.release_handles || start.handles.empty()) return;
+  std::set<int> seen(h.vertices.begin(), h.vertices.end());
+  std::size_t kept = 0;
+  for (int v : start.handles) {
+    if (v < 0 || v >= start.positions.rows() || !seen.insert(v).second) continue;
+    h.vertices.push_back(v);
+    h.targets.emplace_back(start.positions.row(v));
+    ++kept;
+  }
+  if (kept)
+    log::info("holding the {} handle(s) of {}'s edit where they are (--release-handles frees them)", kept, opt.from);
 }
 
 // --sample N handles with their targets in a frame of --to.
@@ -164,12 +183,17 @@ std::vector<double> handle_residual(const io::Components& c, const std::vector<d
   return r;
 }
 
+// The files an edit reads (never to be overwritten by its output).
+std::vector<std::filesystem::path> edit_inputs(const EditShapeOptions& opt) {
+  std::vector<std::filesystem::path> inputs{opt.components};
+  for (const auto& p : {opt.handles, opt.from, opt.to})
+    if (!p.empty()) inputs.emplace_back(p);
+  return inputs;
+}
+
 void write_edit(const EditShapeOptions& opt, const io::Components& c, const std::vector<std::string>& histories,
                 const geometry::SubspaceEditResult& res, io::ShapeEdit record, bool force) {
-  std::vector<std::filesystem::path> inputs{opt.components};
-  for (const auto& p : {opt.handles, opt.from})
-    if (!p.empty()) inputs.emplace_back(p);
-  AtomicOutput out(opt.output, AtomicOutput::Kind::file, force, inputs);
+  AtomicOutput out(opt.output, AtomicOutput::Kind::file, force, edit_inputs(opt));
   {
     io::AcapWriter f(out.temp_path(), opt.output, histories);
     const auto V = static_cast<std::size_t>(c.tmpl.vertices.rows());
@@ -309,12 +333,14 @@ Handles read_handles(const std::string& path, int n_vertices) {
 }
 
 void edit_shape(const EditShapeOptions& opt, const CommonOptions& common) {
+  const OutputClaim claim = claim_output(opt.output, common.force, edit_inputs(opt));
   const io::Components c = io::read_components(opt.components);
   const int V = static_cast<int>(c.tmpl.vertices.rows());
   Handles handles = opt.handles.empty() ? Handles{} : read_handles(opt.handles, V);
   const Subspace sub = select_directions(c, opt);
   const Start start = read_start(opt, c, sub);
   place_handles(handles, opt.fixed, start.positions, opt.relative);  // the file's, then --fixed
+  keep_earlier_handles(handles, start, opt);
   sample_handles(handles, opt, c);
   if (handles.vertices.empty())
     throw UsageError("no handles: give --handles FILE (lines `vertex x y z`), --sample N --to SHAPE or --fixed");

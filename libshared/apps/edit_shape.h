@@ -22,6 +22,7 @@ struct EditShapeOptions {
   std::vector<int> levels;  ///< empty: every level
   bool include_pruned = false;
   bool relative = false;    ///< the handle file's targets are displacements from the start shape
+  bool release_handles = false;  ///< do not hold the handles of --from's own edit
   geometry::SubspaceEditOptions solver;
 };
 

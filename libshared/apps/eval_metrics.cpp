@@ -13,8 +13,10 @@
 #include <numeric>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 
 #include "convert/frame_set.h"
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/progress.h"
@@ -30,7 +32,7 @@ namespace {
 
 // eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
 void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
-                    const std::string& json, const SkeletonSelection& select) {
+                    const std::string& json, const SkeletonSelection& select, bool force) {
   if (truth_path.empty()) throw UsageError("skeleton files are measured against TRUTH (real sequences)");
   const io::SkeletonFile pred = io::read_skeleton_file(pred_path);
   const io::SkeletonFile truth = io::read_skeleton_file(truth_path);
@@ -77,9 +79,7 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
     fmt::print("{}\n", js.dump(2));
     return;
   }
-  std::ofstream out(json);
-  out << js.dump(2) << "\n";
-  if (!out) throw IOError("cannot write", json);
+  write_text_output(json, js.dump(2) + "\n", force, {pred_path, truth_path});
 }
 
 using geometry::kFeatureDims;
@@ -346,10 +346,12 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, cons
     js["frames_measured"] = t.counted;
     js["diagonal"] = diag;
     js["vertex_error"] = {{"mean", t.err / np}, {"mean_relative", t.err / np / diag}};
-    nlohmann::ordered_json steps = nlohmann::ordered_json::array();
-    for (const auto& [s, v] : t.by_step)
-      steps.push_back({{"step", s}, {"frames", v.second}, {"mean", v.first / v.second}, {"relative", v.first / v.second / diag}});
-    js["vertex_error"]["per_step"] = steps;
+    if (!pred.step.empty()) {  // steps after the given frames (gen-bdlstm); else per_frame says it all
+      nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+      for (const auto& [s, v] : t.by_step)
+        steps.push_back({{"step", s}, {"frames", v.second}, {"mean", v.first / v.second}, {"relative", v.first / v.second / diag}});
+      js["vertex_error"]["per_step"] = steps;
+    }
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < m.pm.results.size(); ++k)
       frames.push_back({{"pred", m.pairs[k].first}, {"truth", m.pairs[k].second}, {"error", m.pm.results[k].error},
@@ -390,14 +392,21 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, cons
 }
 
 // Two data blocks that gnuplot selects by name: index 'step', index 'feature_change'.
-void write_tsv(const MeshMeasures& m, const EvalOptions& opt) {
-  std::ofstream out(opt.tsv);
-  out << "# step: frames error relative_error\n";
-  for (const auto& [st, v] : m.totals.by_step)
-    out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / m.pm.diag);
+void write_tsv(const MeshMeasures& m, const FrameSet& pred, const EvalOptions& opt, bool force) {
+  std::ostringstream out;
+  if (!pred.step.empty()) {
+    out << "# step: frames error relative_error\n";
+    for (const auto& [st, v] : m.totals.by_step)
+      out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / m.pm.diag);
+  } else {
+    out << "# frame: pred_frame truth_frame error relative_error\n";
+    for (std::size_t k = 0; k < m.pm.results.size(); ++k)
+      out << fmt::format("{} {} {:.9g} {:.9g}\n", m.pairs[k].first, m.pairs[k].second, m.pm.results[k].error,
+                         m.pm.results[k].error / m.pm.diag);
+  }
   out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n", opt.change_span);
   for (std::size_t k = 0; k < m.change.by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, m.change.by_index[k]);
-  if (!out) throw IOError("cannot write", opt.tsv);
+  write_text_output(opt.tsv, out.str(), force, {opt.pred, opt.truth});
 }
 
 // The human table.
@@ -436,21 +445,30 @@ std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const
   if (v.cases)
     t += fmt::format("  {:<28} mean of K {:.6g}  best of K {:.6g}  worst of K {:.6g}  (x bbox diagonal {:.4g} / {:.4g} / {:.4g}; {} cases)\n",
                      "error per sample", v.mean, v.best, v.worst, v.mean / diag, v.best / diag, v.worst / diag, v.cases);
-  if (m.has_truth && tt.by_step.size() > 1) {
-    t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", pred.step.empty() ? "frame" : "step", "frames", "error", "x diagonal");
-    for (const auto& [s, val] : tt.by_step) {
-      const bool show = opt.steps.empty() ? tt.by_step.size() <= 40 || s % 5 == 0
-                                          : std::find(opt.steps.begin(), opt.steps.end(), s) != opt.steps.end();
-      if (show)
+  const auto shown = [&](std::size_t n, int key) {
+    return opt.steps.empty() ? n <= 40 || key % 5 == 0
+                             : std::find(opt.steps.begin(), opt.steps.end(), key) != opt.steps.end();
+  };
+  if (m.has_truth && !pred.step.empty() && tt.by_step.size() > 1) {
+    t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", "step", "frames", "error", "x diagonal");
+    for (const auto& [s, val] : tt.by_step)
+      if (shown(tt.by_step.size(), s))
         t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, val.second, val.first / val.second,
                          val.first / val.second / diag);
-    }
+  } else if (m.has_truth && pred.step.empty() && m.pm.results.size() > 1) {
+    // Frames without steps (a reconstruction, a file of meshes): each pair's own row, numbered
+    // in each file (the truth's frame is the data frame).
+    t += fmt::format("  {:>10} {:>11} {:>14} {:>14}\n", "pred frame", "truth frame", "error", "x diagonal");
+    for (std::size_t k = 0; k < m.pm.results.size(); ++k)
+      if (shown(m.pm.results.size(), static_cast<int>(m.pairs[k].first)))
+        t += fmt::format("  {:>10} {:>11} {:>14.6g} {:>14.6g}\n", m.pairs[k].first, m.pairs[k].second,
+                         m.pm.results[k].error, m.pm.results[k].error / diag);
   }
   return t;
 }
 
 // eval-metrics on mesh files: PRED alone (feature change, samples' spread) or against TRUTH.
-void eval_meshes(const EvalOptions& opt) {
+void eval_meshes(const EvalOptions& opt, bool force) {
   FrameSet pred = read_frame_set(opt.pred);
   const Shape sh = shape_of(pred);
   MeshMeasures m;
@@ -473,12 +491,8 @@ void eval_meshes(const EvalOptions& opt) {
   if (truth) m.samples = samples_vs_truth(pred, groups, m.pairs, m.pm.results, m.totals.skip_given);
 
   const nlohmann::ordered_json js = to_json(m, pred, opt);
-  if (!opt.json.empty() && opt.json != "-") {
-    std::ofstream out(opt.json);
-    out << js.dump(2) << "\n";
-    if (!out) throw IOError("cannot write", opt.json);
-  }
-  if (!opt.tsv.empty()) write_tsv(m, opt);
+  if (!opt.json.empty() && opt.json != "-") write_text_output(opt.json, js.dump(2) + "\n", force, {opt.pred, opt.truth});
+  if (!opt.tsv.empty()) write_tsv(m, pred, opt, force);
   if (opt.json == "-")
     std::cout << js.dump(2) << "\n";
   else
@@ -487,17 +501,18 @@ void eval_meshes(const EvalOptions& opt) {
 
 }  // namespace
 
-void eval_metrics(const EvalOptions& opt, const CommonOptions&) {
+void eval_metrics(const EvalOptions& opt, const CommonOptions& common) {
   check_options(opt);
+  const auto claims = claim_outputs({opt.json, opt.tsv}, common.force, {opt.pred, opt.truth});
   const std::string kind = io::is_hdf5_path(opt.pred)
                                ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
                                : std::string();
-  if (kind == "skeleton") return eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons);
+  if (kind == "skeleton") return eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons, common.force);
   if (kind == "components") {
     if (opt.truth.empty()) throw UsageError("a components file is measured against TRUTH's planted regions");
-    return eval_components(opt.pred, opt.truth, opt.json, opt.support_threshold);
+    return eval_components(opt.pred, opt.truth, opt.json, opt.support_threshold, common.force);
   }
-  eval_meshes(opt);
+  eval_meshes(opt, common.force);
 }
 
 }  // namespace df::apps

@@ -67,6 +67,7 @@ void export_skeleton(const ExportGltfOptions& opt, const CommonOptions& common) 
 void export_gltf(const ExportGltfOptions& opt, const CommonOptions& common) {
   if (opt.fps < 0) throw UsageError("--fps must be positive");
   if (opt.every < 1) throw UsageError("--every must be at least 1");
+  const OutputClaim claim = claim_output(opt.output, common.force, {opt.input});
   if (io::is_hdf5_path(opt.input) && std::filesystem::exists(opt.input) &&
       io::declared_kind(h5::File(opt.input, h5::File::Mode::read)) == "skeleton")
     return export_skeleton(opt, common);
@@ -85,8 +86,8 @@ void export_gltf(const ExportGltfOptions& opt, const CommonOptions& common) {
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, {opt.input});
   io::write_gltf_sequence(out.temp_path().string(), seq);
   out.commit();
-  log::info("wrote {}: {} frames of {} vertices as morph targets, {:.3g} s at {:g} fps", opt.output, frames.size(),
-            fs.vertices(), static_cast<double>(frames.size() - 1) / seq.fps, seq.fps);
+  log::info("wrote {}: {} frames of {} vertices as morph targets at {:g} fps (the animation plays {:.3g} s)",
+            opt.output, frames.size(), fs.vertices(), seq.fps, static_cast<double>(frames.size() - 1) / seq.fps);
 }
 
 }  // namespace df::apps

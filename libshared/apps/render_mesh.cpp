@@ -23,6 +23,7 @@
 #include "eval/mesh_metrics.h"
 #include "geometry/mesh_topology.h"
 #include "io/acap_file.h"
+#include "io/components_file.h"
 #include "io/h5.h"
 #include "io/schema.h"
 #include "io/skeleton_file.h"
@@ -108,20 +109,30 @@ std::vector<std::size_t> select_frames(std::size_t begin, std::size_t end,
 
 // --- meshes ----------------------------------------------------------------------------------
 
+// A column's caption, true of every row drawn in it (a --show-truth row shows the data frame
+// paired with it): a generated frame's step after the given ones; the data frame a given frame,
+// a reconstruction (recon-msae, fit-baseline) or a fitted edit stands for; a component's name;
+// else the frame's number in its sequence.
+std::string caption(const convert::FrameSet& s, std::size_t i, std::size_t begin, bool components) {
+  if (!s.step.empty() && s.step[i] > 0) return fmt::format("future frame {}", s.step[i]);
+  if (!s.source.empty() && s.source[i] >= 0)  // a given frame, a reconstructed or fitted shape
+    return fmt::format("{}data frame {}", s.step.empty() ? "" : "given: ", s.source[i]);
+  if (components) return fmt::format("component {}", s.names[i]);
+  return fmt::format("frame {}", i - begin);
+}
+
 std::vector<Row> mesh_rows(const std::vector<convert::FrameSet>& sets, const RenderOptions& opt) {
   std::vector<Row> rows;
   for (std::size_t k = 0; k < sets.size(); ++k) {
     const auto& s = sets[k];
     if (s.tmpl.faces.rows() == 0) throw InvalidInput("has no triangles to draw", s.path);
+    const bool components = io::names_components(s.sequences, s.names, s.offsets);
     auto add = [&](std::size_t begin, std::size_t end, const std::string& label) {
       Row r;
       r.input = k;
       r.label = label;
       r.frames = select_frames(begin, end, s.step, opt, label);
-      for (std::size_t i : r.frames)
-        r.captions.push_back(!s.step.empty() && s.step[i] > 0
-                                 ? fmt::format("future frame {}", s.step[i])
-                                 : fmt::format("frame {}", i - begin));
+      for (std::size_t i : r.frames) r.captions.push_back(caption(s, i, begin, components));
       rows.push_back(std::move(r));
     };
     if (opt.sequences.empty()) {

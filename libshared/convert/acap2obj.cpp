@@ -268,6 +268,9 @@ void report_round_trip(const std::vector<FrameError>& errors, const Selection& s
 void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   const auto t0 = std::chrono::steady_clock::now();
   check_options(opt);
+  const bool h5out = io::is_hdf5_path(opt.output);
+  const OutputClaim claim = claim_output(opt.output, common.force, {opt.input},
+                                         h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory);
   const io::AcapReader in(opt.input);
   const FeatureSource src = feature_source(in, opt);
   const io::Mesh tmpl = in.read_template();
@@ -289,7 +292,6 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   const double diag = (tmpl.vertices.colwise().maxCoeff() - tmpl.vertices.colwise().minCoeff()).norm();
 
   // Output: a directory of meshes, or an acap .h5.
-  const bool h5out = io::is_hdf5_path(opt.output);
   AtomicOutput out(opt.output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory, common.force,
                    {opt.input});
   const std::vector<std::string> file_names = h5out ? std::vector<std::string>{} : mesh_file_names(sel, opt.name_pattern);

@@ -219,6 +219,7 @@ void write_normalized(io::AcapWriter& f, const geometry::Normalization& nz, std:
 
 void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
   const auto t_start = std::chrono::steady_clock::now();
+  const OutputClaim claim = claim_output(opt.output, common.force, as_paths(opt.inputs));
   FrameReader reader(opt.inputs);
   const Labelled labelled = labelled_sequences(reader, opt.labels);
   const std::size_t n = reader.size();

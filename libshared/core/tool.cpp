@@ -32,16 +32,14 @@ Tool::Tool(std::string name, std::string description) : name_(std::move(name)), 
   app_.set_version_flag("--version", name_ + " (deformflow) " DEFORMFLOW_VERSION);
   app_.add_flag("-q,--quiet", common_.quiet, "Print only warnings and errors (no progress)");
   app_.add_flag("-v,--verbose", common_.verbose, "Print details of the work (debug level)");
-  app_.get_formatter()->column_width(34);
-}
-
-Tool& Tool::with_threads() {
+  // Every tool takes --threads, those that compute on one thread too: a script or a cluster
+  // job can pass the same common options to any tool.
   app_.add_option("--threads", common_.threads,
                   "Worker threads (0 = all cores, or $SLURM_CPUS_PER_TASK in a Slurm job); results\n"
                   "do not depend on it")
       ->default_val(0)
       ->check(CLI::NonNegativeNumber);
-  return *this;
+  app_.get_formatter()->column_width(34);
 }
 
 Tool& Tool::with_seed(std::uint64_t default_seed) {

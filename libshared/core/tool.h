@@ -26,8 +26,6 @@ class Tool {
   const CommonOptions& common() const { return common_; }
   const std::string& name() const { return name_; }
 
-  /// Adds --threads (all tools that compute in parallel).
-  Tool& with_threads();
   /// Adds --seed with the given default (tools that draw random numbers).
   Tool& with_seed(std::uint64_t default_seed = 0);
   /// Adds -f/--force (tools that write an output).

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -28,6 +29,45 @@ void flatten(const nlohmann::ordered_json& j, const std::string& prefix,
   }
 }
 
+// A number, string or boolean as a cell shows it ("" for anything else).
+std::string cell_of(const nlohmann::ordered_json& j) {
+  if (j.is_number_integer() || j.is_number_unsigned()) return j.dump();
+  if (j.is_number_float()) return fmt::format("{:.10g}", j.get<double>());
+  if (j.is_string()) return j.get<std::string>();
+  if (j.is_boolean()) return j.get<bool>() ? "true" : "false";
+  return "";
+}
+
+nlohmann::ordered_json parse_object(const std::string& text, const std::string& where) {
+  auto j = nlohmann::ordered_json::parse(text, nullptr, false);
+  if (j.is_discarded()) throw InvalidInput("not JSON", where);
+  if (!j.is_object()) throw InvalidInput("not a JSON object (expected eval-metrics --json output)", where);
+  return j;
+}
+
+std::string value_at(const nlohmann::ordered_json& doc, const std::string& path) {
+  const nlohmann::ordered_json* j = &doc;
+  std::size_t begin = 0;
+  while (begin <= path.size()) {
+    const std::size_t dot = std::min(path.find('.', begin), path.size());
+    const std::string key = path.substr(begin, dot - begin);
+    if (j->is_object()) {
+      const auto it = j->find(key);
+      if (it == j->end()) return "";
+      j = &*it;
+    } else if (j->is_array()) {
+      std::size_t index = 0;
+      const auto [ptr, ec] = std::from_chars(key.data(), key.data() + key.size(), index);
+      if (key.empty() || ec != std::errc() || ptr != key.data() + key.size() || index >= j->size()) return "";
+      j = &(*j)[index];
+    } else {
+      return "";
+    }
+    begin = dot + 1;
+  }
+  return cell_of(*j);
+}
+
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IOError("cannot read the metrics file", path);
@@ -38,23 +78,40 @@ std::string read_text(const std::string& path) {
 
 }  // namespace
 
+std::string json_value(const std::string& text, const std::string& path, const std::string& where) {
+  return value_at(parse_object(text, where), path);
+}
+
 std::vector<std::pair<std::string, std::string>> json_numbers(const std::string& text,
                                                               const std::string& where) {
-  const auto j = nlohmann::ordered_json::parse(text, nullptr, false);
-  if (j.is_discarded()) throw InvalidInput("not JSON", where);
-  if (!j.is_object())
-    throw InvalidInput("not a JSON object (expected eval-metrics --json output)", where);
+  const auto j = parse_object(text, where);
   std::vector<std::pair<std::string, std::string>> out;
   flatten(j, "", out);
   return out;
 }
 
 MetricsTable collect_metrics(const std::vector<std::string>& files,
-                             const std::vector<std::string>& names) {
+                             const std::vector<std::string>& names,
+                             const std::vector<std::string>& columns, bool require) {
   if (files.empty()) throw UsageError("no metrics files given");
   if (!names.empty() && names.size() != files.size())
     throw UsageError(fmt::format("{} names for {} files", names.size(), files.size()));
   MetricsTable t;
+  if (!columns.empty()) {  // the columns asked for, by path
+    t.columns = columns;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      const auto doc = parse_object(read_text(files[i]), files[i]);
+      t.cells.emplace_back();
+      for (const auto& c : columns) {
+        t.cells.back().push_back(value_at(doc, c));
+        if (require && t.cells.back().back().empty())
+          throw InvalidInput(fmt::format("has no number, string or boolean at '{}'", c), files[i]);
+      }
+      const auto dir = std::filesystem::path(files[i]).parent_path().filename().string();
+      t.names.push_back(!names.empty() ? names[i] : dir.empty() ? files[i] : dir);
+    }
+    return t;
+  }
   std::map<std::string, std::size_t> column_of;
   std::vector<std::vector<std::pair<std::string, std::string>>> rows;
   for (std::size_t i = 0; i < files.size(); ++i) {
@@ -71,31 +128,31 @@ MetricsTable collect_metrics(const std::vector<std::string>& files,
   return t;
 }
 
-void write_tsv(std::ostream& out, const MetricsTable& table) {
-  out << "name";
-  for (const auto& c : table.columns) out << '\t' << c;
-  out << '\n';
+void write_tsv(std::ostream& out, const MetricsTable& table, bool values_only) {
+  if (!values_only) {
+    out << "name";
+    for (const auto& c : table.columns) out << '\t' << c;
+    out << '\n';
+  }
   for (std::size_t r = 0; r < table.names.size(); ++r) {
-    out << table.names[r];
-    for (const auto& cell : table.cells[r]) out << '\t' << cell;
+    if (!values_only) out << table.names[r];
+    for (std::size_t c = 0; c < table.cells[r].size(); ++c)
+      out << (c || !values_only ? "\t" : "") << table.cells[r][c];
     out << '\n';
   }
 }
 
 void collect_metrics_tool(const CollectMetricsOptions& opt) {
-  const MetricsTable table = collect_metrics(opt.files, opt.names);
-  if (opt.output.empty() || opt.output == "-") {
-    write_tsv(std::cout, table);
-    return;
-  }
-  AtomicOutput out(opt.output, AtomicOutput::Kind::file, opt.force,
-                   {opt.files.begin(), opt.files.end()});
-  {
-    std::ofstream f(out.temp_path());
-    write_tsv(f, table);
-    if (!f) throw IOError("cannot write the table", opt.output);
-  }
-  out.commit();
+  if (opt.values && opt.columns.empty()) throw UsageError("--values needs --columns (the values to print)");
+  const std::vector<std::filesystem::path> inputs(opt.files.begin(), opt.files.end());
+  const auto claims = claim_outputs({opt.output}, opt.force, inputs);
+  const MetricsTable table = collect_metrics(opt.files, opt.names, opt.columns, opt.values);
+  std::ostringstream text;
+  write_tsv(text, table, opt.values);
+  if (opt.output.empty() || opt.output == "-")
+    std::cout << text.str();
+  else
+    write_text_output(opt.output, text.str(), opt.force, inputs);
 }
 
 }  // namespace df::eval

@@ -121,12 +121,19 @@ void AcapReader::read_regions(std::vector<std::vector<std::uint8_t>>& masks, std
 
 void AcapReader::require_template(const Mesh& tmpl, const std::string& whose) const {
   const Faces faces = read_faces();
-  if (vertices() != static_cast<std::size_t>(tmpl.vertices.rows()) || faces.rows() != tmpl.faces.rows() ||
-      faces != tmpl.faces)
+  if (vertices() != static_cast<std::size_t>(tmpl.vertices.rows()) || faces.rows() != tmpl.faces.rows())
     throw InvalidInput(fmt::format("has another template than {0} ({1} vertices, {2} triangles; {0}'s: {3}, {4}): "
                                    "the two must share the template",
                                    whose, vertices(), faces.rows(), tmpl.vertices.rows(), tmpl.faces.rows()),
                        path_);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    if (faces.row(f) != tmpl.faces.row(f))
+      throw InvalidInput(fmt::format("has another template than {0}: the same {1} vertices and {2} triangles, but "
+                                     "triangle {3} joins vertices ({4} {5} {6}) here and ({7} {8} {9}) in {0} "
+                                     "(counting from 0): the two must share the template",
+                                     whose, vertices(), faces.rows(), f, faces(f, 0), faces(f, 1), faces(f, 2),
+                                     tmpl.faces(f, 0), tmpl.faces(f, 1), tmpl.faces(f, 2)),
+                         path_);
 }
 
 Vertices AcapReader::read_frame_positions(std::size_t frame) const {

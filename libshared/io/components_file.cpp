@@ -148,4 +148,19 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
   out.commit();
 }
 
+bool names_components(const std::vector<std::string>& sequence_names, const std::vector<std::string>& frame_names,
+                      const std::vector<std::int64_t>& offsets) {
+  if (sequence_names.empty() || offsets.size() != sequence_names.size() + 1 ||
+      offsets.back() != static_cast<std::int64_t>(frame_names.size()))
+    return false;
+  for (std::size_t s = 0; s < sequence_names.size(); ++s) {
+    const std::string& q = sequence_names[s];
+    if (q.rfind("level", 0) != 0 || q.size() == 5) return false;
+    const std::string prefix = "L" + q.substr(5) + ".";
+    for (auto f = offsets[s]; f < offsets[s + 1]; ++f)
+      if (frame_names[static_cast<std::size_t>(f)].rfind(prefix, 0) != 0) return false;
+  }
+  return true;
+}
+
 }  // namespace df::io

@@ -43,6 +43,9 @@ std::vector<FrameSource> from_list(const fs::path& list) {
     if (fs::is_directory(p, ec)) {
       auto d = from_directory(p);
       out.insert(out.end(), d.begin(), d.end());
+    } else if (!is_mesh_file(p.string())) {
+      throw InvalidInput("listed file is not a mesh file (.obj, .off, .ply): " + p.string(),
+                         list.string() + ":" + std::to_string(lineno));
     } else {
       out.push_back(source_of(p));
     }
@@ -59,6 +62,11 @@ std::vector<FrameSource> expand_frames(const std::string& input) {
   std::error_code ec;
   if (!fs::exists(p, ec)) throw IOError("no such file or directory", input);
   if (fs::is_directory(p, ec)) return from_directory(p);
+  if (!is_mesh_file(input))
+    throw InvalidInput(
+        "unknown input format: expected a mesh file (.obj, .off, .ply), an MD2 model (.md2), an acap .h5 file, a "
+        "directory of mesh files or an @LIST of them",
+        input);
   return {source_of(p)};
 }
 

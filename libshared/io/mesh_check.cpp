@@ -115,7 +115,11 @@ MeshTextScan check_obj(const std::string& path, const std::string& text) {
         corner = slash == std::string_view::npos ? std::string_view() : corner.substr(slash + 1);
         if (part.empty() && k > 0) continue;  // "1//3"
         std::int64_t index = 0;
-        if (!parse_int(part, index) || index == 0 || index > counts[k] || index < -counts[k])
+        if (parse_int(part, index) && index == 0)
+          throw InvalidInput(fmt::format("face corner '{}' names {} 0: OBJ counts from 1 (or back from -1)",
+                                         tokens[c], kinds[k]),
+                             lines.where(path));
+        if (!parse_int(part, index) || index > counts[k] || index < -counts[k])
           throw InvalidInput(
               fmt::format("face corner '{}' names {} {}, but {} are defined before it", tokens[c],
                           kinds[k], part, counts[k]),

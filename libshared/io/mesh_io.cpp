@@ -253,6 +253,7 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference, const st
       for (int k = 0; k < 3; ++k) {
         skip_blank(q, eol);
         double x = 0;
+        if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+') ++q;  // "+1.5", as strtod reads it
         auto [ptr, ec] = std::from_chars(q, eol, x);
         if (ec != std::errc() || !std::isfinite(x))
           throw InvalidInput(ec != std::errc() ? "unreadable vertex coordinate" : "non-finite coordinate (NaN or Inf)",
@@ -268,6 +269,7 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference, const st
         skip_blank(q, eol);
         if (q >= eol) break;
         long idx = 0;
+        if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+') ++q;
         auto [ptr, ec] = std::from_chars(q, eol, idx);
         if (ec != std::errc()) throw InvalidInput("unreadable face", where());
         // 1-based; negative = relative to the vertices read so far
@@ -276,8 +278,16 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference, const st
         while (q < eol && *q != ' ' && *q != '\t' && *q != '\r') ++q;  // skip /vt/vn
       }
       if (poly.size() < 3) throw InvalidInput(fmt::format("face with {} corners", poly.size()), where());
-      if (poly.size() == 3 && (poly[0] == poly[1] || poly[1] == poly[2] || poly[0] == poly[2]))
-        continue;  // skipped by the general reader as well
+      // As the general reader (OpenMesh) takes a face: a corner that repeats an earlier one is
+      // left out (a polygon that returns to a vertex), a face of fewer than 3 corners then skipped.
+      for (std::size_t k = 1; k < poly.size();) {
+        if (std::find(poly.begin(), poly.begin() + static_cast<std::ptrdiff_t>(k), poly[k]) !=
+            poly.begin() + static_cast<std::ptrdiff_t>(k))
+          poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(k));
+        else
+          ++k;
+      }
+      if (poly.size() < 3) continue;
       for (std::size_t k = 1; k + 1 < poly.size(); ++k, ++tri) {
         if (tri >= reference.faces.rows() || reference.faces(tri, 0) != poly[0] ||
             reference.faces(tri, 1) != poly[k] || reference.faces(tri, 2) != poly[k + 1]) {

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 
 #include "core/error.h"
+#include "core/log.h"
 
 using nlohmann::json;
 
@@ -313,9 +315,17 @@ Dimensions validate(const h5::File& f, const std::string& expected_kind,
   return Validator(f, s, opt).run();
 }
 
+namespace {
+constexpr std::uintmax_t kAnnouncedBytes = 64u << 20;  // inputs that take seconds to check
+}  // namespace
+
 h5::File open_input(const std::string& path, const std::string& kind, Dimensions* dims,
                     const ValidationOptions& opt) {
   h5::File f(path, h5::File::Mode::read);
+  // Validation reads every dataset (NaN/Inf checks): say so before a large file's long silence.
+  std::error_code ec;
+  if (const auto bytes = std::filesystem::file_size(path, ec); !ec && bytes >= kAnnouncedBytes)
+    log::info("reading {} ({:.0f} MB)", path, static_cast<double>(bytes) / 1e6);
   Dimensions d = validate(f, kind, opt);
   if (dims) *dims = std::move(d);
   return f;

@@ -193,10 +193,14 @@ run classify-actions trained.h5 mix.h5 --json mix.json; expect_rc 0
 expect_out "^3 sequences generated for a mixture of classes \(walk 0.25 \+ wave 0.75\): not scored"
 expect_out "^walk\+wave~2 +[0-9.]+ +[0-9.]+ +[0-9.]+  (walk|wave|squat)$"
 ! grep -qE '^(all|wave) +[0-9]' out.txt || fail "a mixture scored: $(cat out.txt)"
-labels=$(bash "$DF_ROOT/scripts/classified-labels" < out.txt)  # the pictures' row captions
+labels=$(python3 "$DF_ROOT/scripts/classified-labels" mix.json)  # the pictures' row captions, from the JSON
 [[ $labels =~ ^walk\+wave~0:\ classified\ [a-z]+\ [01]\.[0-9]{2},walk\+wave~1:\ .*,walk\+wave~2:\ classified\ [a-z]+\ [01]\.[0-9]{2}$ ]] ||
   fail "classified-labels: '$labels'"
-run bash "$DF_ROOT/scripts/classified-labels" < mix.json; expect_rc 1; expect_err "no probability table"
+# the same verdicts as the printed table's last column
+[ "$(sed -n 's/^\(walk+wave~[0-9]\) .*  \([a-z]*\)$/\1: classified \2/p' out.txt | paste -sd,)" = \
+  "$(echo "$labels" | tr , '\n' | sed 's/ [0-9.]*$//' | paste -sd,)" ] || fail "classified-labels disagrees with the table: '$labels'"
+echo '{"model": "m.h5"}' > noprob.json
+run python3 "$DF_ROOT/scripts/classified-labels" noprob.json; expect_rc 1; expect_err "no class probabilities in noprob.json"
 grep -q '"walk+wave~1": "walk 0.25 + wave 0.75"' mix.json && ! grep -q '"overall"' mix.json || fail "mixture JSON: $(cat mix.json)"
 h5check -q --kind skeleton mix.h5
 # scripts/pose-norms (actgan-validation's pose sizes): two positive means, first and last frame

@@ -13,6 +13,18 @@ expect_out "faerie \(MD2, 16 animations\): max"
 h5check -q out/demo/finger.h5 out/demo/bumps.h5 out/demo/finger-acap.h5
 expect_out "level 0: [0-9]+ kept, [0-9]+ dropped"
 expect_out "coarse +0 "
+# the printed numbers, each read from the tools' --json and labelled as what it is
+expect_out "^     BD-LSTM: +[0-9.e-]+  \([0-9.e-]+ x [0-9.e-]+\)$"
+expect_out "^     E_rms [0-9.e-]+; relative squared error of the features: max [0-9.e-]+, mean [0-9.e-]+$"
+expect_out "^     MMD_avg [0-9.e-]+, MMD_seq [0-9.e-]+; of motion \(frame differences\): MMD_avg [0-9.e-]+, MMD_seq [0-9.e-]+$"
+expect_out "^     [01]\.[0-9]{3} / [01]\.[0-9]{3}$"
+mmd=$(collect-metrics --values --columns mmd_avg out/demo/actgan-mmd.json)
+grep -qE "^     MMD_avg $(printf '%.4g' "$mmd")," out.txt || fail "the printed MMD_avg is not the JSON's $mmd"
+# No pipeline reads a number out of a tool's human-readable table (pipelines read --json).
+table_text='position error|E_rms \*|STED \*spatial|relative squared error \*max|frame pairs|spread of samples|error per sample|\^all |\^level |\^\$\(2\) \*|"mmd_|"pairwise_ratio'
+if grep -nE "(sed|awk|grep).*($table_text)" "$DF_SOURCE"/pipelines/*.mk; then
+  fail "a pipeline parses a human-readable table (above)"
+fi
 h5check -q --kind msae-model out/demo/msae-model.h5
 h5check -q --kind components out/demo/msae-kept.h5
 [ -s out/demo/msae-components.png ] || fail "no MSAE picture"
@@ -50,6 +62,7 @@ echo "ok (unpack once)"
 # A model retrains when its options (the set's, an ablation's) change, and only then (a stand-in
 # train-bdlstm counts the runs).
 mkdir -p fakebin
+ln -s "$DF_BIN/collect-metrics" fakebin/  # the pipelines read numbers from JSON with it
 cat >fakebin/train-bdlstm <<'SH'
 #!/bin/sh
 for a; do [ "${prev:-}" = -o ] && out=$a; prev=$a; done

@@ -13,7 +13,7 @@
 
 int main(int argc, char** argv) {
   df::Tool tool("nn_resume_driver", "Train a small MLP with checkpoints (test driver).");
-  tool.with_seed(1).with_threads();
+  tool.with_seed(1);
   int iterations = 200, every = 50, delay_ms = 0;
   bool resume = false;
   std::string checkpoint, output;

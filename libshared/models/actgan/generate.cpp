@@ -53,25 +53,21 @@ std::vector<float> parse_mix(const ActganModel& m, const std::string& mix, std::
 }
 
 void write_latents(const std::string& path, const std::vector<std::string>& names, const std::vector<float>& latents,
-                   int length, int z) {
-  AtomicOutput out(path, AtomicOutput::Kind::file, true);
-  {
-    std::ofstream f(out.temp_path());
-    f << "# sequence\tframe";
-    for (int k = 0; k < z; ++k) f << "\th" << k + 1;
-    f << "\n";
-    for (std::size_t s = 0; s < names.size(); ++s) {
-      for (int t = 0; t < length; ++t) {
-        f << names[s] << '\t' << t;
-        for (int k = 0; k < z; ++k)
-          f << '\t' << latents[(s * static_cast<std::size_t>(length) + static_cast<std::size_t>(t)) * static_cast<std::size_t>(z) + static_cast<std::size_t>(k)];
-        f << "\n";
-      }
-      f << "\n";  // a blank line between sequences (gnuplot: separate curves)
+                   int length, int z, bool force, const std::string& model) {
+  std::ostringstream f;
+  f << "# sequence\tframe";
+  for (int k = 0; k < z; ++k) f << "\th" << k + 1;
+  f << "\n";
+  for (std::size_t s = 0; s < names.size(); ++s) {
+    for (int t = 0; t < length; ++t) {
+      f << names[s] << '\t' << t;
+      for (int k = 0; k < z; ++k)
+        f << '\t' << latents[(s * static_cast<std::size_t>(length) + static_cast<std::size_t>(t)) * static_cast<std::size_t>(z) + static_cast<std::size_t>(k)];
+      f << "\n";
     }
-    if (!f) throw IOError("cannot write", path);
+    f << "\n";  // a blank line between sequences (gnuplot: separate curves)
   }
-  out.commit();
+  write_text_output(path, f.str(), force, {model});
 }
 
 // The column of row r's largest value (the first of equals): a probability row's most probable
@@ -136,9 +132,12 @@ void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int leng
 }
 
 void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
+  const auto claims = claim_outputs({opt.output, opt.latents}, common.force, {opt.model});
   const ActganModel m = load_actgan_model(opt.model);
   const int length = opt.length > 0 ? opt.length : m.length;
   if (length < 1) throw UsageError("--length must be positive");
+  if (!opt.latents.empty() && m.config.generator == "pose")
+    throw UsageError("the direct-pose baseline has no latent trajectories (--latents)");
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, {opt.model});
   std::vector<std::string> names;
   const auto y = label_rows(m, opt, names);
@@ -166,9 +165,8 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
     io::write_header(f, "skeleton", {m.history});
     io::write_skeleton_data(f, s);
   }
-  if (!opt.latents.empty() && m.config.generator == "pose")
-    throw UsageError("the direct-pose baseline has no latent trajectories (--latents)");
-  if (!opt.latents.empty()) write_latents(opt.latents, names, latents, length, m.config.latent);
+  if (!opt.latents.empty())
+    write_latents(opt.latents, names, latents, length, m.config.latent, common.force, opt.model);
   out.commit();
   log::info("wrote {}: {} sequences of {} frames", opt.output, names.size(), length);
 }
@@ -293,7 +291,8 @@ void print_classification(const ClassifyOptions& opt, const ActganModel& m, cons
 
 }  // namespace
 
-void classify_actions(const ClassifyOptions& opt, const CommonOptions&) {
+void classify_actions(const ClassifyOptions& opt, const CommonOptions& common) {
+  const auto claims = claim_outputs({opt.json}, common.force, {opt.model, opt.input});
   const ActganModel m = load_actgan_model(opt.model);
   if (!m.config.classifier) throw InvalidInput("the model was trained without a classifier (--no-classifier)", opt.model);
   const io::SkeletonFile s = io::read_skeleton_file(opt.input);
@@ -310,13 +309,7 @@ void classify_actions(const ClassifyOptions& opt, const CommonOptions&) {
     fmt::print("{}\n", js.dump(2));
     return;
   }
-  AtomicOutput out(opt.json, AtomicOutput::Kind::file, true);
-  {
-    std::ofstream f(out.temp_path());
-    f << js.dump(2) << "\n";
-    if (!f) throw IOError("cannot write", opt.json);
-  }
-  out.commit();
+  write_text_output(opt.json, js.dump(2) + "\n", common.force, {opt.model, opt.input});
 }
 
 }  // namespace df::models

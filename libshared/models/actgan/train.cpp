@@ -360,7 +360,7 @@ ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
 
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
-  check_training_output(opt.output, opt.input, common.force);
+  const TrainingClaims claims = claim_training_outputs(opt.output, opt.input, common.force, opt.run);
   const io::SkeletonFile s = io::read_skeleton_file(opt.input);
   const ActionData data = training_clips(s, opt.input, opt.training.validation_subjects);
   const ActionClips& clips = data.train;

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
@@ -262,6 +263,7 @@ io::Components position_components(const MsaeModel& m, const Splocs& s, const Ma
 }  // namespace
 
 void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
+  const auto claims = claim_outputs({opt.output, opt.components_out}, common.force, {opt.model, opt.data});
   const MsaeModel m = load_msae_model(opt.model);
   int k = opt.components;
   if (k == 0)
@@ -272,6 +274,7 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
   if (held.frames.empty())
     throw InvalidInput(fmt::format("the model's {} part is empty", opt.part), opt.model);
   const Index V = m.tmpl.vertices.rows();
+  Index fitted = k;  // PCA of fewer shapes than components has fewer
   if (opt.method == "splocs") {
     SplocsOptions so = opt.splocs;
     so.components = k;
@@ -309,6 +312,7 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
     } else {
       throw UsageError("--method must be pca, splocs or splocs-acap");
     }
+    fitted = basis.rows();
     const nn::Matrix<float> recon = project_onto(held.x.cast<double>(), mean, basis).cast<float>();
     write_shapes(opt.output, m, held, &recon, nullptr, opt.data, {opt.model, opt.data},
                  common.force, fmt::format("{}: {} components", opt.method, basis.rows()));
@@ -319,7 +323,7 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
                            {opt.model, opt.data}, common.force);
   }
   log::info("wrote {} {} reconstructions ({} components fitted on {} training shapes) to {}",
-            held.frames.size(), opt.method, k, train.frames.size(), opt.output);
+            held.frames.size(), opt.method, fitted, train.frames.size(), opt.output);
 }
 
 }  // namespace df::models

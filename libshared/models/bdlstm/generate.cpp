@@ -209,6 +209,7 @@ void write_generated(const std::vector<GeneratedSequence>& out, const BdlstmGene
 
 void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& common) {
   check_options(opt);
+  const OutputClaim claim = claim_output(opt.output, common.force, {opt.model, opt.data});
   BdlstmModel m = load_bdlstm_model(opt.model);
   if (opt.mode == "complete" && opt.method == "bdlstm" &&
       m.config.directions == Directions::unidirectional)

@@ -7,7 +7,9 @@
 #include <fstream>
 #include <iostream>
 #include <numeric>
+#include <sstream>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "models/bdlstm/generate.h"
@@ -60,6 +62,7 @@ double mean_of(const std::vector<double>& v) {
 }  // namespace
 
 void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common) {
+  const auto claims = claim_outputs({opt.tsv}, common.force, {opt.model, opt.data});
   if (opt.part != "train" && opt.part != "test" && opt.part != "validation")
     throw UsageError("--part must be train, test or validation");
   if (opt.initial < 1 || opt.length < 1 || opt.cases < 1 || opt.max_frames < 1)
@@ -156,8 +159,7 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
   }
 
   if (!opt.tsv.empty()) {
-    std::ofstream out(opt.tsv);
-    if (!out) throw IOError("cannot write", opt.tsv);
+    std::ostringstream out;
     out << "# kl_per_dimension: rank, nats (largest first)\n";
     for (std::size_t j = 0; j < sorted.size(); ++j) out << j + 1 << "\t" << sorted[j] << "\n";
     out << "\n\n# error_by_step: step, z_mean, z_prior, z_zero, zero_motion\n";
@@ -172,7 +174,7 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
       for (std::size_t k = 0; k < cols; ++k) out << (k ? "\t" : "") << m.log[r + k];
       out << "\n";
     }
-    if (!out) throw IOError("cannot write", opt.tsv);
+    write_text_output(opt.tsv, out.str(), common.force, {opt.model, opt.data});
   }
 }
 

@@ -264,7 +264,7 @@ void restore_or_initialize(BdlstmModel& m, bool resume, const std::string& ckpt)
 
 void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
-  check_training_output(opt.output, opt.input, common.force);
+  const TrainingClaims claims = claim_training_outputs(opt.output, opt.input, common.force, opt.run);
   const io::AcapReader in(opt.input);
   if (!in.has_normalized())
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);

@@ -13,6 +13,8 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "io/h5.h"
+#include "io/model_file.h"
 
 namespace df::models {
 namespace {
@@ -77,6 +79,11 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
   auto interval_start = std::chrono::steady_clock::now();
   std::int64_t timed = 0;  // iterations run since interval_start (a resumed interval holds more)
   std::int64_t last_checkpoint = iteration;
+  // Until the first loss line, one line of pace once the run has taken kFirstWord: a large model
+  // may take minutes to reach its first loss line, and a silent trainer looks hung.
+  constexpr double kFirstWord = 2.0;  // seconds
+  const auto run_start = interval_start;
+  bool spoken = false;
   while (iteration < loop.iterations) {
     const std::int64_t done = iteration + 1;  // counting this one
     const LossTerms terms = step(done);
@@ -87,7 +94,21 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
     ++interval.iterations;
     ++timed;
     iteration = done;  // before any checkpoint: the file must say how many iterations it holds
-    if (done % loop.print_every == 0 || done == loop.iterations) {
+    const bool row_due = done % loop.print_every == 0 || done == loop.iterations;
+    if (!row_due && !spoken) {
+      const double so_far = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+      if (so_far >= kFirstWord) {
+        spoken = true;
+        const double per = so_far / static_cast<double>(timed);
+        const std::int64_t next_row = std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
+        log::info("iteration {}/{}: {:.3f} s/iteration so far; the next loss line at iteration {} (in ~{:.0f} s), "
+                  "{:.0f} s left in all",
+                  done, loop.iterations, per, next_row, per * static_cast<double>(next_row - done),
+                  per * static_cast<double>(loop.iterations - done));
+      }
+    }
+    if (row_due) {
+      spoken = true;
       const std::string detail =
           append_log_row(done, interval, names, evaluate_names, evaluate, log);
       const auto now = std::chrono::steady_clock::now();
@@ -151,12 +172,35 @@ void add_training_run_options(CLI::Option_group& g, TrainingRun& run) {
              "checkpoint and exit status 75; a second SIGTERM kills at once");
 }
 
-void check_training_output(const std::string& output, const std::string& input, bool force) {
+namespace {
+
+// "(iteration N of its run)" of a checkpoint, or "" where it cannot be read.
+std::string checkpoint_iteration(const std::string& path) {
+  try {
+    const h5::File f(path, h5::File::Mode::read);
+    return fmt::format(" (at iteration {})", io::read_iteration(f));
+  } catch (const Error&) {
+    return "";
+  }
+}
+
+}  // namespace
+
+TrainingClaims claim_training_outputs(const std::string& output, const std::string& input, bool force,
+                                      const TrainingRun& run) {
+  const std::string ckpt = run.checkpoint_path(output);
+  TrainingClaims claims{claim_output(output, force, {input}), OutputClaim(ckpt)};
   std::error_code ec;
-  if (std::filesystem::exists(output, ec) && !force)
-    throw IOError("output exists; use --force to overwrite it", output);
-  if (std::filesystem::exists(input, ec) && std::filesystem::equivalent(input, output, ec))
-    throw IOError("output would overwrite the input", output);
+  if (!run.resume && std::filesystem::exists(ckpt, ec)) {
+    if (!force)
+      throw IOError(fmt::format("a checkpoint of an earlier run is here{}: --resume continues it, --force "
+                                "starts over and replaces it",
+                                checkpoint_iteration(ckpt)),
+                    ckpt);
+    log::warn("starting over (--force without --resume): the checkpoint {}{} will be replaced", ckpt,
+              checkpoint_iteration(ckpt));
+  }
+  return claims;
 }
 
 }  // namespace df::models

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 
 namespace CLI {
@@ -83,8 +84,17 @@ void require_same_setting(const char* what, const A& checkpoint, const B& now,
         path);
 }
 
-/// Fails now rather than after hours of training: IOError if `output` exists without `force`, or
-/// is `input`.
-void check_training_output(const std::string& output, const std::string& input, bool force);
+/// What a trainer claims before any work and holds for the whole run: its output and its
+/// checkpoint (core/atomic_output.h's OutputClaim: a second run writing either fails at once,
+/// and a directory that cannot be written fails now, not after hours of training).
+struct TrainingClaims {
+  OutputClaim output, checkpoint;
+};
+
+/// Claims a trainer's output and checkpoint. IOError if `output` exists without `force`, or is
+/// `input`; IOError if the checkpoint of an earlier run exists and neither `run.resume`
+/// (continue it) nor `force` (start over, replacing it: said with a warning) was given.
+TrainingClaims claim_training_outputs(const std::string& output, const std::string& input, bool force,
+                                      const TrainingRun& run);
 
 }  // namespace df::models

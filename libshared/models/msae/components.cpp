@@ -147,6 +147,7 @@ void prune_components(Components& c, double eps1, double eps2) {
 }
 
 void extract_components_tool(const ExtractOptions& opt, const CommonOptions& common) {
+  const auto claims = claim_outputs({opt.output, opt.acap}, common.force, {opt.model, opt.data});
   const MsaeModel m = load_msae_model(opt.model);
   const MsaeShapes train = read_msae_shapes(m, opt.data, "train");
   const auto codes = block_codes(*m.net, train.x);
@@ -168,6 +169,7 @@ void extract_components_tool(const ExtractOptions& opt, const CommonOptions& com
 }
 
 void prune_components_tool(const PruneOptions& opt, const CommonOptions& common) {
+  const auto claims = claim_outputs({opt.output, opt.acap, opt.json}, common.force, {opt.input});
   Components c = read_components(opt.input);
   io::require_acap_components(c, opt.input, "prune-components (eq. 7's strength)");
   prune_components(c, opt.eps1, opt.eps2);
@@ -202,11 +204,7 @@ void prune_components_tool(const PruneOptions& opt, const CommonOptions& common)
         opt.input);
   write_components(opt.output, c, {opt.input}, common.force);
   if (!opt.acap.empty()) write_components_acap(opt.acap, c, true, {opt.input}, common.force);
-  if (!opt.json.empty()) {
-    AtomicOutput out(opt.json, AtomicOutput::Kind::file, common.force, {opt.input});
-    std::ofstream(out.temp_path()) << report.dump(1) << "\n";
-    out.commit();
-  }
+  if (!opt.json.empty()) write_text_output(opt.json, report.dump(1) + "\n", common.force, {opt.input});
 }
 
 }  // namespace df::models

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/progress.h"
@@ -10,6 +11,7 @@
 namespace df::models {
 
 void recon_msae(const MsaeReconOptions& opt, const CommonOptions& common) {
+  const OutputClaim claim = claim_output(opt.output, common.force, {opt.model, opt.data});
   const MsaeModel m = load_msae_model(opt.model);
   const int levels = opt.levels == 0 ? m.config.levels() : opt.levels;
   if (levels < 1 || levels > m.config.levels())

@@ -366,7 +366,7 @@ void remember_geodesics(MsaeModel& m, geometry::GeodesicRows& geodesic) {
 
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
-  check_training_output(opt.output, opt.input, common.force);
+  const TrainingClaims claims = claim_training_outputs(opt.output, opt.input, common.force, opt.run);
   const io::AcapReader in(opt.input);
   if (!in.has_normalized())
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);

@@ -121,9 +121,16 @@ TEST_CASE("model data: the model's normalization from stored, raw or renormalize
   CHECK(z(1, 4) == Approx(model_nz.normalize(4, 0.5)).margin(1e-6));
   CHECK(z(0, 7) == Approx(model_nz.normalize(7, 0.8)).margin(1e-6));
 
+  // the same counts, other triangles: the message says which triangle differs, not two equal counts
   io::Mesh other = triangle();
   other.faces << 0, 2, 1;
   CHECK(error_message([&] { models::ModelData(dir / "a.h5", other); })
-            .find("has another template than the model (3 vertices, 1 triangles; the model's: 3, 1): the two "
-                  "must share the template") == 0);
+            .find("has another template than the model: the same 3 vertices and 1 triangles, but triangle 0 joins "
+                  "vertices (0 1 2) here and (0 2 1) in the model (counting from 0): the two must share the "
+                  "template") == 0);
+  io::Mesh bigger = triangle();
+  bigger.vertices.conservativeResize(4, 3);
+  bigger.vertices.row(3) << 1, 1, 0;
+  CHECK(error_message([&] { models::ModelData(dir / "a.h5", bigger); })
+            .find("has another template than the model (3 vertices, 1 triangles; the model's: 4, 1)") == 0);
 }

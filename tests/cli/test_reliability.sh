@@ -1,0 +1,136 @@
+# What the tools promise about their outputs (README, "Reliability"), each tried as a user hits
+# it: a read-only directory fails before any work; two writers of one output: the second fails at
+# once naming the first; a SIGKILLed run's temporary is removed by the next run; no output is
+# replaced without --force (reports included); a checkpoint is never silently dropped; the long
+# jobs refuse an existing output before their work; a long run speaks within seconds.
+source "$(dirname "$0")/lib.sh"
+: "${DF_PLUGIN_DIR:?}"
+export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
+trap 'kill $(jobs -p) 2>/dev/null || true' EXIT  # no background tool outlives a failed check
+
+synth-meshseq -q --kind bumps --frames 60 --resolution 8 --seed 2 -o bumps.h5
+obj2acap -q bumps.h5 -o data.h5
+tiny=(--kz 3,2 --batch 16 --seed 3)
+
+# run_readonly DIR CMD...: runs CMD (as `run` does) with DIR read-only: a read-only bind mount
+# for root (chmod does not stop root), chmod a-w otherwise.
+run_readonly() {
+  local dir=$1
+  shift
+  if [ "$(id -u)" = 0 ]; then
+    unshare -m true 2>/dev/null || fail "cannot make a read-only directory: root without unshare -m"
+    run unshare -m sh -c 'mount --bind "$0" "$0" && mount -o remount,bind,ro "$0" "$0" && exec "$@"' "$dir" "$@"
+  else
+    chmod a-w "$dir"
+    run "$@"
+    chmod u+w "$dir"
+  fi
+}
+# wait_for FILE PATTERN: until FILE has a line matching PATTERN (at most 20 s)
+wait_for() {
+  for _ in $(seq 1 2000); do grep -qE -- "$2" "$1" 2>/dev/null && return 0; sleep 0.01; done
+  fail "no line /$2/ in $1: $(cat "$1")"
+}
+
+# --- a read-only output directory fails before any work: a converter and a trainer
+mkdir ro
+run_readonly ro obj2acap bumps.h5 -o ro/a.h5
+expect_rc 1; expect_one_error_line obj2acap; expect_err "cannot write in the output's directory: .*\(ro\)"
+run_readonly ro train-msae "${tiny[@]}" --iterations 100000 data.h5 -o ro/m.h5
+expect_rc 1; expect_one_error_line train-msae; expect_err "cannot write in the output's directory"
+[ -z "$(ls -A ro)" ] || fail "something was left in the read-only directory: $(ls -A ro)"
+echo "ok (read-only directory: refused at once, one line)"
+
+# --- two writers of one output: the second fails at once naming the first, the first finishes
+synth-meshseq -q --frames 600 --resolution 40 -o big.h5
+obj2acap big.h5 -o twice.h5 2>first.err &
+first=$!
+wait_for first.err "computing features"
+run obj2acap big.h5 -o twice.h5
+expect_rc 1; expect_one_error_line obj2acap
+expect_err "another process \(PID $first\) is writing this output.*\(twice.h5\)"
+wait $first || fail "the first writer failed: $(cat first.err)"
+h5check -q --kind acap twice.h5
+# the same of a trainer: its output, and its checkpoint under another output
+train-msae "${tiny[@]}" --print-every 1000 --iterations 1000000 data.h5 -o t.h5 2>trainer.err &
+first=$!
+wait_for trainer.err "geodesic"
+run train-msae "${tiny[@]}" --iterations 20 data.h5 -o t.h5
+expect_rc 1; expect_one_error_line train-msae; expect_err "another process \(PID $first\) is writing this output"
+run train-msae "${tiny[@]}" --iterations 20 --checkpoint t.h5.ckpt data.h5 -o other.h5
+expect_rc 1; expect_err "another process \(PID $first\) is writing this output; .*\(t.h5.ckpt\)"
+[ -e other.h5 ] && fail "the refused trainer wrote its output"
+kill -INT $first; set +e; wait $first; set -e
+expect_no_temporaries .
+[ -z "$(find . -maxdepth 1 -name '.*.lock')" ] || fail "lock files left: $(find . -maxdepth 1 -name '.*.lock')"
+echo "ok (two writers: the second refused, the first's output whole)"
+
+# --- a SIGKILLed writer's temporary is removed by the next run on the same output
+synth-meshseq -q --frames 4000 --resolution 40 -o killed.h5 &
+pid=$!
+for _ in $(seq 1 500); do [ -n "$(find . -maxdepth 1 -name '.killed.h5.tmp-*')" ] && break; sleep 0.01; done
+kill -KILL $pid; set +e; wait $pid 2>/dev/null; set -e
+left=$(find . -maxdepth 1 -name ".killed.h5.tmp-$pid-*")
+[ -n "$left" ] || fail "the killed writer left no temporary (nothing to test)"
+synth-meshseq --frames 4 --resolution 8 -o killed.h5 2>rerun.err
+[ -e "$left" ] && fail "the stale temporary $left is still there"
+grep -q "removed $left, a temporary left by process $pid that no longer runs" rerun.err ||
+  fail "the removal was not reported: $(cat rerun.err)"
+echo "ok (stale temporary removed and reported)"
+
+# --- reports are outputs: refused when they exist, replaced with --force
+eval-metrics -q data.h5 data.h5 --json m.json --tsv m.tsv > /dev/null
+for option in --json --tsv; do
+  run eval-metrics -q data.h5 data.h5 $option "m.${option#--}"
+  expect_rc 1; expect_err "output exists; use --force to overwrite it \(m.${option#--}\)"
+done
+echo '{}' > m.json
+eval-metrics -q -f data.h5 data.h5 --json m.json > /dev/null
+grep -q '"erms"' m.json || fail "--force did not replace the JSON"
+echo "ok (eval-metrics --json/--tsv need --force to replace a file)"
+
+# --- a checkpoint is never dropped silently: without --resume the rerun refuses, --force starts over
+msae=(train-msae "${tiny[@]}" --print-every 7 --checkpoint-every 0 data.h5 -o stopped.h5)
+"${msae[@]}" --iterations 3000 2>stop.err &
+pid=$!
+wait_for stop.err "iteration 7/"
+kill -TERM $pid; set +e; wait $pid; rc=$?; set -e
+expect_rc 75
+at=$(h5dump -a /iteration stopped.h5.ckpt | sed -n 's/.*(0): \([0-9]*\).*/\1/p')
+run "${msae[@]}" --iterations 3000
+expect_rc 1; expect_one_error_line train-msae
+expect_err "a checkpoint of an earlier run is here \(at iteration $at\): --resume continues it, --force starts over and replaces it \(stopped.h5.ckpt\)"
+[ -f stopped.h5.ckpt ] || fail "the refused rerun removed the checkpoint"
+run "${msae[@]}" --iterations 20 --force
+expect_rc 0; expect_err "warning: starting over \(--force without --resume\): the checkpoint stopped.h5.ckpt \(at iteration $at\) will be replaced"
+echo "ok (checkpoint at iteration $at: refused without --resume, replaced with --force)"
+
+# --- the long jobs refuse an existing output before reading anything: an unreadable model
+# shows that nothing was read before the refusal
+echo "not a model" > junk.h5
+touch exists.h5
+for cmd in "gen-bdlstm junk.h5 data.h5 --from 3 -o exists.h5" "extract-components junk.h5 data.h5 -o exists.h5" \
+  "prune-components junk.h5 -o exists.h5" "recon-msae junk.h5 data.h5 -o exists.h5" \
+  "fit-baseline junk.h5 data.h5 -o exists.h5" "gen-actgan junk.h5 -o exists.h5"; do
+  run $cmd
+  expect_rc 1; expect_err "output exists; use --force to overwrite it \(exists.h5\)"
+done
+echo "ok (gen-bdlstm, extract-components, prune-components, recon-msae, fit-baseline, gen-actgan refuse first)"
+
+# --- every tool takes the common options, --threads included
+for t in "$DF_BIN"/*; do
+  [ -x "$t" ] && [ -f "$t" ] || continue
+  "$t" --help | grep -q -- "--threads" || fail "$(basename "$t") has no --threads"
+done
+train-msae -q "${tiny[@]}" --iterations 10 data.h5 -o small.h5
+extract-components -q small.h5 data.h5 -o comps.h5
+prune-components -q --threads 1 comps.h5 -o kept.h5 > /dev/null
+echo "ok (every tool takes --threads)"
+
+# --- a long run speaks within seconds: a pace line before the first loss line
+train-msae "${tiny[@]}" --print-every 1000000 --iterations 1000000 data.h5 -o slow.h5 2>slow.err &
+pid=$!
+wait_for slow.err "s/iteration so far; the next loss line at iteration 1000000"
+kill -INT $pid; set +e; wait $pid; set -e
+grep -qE "iteration [0-9]+/1000000: loss" slow.err && fail "a loss line came before the pace line: $(cat slow.err)"
+echo "ok (pace line: $(grep -o 'iteration [0-9]*/1000000: [0-9.]* s/iteration' slow.err))"
