@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
       "or --release-handles frees them all), so that one detail handle cannot turn the rest of the\n"
       "shape about it. A model trained with train-msae's default soft penalty Ω often keeps no\n"
       "level-1 component after pruning (prune-components' report says 'level 1: 0 kept'): give\n"
-      "--include-pruned to edit with them anyway, or train with --support proximal.\n"
+      "--include-pruned to edit with them anyway, or train with --support proximal.\n\n"
       "OUTPUT: an acap .h5 with one frame (positions, raw and normalized features) and /edit:\n"
       "every component's weight, the handles and targets, the energy per step, and per handle\n"
       "the residual: its distance from the target in the shape the weights give with nothing\n"

@@ -5,6 +5,7 @@
 
 #include <fmt/args.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -495,6 +496,7 @@ SheetSpec sheet_spec(const RenderOptions& opt, const Scene& sc) {
   for (std::size_t c = 0; c < sc.columns(); ++c)
     spec.column_labels.push_back(c < first.captions.size() ? first.captions[c] : "");
   spec.column_labels = labels_or(opt.column_labels, spec.column_labels, "--column-labels");
+  log::debug("rows: {}; columns: {}", fmt::join(spec.row_labels, " | "), fmt::join(spec.column_labels, " | "));
   spec.bar = sc.bar;
   spec.background = parse_color(opt.background);
   return spec;

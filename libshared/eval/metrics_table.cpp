@@ -97,29 +97,29 @@ MetricsTable collect_metrics(const std::vector<std::string>& files,
   if (!names.empty() && names.size() != files.size())
     throw UsageError(fmt::format("{} names for {} files", names.size(), files.size()));
   MetricsTable t;
+  for (std::size_t i = 0; i < files.size(); ++i) {  // a row per file, named
+    const auto dir = std::filesystem::path(files[i]).parent_path().filename().string();
+    t.names.push_back(!names.empty() ? names[i] : dir.empty() ? files[i] : dir);
+  }
   if (!columns.empty()) {  // the columns asked for, by path
     t.columns = columns;
-    for (std::size_t i = 0; i < files.size(); ++i) {
-      const auto doc = parse_object(read_text(files[i]), files[i]);
+    for (const auto& file : files) {
+      const auto doc = parse_object(read_text(file), file);
       t.cells.emplace_back();
       for (const auto& c : columns) {
         t.cells.back().push_back(value_at(doc, c));
         if (require && t.cells.back().back().empty())
-          throw InvalidInput(fmt::format("has no number, string or boolean at '{}'", c), files[i]);
+          throw InvalidInput(fmt::format("has no number, string or boolean at '{}'", c), file);
       }
-      const auto dir = std::filesystem::path(files[i]).parent_path().filename().string();
-      t.names.push_back(!names.empty() ? names[i] : dir.empty() ? files[i] : dir);
     }
     return t;
   }
-  std::map<std::string, std::size_t> column_of;
+  std::map<std::string, std::size_t> column_of;  // every number found, in first-seen order
   std::vector<std::vector<std::pair<std::string, std::string>>> rows;
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    rows.push_back(json_numbers(read_text(files[i]), files[i]));
+  for (const auto& file : files) {
+    rows.push_back(json_numbers(read_text(file), file));
     for (const auto& [key, value] : rows.back())
       if (column_of.emplace(key, t.columns.size()).second) t.columns.push_back(key);
-    const auto dir = std::filesystem::path(files[i]).parent_path().filename().string();
-    t.names.push_back(!names.empty() ? names[i] : dir.empty() ? files[i] : dir);
   }
   for (const auto& row : rows) {
     t.cells.emplace_back(t.columns.size());

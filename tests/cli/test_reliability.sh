@@ -120,7 +120,8 @@ echo "ok (gen-bdlstm, extract-components, prune-components, recon-msae, fit-base
 # --- every tool takes the common options, --threads included
 for t in "$DF_BIN"/*; do
   [ -x "$t" ] && [ -f "$t" ] || continue
-  "$t" --help | grep -q -- "--threads" || fail "$(basename "$t") has no --threads"
+  "$t" --help > help.txt
+  grep -q -- "--threads" help.txt || fail "$(basename "$t") has no --threads"
 done
 train-msae -q "${tiny[@]}" --iterations 10 data.h5 -o small.h5
 extract-components -q small.h5 data.h5 -o comps.h5
@@ -133,4 +134,75 @@ pid=$!
 wait_for slow.err "s/iteration so far; the next loss line at iteration 1000000"
 kill -INT $pid; set +e; wait $pid; set -e
 grep -qE "iteration [0-9]+/1000000: loss" slow.err && fail "a loss line came before the pace line: $(cat slow.err)"
-echo "ok (pace line: $(grep -o 'iteration [0-9]*/1000000: [0-9.]* s/iteration' slow.err))"
+echo "ok (pace line: $(grep -o 'iteration [0-9]*/1000000: [0-9.e-]* s/iteration' slow.err))"
+
+# --- a large input says so before its long check: a BD-LSTM model over 64 MB
+synth-meshseq -q --frames 12 --resolution 23 -o big-finger.h5
+obj2acap -q big-finger.h5 -o big-data.h5
+train-bdlstm -q --iterations 1 --window 4 --batch 1 big-data.h5 -o big-model.h5
+run gen-bdlstm big-model.h5 big-data.h5 --from 2 --length 2 -o big-gen.h5
+expect_rc 0
+[ "$(head -1 err.txt)" = "gen-bdlstm: reading big-model.h5 ($(( ($(stat -c %s big-model.h5) + 500000) / 1000000 )) MB)" ] ||
+  fail "no word before reading the large model: $(head -2 err.txt)"
+rm -f big-*.h5
+echo "ok (a large model is announced before it is read)"
+
+# --- numbers and captions say what they are
+# fit-baseline: PCA of 6 training shapes has 5 components, and the summary says 5
+run fit-baseline --method pca small.h5 data.h5 -o pca.h5
+expect_rc 0
+expect_err "warning: PCA of 6 training shapes has 5 components, not 9"
+expect_err "wrote 54 pca reconstructions \(5 components fitted on 6 training shapes\)"
+# eval-metrics: a reconstruction's rows name its own frame and the data frame it stands for
+recon-msae -q small.h5 data.h5 -o recon.h5
+run eval-metrics -q recon.h5 data.h5 --steps 0,9
+expect_out "^  pred frame truth frame +error +x diagonal$"
+expect_out "^ +0 +1 +[0-9.e-]+ +[0-9.e-]+$"   # the first held-out shape is data frame 1
+expect_out "^ +9 +11 +[0-9.e-]+ +[0-9.e-]+$"  # frame 10 trains
+# render-mesh: columns captioned by the data frame a reconstruction stands for, components by name
+run render-mesh -v --size 32 --frames 0,9 recon.h5 --error-vs data.h5 --show-truth -o r.png
+expect_rc 0; expect_err "rows: ground truth \| recon; columns: data frame 1 \| data frame 11$"
+extract-components -q small.h5 data.h5 -o comps-all.h5 --acap comps-acap.h5
+run render-mesh -v --size 32 --frames 0,1 comps-acap.h5 -o c.png
+expect_rc 0; expect_err "columns: component L0.0.0 \| component L0.0.1$"
+# export-gltf: the frame rate and the animation's length, not a run time
+run export-gltf --fps 24 --every 2 data.h5 -o d.glb
+expect_err "wrote d.glb: 30 frames of [0-9]+ vertices as morph targets at 12 fps \(the animation plays 2.42 s\)"
+echo "ok (PCA's component count, pred/truth frames, captions, glTF's length)"
+
+# --- coarse then fine editing keeps the coarse step's handles where it put them
+# vertex FILE V: frame 0's position of vertex V, "x y z"
+vertex() { h5dump -d /frames/positions -s "0,$2,0" -c "1,1,3" -y -w 0 -m %.9g "$1" | sed -n '/DATA {/,/}/p' |
+             tr -dc '0-9.e,\n-' | paste -sd' ' | tr -s ', ' ' ' | sed 's/^ //; s/ $//'; }
+echo "20 0 0 0.3" > coarse.txt
+edit-shape -q --include-pruned --levels 0 --handles coarse.txt --relative comps-all.h5 --fixed 0 -o coarse.h5
+echo "60 0 0 0.1" > fine.txt
+run edit-shape --include-pruned --levels 1 --handles fine.txt --relative --from coarse.h5 comps-all.h5 -o fine.h5
+expect_rc 0; expect_err "holding the 2 handle\(s\) of coarse.h5's edit where they are \(--release-handles frees them\)"
+for v in 0 20; do
+  [ "$(vertex fine.h5 $v)" = "$(vertex coarse.h5 $v)" ] || fail "handle $v moved: $(vertex coarse.h5 $v) -> $(vertex fine.h5 $v)"
+done
+edit-shape -q --include-pruned --levels 1 --handles fine.txt --relative --from coarse.h5 --release-handles comps-all.h5 -o free.h5
+[ "$(vertex free.h5 20)" != "$(vertex coarse.h5 20)" ] || fail "--release-handles held the coarse handle"
+edit-shape --help > help.txt
+grep -q "its handles: each stays where the coarse step put it" help.txt || fail "the help does not say it"
+grep -q -- "--include-pruned to edit with them anyway" help.txt || fail "the help does not name --include-pruned"
+echo "ok (coarse-then-fine: the coarse handles held; --release-handles frees them)"
+
+# --- meshes that are fine are read: '+' numbers, a polygon that returns to a vertex
+mkdir -p objs
+printf 'v +0 +0 +0\nv +1.0 0 0\nv 0 +1e+0 0\nv +1 +1 +0.5\nf 1 2 3\nf +2 +4 +3\n' > objs/plus.obj
+obj2acap -q objs/plus.obj -o plus.h5
+[ "$(vertex plus.h5 3)" = "1 1 0.5" ] || fail "'+' coordinates misread: $(vertex plus.h5 3)"
+# a polygon whose corners come back to vertices 2 and 3 (as assimp's concave_polygon.obj does):
+# read alike as the reference and as a frame
+printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 2 3 4 5 6\n' > objs/loop.obj
+obj2acap -q objs/loop.obj objs/loop.obj -o loop.h5
+h5check -q --kind acap loop.h5
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n' > objs/zero.obj
+run obj2acap objs/zero.obj -o zero.h5
+expect_rc 1; expect_one_error_line obj2acap; expect_err "face corner '0' names vertex 0: OBJ counts from 1 \(or back from -1\) \(objs/zero.obj:4\)"
+touch objs/shape.stl
+run obj2acap objs/shape.stl -o stl.h5
+expect_rc 1; expect_err "unknown input format: expected a mesh file \(.obj, .off, .ply\), an MD2 model \(.md2\), an acap .h5 file"
+echo "ok (meshes: '+' numbers, repeated polygon corners, face index 0, unknown format)"

@@ -101,7 +101,7 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
         spoken = true;
         const double per = so_far / static_cast<double>(timed);
         const std::int64_t next_row = std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
-        log::info("iteration {}/{}: {:.3f} s/iteration so far; the next loss line at iteration {} (in ~{:.0f} s), "
+        log::info("iteration {}/{}: {:.3g} s/iteration so far; the next loss line at iteration {} (in ~{:.0f} s), "
                   "{:.0f} s left in all",
                   done, loop.iterations, per, next_row, per * static_cast<double>(next_row - done),
                   per * static_cast<double>(loop.iterations - done));

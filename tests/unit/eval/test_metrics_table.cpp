@@ -1,8 +1,10 @@
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <sstream>
 
 #include "core/error.h"
 #include "eval/metrics_table.h"
+#include "helpers.h"
 
 using df::eval::json_numbers;
 
@@ -27,4 +29,27 @@ TEST_CASE("metrics table: rows by file, columns the union, empty cells where mis
   CHECK(out.str() == "name\terms\tsted.spatial\nkz5\t1.5\t\nkz10\t2\t0.25\n");
   CHECK_THROWS_AS(df::eval::collect_metrics({"a.json"}, {"x", "y"}), df::UsageError);
   CHECK_THROWS_AS(df::eval::collect_metrics({"/nonexistent/m.json"}, {}), df::IOError);
+}
+
+TEST_CASE("metrics table: chosen columns by path, array elements and strings, values alone", "[eval]") {
+  df::test::TempDir tmp;
+  const std::string a = tmp / "a/m.json", b = tmp / "b/m.json";
+  std::filesystem::create_directories(tmp / "a");
+  std::filesystem::create_directories(tmp / "b");
+  df::test::write_text(a, R"({"erms": 1.25, "levels": [{"kept": 3}, {"kept": 0}], "pred": "r.h5", "ok": true})");
+  df::test::write_text(b, R"({"erms": 2, "levels": [{"kept": 5}]})");
+  using df::eval::json_value;
+  CHECK(json_value(R"({"levels": [{"kept": 3}, {"kept": 7}]})", "levels.1.kept", "m") == "7");
+  CHECK(json_value(R"({"levels": [{"kept": 3}]})", "levels.1.kept", "m").empty());  // past the end
+  CHECK(json_value(R"({"levels": [{"kept": 3}]})", "levels.x", "m").empty());      // not an index
+  CHECK(json_value(R"({"a": {"b": 0.5}})", "a", "m").empty());                       // an object
+  const auto t = df::eval::collect_metrics({a, b}, {}, {"levels.1.kept", "erms", "pred", "ok"});
+  CHECK(t.names == std::vector<std::string>{"a", "b"});
+  CHECK(t.cells == std::vector<std::vector<std::string>>{{"0", "1.25", "r.h5", "true"}, {"", "2", "", ""}});
+  std::ostringstream out;
+  write_tsv(out, df::eval::collect_metrics({a}, {}, {"erms", "levels.0.kept"}, true), true);
+  CHECK(out.str() == "1.25\t3\n");
+  // a pipeline's value that a file lacks is an error naming the file and the path
+  CHECK_THROWS_WITH(df::eval::collect_metrics({a, b}, {}, {"levels.1.kept"}, true),
+                    Catch::Contains("has no number, string or boolean at 'levels.1.kept'"));
 }
