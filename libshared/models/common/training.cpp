@@ -84,6 +84,9 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
   constexpr double kFirstWord = 2.0;  // seconds
   const auto run_start = interval_start;
   bool spoken = false;
+  if (iteration < loop.iterations)
+    log::info("training iterations {}-{}: a loss line every {}; a line of pace before the first", iteration + 1,
+              loop.iterations, loop.print_every);
   while (iteration < loop.iterations) {
     const std::int64_t done = iteration + 1;  // counting this one
     const LossTerms terms = step(done);
