@@ -17,11 +17,13 @@ int main(int argc, char** argv) {
   auto& app = tool.app();
   app.add_option("FILE", opt.files, "Metrics JSON files, one row each")->required();
   app.add_option("--names", opt.names, "Row names, one per file (comma-separated)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);
   app.add_option("--columns", opt.columns,
                  "Only these columns, in this order (comma-separated paths: members by name, array\n"
                  "elements by index, e.g. erms,sted.spatial,levels.1.kept; strings and booleans too)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);  // one comma-separated word: the files follow
   app.add_flag("--values", opt.values,
                "Print the cells alone (no header, no row names); each file must have every column.\n"
                "What a script or Makefile reads instead of a tool's human-readable table");

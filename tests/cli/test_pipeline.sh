@@ -17,7 +17,9 @@ expect_out "coarse +0 "
 expect_out "^     BD-LSTM: +[0-9.e-]+  \([0-9.e-]+ x [0-9.e-]+\)$"
 expect_out "^     E_rms [0-9.e-]+; relative squared error of the features: max [0-9.e-]+, mean [0-9.e-]+$"
 expect_out "^     MMD_avg [0-9.e-]+, MMD_seq [0-9.e-]+; of motion \(frame differences\): MMD_avg [0-9.e-]+, MMD_seq [0-9.e-]+$"
-expect_out "^     [01]\.[0-9]{3} / [01]\.[0-9]{3}$"
+accuracy=$(printf '%.3f / %.3f' $(collect-metrics --values --columns overall out/demo/actgan-accuracy.json) \
+  $(collect-metrics --values --columns overall out/demo/actgan-accuracy-generated.json))
+expect_out "^     $accuracy$"
 mmd=$(collect-metrics --values --columns mmd_avg out/demo/actgan-mmd.json)
 grep -qE "^     MMD_avg $(printf '%.4g' "$mmd")," out.txt || fail "the printed MMD_avg is not the JSON's $mmd"
 # No pipeline reads a number out of a tool's human-readable table (pipelines read --json).
