@@ -70,11 +70,12 @@ AG_LABEL_no-cls := ours, no classifier (Table 2 ablation)
 
 .PHONY: actgan
 actgan: $(foreach s,$(AG_SETS),$(AG)/$(s)/mmd.md $(if $(AG_SEEDS),$(AG)/$(s)/seeds.md) $(AG)/$(s)/accuracy.md $(AG)/$(s)/mixed.png \
-          $(AG)/$(s)/latent.png $(AG)/$(s)/generated.png $(AG)/$(s)/curve.png)
+          $(AG)/$(s)/latent.png $(AG)/$(s)/generated.png $(AG)/$(s)/curve.png $(AG)/$(s)/gen.glb $(AG)/$(s)/mixed.glb)
 	@for s in $(AG_SETS); do \
 	  echo; echo "=== $$s"; cat $(AG)/$$s/mmd.md; echo; $(if $(AG_SEEDS),cat $(AG)/$$s/seeds.md; echo;) cat $(AG)/$$s/accuracy.md; echo; cat $(AG)/$$s/mixed.md; \
 	  echo; echo "pictures: $(AG)/$$s/generated.png, mixed.png, latent.png, curve.png"; \
 	done
+	$(call pipeline_report,$(AG),actgan)
 
 # --- data: equal-length normalized clips with a subject split
 $(AG)/synthetic/data.h5:
@@ -166,6 +167,12 @@ $(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 
 	  for c in $$($(call h5_values,$(AG)/$*/data.h5,/classes/names) | grep -o '"[^"]*"' | tr -d '"') all; do \
 	    echo "| $$c | $$($(call ag_acc_of,$(AG)/$*/acc-alone-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-alone-gen.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-gen.json,$$c)) |"; \
 	  done; } $(write_if_changed)
+
+# A generated sequence (the first class's first) and a mixture's, as animated joints for the report page.
+$(AG)/%/gen.glb: $(AG)/%/gen.h5
+	$(BIN)/export-gltf -q -f $< --sequence 0 -o $@
+$(AG)/%/mixed.glb: $(AG)/%/mixed.png
+	$(BIN)/export-gltf -q -f $(AG)/$*/mixed.h5 --sequence 0 -o $@
 
 # --- pictures
 $(AG)/%/generated.png: $(AG)/%/gen.h5

@@ -103,13 +103,14 @@ no-l2_FLAGS := --no-l2
 
 .PHONY: bdlstm
 bdlstm: $(foreach s,$(BD_SETS),$(BD)/$(s)/table1.md $(BD)/$(s)/fig2.png $(BD)/$(s)/completion.md \
-                                $(BD)/$(s)/fig5.png $(BD)/$(s)/long.png $(BD)/$(s)/fig-latent.png) \
+                                $(BD)/$(s)/fig5.png $(BD)/$(s)/long.png $(BD)/$(s)/fig-latent.png $(BD)/$(s)/long.glb) \
         $(foreach s,$(filter $(BD_SETS),$(BD_ABLATION_SETS)),$(BD)/$(s)/table2.md)
 	@for s in $(BD_SETS); do \
 	  echo; echo "=== $$s"; cat $(BD)/$$s/table1.md; echo; cat $(BD)/$$s/fig2.md; echo; cat $(BD)/$$s/completion.md; \
 	  [ -f $(BD)/$$s/table2.md ] && { echo; cat $(BD)/$$s/table2.md; }; \
 	  echo; echo "plots: $(BD)/$$s/fig*.png; meshes: $(BD)/$$s/fig5.png, $(BD)/$$s/long.png"; \
 	done
+	$(call pipeline_report,$(BD),bdlstm)
 
 # --- data: ACAP features of each set
 $(BD)/finger/frames.h5:
@@ -214,6 +215,9 @@ $(BD)/%/data.change: $(BD)/%/data.h5
 $(BD)/%/data.change10: $(BD)/%/data.h5
 	$(call launch,eval) $(BIN)/eval-metrics -q -f $< --change-span $$(( 10 * $(or $($*_STRIDE),1) )) --tsv $@.tsv > $@.tmp && mv $@.tmp $@
 
+# The 300 generated frames as an animation for the report page.
+$(BD)/%/long.glb: $(BD)/%/long.h5
+	$(BIN)/export-gltf -q -f $< --fps 30 -o $@
 fig2_variants = $(if $(filter $(1),$(BD_ABLATION_SETS)),$(call set_variants,$(1)))
 # Mean of the values of a feature-change TSV, or of its last $(2).
 change_mean = awk -v last=$(2) '/^\#/ { next } NF == 2 { n++; x[n] = $$2 } \

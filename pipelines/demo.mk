@@ -1,15 +1,21 @@
 # The demo: what `make demo` runs. Data from synth-meshseq and Debian's assimp-testmodels only.
 DEMO := $(OUT)/demo
 FAERIE ?= /usr/share/assimp/models/MD2/faerie.md2
-DEMO_MSAE_ITERATIONS ?= 1000
+# The demo's MSAE (chosen on its own validation shapes, docs/msae.md): 4 level-0 components on a
+# surface with 2 coarse and 8 fine planted regions, so the fine ones are left to level 1.
+DEMO_MSAE_ITERATIONS ?= 4500
+DEMO_BUMPS := --frames 300 --resolution 24 --fine-regions 8 --seed 1
+DEMO_MSAE := --split sequence --validation-fraction 0.1 --kz 4,20 --support proximal --centre-features \
+  --lr-decay-steps 1500
 
 .PHONY: demo
 demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
       $(DEMO)/finger-meshes/finger-0000.obj $(DEMO)/faerie-meshes/stand01.obj \
       $(DEMO)/bdlstm-meshes/0.obj $(DEMO)/bdlstm-long.glb $(DEMO)/bdlstm-pred.json $(DEMO)/bdlstm-linear.json \
       $(DEMO)/faerie.png $(DEMO)/bdlstm-prediction.png \
-      $(DEMO)/msae-components.png $(DEMO)/msae-localization.txt $(DEMO)/msae-recon.json $(DEMO)/edit.png \
-      $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png $(DEMO)/actgan-mmd.json $(DEMO)/actgan-accuracy.json
+      $(DEMO)/msae-components.png $(DEMO)/msae-localization.json $(DEMO)/msae-recon.json $(DEMO)/edit.png \
+      $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png $(DEMO)/actgan-mmd.json $(DEMO)/actgan-accuracy.json \
+      $(DEMO)/index.html
 	@echo
 	@echo "== h5check: file kinds, shapes, compression, history"
 	$(BIN)/h5check --no-history $(DEMO)/faerie.h5
@@ -25,8 +31,9 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@printf '     linear extrapolation: %.4g  (%.4g x %.4g)\n' $$($(call json_values,$(DEMO)/bdlstm-linear.json,$(demo_vertex_error)))
 	@echo "   (a short demo run; pipelines/bdlstm.mk trains longer and reproduces the paper's tables)"
 	@echo
-	@echo "== MSAE (train-msae, $(DEMO_MSAE_ITERATIONS) iterations on the bumps surface: 2 coarse + 4 fine planted regions)"
-	@echo "   reconstruction of the 162 held-out shapes (recon-msae; eval-metrics):"
+	@echo "== MSAE (train-msae, $(DEMO_MSAE_ITERATIONS) iterations on the bumps surface: 2 coarse + 8 fine planted regions,"
+	@echo "   more than level 0's 4 components: the fine ones are left to level 1)"
+	@echo "   reconstruction of the $$($(call json_values,$(DEMO)/msae-recon.json,frame_pairs)) test shapes (recon-msae; eval-metrics):"
 	@printf '     E_rms %.4g; relative squared error of the features: max %.4g, mean %.4g\n' \
 	  $$($(call json_values,$(DEMO)/msae-recon.json,erms relative_squared_error.max relative_squared_error.mean))
 	@echo "   components kept by prune-components (strength >= 0.01):"
@@ -36,7 +43,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@sed -n '2,$$p' $(DEMO)/msae-localization.txt | sed 's/^/     /'
 	@echo "   (pipelines/msae.mk trains longer, adds the baselines and reproduces the paper's tables)"
 	@echo "   multiscale editing (edit-shape): a coarse region's centre raised with the level-0 components,"
-	@echo "   then a fine region's with level 1 from that result (its components pruned as weak: --include-pruned):"
+	@echo "   then a fine region's with level 1 from that result (the coarse step's handles held where it put them):"
 	@sed 's/^edit-shape: /     /' $(DEMO)/edit.log
 	@echo
 	@echo "== ActGAN (train-actgan: 400 WGAN-GP + 400 GAN iterations, small networks, on 5 synthetic actions)"
@@ -52,7 +59,8 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo "== pictures (render-mesh)"
 	@echo "  $(DEMO)/bdlstm-prediction.png   truth / BD-LSTM / linear at future frames 5, 10, 15, coloured by error"
 	@echo "  $(DEMO)/faerie.png              MD2 frames above their ACAP round trip, coloured by error"
-	@echo "  $(DEMO)/msae-components.png     the kept MSAE components (rows: levels), coloured by deformation"
+	@echo "  $(DEMO)/msae-components.png     MSAE's kept level-0 components, coloured by deformation"
+	@echo "  $(DEMO)/msae-components-L1.png  the kept level-1 component that best matches each fine region"
 	@echo "  $(DEMO)/edit.png                the two-step edit, handles as red dots, coloured by displacement"
 	@echo "  $(DEMO)/actgan-generated.png    one generated sequence per action (stick figures, every 3rd frame)"
 	@echo "  $(DEMO)/actgan-mixed.png        sequences generated for the mixture walk:0.5,wave:0.5"
@@ -69,6 +77,9 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo "  faerie.png, bdlstm-prediction.png  pictures of the round trip and the prediction (render-mesh)"
 	@echo "  open the .obj files in any mesh viewer; h5dump reads the .h5 files with"
 	@echo "  HDF5_PLUGIN_PATH=$(HDF5_PLUGIN_PATH) h5dump -H -p FILE"
+	@echo
+	@echo "== everything above on one page, the animations playing: $(abspath $(DEMO))/index.html"
+	@echo "   open it with: xdg-open $(abspath $(DEMO))/index.html   (or any browser; it works offline)"
 
 $(DEMO):
 	mkdir -p $@
@@ -77,7 +88,7 @@ $(DEMO)/finger.h5: | $(DEMO)
 	$(BIN)/synth-meshseq --kind finger --twist 400 --frames 120 --resolution 16 -f -o $@
 
 $(DEMO)/bumps.h5: | $(DEMO)
-	$(BIN)/synth-meshseq --kind bumps --frames 200 --resolution 40 --seed 1 -f -o $@
+	$(BIN)/synth-meshseq --kind bumps $(DEMO_BUMPS) -f -o $@
 
 $(DEMO)/flag/0000.obj: | $(DEMO)
 	$(BIN)/synth-meshseq --kind flag --frames 60 --resolution 20 -f -o $(DEMO)/flag
@@ -120,6 +131,23 @@ $(DEMO)/bdlstm-meshes/0.obj: $(DEMO)/bdlstm-long.h5
 
 $(DEMO)/bdlstm-long.glb: $(DEMO)/bdlstm-long.h5
 	$(BIN)/export-gltf -q -f $< --fps 30 -o $@
+# Reconstructed and generated sequences as animations for the report page (export-gltf).
+$(DEMO)/faerie-roundtrip.glb: $(DEMO)/faerie-roundtrip.h5
+	$(BIN)/export-gltf -q -f $< --fps 10 -o $@
+$(DEMO)/msae-recon.glb: $(DEMO)/msae-recon.json
+	$(BIN)/export-gltf -q -f $(DEMO)/msae-recon.h5 --every 4 --fps 40 -o $@
+$(DEMO)/actgan-walk.glb: $(DEMO)/actgan-generated.h5
+	$(BIN)/export-gltf -q -f $< --sequence walk~0 -o $@
+$(DEMO)/actgan-wave.glb: $(DEMO)/actgan-generated.h5
+	$(BIN)/export-gltf -q -f $< --sequence wave~0 -o $@
+
+# The report page: every table, picture, curve and animation above (scripts/report).
+DEMO_REPORTED := $(DEMO)/faerie.png $(DEMO)/faerie-roundtrip.glb $(DEMO)/bdlstm-prediction.png $(DEMO)/bdlstm-pred.json \
+  $(DEMO)/bdlstm-linear.json $(DEMO)/bdlstm-long.glb $(DEMO)/msae-components.png $(DEMO)/msae-localization.json \
+  $(DEMO)/msae-recon.json $(DEMO)/msae-recon.glb $(DEMO)/edit.png $(DEMO)/actgan-generated.png $(DEMO)/actgan-mixed.png \
+  $(DEMO)/actgan-mmd.json $(DEMO)/actgan-accuracy.json $(DEMO)/actgan-walk.glb $(DEMO)/actgan-wave.glb
+$(DEMO)/index.html: $(DEMO_REPORTED) $(DF_ROOT)/scripts/report
+	$(DF_ROOT)/scripts/report $(DEMO) --kind demo --bin $(BIN) --command "make demo" -o $@
 
 $(DEMO)/bdlstm-pred.h5: $(DEMO)/bdlstm-model.h5 $(DEMO)/bdlstm-finger.h5
 	$(BIN)/gen-bdlstm -q -f $^ --test-every 4 --test-context 3 --initial 3 --length 15 -o $@
@@ -143,29 +171,36 @@ $(DEMO)/bdlstm-%.json: $(DEMO)/bdlstm-%.h5 $(DEMO)/bdlstm-finger.h5
 $(DEMO)/bumps-acap.h5: $(DEMO)/bumps.h5
 	$(BIN)/obj2acap -q -f $< -o $@
 $(DEMO)/msae-model.h5: $(DEMO)/bumps-acap.h5
-	$(BIN)/train-msae -f --iterations $(DEMO_MSAE_ITERATIONS) --print-every 250 $< -o $@
+	$(BIN)/train-msae -f $(DEMO_MSAE) --iterations $(DEMO_MSAE_ITERATIONS) --print-every 500 $< -o $@
 $(DEMO)/msae-kept.h5: $(DEMO)/msae-model.h5
 	$(BIN)/extract-components -q -f $< $(DEMO)/bumps-acap.h5 -o $(DEMO)/msae-components.h5
 	$(BIN)/prune-components -f $(DEMO)/msae-components.h5 -o $@ --acap $(DEMO)/msae-kept-acap.h5 \
 	  --json $(DEMO)/msae-pruning.json > $(DEMO)/msae-pruning.txt
-$(DEMO)/msae-components.png: $(DEMO)/msae-kept.h5
-	$(BIN)/render-mesh -q -f $(DEMO)/msae-kept-acap.h5 --color deformation --view 30,50 --size 160 \
-	  --column-labels "$$($(call frame_names,$(DEMO)/msae-kept-acap.h5))" --row-labels "kept" \
-	  --title "MSAE components of the bumps surface, L<level>.<block>.<k>, colour |X - X_r| per vertex" -o $@
-$(DEMO)/msae-localization.txt: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
-	$(BIN)/eval-metrics -f $< $(DEMO)/bumps.h5 > $@
+# The kept level-0 components, and the level-1 component that best matches each fine region (the
+# localization's names: L<level>.<block>.<k>), one sheet each (each with its own colour range).
+demo_level0 = $(call frame_names,$(DEMO)/msae-kept-acap.h5) | tr , '\n' | grep '^L0\.' | paste -sd,
+demo_level1 = for r in $$(seq 0 63); do $(call json_values,$(DEMO)/msae-localization.json,regions.$$r.level regions.$$r.name) \
+  2>/dev/null || break; done | awk '$$1 == 1 && !seen[$$2]++ { print $$2 }' | paste -sd,
+DEMO_COMPONENTS_VIEW := --color deformation --view front --size 150 --row-labels kept
+$(DEMO)/msae-components.png: $(DEMO)/msae-kept.h5 $(DEMO)/msae-localization.json
+	$(BIN)/render-mesh -q -f $(DEMO)/msae-kept-acap.h5 $(DEMO_COMPONENTS_VIEW) --frames "$$($(demo_level0))" \
+	  --title "MSAE level 0: the kept components of the bumps surface (colour |X - X_r| per vertex)" -o $@
+	$(BIN)/render-mesh -q -f $(DEMO)/msae-kept-acap.h5 $(DEMO_COMPONENTS_VIEW) --frames "$$($(demo_level1))" \
+	  --title "MSAE level 1: the kept component that best matches each fine region" -o $(DEMO)/msae-components-L1.png
+$(DEMO)/msae-localization.json: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
+	$(BIN)/eval-metrics -f $< $(DEMO)/bumps.h5 --json $@ > $(@:.json=.txt)
 # Multiscale editing (paper 2, §5): the centre of the first planted (coarse) region dragged up
 # with the level-0 components, then the centre of a fine one with level 1 from that result; the
 # grid's corners held.
-DEMO_CORNERS := 0,40,1640,1680
+DEMO_CORNERS := 0,24,600,624
 demo_region = $$($(call h5_values,$(DEMO)/bumps.h5,/synthetic/region_center) | sed -n 2p | tr -d ' ' | cut -d, -f$(1))
 $(DEMO)/edit-fine.h5: $(DEMO)/msae-kept.h5 $(DEMO)/bumps.h5
 	echo "$(call demo_region,1) 0 0 0.4" > $(DEMO)/edit-coarse.txt
 	$(BIN)/edit-shape -f $< --handles $(DEMO)/edit-coarse.txt --relative --fixed $(DEMO_CORNERS) --levels 0 \
 	  -o $(DEMO)/edit-coarse.h5 2> $(DEMO)/edit.log
 	echo "$(call demo_region,3) 0 0 0.25" > $(DEMO)/edit-fine.txt
-	$(BIN)/edit-shape -f $< --handles $(DEMO)/edit-fine.txt --relative --fixed $(DEMO_CORNERS),$(call demo_region,1) \
-	  --levels 1 --include-pruned --from $(DEMO)/edit-coarse.h5 -o $@ 2>> $(DEMO)/edit.log
+	$(BIN)/edit-shape -f $< --handles $(DEMO)/edit-fine.txt --relative --fixed $(DEMO_CORNERS) \
+	  --levels 1 --from $(DEMO)/edit-coarse.h5 -o $@ 2>> $(DEMO)/edit.log
 $(DEMO)/edit.png: $(DEMO)/edit-fine.h5
 	$(BIN)/render-mesh -q -f $(DEMO)/edit-coarse.h5 $< --color displacement --points edit --view 30,50 \
 	  --row-labels "coarse (level 0),fine (level 1)" --column-labels "edit" \

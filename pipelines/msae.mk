@@ -108,7 +108,7 @@ level3_FLAGS := --levels 3 --kz 10,5,2 --d 0.4,0.2,0.1
 .PHONY: msae msae-fig6
 msae: $(foreach s,$(MS_SETS),$(MS)/$(s)/table2.md $(MS)/$(s)/table4.md $(MS)/$(s)/table5.md \
         $(MS)/$(s)/fig3.png $(MS)/$(s)/components.png $(MS)/$(s)/curve.png $(MS)/$(s)/fig6.md $(MS)/$(s)/fig6.png \
-        $(MS)/$(s)/fig14.png) \
+        $(MS)/$(s)/fig14.png $(MS)/$(s)/recon.glb) \
       $(foreach s,$(filter $(MS_SYNTHETIC),$(MS_SETS)),$(MS)/$(s)/localization.md)
 	@for s in $(MS_SETS); do \
 	  echo; echo "=== $$s"; cat $(MS)/$$s/table2.md; echo; cat $(MS)/$$s/table4.md; echo; cat $(MS)/$$s/table5.md; \
@@ -116,6 +116,7 @@ msae: $(foreach s,$(MS_SETS),$(MS)/$(s)/table2.md $(MS)/$(s)/table4.md $(MS)/$(s
 	  echo; cat $(MS)/$$s/fig6.md; \
 	  echo; echo "pictures: $(MS)/$$s/components.png$$([ -f $(MS)/$$s/components-L1.png ] && echo ", components-L1.png"), fig3.png, curve.png, fig6.png"; \
 	done
+	$(call pipeline_report,$(MS),msae)
 
 # --- data: ACAP features of each set (real sets unpacked as in bdlstm.mk)
 $(foreach s,$(MS_SYNTHETIC),$(MS)/$(s)/frames.h5): $(MS)/%/frames.h5:
@@ -172,6 +173,11 @@ MS_FIT_STEPS ?= 300
 $(MS)/%/recon-fit.h5: $(MS)/%/msae.h5
 	$(call launch,generate) $(BIN)/recon-msae -q -f --fit-codes $(MS_FIT_STEPS) $< $(MS)/$*/data.h5 -o $@
 
+# The test shapes as MSAE reconstructs them, as an animation for the report page (at most about 60
+# frames: a page stays a few MB).
+$(MS)/%/recon.glb: $(MS)/%/recon.h5
+	n=$$(h5dump -H -d /frames/names $< | grep -o 'SIMPLE { ( [0-9]* )' | tr -dc 0-9); \
+	$(BIN)/export-gltf -q -f $< --every $$(( (n + 59) / 60 )) --fps 10 -o $@
 # Numbers out of an evaluation's JSON.
 ms_erms = $(call json_values,$(1),erms) | awk '{ printf "%.3f", $$1 }'
 ms_sted = $(call json_values,$(1),sted.spatial) | awk '{ printf "%.4f", $$1 }'

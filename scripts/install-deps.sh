@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages deformflow needs to build, test and run its demo.
 # Idempotent and fast when everything is present (a dpkg query, no apt-get update).
-# Uses sudo when not run as root. Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm] [--with-blender]
+# Uses sudo when not run as root.
+# Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm] [--with-blender] [--with-browser]
 set -euo pipefail
 
 bench=0
@@ -12,6 +13,7 @@ packages=(
   libcairo2-dev fonts-dejavu-core libassimp-dev libtinygltf-dev
   libsuitesparse-dev libopenblas0-pthread  # CHOLMOD factors the reconstruction system; OpenBLAS its dense kernels
   assimp-testmodels zstd gnuplot-nox
+  libjs-three  # three.js and its glTF loader: the report pages play the animations (scripts/report)
   python3-dev pybind11-dev python3-numpy python3-pytest python3-h5py python3-venv  # the Python module
 )
 for option in "$@"; do
@@ -22,6 +24,7 @@ for option in "$@"; do
     --with-fuzz) packages+=(clang libclang-rt-14-dev) ;;         # libFuzzer + sanitizer runtimes of clang 14
     --with-slurm) packages+=(slurmctld slurmd slurm-client munge) ;;  # the tests' one-node cluster
     --with-blender) packages+=(blender) ;;  # the glTF export opened in Blender (test label blender)
+    --with-browser) packages+=(chromium) ;;  # the report page in headless Chromium (test label browser)
     *) echo "install-deps: unknown option $option" >&2; exit 2 ;;
   esac
 done

@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
   app.add_option(
       "--frames", opt.frames,
       "Frames of each row: 0,5,10-20,30- (indices into the file, or into the --sequence;\n"
-      "after --steps, indices into the frames it keeps). Default all");
+      "after --steps, indices into the frames it keeps), or frame names: L0.0.3,L1.2.7 (a\n"
+      "components file's), stand01 (an MD2 model's). Default all");
   app.add_option("--every", opt.every, "Keep every K-th of the selected frames")
       ->check(CLI::PositiveNumber);
   app.add_option("--sequence", opt.sequences,

@@ -41,6 +41,7 @@ std::vector<RegionMatch> localization_scores(const models::Components& c,
       if (m.component < 0 || iou > m.iou) {
         m.component = static_cast<int>(k);
         m.block = L.block[static_cast<std::size_t>(k)];
+        m.name = io::component_name(c, static_cast<std::size_t>(m.level), static_cast<std::size_t>(k));
         m.iou = iou;
         m.support_size = support;
       }
@@ -89,6 +90,7 @@ void eval_components(const std::string& components, const std::string& truth,
                              {"level", m.level},
                              {"component", m.component},
                              {"block", m.block},
+                             {"name", m.name},
                              {"region_vertices", m.region_size},
                              {"support_vertices", m.support_size},
                              {"iou", m.iou}});

@@ -81,10 +81,18 @@ std::vector<std::size_t> chosen_sequences(const std::vector<std::string>& wanted
   return out;
 }
 
-// The frames of [begin, end) that --steps, --frames and --every select, in order.
+// Whether --frames names frames (L0.0.3 of a components file, stand01 of an MD2 model) rather
+// than giving indices and ranges.
+bool frames_by_name(const std::string& spec) {
+  return spec.find_first_not_of("0123456789-,") != std::string::npos;
+}
+
+// The frames of [begin, end) that --steps, --frames and --every select, in order. `names`: the
+// file's frame names (none for skeleton files), for --frames by name.
 std::vector<std::size_t> select_frames(std::size_t begin, std::size_t end,
                                        const std::vector<std::int32_t>& step,
-                                       const RenderOptions& opt, const std::string& where) {
+                                       const RenderOptions& opt, const std::string& where,
+                                       const std::vector<std::string>& names = {}) {
   std::vector<std::size_t> cand;
   for (std::size_t i = begin; i < end; ++i) cand.push_back(i);
   if (!opt.steps.empty()) {
@@ -97,8 +105,21 @@ std::vector<std::size_t> select_frames(std::size_t begin, std::size_t end,
   }
   if (cand.empty()) throw UsageError("no frames selected in " + where);
   std::vector<std::size_t> out;
-  for (std::size_t k : convert::parse_frame_selection(opt.frames, cand.size()))
-    out.push_back(cand[k]);
+  if (frames_by_name(opt.frames)) {
+    if (names.empty()) throw UsageError("--frames by name: " + where + " has no frame names");
+    std::vector<std::string> wanted;
+    for (std::size_t a = 0; a <= opt.frames.size();) {
+      const std::size_t b = std::min(opt.frames.find(',', a), opt.frames.size());
+      wanted.push_back(opt.frames.substr(a, b - a));
+      a = b + 1;
+    }
+    for (std::size_t i : cand)
+      if (std::find(wanted.begin(), wanted.end(), names[i]) != wanted.end()) out.push_back(i);
+    if (out.empty())
+      throw UsageError(fmt::format("--frames: no frame of {} is named {}", where, opt.frames));
+  } else {
+    for (std::size_t k : convert::parse_frame_selection(opt.frames, cand.size())) out.push_back(cand[k]);
+  }
   if (opt.every > 1) {
     std::vector<std::size_t> thinned;
     for (std::size_t k = 0; k < out.size(); k += static_cast<std::size_t>(opt.every))
@@ -132,7 +153,7 @@ std::vector<Row> mesh_rows(const std::vector<convert::FrameSet>& sets, const Ren
       Row r;
       r.input = k;
       r.label = label;
-      r.frames = select_frames(begin, end, s.step, opt, label);
+      r.frames = select_frames(begin, end, s.step, opt, label, s.names);
       for (std::size_t i : r.frames) r.captions.push_back(caption(s, i, begin, components));
       rows.push_back(std::move(r));
     };

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <span>
 
@@ -126,11 +127,7 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
       const std::size_t before = rows.size();
       for (Index k = 0; k < L.features.rows(); ++k) {
         if (kept_only && !L.kept[static_cast<std::size_t>(k)]) continue;
-        // the component's index within its block
-        Index within = 0;
-        for (Index j = 0; j < k; ++j)
-          within += L.block[static_cast<std::size_t>(j)] == L.block[static_cast<std::size_t>(k)];
-        names.push_back(fmt::format("L{}.{}.{}", l, L.block[static_cast<std::size_t>(k)], within));
+        names.push_back(component_name(c, l, static_cast<std::size_t>(k)));
         rows.push_back(L.features.row(k).data());
       }
       if (rows.size() == before) continue;  // a level with nothing kept is left out
@@ -146,6 +143,12 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
     f.close();
   }
   out.commit();
+}
+
+std::string component_name(const Components& c, std::size_t level, std::size_t k) {
+  const auto& block = c.levels.at(level).block;
+  const auto within = std::count(block.begin(), block.begin() + static_cast<std::ptrdiff_t>(k), block.at(k));
+  return fmt::format("L{}.{}.{}", level, block[k], within);
 }
 
 bool names_components(const std::vector<std::string>& sequence_names, const std::vector<std::string>& frame_names,

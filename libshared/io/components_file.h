@@ -57,6 +57,10 @@ void require_acap_components(const Components& c, const std::string& path, const
 void write_components_acap(const std::string& path, const Components& c, bool kept_only,
                            const std::vector<std::string>& inputs, bool force);
 
+/// Component k of `level` as write_components_acap names it: "L<level>.<block>.<k within its
+/// block>".
+std::string component_name(const Components& c, std::size_t level, std::size_t k);
+
 /// Whether an acap file's frames are components as write_components_acap names them (every
 /// sequence "level<l>", its frames "L<l>.<block>.<k>"): render-mesh captions them by name.
 bool names_components(const std::vector<std::string>& sequence_names, const std::vector<std::string>& frame_names,

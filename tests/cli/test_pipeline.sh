@@ -27,6 +27,15 @@ table_text='position error|E_rms \*|STED \*spatial|relative squared error \*max|
 if grep -nE "(sed|awk|grep).*($table_text)" "$DF_SOURCE"/pipelines/*.mk; then
   fail "a pipeline parses a human-readable table (above)"
 fi
+# the report page: every picture and animation of the demo on it; the last lines say where it is
+for f in out/demo/*.png out/demo/*.glb; do
+  grep -qF "<span class=meta>($(basename "$f"))</span></figcaption>" out/demo/index.html ||
+    fail "the demo's report lacks $(basename "$f")"
+done
+grep -v "^make: .* directory" out.txt | tail -n 2 > last.txt  # (make -C's own lines aside)
+[ "$(head -n 1 last.txt)" = "== everything above on one page, the animations playing: $DF_TMP/out/demo/index.html" ] &&
+  tail -n 1 last.txt | grep -q "open it with: xdg-open $DF_TMP/out/demo/index.html" ||
+  fail "the demo does not end saying where its report is: $(cat last.txt)"
 h5check -q --kind msae-model out/demo/msae-model.h5
 h5check -q --kind components out/demo/msae-kept.h5
 [ -s out/demo/msae-components.png ] || fail "no MSAE picture"
