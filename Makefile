@@ -36,8 +36,9 @@ tools: configure
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS) $(CTEST_ARGS)
 
+# (the demo's steps -j$(JOBS) at a time: its three models train side by side)
 demo: tools
-	$(MAKE) --no-print-directory -f Makefile.data demo BIN=$(abspath $(BUILD))/bin OUT=$(OUT)
+	$(MAKE) --no-print-directory -j$(JOBS) -f Makefile.data demo BIN=$(abspath $(BUILD))/bin OUT=$(OUT)
 
 bench: build
 	@bash scripts/install-deps.sh --with-bench
