@@ -321,8 +321,48 @@ SamplesVsTruth samples_vs_truth(const FrameSet& pred, const SampleGroups& groups
 
 // Everything measured on one file pair (or on PRED alone), as the JSON, the TSV and the table
 // show it.
+// The pace of a prediction: over the first kPaceSteps frames after the given ones, how far each
+// frame moves from the one before (mean vertex distance, each frame's centroid removed), the
+// prediction's against the data's at the same times, summed over the cases (sequences). 1: the
+// data's pace; near 0: frozen; above 1: moving where the data stands still.
+constexpr int kPaceSteps = 5;
+struct Pace {
+  double predicted = 0, truth = 0;
+  std::size_t cases = 0;
+};
+
+double motion_between(const io::Vertices& a, const io::Vertices& b) {
+  const Eigen::RowVector3d shift = a.colwise().mean() - b.colwise().mean();
+  return ((a.rowwise() - shift) - b).rowwise().norm().mean();
+}
+
+Pace pace_of(const FrameSet& pred, const FrameSet& truth) {
+  Pace p;
+  if (pred.step.empty() || pred.source.empty()) return p;
+  for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
+    const auto begin = static_cast<std::size_t>(pred.offsets[s]), end = static_cast<std::size_t>(pred.offsets[s + 1]);
+    std::size_t last_given = end;  // the frame before step 1
+    for (std::size_t i = begin; i + 1 < end; ++i)
+      if (pred.step[i] == 0 && pred.step[i + 1] == 1) last_given = i;
+    if (last_given == end || last_given + kPaceSteps >= end) continue;
+    double mp = 0, mt = 0;
+    bool paired = true;
+    for (std::size_t k = last_given + 1; k <= last_given + kPaceSteps; ++k) {
+      if (pred.source[k] < 0 || pred.source[k - 1] < 0) paired = false;
+      if (!paired) break;
+      mp += motion_between(pred.positions[k], pred.positions[k - 1]);
+      mt += motion_between(truth.positions[static_cast<std::size_t>(pred.source[k])],
+                           truth.positions[static_cast<std::size_t>(pred.source[k - 1])]);
+    }
+    if (!paired) continue;
+    p.predicted += mp, p.truth += mt, ++p.cases;
+  }
+  return p;
+}
+
 struct MeshMeasures {
   bool has_truth = false;
+  Pace pace;
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   PairMeasures pm;
   Totals totals;
@@ -367,6 +407,16 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, cons
       js["sted"]["c"] = opt.sted_c;
     }
     if (t.rse_n) js["relative_squared_error"] = {{"max", t.rse_max}, {"mean", t.rse_mean / static_cast<double>(t.rse_n)}};
+    if (m.pace.cases) {
+      const double n = static_cast<double>(m.pace.cases * kPaceSteps);
+      js["pace"] = {{"steps", kPaceSteps},
+                    {"cases", m.pace.cases},
+                    {"predicted_per_frame", m.pace.predicted / n},
+                    {"true_per_frame", m.pace.truth / n},
+                    {"predicted_per_frame_relative", m.pace.predicted / n / diag},
+                    {"true_per_frame_relative", m.pace.truth / n / diag},
+                    {"ratio", m.pace.truth > 0 ? m.pace.predicted / m.pace.truth : 0.0}};
+    }
     const auto& v = m.samples;
     if (v.cases)
       js["samples_vs_truth"] = {{"cases", v.cases},
@@ -441,6 +491,12 @@ std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const
     t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal; {} cases)\n", "spread of samples",
                      js["sample_spread"]["mean"].get<double>(), js["sample_spread"]["mean_relative"].get<double>(),
                      m.spread_cases);
+  if (js.contains("pace"))
+    t += fmt::format("  {:<28} {:.4g} per frame, the data {:.4g} (x bbox diagonal), over the first {} predicted "
+                     "frames of {} cases: ratio {:.3f}\n",
+                     "pace", js["pace"]["predicted_per_frame_relative"].get<double>(),
+                     js["pace"]["true_per_frame_relative"].get<double>(), kPaceSteps, m.pace.cases,
+                     js["pace"]["ratio"].get<double>());
   const auto& v = m.samples;
   if (v.cases)
     t += fmt::format("  {:<28} mean of K {:.6g}  best of K {:.6g}  worst of K {:.6g}  (x bbox diagonal {:.4g} / {:.4g} / {:.4g}; {} cases)\n",
@@ -489,6 +545,7 @@ void eval_meshes(const EvalOptions& opt, bool force) {
   if (truth && m.totals.counted == 0)
     throw InvalidInput("no generated frame has a ground-truth frame to compare with", opt.pred);
   if (truth) m.samples = samples_vs_truth(pred, groups, m.pairs, m.pm.results, m.totals.skip_given);
+  if (truth) m.pace = pace_of(pred, *truth);
 
   const nlohmann::ordered_json js = to_json(m, pred, opt);
   if (!opt.json.empty() && opt.json != "-") write_text_output(opt.json, js.dump(2) + "\n", force, {opt.pred, opt.truth});

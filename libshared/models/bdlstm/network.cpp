@@ -99,7 +99,7 @@ std::pair<typename BdlstmNet<T>::Var, typename BdlstmNet<T>::Var> BdlstmNet<T>::
 
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int chain, Var x, Var z,
-                                                     States& states) const {
+                                                     States& states, const Var* previous) const {
   const Chain& ch = chains_[static_cast<std::size_t>(chain)];
   Var out = ch.lstm.step(p, z, states);
   Var d = nn::tanh(ch.fc_dec.repeated(p, out));
@@ -107,13 +107,15 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int 
     d = ch.dec[l](p, d);
     if (l + 1 < ch.dec.size()) d = nn::tanh(d);
   }
+  if (config_.carry != 0 && previous)  // the motion of the step before, carried over
+    d = nn::add(d, nn::scale(nn::sub(x, *previous), static_cast<T>(config_.carry)));
   return nn::add(x, d);
 }
 
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x,
                                               States& states, const Matrix* eps,
-                                              KlSum<T>* kl_sum) const {
+                                              KlSum<T>* kl_sum, const Var* previous) const {
   auto [mu, logvar] = encode(p, chain, x);
   Var z = mu;
   if (config_.kl && eps) {
@@ -135,7 +137,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, 
       kl_sum->penalised = kl_sum->penalised.tape ? nn::add(kl_sum->penalised, kl) : kl;
     }
   }
-  return decode_step(p, chain, x, z, states);
+  return decode_step(p, chain, x, z, states, previous);
 }
 
 template <class T>
@@ -144,13 +146,15 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
                                                                 States states, int steps, Rng& rng,
                                                                 KlSum<T>* kl_sum) const {
   std::vector<Var> frames{given.front()};
+  Var previous;  // the input of the step before (carry)
   Matrix eps(given.front().rows(), config_.latent);
   for (int t = 0; t < steps; ++t) {
     if (config_.kl)
       for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<T>(rng.normal());
     Var in = static_cast<std::size_t>(t) < given.size() ? given[static_cast<std::size_t>(t)]
                                                         : frames.back();
-    frames.push_back(step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum));
+    frames.push_back(step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum, t ? &previous : nullptr));
+    previous = in;
   }
   return frames;
 }

@@ -61,6 +61,11 @@ struct BdlstmConfig {
   /// penalise — per step, each dimension's KL averaged over the rows counts as max(free_bits, KL_d).
   /// Below it the encoder may carry information at no cost (0 = the paper: every nat counts).
   double free_bits = 0;
+  /// The motion a step carries over (issue 67: the model moved at a pace of its own, not the
+  /// given frames'): X_{t+1} = X_t + carry (X_t − X_{t−1}) + δX, X_{t−1} the chain's previous
+  /// input (none at its first step). 0 = the paper: X_{t+1} = X_t + δX; 1: δX corrects a constant
+  /// velocity, so that still given frames start still and moving ones keep their pace.
+  double carry = 0;
 };
 
 /// The loss of one batch of windows, by term (each averaged over the windows of the batch).
@@ -109,14 +114,17 @@ class BdlstmNet {
   /// BD-LSTM) for frames x [rows, 9V]: returns X_{t+1}, updates `states`. With `eps`
   /// ([rows, latent] standard normal) z is sampled and Σ_rows KL is added to *kl_sum
   /// (when the config has KL); without, z is the mean.
+  /// `previous`: the chain's input of the step before (for `carry`; null at the first step).
   Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps,
-           KlSum<T>* kl_sum) const;
+           KlSum<T>* kl_sum, const Var* previous = nullptr) const;
 
   /// The encoder of chain `chain`: the latent mean and log-variance of frames x [rows, 9V]
   /// (each [rows, latent]; the log-variance is meaningless without KL).
   std::pair<Var, Var> encode(const nn::Bound<T>& p, int chain, Var x) const;
-  /// One step with z given ([rows, latent]): LSTM, decoder, X_{t+1} = x + δX.
-  Var decode_step(const nn::Bound<T>& p, int chain, Var x, Var z, States& states) const;
+  /// One step with z given ([rows, latent]): LSTM, decoder, X_{t+1} = x + δX (+ carry (x −
+  /// previous) when the config carries motion and `previous` is given).
+  Var decode_step(const nn::Bound<T>& p, int chain, Var x, Var z, States& states,
+                  const Var* previous = nullptr) const;
 
   /// The training loss of a batch of windows. window[t] is frame t of every window
   /// ([batch, 9V], t = 0..n−1); the reparameterisation noise is drawn from `rng`. Each chain

@@ -43,6 +43,12 @@ Settings bdlstm_network_settings(BdlstmConfig& c) {
       {.name = "init_state",
        .target = &c.init_state,
        .help = "Initial LSTM state of the forward chain (backward: minus)"},
+      {.name = "carry",
+       .target = &c.carry,
+       .help = "Motion carried from step to step: X_t+1 = X_t + CARRY (X_t - X_t-1) + dX, so the\n"
+               "prediction starts at the given frames' pace (still frames stay still); 0 = the\n"
+               "paper (X_t+1 = X_t + dX)",
+       .optional = true},
   };
 }
 

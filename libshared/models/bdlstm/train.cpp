@@ -176,6 +176,7 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   net.l2_scope = "all";
   net.l2_weight = 1;
   net.decoder_init = "zero";
+  net.carry = 0;
 }
 
 namespace {

@@ -97,6 +97,34 @@ TEST_CASE("BD-LSTM: an untrained network predicts no change (dX starts at 0)", "
   REQUIRE((y.value() - x).cwiseAbs().maxCoeff() == 0.0);
 }
 
+TEST_CASE("BD-LSTM carry: the step adds the motion of the step before, gradients checked", "[models][bdlstm]") {
+  // An untrained network (dX = 0) with carry c continues the given frames' motion times c:
+  // X_t+1 = X_t + c (X_t - X_t-1); at a chain's first step there is no motion to carry.
+  auto cfg = tiny_config(Directions::shared);
+  cfg.carry = 0.75;
+  BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
+  nn::Tape<double> tape;
+  auto p = net.store().bind(tape);
+  auto states = net.constant_states(tape, 2, 0.1);
+  const auto frames = sine_windows<double>(2, 2, 4);
+  auto x0 = tape.constant(frames[0]), x1 = tape.constant(frames[1]);
+  auto first = net.step(p, 0, x0, states, nullptr, nullptr);
+  REQUIRE((first.value() - frames[0]).cwiseAbs().maxCoeff() == 0.0);
+  auto second = net.step(p, 0, x1, states, nullptr, nullptr, &x0);
+  const Eigen::MatrixXd want = frames[1] + 0.75 * (frames[1] - frames[0]);
+  REQUIRE((second.value() - want).cwiseAbs().maxCoeff() <= 1e-12);
+  // and trained: every parameter's gradient through the carried motion (given 1: the chain runs
+  // free, carrying its own outputs' motion; given 3: the ground truth's)
+  for (int given : {1, 3}) {
+    auto c = tiny_config(Directions::standard);
+    c.carry = 1;
+    BdlstmNet<double> trained(c, 4, tetra_edges(), 7);
+    const auto [error, report] = loss_gradient_error(trained, sine_windows<double>(5, 2, 1), given);
+    INFO("carry 1, given " << given << "\n" << report);
+    REQUIRE(error <= 1e-6);
+  }
+}
+
 TEST_CASE("BD-LSTM loss: terms are those of eq. 3-5", "[models][bdlstm]") {
   auto cfg = tiny_config(Directions::shared);
   BdlstmNet<double> net(cfg, 4, tetra_edges(), 3);
