@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -329,6 +330,8 @@ constexpr int kPaceSteps = 5;
 struct Pace {
   double predicted = 0, truth = 0;
   std::size_t cases = 0;
+  std::vector<std::array<double, 2>> per_case;  ///< [predicted, true] motion per frame of each case
+  std::vector<std::string> names;               ///< the cases (PRED's sequences)
 };
 
 double motion_between(const io::Vertices& a, const io::Vertices& b) {
@@ -356,6 +359,8 @@ Pace pace_of(const FrameSet& pred, const FrameSet& truth) {
     }
     if (!paired) continue;
     p.predicted += mp, p.truth += mt, ++p.cases;
+    p.per_case.push_back({mp / kPaceSteps, mt / kPaceSteps});
+    p.names.push_back(pred.sequences[s]);
   }
   return p;
 }
@@ -416,6 +421,12 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, cons
                     {"predicted_per_frame_relative", m.pace.predicted / n / diag},
                     {"true_per_frame_relative", m.pace.truth / n / diag},
                     {"ratio", m.pace.truth > 0 ? m.pace.predicted / m.pace.truth : 0.0}};
+      nlohmann::ordered_json cases = nlohmann::ordered_json::array();
+      for (std::size_t k = 0; k < m.pace.per_case.size(); ++k)
+        cases.push_back({{"case", m.pace.names[k]},
+                         {"predicted_relative", m.pace.per_case[k][0] / diag},
+                         {"true_relative", m.pace.per_case[k][1] / diag}});
+      js["pace"]["per_case"] = cases;
     }
     const auto& v = m.samples;
     if (v.cases)

@@ -118,6 +118,23 @@ step_error() { awk -v s="$1" '$1 == s && NF == 4 { print $3 }' "$2"; }
 awk -v a="$(step_error 3 lin.txt)" -v b="$(step_error 6 lin.txt)" -v c="$(step_error 6 pred.txt)" \
   'BEGIN { exit !(a > 0 && b > a && c > 0) }' || fail "step errors: $(cat lin.txt pred.txt)"
 grep -q "E_rms" lin.txt || fail "no E_rms in the table"
+# The pace of a prediction (its motion per frame over the first 5 predicted frames against the
+# data's): zero motion has none; linear extrapolation on this smooth finger is near the data's;
+# the data's part is the same for every method of the same cases.
+gen-bdlstm -q m.h5 data.h5 --test-every 3 --initial 3 --length 6 --method static -o still.h5
+eval-metrics -q still.h5 data.h5 --json still.json > still.txt
+eval-metrics -q lin.h5 data.h5 --json lin.json > /dev/null
+pace() { collect-metrics --values --columns "pace.$2" "$1"; }
+[ "$(pace still.json ratio)" = 0 ] && [ "$(pace still.json predicted_per_frame)" = 0 ] ||
+  fail "zero motion has a pace: $(pace still.json ratio)"
+[ "$(pace still.json true_per_frame)" = "$(pace lin.json true_per_frame)" ] && [ "$(pace lin.json steps)" = 5 ] ||
+  fail "the data's pace differs between two methods of the same cases"
+awk -v r="$(pace lin.json ratio)" 'BEGIN { exit !(r > 0.5 && r < 2) }' || fail "linear extrapolation's pace $(pace lin.json ratio)"
+n=$(pace lin.json cases)  # one row per case, no more
+[ -n "$(pace lin.json "per_case.$((n - 1)).case")" ] && ! pace lin.json "per_case.$n.case" 2>/dev/null ||
+  fail "pace.per_case does not have the $n cases"
+grep -qE "^  pace +0 per frame, the data [0-9.e-]+ \(x bbox diagonal\), over the first 5 predicted frames of [0-9]+ cases: ratio 0.000$" still.txt ||
+  fail "the table's pace line: $(grep pace still.txt)"
 eval-metrics data.h5 data.h5 --json same.json >/dev/null
 awk '/"vertex_error"/ { getline; if ($2 + 0 == 0) ok1 = 1 } /"erms":/ { if ($2 + 0 == 0) ok2 = 1 }
      END { exit !(ok1 && ok2) }' same.json || fail "a file against itself has a non-zero error: $(head -c 400 same.json)"
