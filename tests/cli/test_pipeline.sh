@@ -32,7 +32,7 @@ for f in out/demo/*.png out/demo/*.glb; do
   grep -qF "<span class=meta>($(basename "$f"))</span></figcaption>" out/demo/index.html ||
     fail "the demo's report lacks $(basename "$f")"
 done
-grep -v "^make: .* directory" out.txt | tail -n 2 > last.txt  # (make -C's own lines aside)
+grep -vE "^make(\[[0-9]+\])?: .* directory" out.txt | tail -n 2 > last.txt  # (make -C's own lines aside)
 [ "$(head -n 1 last.txt)" = "== everything above on one page, the animations playing: $DF_TMP/out/demo/index.html" ] &&
   tail -n 1 last.txt | grep -q "open it with: xdg-open $DF_TMP/out/demo/index.html" ||
   fail "the demo does not end saying where its report is: $(cat last.txt)"
