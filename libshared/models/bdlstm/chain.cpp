@@ -18,6 +18,7 @@ void ChainStepper::reset(Index rows, float value, double sigma, Rng& rng) {
             Matrix::Constant(rows, hidden, value));
   c_ = h_;
   previous_.resize(0, 0);
+  steps_ = 0;
   if (sigma > 0)
     for (auto* states : {&h_, &c_})
       for (auto& m : *states)
@@ -51,7 +52,10 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
   }
   nn::Var<float> previous;
   if (previous_.rows()) previous = tape_.constant(previous_);
-  const Matrix y = net_.decode_step(bound_, chain_, xin, z, states, previous_.rows() ? &previous : nullptr).value();
+  const Matrix y =
+      net_.decode_step(bound_, chain_, xin, z, states, previous_.rows() ? &previous : nullptr, steps_)
+          .value();
+  ++steps_;
   for (std::size_t l = 0; l < states.size(); ++l)
     h_[l] = states[l].h.value(), c_[l] = states[l].c.value();
   previous_ = x;

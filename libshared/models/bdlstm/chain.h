@@ -30,6 +30,7 @@ class ChainStepper {
   std::size_t mark_ = 0;
   std::vector<nn::Matrix<float>> h_, c_;
   nn::Matrix<float> previous_;  ///< the input of the step before (0 rows: none yet)
+  int steps_ = 0;               ///< steps since reset (the carry fades with them)
 };
 
 /// Relative feature error ‖X̂_k − X_k‖ / ‖X_k‖ at steps k = 1..length, the mean over windows that

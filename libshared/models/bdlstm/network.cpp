@@ -1,6 +1,7 @@
 #include "models/bdlstm/network.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "core/error.h"
@@ -26,6 +27,10 @@ Directions directions_from_name(const std::string& name) {
   if (name == "standard") return Directions::standard;
   if (name == "unidirectional") return Directions::unidirectional;
   throw UsageError("directions must be shared, standard or unidirectional, not '" + name + "'");
+}
+
+double BdlstmConfig::carry_at(int t) const {
+  return t < 1 || carry == 0 ? 0 : carry * std::pow(carry_fade, t - 1);
 }
 
 template <class T>
@@ -99,7 +104,8 @@ std::pair<typename BdlstmNet<T>::Var, typename BdlstmNet<T>::Var> BdlstmNet<T>::
 
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int chain, Var x, Var z,
-                                                     States& states, const Var* previous) const {
+                                                     States& states, const Var* previous,
+                                                     int t) const {
   const Chain& ch = chains_[static_cast<std::size_t>(chain)];
   Var out = ch.lstm.step(p, z, states);
   Var d = nn::tanh(ch.fc_dec.repeated(p, out));
@@ -107,15 +113,16 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int 
     d = ch.dec[l](p, d);
     if (l + 1 < ch.dec.size()) d = nn::tanh(d);
   }
-  if (config_.carry != 0 && previous)  // the motion of the step before, carried over
-    d = nn::add(d, nn::scale(nn::sub(x, *previous), static_cast<T>(config_.carry)));
+  if (const double carry = config_.carry_at(t); carry != 0 && previous)  // the motion of the
+    d = nn::add(d, nn::scale(nn::sub(x, *previous), static_cast<T>(carry)));  // step before
   return nn::add(x, d);
 }
 
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x,
                                               States& states, const Matrix* eps,
-                                              KlSum<T>* kl_sum, const Var* previous) const {
+                                              KlSum<T>* kl_sum, const Var* previous,
+                                              int t) const {
   auto [mu, logvar] = encode(p, chain, x);
   Var z = mu;
   if (config_.kl && eps) {
@@ -137,7 +144,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, 
       kl_sum->penalised = kl_sum->penalised.tape ? nn::add(kl_sum->penalised, kl) : kl;
     }
   }
-  return decode_step(p, chain, x, z, states, previous);
+  return decode_step(p, chain, x, z, states, previous, t);
 }
 
 template <class T>
@@ -153,7 +160,8 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
       for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<T>(rng.normal());
     Var in = static_cast<std::size_t>(t) < given.size() ? given[static_cast<std::size_t>(t)]
                                                         : frames.back();
-    frames.push_back(step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum, t ? &previous : nullptr));
+    frames.push_back(
+        step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum, t ? &previous : nullptr, t));
     previous = in;
   }
   return frames;

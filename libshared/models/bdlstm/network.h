@@ -66,6 +66,12 @@ struct BdlstmConfig {
   /// input (none at its first step). 0 = the paper: X_{t+1} = X_t + δX; 1: δX corrects a constant
   /// velocity, so that still given frames start still and moving ones keep their pace.
   double carry = 0;
+  /// The carry fades along a chain: at its step t (t = 1 the first with a step before) it is
+  /// carry · carry_fade^(t−1), so a prediction starts at the given frames' pace and, far from
+  /// them, moves by δX alone. 1 = never fades.
+  double carry_fade = 1;
+  /// The carry at a chain's step t (0 at its first step, which has no step before).
+  double carry_at(int t) const;
 };
 
 /// The loss of one batch of windows, by term (each averaged over the windows of the batch).
@@ -114,17 +120,18 @@ class BdlstmNet {
   /// BD-LSTM) for frames x [rows, 9V]: returns X_{t+1}, updates `states`. With `eps`
   /// ([rows, latent] standard normal) z is sampled and Σ_rows KL is added to *kl_sum
   /// (when the config has KL); without, z is the mean.
-  /// `previous`: the chain's input of the step before (for `carry`; null at the first step).
+  /// `previous`: the chain's input of the step before (for `carry`; null at the first step);
+  /// `t`: the chain's step (0 = its first; the carry fades with it).
   Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps,
-           KlSum<T>* kl_sum, const Var* previous = nullptr) const;
+           KlSum<T>* kl_sum, const Var* previous = nullptr, int t = 1) const;
 
   /// The encoder of chain `chain`: the latent mean and log-variance of frames x [rows, 9V]
   /// (each [rows, latent]; the log-variance is meaningless without KL).
   std::pair<Var, Var> encode(const nn::Bound<T>& p, int chain, Var x) const;
-  /// One step with z given ([rows, latent]): LSTM, decoder, X_{t+1} = x + δX (+ carry (x −
-  /// previous) when the config carries motion and `previous` is given).
+  /// One step with z given ([rows, latent]): LSTM, decoder, X_{t+1} = x + δX (+ carry_at(t)
+  /// (x − previous) when the config carries motion and `previous` is given).
   Var decode_step(const nn::Bound<T>& p, int chain, Var x, Var z, States& states,
-                  const Var* previous = nullptr) const;
+                  const Var* previous = nullptr, int t = 1) const;
 
   /// The training loss of a batch of windows. window[t] is frame t of every window
   /// ([batch, 9V], t = 0..n−1); the reparameterisation noise is drawn from `rng`. Each chain

@@ -49,6 +49,12 @@ Settings bdlstm_network_settings(BdlstmConfig& c) {
                "prediction starts at the given frames' pace (still frames stay still); 0 = the\n"
                "paper (X_t+1 = X_t + dX)",
        .optional = true},
+      {.name = "carry_fade",
+       .target = &c.carry_fade,
+       .help = "The carry fades along a chain: CARRY x FADE^(t-1) at its step t, so a prediction\n"
+               "starts at the given frames' pace and, far from them, moves by dX alone (a long\n"
+               "generation does not compound the carried motion); 1 = never fades",
+       .optional = true},
   };
 }
 

@@ -177,6 +177,7 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   net.l2_weight = 1;
   net.decoder_init = "zero";
   net.carry = 0;
+  net.carry_fade = 1;
 }
 
 namespace {
@@ -191,6 +192,8 @@ void check_options(const BdlstmTrainOptions& opt) {
   if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
   if (!(opt.training.collapse_threshold >= 0))
     throw UsageError("--collapse-threshold must not be negative");
+  if (!(opt.net.carry_fade >= 0 && opt.net.carry_fade <= 1))
+    throw UsageError("--carry-fade must lie in [0, 1] (1 = the carry never fades)");
 }
 
 // The model to train as the options and the data describe it: settings, template,

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "helpers.h"
+#include "models/bdlstm/chain.h"
 #include "models/bdlstm/network.h"
 #include "models/bdlstm/train.h"
 #include "nn/gradient_check.h"
@@ -123,6 +124,40 @@ TEST_CASE("BD-LSTM carry: the step adds the motion of the step before, gradients
     INFO("carry 1, given " << given << "\n" << report);
     REQUIRE(error <= 1e-6);
   }
+}
+
+TEST_CASE("BD-LSTM carry fade: the carry at step t is carry x fade^(t-1), in training and stepping", "[models][bdlstm]") {
+  auto cfg = tiny_config(Directions::shared);
+  cfg.carry = 0.8;
+  cfg.carry_fade = 0.5;
+  REQUIRE(cfg.carry_at(0) == 0.0);
+  REQUIRE(cfg.carry_at(1) == Approx(0.8));
+  REQUIRE(cfg.carry_at(3) == Approx(0.2));
+  // An untrained network (dX = 0) steps X_t+1 = X_t + carry_at(t) (X_t - X_t-1): the chain
+  // stepper counts its steps from its reset.
+  BdlstmNet<float> net(cfg, 4, tetra_edges(), 7);
+  ChainStepper stepper(net, 0);
+  Rng rng(1, 0);
+  stepper.reset(1, 0.1f, 0, rng);
+  const auto frames = sine_windows<float>(1, 1, 4);
+  nn::Matrix<float> x = frames[0], y = stepper.step(x);
+  REQUIRE((y - x).cwiseAbs().maxCoeff() == 0.0f);
+  nn::Matrix<float> x1 = frames[0] + 0.1f * nn::Matrix<float>::Ones(1, frames[0].cols());
+  for (int t = 1; t <= 3; ++t) {  // motion 0.1 per step in, carried x 0.8, 0.4, 0.2
+    y = stepper.step(x1);
+    const float want = 0.1f * static_cast<float>(cfg.carry_at(t));
+    REQUIRE(((y - x1).array() - want).abs().maxCoeff() <= 1e-6f);
+    x = x1;
+    x1 = x1 + 0.1f * nn::Matrix<float>::Ones(1, x1.cols());
+  }
+  // and trained: gradients through a fading carry
+  auto c = tiny_config(Directions::standard);
+  c.carry = 1;
+  c.carry_fade = 0.7;
+  BdlstmNet<double> trained(c, 4, tetra_edges(), 7);
+  const auto [error, report] = loss_gradient_error(trained, sine_windows<double>(5, 2, 1), 1);
+  INFO(report);
+  REQUIRE(error <= 1e-6);
 }
 
 TEST_CASE("BD-LSTM loss: terms are those of eq. 3-5", "[models][bdlstm]") {
