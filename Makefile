@@ -7,6 +7,7 @@
 #   make test-sanitize  the whole test suite built with ASan + UBSan (build-asan/)
 #   make fuzz [FUZZ_SECONDS=60]  libFuzzer targets of the input parsers (clang; build-fuzz/)
 #   make update-golden  rewrites tests/unit/render/golden/*.png (only on purpose, then review)
+#   make format / make format-check  clang-format (.clang-format) on every C++ file: rewrite / check
 BUILD ?= build
 JOBS ?= 2
 OUT ?= out
@@ -17,7 +18,7 @@ ifeq ($(CI),true)
   CMAKE_FLAGS += -DDEFORMFLOW_WERROR=ON
 endif
 
-.PHONY: all deps configure build tools test demo bench clean update-golden golden-update test-sanitize fuzz
+.PHONY: all deps configure build tools test demo bench clean update-golden golden-update test-sanitize fuzz format format-check
 all: build
 
 deps:
@@ -74,3 +75,12 @@ fuzz:
 
 clean:
 	rm -rf $(BUILD)
+
+# Every C++ file of the repository in .clang-format's style (CI runs format-check).
+CXX_FILES = $(shell git ls-files '*.cpp' '*.h' '*.hpp')
+format:
+	@bash scripts/install-deps.sh --with-format
+	clang-format -i $(CXX_FILES)
+format-check:
+	@bash scripts/install-deps.sh --with-format
+	@clang-format --dry-run -Werror $(CXX_FILES) && echo "format-check: $(words $(CXX_FILES)) files as .clang-format says"

@@ -5,7 +5,8 @@
 //   gan-all   the same with the authors' discriminator (--disc-input motion --disc-pool all: frames
 //             and differences, every step's BiLSTM outputs to its head; the peer's pool=concat
 //             case, whose classifier reads every step too, ours its last states)
-//   pretrain  one WGAN-GP iteration of the frame decoder: 5 critic steps + 1 decoder step (64 poses)
+//   pretrain  one WGAN-GP iteration of the frame decoder: 5 critic steps + 1 decoder step (64
+//   poses)
 // on 64 random clips (the peer's inputs are random too).
 //   bench_actgan [--case gan|gan-all|pretrain] [--threads N] [--iters 5]
 #include <cstdio>
@@ -51,16 +52,20 @@ int main(int argc, char** argv) {
         df::models::actgan_gan_iteration(m, clips, *tape);
     };
     const auto t = df::bench::time_iterations(warmup, iters, step);
-    const std::size_t params = m.gen->store().size() + m.discriminator_store().size() + m.cls->store().size() +
+    const std::size_t params = m.gen->store().size() + m.discriminator_store().size() +
+                               m.cls->store().size() +
                                (which == "pretrain" ? m.critic->store().size() : 0);
     const char* label = which == "gan"       ? "ActGAN 1D+2G (B 32, T 50)"
                         : which == "gan-all" ? "ActGAN 1D+2G, authors' discriminator (B 32, T 50)"
                                              : "ActGAN WGAN-GP 5C+1G (B 64)";
     std::printf("| %s | %zu | %.1f | %.1f |\n", label, params, t.median_ms, t.min_ms);
     if (profile.steps > 0)
-      df::bench::print_profile(label, profile.steps, [&] {
-        tape = std::make_unique<df::nn::Tape<float>>();  // made while profiling is on
-        step();
-      }, profile.limits);
+      df::bench::print_profile(
+          label, profile.steps,
+          [&] {
+            tape = std::make_unique<df::nn::Tape<float>>();  // made while profiling is on
+            step();
+          },
+          profile.limits);
   });
 }

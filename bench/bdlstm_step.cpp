@@ -18,7 +18,9 @@ int main(int argc, char** argv) {
   df::Tool tool("bench_bdlstm", "Time one BD-LSTM training iteration (see bench/run.sh).");
   std::string mesh_path;
   int iters = 10, warmup = 2, batch = 8, window = 32;
-  tool.app().add_option("--mesh", mesh_path, "Template mesh (the peer uses pcow/1.obj)")->required();
+  tool.app()
+      .add_option("--mesh", mesh_path, "Template mesh (the peer uses pcow/1.obj)")
+      ->required();
   tool.app().add_option("--iters", iters, "Timed iterations")->default_val(iters);
   tool.app().add_option("--warmup", warmup, "Untimed iterations first")->default_val(warmup);
   tool.app().add_option("--batch", batch)->default_val(batch);
@@ -31,25 +33,31 @@ int main(int argc, char** argv) {
     const auto topo = df::geometry::mesh_topology(m.faces, V);
     df::models::BdlstmNet<float> net({}, V, topo.edges, 0);
     df::Rng rng(0, 5);
-    std::vector<df::nn::Matrix<float>> seq(static_cast<std::size_t>(window), df::nn::Matrix<float>(batch, 9 * V));
+    std::vector<df::nn::Matrix<float>> seq(static_cast<std::size_t>(window),
+                                           df::nn::Matrix<float>(batch, 9 * V));
     for (auto& f : seq)
-      for (Eigen::Index k = 0; k < f.size(); ++k) f.data()[k] = static_cast<float>(rng.uniform(-0.95, 0.95));
+      for (Eigen::Index k = 0; k < f.size(); ++k)
+        f.data()[k] = static_cast<float>(rng.uniform(-0.95, 0.95));
     df::nn::AdamOptions ao;
     ao.lr = 1e-4;
     df::nn::Adam<float> adam(net.store().size(), ao);
     auto tape = std::make_unique<df::nn::Tape<float>>();
     auto step = [&] {
-      df::nn::train_step<float>(*tape, net.store(), adam, [&](df::nn::Tape<float>& t, const df::nn::Bound<float>& p) {
-        return net.loss(t, p, seq, rng);
-      });
+      df::nn::train_step<float>(*tape, net.store(), adam,
+                                [&](df::nn::Tape<float>& t, const df::nn::Bound<float>& p) {
+                                  return net.loss(t, p, seq, rng);
+                                });
     };
     const auto tm = df::bench::time_iterations(warmup, iters, step);
-    std::printf("| BD-LSTM %s | %zu | %.1f | %.1f | seq[%d,%d,%d,9] |\n", mesh_path.c_str(), net.store().size(),
-                tm.median_ms, tm.min_ms, batch, window, V);
+    std::printf("| BD-LSTM %s | %zu | %.1f | %.1f | seq[%d,%d,%d,9] |\n", mesh_path.c_str(),
+                net.store().size(), tm.median_ms, tm.min_ms, batch, window, V);
     if (profile.steps > 0)
-      df::bench::print_profile("BD-LSTM", profile.steps, [&] {
-        tape = std::make_unique<df::nn::Tape<float>>();  // made while profiling is on
-        step();
-      }, profile.limits);
+      df::bench::print_profile(
+          "BD-LSTM", profile.steps,
+          [&] {
+            tape = std::make_unique<df::nn::Tape<float>>();  // made while profiling is on
+            step();
+          },
+          profile.limits);
   });
 }

@@ -4,11 +4,12 @@
 // stretches, Gaussian falloff) and N handles spread by furthest-point sampling, their targets in
 // a shape the directions reach (random weights, reconstructed).
 //   bench_edit [--resolution 99] [--components 60] [--handles 20] [--iters 3]
+#include "apps/edit_shape.h"
+
 #include <cmath>
 #include <cstdio>
 #include <random>
 
-#include "apps/edit_shape.h"
 #include "core/tool.h"
 #include "geometry/acap_features.h"
 #include "geometry/subspace_edit.h"
@@ -18,7 +19,9 @@
 int main(int argc, char** argv) {
   df::Tool tool("bench_edit", "Time one edit-shape edit (see bench/run.sh).");
   int resolution = 99, K = 60, H = 20, iters = 3;
-  tool.app().add_option("--resolution", resolution, "Bumps grid resolution (vertices: (r+1)^2)")->default_val(resolution);
+  tool.app()
+      .add_option("--resolution", resolution, "Bumps grid resolution (vertices: (r+1)^2)")
+      ->default_val(resolution);
   tool.app().add_option("--components", K, "Deformation directions")->default_val(K);
   tool.app().add_option("--handles", H, "Handles")->default_val(H);
   tool.app().add_option("--iters", iters, "Timed edits")->default_val(iters);
@@ -30,7 +33,8 @@ int main(int argc, char** argv) {
     p.frames = 1;
     const io::Mesh m = synth::MeshSequenceGenerator(p).rest();
     const int V = static_cast<int>(m.vertices.rows());
-    const double diagonal = (m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff()).norm();
+    const double diagonal =
+        (m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff()).norm();
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> u(-1, 1);
     Eigen::MatrixXd D = Eigen::MatrixXd::Zero(K, 9 * V);
@@ -42,7 +46,8 @@ int main(int argc, char** argv) {
       std::vector<Eigen::Vector3d> r(static_cast<std::size_t>(V));
       std::vector<Eigen::Matrix3d> S(static_cast<std::size_t>(V));
       for (int i = 0; i < V; ++i) {
-        const double g = std::exp(-(m.vertices.row(i) - m.vertices.row(centre)).squaredNorm() / (radius * radius));
+        const double g = std::exp(-(m.vertices.row(i) - m.vertices.row(centre)).squaredNorm() /
+                                  (radius * radius));
         r[static_cast<std::size_t>(i)] = g * axis;
         S[static_cast<std::size_t>(i)] = g * stretch.asDiagonal().toDenseMatrix();
       }
@@ -55,7 +60,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < V; ++i) base.insert(base.end(), id.begin(), id.end());
     Eigen::VectorXd truth(K);
     for (int k = 0; k < K; ++k) truth[k] = 0.5 * u(rng);
-    Eigen::VectorXd f = Eigen::Map<const Eigen::VectorXd>(base.data(), 9 * V) + D.transpose() * truth;
+    Eigen::VectorXd f =
+        Eigen::Map<const Eigen::VectorXd>(base.data(), 9 * V) + D.transpose() * truth;
     const io::Vertices shape = geometry::Reconstructor(m.vertices, m.faces).solve(f.data());
     const auto handles = apps::furthest_point_sample(m.vertices, H);
     io::Vertices pinned = m.vertices;
@@ -69,8 +75,10 @@ int main(int argc, char** argv) {
     });
     double err = 0;
     for (int i = 0; i < V; ++i) err = std::max(err, (res.positions.row(i) - shape.row(i)).norm());
-    std::printf("| edit-shape, %d vertices, %d components, %d handles | %d steps | %.1f | %.1f | factor %.0f ms, "
-                "largest error %.2g x diagonal |\n",
-                V, K, H, res.iterations, t.median_ms, t.min_ms, 1e3 * factor, err / diagonal);
+    std::printf(
+        "| edit-shape, %d vertices, %d components, %d handles | %d steps | %.1f | %.1f | factor "
+        "%.0f ms, "
+        "largest error %.2g x diagonal |\n",
+        V, K, H, res.iterations, t.median_ms, t.min_ms, 1e3 * factor, err / diagonal);
   });
 }

@@ -10,7 +10,8 @@
 #include "timing.h"
 
 int main(int argc, char** argv) {
-  df::Tool tool("bench_mmd", "Time MMD_u^2 of 1000 x 1000 sequences of [50, 60] (see bench/run.sh).");
+  df::Tool tool("bench_mmd",
+                "Time MMD_u^2 of 1000 x 1000 sequences of [50, 60] (see bench/run.sh).");
   int iters = 5, n = 1000, frames = 50, dims = 60;
   bool per_frame = false;
   tool.app().add_option("--iters", iters, "Timed runs")->default_val(iters);
@@ -20,7 +21,8 @@ int main(int argc, char** argv) {
     df::eval::RowMatrixF X(n, frames * dims), Y(n, frames * dims);
     df::Rng rng(1);
     for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = static_cast<float>(rng.normal());
-    for (Eigen::Index i = 0; i < Y.size(); ++i) Y.data()[i] = static_cast<float>(rng.normal(0.05, 1.1));
+    for (Eigen::Index i = 0; i < Y.size(); ++i)
+      Y.data()[i] = static_cast<float>(rng.normal(0.05, 1.1));
     double value = 0;
     const auto t = df::bench::time_iterations(1, iters, [&] {
       if (!per_frame) {
@@ -29,7 +31,9 @@ int main(int argc, char** argv) {
       }
       value = 0;
       for (int f = 0; f < frames; ++f)
-        value += df::eval::mmd2_max(X.middleCols(f * dims, dims), Y.middleCols(f * dims, dims)).mmd2 / frames;
+        value +=
+            df::eval::mmd2_max(X.middleCols(f * dims, dims), Y.middleCols(f * dims, dims)).mmd2 /
+            frames;
     });
     std::printf("| %s | %d x %d x [%d, %d] | %.1f | %.1f |\n",
                 per_frame ? "MMD_avg (50 per-frame MMD_u^2)" : "MMD_u^2 of whole sequences", n, n,

@@ -88,9 +88,11 @@ int main(int argc, char** argv) {
       adam.step(net.store().values(), net.store().grads());
     };
     const auto tm = df::bench::time_iterations(warmup, iters, step);
-    const std::string what = grid > 1 ? "grid " + std::to_string(grid) + "x" + std::to_string(grid) : mesh_path;
-    std::printf("| MSAE %s (%s rows) | %zu | %.1f | %.1f | X[%d,%d,9] |\n", what.c_str(), mode.c_str(),
-                net.store().size(), tm.median_ms, tm.min_ms, batch, V);
-    if (profile.steps > 0) df::bench::print_profile(("MSAE " + what).c_str(), profile.steps, step, profile.limits);
+    const std::string what =
+        grid > 1 ? "grid " + std::to_string(grid) + "x" + std::to_string(grid) : mesh_path;
+    std::printf("| MSAE %s (%s rows) | %zu | %.1f | %.1f | X[%d,%d,9] |\n", what.c_str(),
+                mode.c_str(), net.store().size(), tm.median_ms, tm.min_ms, batch, V);
+    if (profile.steps > 0)
+      df::bench::print_profile(("MSAE " + what).c_str(), profile.steps, step, profile.limits);
   });
 }

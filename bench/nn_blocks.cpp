@@ -9,12 +9,12 @@
 
 #include "core/tool.h"
 #include "geometry/mesh_topology.h"
+#include "inputs.h"
 #include "io/mesh_io.h"
 #include "nn/adam.h"
 #include "nn/layers.h"
 #include "nn/train_step.h"
 #include "synth/meshseq.h"
-#include "inputs.h"
 #include "timing.h"
 
 using namespace df::nn;
@@ -30,8 +30,10 @@ struct Case {
 void time_case(Case& c, int iters) {
   Adam<float> adam(c.store.size(), {});
   Tape<float> t;
-  const auto tm = df::bench::time_iterations(5, iters, [&] { train_step<float>(t, c.store, adam, c.loss); });
-  std::printf("| %s | %zu | %.2f | %.2f |\n", c.name.c_str(), c.store.size(), tm.median_ms, tm.min_ms);
+  const auto tm =
+      df::bench::time_iterations(5, iters, [&] { train_step<float>(t, c.store, adam, c.loss); });
+  std::printf("| %s | %zu | %.2f | %.2f |\n", c.name.c_str(), c.store.size(), tm.median_ms,
+              tm.min_ms);
   std::fflush(stdout);
 }
 }  // namespace
@@ -40,7 +42,8 @@ int main(int argc, char** argv) {
   df::Tool tool("bench_nn_blocks", "Time the network building blocks (see bench/run.sh).");
   std::string mesh_path;
   int iters = 30, only = 0;
-  tool.app().add_option("--mesh", mesh_path, "Mesh for MeshConv (default: a synthetic 2,904-vertex-like grid)");
+  tool.app().add_option("--mesh", mesh_path,
+                        "Mesh for MeshConv (default: a synthetic 2,904-vertex-like grid)");
   tool.app().add_option("--iters", iters);
   tool.app().add_option("--only", only, "Run only block 1..4 (peak memory per block)");
   return tool.run(argc, argv, [&] {
@@ -73,8 +76,9 @@ int main(int argc, char** argv) {
       const auto V = m.vertices.rows();
       auto topo = df::geometry::mesh_topology(m.faces, static_cast<int>(V));
       Case c{"MeshConv+FC V=" + std::to_string(V) + " B=256", {}, {}};
-      auto conv = std::make_shared<MeshConv<float>>(c.store, "conv", 9, 9,
-                                                    neighbour_mean_operator<float>(static_cast<int>(V), topo.edges), rng);
+      auto conv = std::make_shared<MeshConv<float>>(
+          c.store, "conv", 9, 9, neighbour_mean_operator<float>(static_cast<int>(V), topo.edges),
+          rng);
       auto fc = std::make_shared<Linear<float>>(c.store, "fc", 9 * V, 128, rng);
       Matrix<float> x = randn(256, 9 * V, rng);
       c.loss = [conv, fc, x](Tape<float>& t, const Bound<float>& p) {
@@ -82,30 +86,36 @@ int main(int argc, char** argv) {
       };
       time_case(c, iters);
     }
-    if (!only || only == 3) {  // bidirectional LSTM 256 over 50 steps of 60-d input, last states -> FC 1024 -> 1, batch 32
+    if (!only || only == 3) {  // bidirectional LSTM 256 over 50 steps of 60-d input, last states ->
+                               // FC 1024 -> 1, batch 32
       Case c{"BiLSTM 256 T=50 B=32 +FC1024", {}, {}};
       auto bi = std::make_shared<BidirectionalLstm<float>>(c.store, "bi", 60, 256, 1, rng);
-      auto head = std::make_shared<Mlp<float>>(c.store, "head", std::vector<Eigen::Index>{512, 1024, 1}, Activation::relu, rng);
+      auto head = std::make_shared<Mlp<float>>(
+          c.store, "head", std::vector<Eigen::Index>{512, 1024, 1}, Activation::relu, rng);
       std::vector<Matrix<float>> x;
       for (int s = 0; s < 50; ++s) x.push_back(randn(32, 60, rng));
       c.loss = [bi, head, x](Tape<float>& t, const Bound<float>& p) {
         std::vector<Var<float>> xs;
         for (const auto& m : x) xs.push_back(t.constant(m));
         const auto h = bi->run(p, concat_rows<float>(xs), 32);
-        return mean(square((*head)(p, concat_cols<float>({slice_rows(h.forward, 49 * 32, 32), slice_rows(h.backward, 0, 32)}))));
+        return mean(square((*head)(p, concat_cols<float>({slice_rows(h.forward, 49 * 32, 32),
+                                                          slice_rows(h.backward, 0, 32)}))));
       };
       time_case(c, iters);
     }
-    if (!only || only == 4) {  // MLP critic 60 -> 1024 -> 1 with WGAN gradient penalty (lambda 10), batch 64
+    if (!only ||
+        only == 4) {  // MLP critic 60 -> 1024 -> 1 with WGAN gradient penalty (lambda 10), batch 64
       Case c{"critic MLP + GP B=64", {}, {}};
-      auto d = std::make_shared<Mlp<float>>(c.store, "D", std::vector<Eigen::Index>{60, 1024, 1}, Activation::relu, rng);
+      auto d = std::make_shared<Mlp<float>>(c.store, "D", std::vector<Eigen::Index>{60, 1024, 1},
+                                            Activation::relu, rng);
       Matrix<float> real = randn(64, 60, rng), fake = randn(64, 60, rng);
       auto draw = std::make_shared<df::Rng>(1);
       c.loss = [d, real, fake, draw](Tape<float>& t, const Bound<float>& p) {
         Matrix<float> eps(64, 1);
         for (int r = 0; r < 64; ++r) eps(r, 0) = static_cast<float>(draw->uniform());
         Matrix<float> xi = (real.array().colwise() * eps.col(0).array() +
-                            fake.array().colwise() * (1 - eps.col(0).array())).matrix();
+                            fake.array().colwise() * (1 - eps.col(0).array()))
+                               .matrix();
         Var<float> g = d->input_gradient(p, t.constant(xi));
         Var<float> gp = mean(square(add_scalar(sqrt(sum_cols(square(g))), -1.0f)));
         Var<float> w = sub(mean((*d)(p, t.constant(fake))), mean((*d)(p, t.constant(real))));

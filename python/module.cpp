@@ -6,16 +6,16 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
 #include <cstdlib>  // mkdtemp
+#include <filesystem>
 #include <memory>
 #include <string>
-#include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
 #include <vector>
 
 #include "core/atomic_output.h"
@@ -45,39 +45,49 @@ using F64 = py::array_t<double, py::array::c_style>;
 constexpr int kDims = geometry::kFeatureDims;
 
 // An array argument checked for dtype, layout, shape and finiteness; ValueError naming it.
-py::array_t<double, py::array::c_style> doubles(const py::array& a, const char* name, std::vector<py::ssize_t> shape) {
+py::array_t<double, py::array::c_style> doubles(const py::array& a, const char* name,
+                                                std::vector<py::ssize_t> shape) {
   if (!py::isinstance<py::array_t<double>>(a) || a.dtype().kind() != 'f' || a.itemsize() != 8)
-    throw py::value_error(std::string(name) + " must be a float64 array (got " + std::string(py::str(a.dtype())) + ")");
+    throw py::value_error(std::string(name) + " must be a float64 array (got " +
+                          std::string(py::str(a.dtype())) + ")");
   if (a.ndim() != static_cast<py::ssize_t>(shape.size()))
-    throw py::value_error(std::string(name) + " must have " + std::to_string(shape.size()) + " dimensions, not " +
-                          std::to_string(a.ndim()));
+    throw py::value_error(std::string(name) + " must have " + std::to_string(shape.size()) +
+                          " dimensions, not " + std::to_string(a.ndim()));
   for (std::size_t d = 0; d < shape.size(); ++d)
     if (shape[d] >= 0 && a.shape(static_cast<py::ssize_t>(d)) != shape[d])
       throw py::value_error(std::string(name) + ": dimension " + std::to_string(d) + " must be " +
-                            std::to_string(shape[d]) + ", not " + std::to_string(a.shape(static_cast<py::ssize_t>(d))));
-  if (!(a.flags() & py::array::c_style)) throw py::value_error(std::string(name) + " must be C-contiguous (numpy.ascontiguousarray)");
+                            std::to_string(shape[d]) + ", not " +
+                            std::to_string(a.shape(static_cast<py::ssize_t>(d))));
+  if (!(a.flags() & py::array::c_style))
+    throw py::value_error(std::string(name) + " must be C-contiguous (numpy.ascontiguousarray)");
   auto out = py::array_t<double, py::array::c_style>::ensure(a);
   const double* p = out.data();
   for (py::ssize_t i = 0; i < out.size(); ++i)
-    if (!std::isfinite(p[i])) throw py::value_error(std::string(name) + " holds a NaN or infinite value at flat index " + std::to_string(i));
+    if (!std::isfinite(p[i]))
+      throw py::value_error(std::string(name) + " holds a NaN or infinite value at flat index " +
+                            std::to_string(i));
   return out;
 }
 
 io::Faces faces_of(const py::array& a, py::ssize_t vertices) {
-  if (a.dtype().kind() != 'i' && a.dtype().kind() != 'u') throw py::value_error("faces must be an integer array");
+  if (a.dtype().kind() != 'i' && a.dtype().kind() != 'u')
+    throw py::value_error("faces must be an integer array");
   if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error("faces must be [F, 3] triangles");
   auto f = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
   io::Faces out(f.shape(0), 3);
   for (py::ssize_t i = 0; i < f.size(); ++i) {
     const auto v = f.data()[i];
     if (v < 0 || v >= vertices)
-      throw py::value_error("faces: vertex " + std::to_string(v) + " is out of range (" + std::to_string(vertices) + " vertices)");
+      throw py::value_error("faces: vertex " + std::to_string(v) + " is out of range (" +
+                            std::to_string(vertices) + " vertices)");
     out.data()[i] = static_cast<int>(v);
   }
   return out;
 }
 
-io::Vertices vertices_of(const double* p, py::ssize_t V) { return Eigen::Map<const io::Vertices>(p, V, 3); }
+io::Vertices vertices_of(const double* p, py::ssize_t V) {
+  return Eigen::Map<const io::Vertices>(p, V, 3);
+}
 
 F64 array(std::vector<py::ssize_t> shape, const double* data) {
   F64 a(shape);
@@ -105,7 +115,9 @@ py::dict mesh_dict(const io::Mesh& m) {
 F64 solve_frames(const geometry::Reconstructor& rec, const py::array& features) {
   const int V = rec.n_vertices();
   const bool one = features.ndim() == 2;
-  auto f = doubles(features, "features", one ? std::vector<py::ssize_t>{V, kDims} : std::vector<py::ssize_t>{-1, V, kDims});
+  auto f =
+      doubles(features, "features",
+              one ? std::vector<py::ssize_t>{V, kDims} : std::vector<py::ssize_t>{-1, V, kDims});
   const py::ssize_t n = one ? 1 : f.shape(0);
   std::vector<double> out(static_cast<std::size_t>(n * V * 3));
   {
@@ -149,7 +161,9 @@ PYBIND11_MODULE(deformflow, m) {
         static std::unique_ptr<tbb::global_control> limit;
         if (n < 0) throw py::value_error("threads must be >= 0");
         limit.reset();
-        if (n > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, n);
+        if (n > 0)
+          limit = std::make_unique<tbb::global_control>(
+              tbb::global_control::max_allowed_parallelism, n);
       },
       py::arg("threads"),
       "Worker threads of the module's parallel calls (0 = all cores, the default). Results do not\n"
@@ -162,13 +176,15 @@ PYBIND11_MODULE(deformflow, m) {
         const py::ssize_t n = v.shape(0), V = v.shape(1);
         if (n == 0) throw py::value_error("verts has no frames");
         if (reference < 0 || reference >= n)
-          throw py::value_error("reference " + std::to_string(reference) + " is not a frame (0.." + std::to_string(n - 1) + ")");
+          throw py::value_error("reference " + std::to_string(reference) + " is not a frame (0.." +
+                                std::to_string(n - 1) + ")");
         const io::Faces F = faces_of(faces, V);
         std::vector<double> out;
         {
           py::gil_scoped_release free;
           std::vector<io::Vertices> frames;
-          for (py::ssize_t k = 0; k < n; ++k) frames.push_back(vertices_of(v.data() + k * V * 3, V));
+          for (py::ssize_t k = 0; k < n; ++k)
+            frames.push_back(vertices_of(v.data() + k * V * 3, V));
           const geometry::AcapFeatureExtractor ex(frames[static_cast<std::size_t>(reference)], F);
           out = geometry::sequence_features(ex, frames, {}, consistency);
         }
@@ -180,21 +196,26 @@ PYBIND11_MODULE(deformflow, m) {
       "(rotation logs made consistent across neighbours and with the previous frame; principal\n"
       "logs with consistency=False). Units: radians for the rotation, the stretch unitless.");
 
-  py::class_<geometry::Reconstructor>(m, "Reconstructor",
-                                      "Positions from ACAP features on one template, the system factored once.")
-      .def(py::init([](const py::array& tmpl, const py::array& faces, int anchor, const std::string& solver) {
+  py::class_<geometry::Reconstructor>(
+      m, "Reconstructor", "Positions from ACAP features on one template, the system factored once.")
+      .def(py::init([](const py::array& tmpl, const py::array& faces, int anchor,
+                       const std::string& solver) {
              auto t = doubles(tmpl, "template", {-1, 3});
              if (solver != "gradients" && solver != "edges")
-               throw py::value_error("solver must be 'gradients' (exact) or 'edges' (the papers' system)");
+               throw py::value_error(
+                   "solver must be 'gradients' (exact) or 'edges' (the papers' system)");
              const io::Faces F = faces_of(faces, t.shape(0));
              const io::Vertices V = vertices_of(t.data(), t.shape(0));
              py::gil_scoped_release free;
              return new geometry::Reconstructor(V, F, anchor,
-                                                solver == "edges" ? geometry::ReconstructionSolver::edges
-                                                                  : geometry::ReconstructionSolver::gradients);
+                                                solver == "edges"
+                                                    ? geometry::ReconstructionSolver::edges
+                                                    : geometry::ReconstructionSolver::gradients);
            }),
-           py::arg("template"), py::arg("faces"), py::arg("anchor") = 0, py::arg("solver") = "gradients",
-           "template [V, 3] (the reference the features are relative to), faces [T, 3]; `anchor`: the\n"
+           py::arg("template"), py::arg("faces"), py::arg("anchor") = 0,
+           py::arg("solver") = "gradients",
+           "template [V, 3] (the reference the features are relative to), faces [T, 3]; `anchor`: "
+           "the\n"
            "vertex pinned at its template position (one per connected component); solver\n"
            "'gradients' (exact: features of a mesh give it back) or 'edges' (the papers' system).")
       .def("solve", &solve_frames, py::arg("features"),
@@ -204,15 +225,18 @@ PYBIND11_MODULE(deformflow, m) {
 
   m.def(
       "acap_reconstruct",
-      [](const py::array& features, const py::array& tmpl, const py::array& faces, int anchor, const std::string& solver) {
+      [](const py::array& features, const py::array& tmpl, const py::array& faces, int anchor,
+         const std::string& solver) {
         auto t = doubles(tmpl, "template", {-1, 3});
         const io::Faces F = faces_of(faces, t.shape(0));
         const geometry::Reconstructor rec(vertices_of(t.data(), t.shape(0)), F, anchor,
-                                          solver == "edges" ? geometry::ReconstructionSolver::edges
-                                                            : geometry::ReconstructionSolver::gradients);
+                                          solver == "edges"
+                                              ? geometry::ReconstructionSolver::edges
+                                              : geometry::ReconstructionSolver::gradients);
         return solve_frames(rec, features);
       },
-      py::arg("features"), py::arg("template"), py::arg("faces"), py::arg("anchor") = 0, py::arg("solver") = "gradients",
+      py::arg("features"), py::arg("template"), py::arg("faces"), py::arg("anchor") = 0,
+      py::arg("solver") = "gradients",
       "Positions from features [V, 9] or [F, V, 9] on template [V, 3] (acap2obj's solve; for many\n"
       "calls on one template make a Reconstructor once).");
 
@@ -220,8 +244,10 @@ PYBIND11_MODULE(deformflow, m) {
       "normalization",
       [](const py::array& features, const std::string& mode) {
         auto f = doubles(features, "features", {-1, -1, kDims});
-        if (mode != "group" && mode != "per-dim") throw py::value_error("mode must be 'group' or 'per-dim'");
-        geometry::NormalizationBuilder b(mode == "group" ? io::NormalizationMode::group : io::NormalizationMode::per_dim);
+        if (mode != "group" && mode != "per-dim")
+          throw py::value_error("mode must be 'group' or 'per-dim'");
+        geometry::NormalizationBuilder b(mode == "group" ? io::NormalizationMode::group
+                                                         : io::NormalizationMode::per_dim);
         b.add(f.data(), static_cast<std::size_t>(f.size() / kDims));
         const auto nz = b.finish();
         return py::make_tuple(array({kDims}, nz.min.data()), array({kDims}, nz.max.data()));
@@ -240,7 +266,8 @@ PYBIND11_MODULE(deformflow, m) {
         F64 out({f.shape(0), f.shape(1), py::ssize_t{kDims}});
         for (py::ssize_t i = 0; i < f.size(); ++i) {
           const int d = static_cast<int>(i % kDims);
-          out.mutable_data()[i] = inverse ? nz.denormalize(d, f.data()[i]) : nz.normalize(d, f.data()[i]);
+          out.mutable_data()[i] =
+              inverse ? nz.denormalize(d, f.data()[i]) : nz.normalize(d, f.data()[i]);
         }
         return out;
       },
@@ -257,13 +284,14 @@ PYBIND11_MODULE(deformflow, m) {
         std::vector<int> part(static_cast<std::size_t>(V), 0);
         int parts = 1;
         if (!faces.is_none())
-          part = geometry::connected_components(geometry::mesh_topology(faces_of(faces.cast<py::array>(), V), static_cast<int>(V)),
-                                                0, &parts);
+          part = geometry::connected_components(
+              geometry::mesh_topology(faces_of(faces.cast<py::array>(), V), static_cast<int>(V)), 0,
+              &parts);
         double sum = 0;
         for (py::ssize_t k = 0; k < n; ++k) {
           const io::Vertices T = vertices_of(t.data() + k * V * 3, V);
-          sum += eval::unit_ball_squared_error(eval::align_translation(vertices_of(p.data() + k * V * 3, V), T, part, parts),
-                                               T);
+          sum += eval::unit_ball_squared_error(
+              eval::align_translation(vertices_of(p.data() + k * V * 3, V), T, part, parts), T);
         }
         return eval::erms_from_sum(sum, static_cast<double>(n), static_cast<double>(V));
       },
@@ -279,8 +307,8 @@ PYBIND11_MODULE(deformflow, m) {
         const py::ssize_t n = t.shape(0), V = t.shape(1);
         F64 out(std::vector<py::ssize_t>{n});
         for (py::ssize_t k = 0; k < n; ++k)
-          out.mutable_data()[k] =
-              eval::mean_vertex_error(vertices_of(p.data() + k * V * 3, V), vertices_of(t.data() + k * V * 3, V));
+          out.mutable_data()[k] = eval::mean_vertex_error(vertices_of(p.data() + k * V * 3, V),
+                                                          vertices_of(t.data() + k * V * 3, V));
         return out;
       },
       py::arg("pred"), py::arg("truth"),
@@ -290,7 +318,8 @@ PYBIND11_MODULE(deformflow, m) {
       "read_acap",
       [](const std::string& path) {
         const io::AcapReader r(path);
-        const auto n = static_cast<py::ssize_t>(r.frames()), V = static_cast<py::ssize_t>(r.vertices());
+        const auto n = static_cast<py::ssize_t>(r.frames()),
+                   V = static_cast<py::ssize_t>(r.vertices());
         py::dict d;
         d["template"] = mesh_dict(r.read_template());
         d["frame_names"] = r.frame_names();
@@ -313,9 +342,10 @@ PYBIND11_MODULE(deformflow, m) {
         }
         if (r.has_normalization()) {
           const auto nz = r.normalization();
-          d["normalization"] = py::dict(py::arg("min") = array({kDims}, nz.min.data()),
-                                        py::arg("max") = array({kDims}, nz.max.data()),
-                                        py::arg("mode") = nz.mode == io::NormalizationMode::group ? "group" : "per-dim");
+          d["normalization"] = py::dict(
+              py::arg("min") = array({kDims}, nz.min.data()),
+              py::arg("max") = array({kDims}, nz.max.data()),
+              py::arg("mode") = nz.mode == io::NormalizationMode::group ? "group" : "per-dim");
         }
         if (r.has_source()) d["source"] = array_of(r.source(), {n});
         if (r.labelled()) {
@@ -326,25 +356,29 @@ PYBIND11_MODULE(deformflow, m) {
         return d;
       },
       py::arg("path"),
-      "An acap file as a dict: template {vertices [V,3], faces [T,3]}, frame_names, sequence_names,\n"
+      "An acap file as a dict: template {vertices [V,3], faces [T,3]}, frame_names, "
+      "sequence_names,\n"
       "offsets [S+1], and what it holds of positions [N,V,3] (float32), features [N,V,9] (raw,\n"
       "float64), normalized [N,V,9] (float32), normalization {min, max, mode}, source [N], labels\n"
       "and class_names, history.");
 
   m.def(
       "write_acap",
-      [](const std::string& path, const py::array& tmpl, const py::array& faces, const py::object& positions,
-         const py::object& features) {
+      [](const std::string& path, const py::array& tmpl, const py::array& faces,
+         const py::object& positions, const py::object& features) {
         auto t = doubles(tmpl, "template", {-1, 3});
         const py::ssize_t V = t.shape(0);
         io::Mesh mesh;
         mesh.vertices = vertices_of(t.data(), V);
         mesh.faces = faces_of(faces, V);
-        if (positions.is_none() && features.is_none()) throw py::value_error("give positions, features or both");
+        if (positions.is_none() && features.is_none())
+          throw py::value_error("give positions, features or both");
         py::ssize_t n = -1;
         F64 p, f;
-        if (!positions.is_none()) p = doubles(positions.cast<py::array>(), "positions", {-1, V, 3}), n = p.shape(0);
-        if (!features.is_none()) f = doubles(features.cast<py::array>(), "features", {n, V, kDims}), n = f.shape(0);
+        if (!positions.is_none())
+          p = doubles(positions.cast<py::array>(), "positions", {-1, V, 3}), n = p.shape(0);
+        if (!features.is_none())
+          f = doubles(features.cast<py::array>(), "features", {n, V, kDims}), n = f.shape(0);
         AtomicOutput out(path, AtomicOutput::Kind::file, true);
         {
           io::AcapWriter w(out.temp_path(), path);
@@ -366,7 +400,8 @@ PYBIND11_MODULE(deformflow, m) {
             w.create_raw(N, nv);
             w.write_raw_rows(0, N, f.data());
             std::vector<float> x(static_cast<std::size_t>(f.size()));
-            for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<float>(nz.normalize(static_cast<int>(i % kDims), f.data()[i]));
+            for (std::size_t i = 0; i < x.size(); ++i)
+              x[i] = static_cast<float>(nz.normalize(static_cast<int>(i % kDims), f.data()[i]));
             w.write_normalized(N, nv, x.data());
           }
           w.close();
@@ -390,7 +425,8 @@ PYBIND11_MODULE(deformflow, m) {
         for (const auto& L : c.levels) {
           py::dict l;
           std::vector<float> f(L.features.data(), L.features.data() + L.features.size());
-          l["features"] = array_of(f, {L.features.rows(), V, static_cast<py::ssize_t>(c.per_vertex())});
+          l["features"] =
+              array_of(f, {L.features.rows(), V, static_cast<py::ssize_t>(c.per_vertex())});
           l["strength"] = array_of(L.strength, {static_cast<py::ssize_t>(L.strength.size())});
           l["center"] = array_of(L.center, {static_cast<py::ssize_t>(L.center.size())});
           l["kept"] = array_of(L.kept, {static_cast<py::ssize_t>(L.kept.size())});
@@ -413,8 +449,10 @@ PYBIND11_MODULE(deformflow, m) {
       [](const std::string& path) {
         const io::SkeletonFile s = io::read_skeleton_file(path);
         py::dict d;
-        d["poses"] = array_of(s.poses, {static_cast<py::ssize_t>(s.frames), static_cast<py::ssize_t>(s.joints), s.dims});
-        d["raw_poses"] = array_of(s.raw_poses(), {static_cast<py::ssize_t>(s.frames), static_cast<py::ssize_t>(s.joints), s.dims});
+        d["poses"] = array_of(s.poses, {static_cast<py::ssize_t>(s.frames),
+                                        static_cast<py::ssize_t>(s.joints), s.dims});
+        d["raw_poses"] = array_of(s.raw_poses(), {static_cast<py::ssize_t>(s.frames),
+                                                  static_cast<py::ssize_t>(s.joints), s.dims});
         d["offsets"] = array_of(s.offsets, {static_cast<py::ssize_t>(s.offsets.size())});
         d["labels"] = array_of(s.labels, {static_cast<py::ssize_t>(s.labels.size())});
         d["class_names"] = s.class_names;
@@ -452,7 +490,8 @@ PYBIND11_MODULE(deformflow, m) {
         d["config"] = config;
         const auto log = io::read_training_log(f);
         if (!log.rows.empty()) {
-          const auto cols = static_cast<py::ssize_t>(std::count(log.columns.begin(), log.columns.end(), ' ') + 1);
+          const auto cols =
+              static_cast<py::ssize_t>(std::count(log.columns.begin(), log.columns.end(), ' ') + 1);
           d["log"] = array_of(log.rows, {static_cast<py::ssize_t>(log.rows.size()) / cols, cols});
           d["log_columns"] = log.columns;
         }
@@ -475,7 +514,8 @@ PYBIND11_MODULE(deformflow, m) {
           throw py::value_error("levels: the model has " + std::to_string(mm.config.levels()));
         nn::Matrix<float> x(n, V * kDims);
         for (py::ssize_t i = 0; i < f.size(); ++i)
-          x.data()[i] = static_cast<float>(mm.normalization.normalize(static_cast<int>(i % kDims), f.data()[i]));
+          x.data()[i] = static_cast<float>(
+              mm.normalization.normalize(static_cast<int>(i % kDims), f.data()[i]));
         std::vector<nn::Matrix<float>> codes;
         nn::Matrix<float> y;
         {
@@ -484,7 +524,8 @@ PYBIND11_MODULE(deformflow, m) {
         }
         F64 out({n, V, py::ssize_t{kDims}});
         for (py::ssize_t i = 0; i < out.size(); ++i)
-          out.mutable_data()[i] = mm.normalization.denormalize(static_cast<int>(i % kDims), y.data()[i]);
+          out.mutable_data()[i] =
+              mm.normalization.denormalize(static_cast<int>(i % kDims), y.data()[i]);
         py::list z;
         for (const auto& c : codes) {
           std::vector<float> v(c.data(), c.data() + c.size());
@@ -499,8 +540,8 @@ PYBIND11_MODULE(deformflow, m) {
 
   m.def(
       "actgan_generate",
-      [](const std::string& model, const std::vector<std::string>& classes, const std::string& mix, int count,
-         int length, std::uint64_t seed) {
+      [](const std::string& model, const std::vector<std::string>& classes, const std::string& mix,
+         int count, int length, std::uint64_t seed) {
         const models::ActganModel am = models::load_actgan_model(model);
         models::ActganGenerateOptions o;
         o.classes = classes;
@@ -521,30 +562,37 @@ PYBIND11_MODULE(deformflow, m) {
         sk.dims = 3;
         sk.frames = names.size() * static_cast<std::size_t>(T);
         sk.normalization = am.normalization;
-        const auto n = static_cast<py::ssize_t>(names.size()), J = static_cast<py::ssize_t>(sk.joints);
+        const auto n = static_cast<py::ssize_t>(names.size()),
+                   J = static_cast<py::ssize_t>(sk.joints);
         py::dict d;
         d["poses"] = array_of(sk.poses, {n, T, J, 3});
         d["raw_poses"] = array_of(sk.raw_poses(), {n, T, J, 3});
-        d["latents"] = array_of(latents, {n, T, static_cast<py::ssize_t>(latents.size() / static_cast<std::size_t>(n * T))});
+        d["latents"] = array_of(
+            latents,
+            {n, T, static_cast<py::ssize_t>(latents.size() / static_cast<std::size_t>(n * T))});
         d["names"] = names;
         d["joint_names"] = am.joint_names;
         d["parents"] = array_of(am.parents, {J});
         d["frame_rate"] = am.frame_rate;
         return d;
       },
-      py::arg("model"), py::arg("classes") = std::vector<std::string>{}, py::arg("mix") = "", py::arg("count") = 10,
-      py::arg("length") = 0, py::arg("seed") = 0,
-      "Sequences from an ActGAN model (train-actgan), as gen-actgan makes them with the same seed:\n"
-      "`count` per class of `classes` (all when empty) or of the mixture `mix` ('walk:0.5,wave:0.5');\n"
-      "`length` frames (0: the training clips'). A dict: poses [n, T, J, 3] in the model's normalized\n"
+      py::arg("model"), py::arg("classes") = std::vector<std::string>{}, py::arg("mix") = "",
+      py::arg("count") = 10, py::arg("length") = 0, py::arg("seed") = 0,
+      "Sequences from an ActGAN model (train-actgan), as gen-actgan makes them with the same "
+      "seed:\n"
+      "`count` per class of `classes` (all when empty) or of the mixture `mix` "
+      "('walk:0.5,wave:0.5');\n"
+      "`length` frames (0: the training clips'). A dict: poses [n, T, J, 3] in the model's "
+      "normalized\n"
       "coordinates, raw_poses (normalization undone, root-centred), latents [n, T, Z], names,\n"
       "joint_names, parents, frame_rate.");
 
   m.def(
       "bdlstm_generate",
-      [](const std::string& model, const std::string& data, const std::vector<std::string>& from, int initial,
-         int length, int samples, std::uint64_t seed) {
-        if (from.empty()) throw py::value_error("from: give at least one frame (an index, or SEQUENCE:K)");
+      [](const std::string& model, const std::string& data, const std::vector<std::string>& from,
+         int initial, int length, int samples, std::uint64_t seed) {
+        if (from.empty())
+          throw py::value_error("from: give at least one frame (an index, or SEQUENCE:K)");
         models::BdlstmGenerateOptions o;
         o.model = model;
         o.data = data;
@@ -557,7 +605,8 @@ PYBIND11_MODULE(deformflow, m) {
         common.force = true;
         common.seed = seed;
         // gen-bdlstm's own code, through a temporary file: the same numbers as the tool
-        std::string pattern = (std::filesystem::temp_directory_path() / "deformflow-bdlstm-XXXXXX").string();
+        std::string pattern =
+            (std::filesystem::temp_directory_path() / "deformflow-bdlstm-XXXXXX").string();
         if (!::mkdtemp(pattern.data())) throw py::value_error("cannot make a temporary folder");
         const std::filesystem::path dir = pattern, tmp = dir / "generated.h5";
         struct Remove {
@@ -575,7 +624,8 @@ PYBIND11_MODULE(deformflow, m) {
         py::dict d;
         {
           const io::AcapReader r(o.output);
-          const auto n = static_cast<py::ssize_t>(r.frames()), V = static_cast<py::ssize_t>(r.vertices());
+          const auto n = static_cast<py::ssize_t>(r.frames()),
+                     V = static_cast<py::ssize_t>(r.vertices());
           F64 raw({n, V, py::ssize_t{kDims}});
           r.read_features(0, static_cast<std::size_t>(n), raw.mutable_data());
           d["features"] = raw;
@@ -587,8 +637,8 @@ PYBIND11_MODULE(deformflow, m) {
         }
         return d;
       },
-      py::arg("model"), py::arg("data"), py::arg("from"), py::arg("initial") = 1, py::arg("length") = 15,
-      py::arg("samples") = 1, py::arg("seed") = 0,
+      py::arg("model"), py::arg("data"), py::arg("from"), py::arg("initial") = 1,
+      py::arg("length") = 15, py::arg("samples") = 1, py::arg("seed") = 0,
       "Frames predicted by a BD-LSTM model (train-bdlstm) as gen-bdlstm makes them: from each\n"
       "frame of `from` (global indices of the acap file `data`, or 'SEQUENCE:K' strings) with\n"
       "`initial` given frames, `length` future frames, `samples` per case (random initial states,\n"
@@ -600,7 +650,8 @@ PYBIND11_MODULE(deformflow, m) {
       "write_skeleton",
       [](const std::string& path, const py::array& poses, const std::vector<std::int64_t>& offsets,
          const std::vector<std::int32_t>& labels, const std::vector<std::string>& class_names,
-         const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names, double frame_rate) {
+         const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names,
+         double frame_rate) {
         const auto J = static_cast<py::ssize_t>(parents.size());
         auto p = doubles(poses, "poses", {-1, J, 3});
         io::SkeletonFile s;
@@ -608,7 +659,8 @@ PYBIND11_MODULE(deformflow, m) {
         s.joints = static_cast<std::size_t>(J);
         s.poses.assign(p.data(), p.data() + p.size());
         s.offsets = offsets;
-        if (s.offsets.size() < 2 || s.offsets.front() != 0 || s.offsets.back() != static_cast<std::int64_t>(s.frames) ||
+        if (s.offsets.size() < 2 || s.offsets.front() != 0 ||
+            s.offsets.back() != static_cast<std::int64_t>(s.frames) ||
             !std::is_sorted(s.offsets.begin(), s.offsets.end()))
           throw py::value_error("offsets must run from 0 to the number of frames, non-decreasing");
         s.labels = labels;
@@ -619,8 +671,10 @@ PYBIND11_MODULE(deformflow, m) {
         s.sequence_names.assign(s.sequences(), "");
         if (s.labels.size() != s.sequences()) throw py::value_error("labels: one per sequence");
         for (auto l : s.labels)
-          if (l < 0 || static_cast<std::size_t>(l) >= class_names.size()) throw py::value_error("labels: a class index out of range");
-        if (joint_names.size() != parents.size()) throw py::value_error("joint_names: one per joint");
+          if (l < 0 || static_cast<std::size_t>(l) >= class_names.size())
+            throw py::value_error("labels: a class index out of range");
+        if (joint_names.size() != parents.size())
+          throw py::value_error("joint_names: one per joint");
         AtomicOutput out(path, AtomicOutput::Kind::file, true);
         {
           h5::File f(out.temp_path(), h5::File::Mode::create, path);
@@ -629,15 +683,17 @@ PYBIND11_MODULE(deformflow, m) {
         }
         out.commit();
       },
-      py::arg("path"), py::arg("poses"), py::arg("offsets"), py::arg("labels"), py::arg("class_names"),
-      py::arg("parents"), py::arg("joint_names"), py::arg("frame_rate") = 30.0,
+      py::arg("path"), py::arg("poses"), py::arg("offsets"), py::arg("labels"),
+      py::arg("class_names"), py::arg("parents"), py::arg("joint_names"),
+      py::arg("frame_rate") = 30.0,
       "Writes a skeleton file (raw coordinates, no normalization) that skel2h5, render-mesh and\n"
       "export-gltf read: poses [T, J, 3] of all sequences concatenated, offsets [S+1], labels [S]\n"
       "(class indices), class_names, parents [J] (-1 for a root), joint_names [J], frame_rate.");
 
   m.def(
       "sted",
-      [](const py::array& pred, const py::array& truth, const py::array& faces, int rings, double dt) {
+      [](const py::array& pred, const py::array& truth, const py::array& faces, int rings,
+         double dt) {
         auto t = doubles(truth, "truth", {-1, -1, 3});
         auto p = doubles(pred, "pred", {t.shape(0), t.shape(1), 3});
         const py::ssize_t n = t.shape(0), V = t.shape(1);
@@ -646,16 +702,20 @@ PYBIND11_MODULE(deformflow, m) {
         const auto hoods = eval::edge_neighbourhoods(topo, rings);
         double spatial = 0, temporal = 0;
         for (py::ssize_t k = 0; k < n; ++k)
-          spatial += eval::sted_spatial(vertices_of(p.data() + k * V * 3, V), vertices_of(t.data() + k * V * 3, V), topo, hoods);
+          spatial += eval::sted_spatial(vertices_of(p.data() + k * V * 3, V),
+                                        vertices_of(t.data() + k * V * 3, V), topo, hoods);
         for (py::ssize_t k = 0; k + 1 < n; ++k)
-          temporal += eval::sted_temporal(vertices_of(p.data() + k * V * 3, V), vertices_of(p.data() + (k + 1) * V * 3, V),
-                                          vertices_of(t.data() + k * V * 3, V), vertices_of(t.data() + (k + 1) * V * 3, V),
-                                          topo, dt);
+          temporal += eval::sted_temporal(vertices_of(p.data() + k * V * 3, V),
+                                          vertices_of(p.data() + (k + 1) * V * 3, V),
+                                          vertices_of(t.data() + k * V * 3, V),
+                                          vertices_of(t.data() + (k + 1) * V * 3, V), topo, dt);
         return py::dict(py::arg("spatial") = spatial / static_cast<double>(n),
                         py::arg("temporal") = n > 1 ? temporal / static_cast<double>(n - 1) : 0.0);
       },
-      py::arg("pred"), py::arg("truth"), py::arg("faces"), py::arg("rings") = 1, py::arg("dt") = 1.0,
-      "STED (Vasa & Skala 2011) of pred against truth [F, V, 3] on faces [T, 3]: {'spatial': the mean\n"
+      py::arg("pred"), py::arg("truth"), py::arg("faces"), py::arg("rings") = 1,
+      py::arg("dt") = 1.0,
+      "STED (Vasa & Skala 2011) of pred against truth [F, V, 3] on faces [T, 3]: {'spatial': the "
+      "mean\n"
       "over frames of the relative edge-length deviation's weighted spread in `rings`-ring\n"
       "neighbourhoods, 'temporal': the mean over consecutive pairs of the relative speed\n"
       "difference (frame interval dt)}; eval-metrics' STED without its alignment.");
@@ -665,11 +725,18 @@ PYBIND11_MODULE(deformflow, m) {
       [](const py::array& x, const py::array& y) {
         auto a = doubles(x, "x", {-1, -1});
         auto b = doubles(y, "y", {-1, a.shape(1)});
-        if (a.shape(0) < 2 || b.shape(0) < 2) throw py::value_error("mmd needs at least 2 samples on each side");
-        const eval::RowMatrixF X = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-                                       a.data(), a.shape(0), a.shape(1)).cast<float>();
-        const eval::RowMatrixF Y = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-                                       b.data(), b.shape(0), b.shape(1)).cast<float>();
+        if (a.shape(0) < 2 || b.shape(0) < 2)
+          throw py::value_error("mmd needs at least 2 samples on each side");
+        const eval::RowMatrixF X =
+            Eigen::Map<
+                const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+                a.data(), a.shape(0), a.shape(1))
+                .cast<float>();
+        const eval::RowMatrixF Y =
+            Eigen::Map<
+                const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+                b.data(), b.shape(0), b.shape(1))
+                .cast<float>();
         eval::MmdResult r;
         {
           py::gil_scoped_release free;

@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages deformflow needs to build, test and run its demo.
 # Idempotent and fast when everything is present (a dpkg query, no apt-get update).
 # Uses sudo when not run as root.
-# Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm] [--with-blender] [--with-browser]
+# Usage: scripts/install-deps.sh [--with-bench] [--with-fuzz] [--with-slurm] [--with-blender] [--with-browser] [--with-format]
 set -euo pipefail
 
 bench=0
@@ -25,6 +25,7 @@ for option in "$@"; do
     --with-slurm) packages+=(slurmctld slurmd slurm-client munge) ;;  # the tests' one-node cluster
     --with-blender) packages+=(blender) ;;  # the glTF export opened in Blender (test label blender)
     --with-browser) packages+=(chromium) ;;  # the report page in headless Chromium (test label browser)
+    --with-format) packages+=(clang-format) ;;  # make format / format-check (Debian 12: clang-format 14)
     *) echo "install-deps: unknown option $option" >&2; exit 2 ;;
   esac
 done

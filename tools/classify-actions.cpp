@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
   app.add_option("INPUT", opt.input, "skeleton .h5 (real or generated)")->required();
   app.add_flag("--all", opt.all, "Every sequence, not only the test part");
   app.add_flag("--probabilities", opt.probabilities, "Print each sequence's class probabilities");
-  app.add_option("--json", opt.json, "Write accuracies and probabilities as JSON to FILE (- = stdout)");
+  app.add_option("--json", opt.json,
+                 "Write accuracies and probabilities as JSON to FILE (- = stdout)");
   tool.footer(
       "Examples:\n"
       "  classify-actions actgan.h5 utk.h5                 # real test sequences\n"

@@ -19,14 +19,16 @@ int main(int argc, char** argv) {
   app.add_option("--names", opt.names, "Row names, one per file (comma-separated)")
       ->delimiter(',')
       ->allow_extra_args(false);
-  app.add_option("--columns", opt.columns,
-                 "Only these columns, in this order (comma-separated paths: members by name, array\n"
-                 "elements by index, e.g. erms,sted.spatial,levels.1.kept; strings and booleans too)")
+  app.add_option(
+         "--columns", opt.columns,
+         "Only these columns, in this order (comma-separated paths: members by name, array\n"
+         "elements by index, e.g. erms,sted.spatial,levels.1.kept; strings and booleans too)")
       ->delimiter(',')
       ->allow_extra_args(false);  // one comma-separated word: the files follow
-  app.add_flag("--values", opt.values,
-               "Print the cells alone (no header, no row names); each file must have every column.\n"
-               "What a script or Makefile reads instead of a tool's human-readable table");
+  app.add_flag(
+      "--values", opt.values,
+      "Print the cells alone (no header, no row names); each file must have every column.\n"
+      "What a script or Makefile reads instead of a tool's human-readable table");
   app.add_option("-o,--output", opt.output, "Output table (.tsv); default stdout");
   tool.footer(
       "Examples:\n"

@@ -19,12 +19,14 @@ int main(int argc, char** argv) {
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "acap .h5, or mesh files / directories")->required();
   app.add_option("-o,--output", opt.output, "Output .glb")->required();
-  app.add_option("--fps", opt.fps,
-                 "Frame rate of the input (default: a skeleton file's own, 30 for meshes); with --every K\n"
-                 "the kept frames play at the same speed");
-  app.add_option("--sequence", opt.sequence,
-                 "Only this sequence (by name, or index when no name matches; default: every frame of\n"
-                 "meshes, a skeleton file's first sequence)");
+  app.add_option(
+      "--fps", opt.fps,
+      "Frame rate of the input (default: a skeleton file's own, 30 for meshes); with --every K\n"
+      "the kept frames play at the same speed");
+  app.add_option(
+      "--sequence", opt.sequence,
+      "Only this sequence (by name, or index when no name matches; default: every frame of\n"
+      "meshes, a skeleton file's first sequence)");
   app.add_option("--every", opt.every, "Every K-th frame")->default_val(opt.every);
   tool.footer(
       "Examples:\n"

@@ -20,10 +20,14 @@ int main(int argc, char** argv) {
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "actgan-model .h5")->required();
   app.add_option("-o,--output", opt.output, "Output skeleton file (.h5)")->required();
-  app.add_option("--class", opt.classes, "Class to generate (repeatable or comma-separated)")->delimiter(',');
-  app.add_option("--mix", opt.mix, "One mixture of classes, CLASS:WEIGHT,... (weights are normalized)");
-  app.add_option("--count", opt.count, "Sequences per class (or of the mixture)")->default_val(opt.count);
-  app.add_option("--length", opt.length, "Frames per sequence (default: the training clips' length)")
+  app.add_option("--class", opt.classes, "Class to generate (repeatable or comma-separated)")
+      ->delimiter(',');
+  app.add_option("--mix", opt.mix,
+                 "One mixture of classes, CLASS:WEIGHT,... (weights are normalized)");
+  app.add_option("--count", opt.count, "Sequences per class (or of the mixture)")
+      ->default_val(opt.count);
+  app.add_option("--length", opt.length,
+                 "Frames per sequence (default: the training clips' length)")
       ->default_val(opt.length);
   app.add_option("--latents", opt.latents, "Also write the latent trajectories (TSV)");
   tool.footer(

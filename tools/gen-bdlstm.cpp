@@ -3,34 +3,35 @@
 #include "models/bdlstm/generate.h"
 
 int main(int argc, char** argv) {
-  df::Tool tool("gen-bdlstm",
-                "Generate mesh sequences with a BD-LSTM from train-bdlstm (Qiao et al., TVCG 2020).\n"
-                "  --mode predict   feed --initial u frames ending at each --from frame, then let the\n"
-                "                   network run --length frames, z = the encoder's mean (--latent\n"
-                "                   sample: drawn from q(z|x) as in training); one chain carries its LSTM\n"
-                "                   state over any length (--restart window: the paper's restart every\n"
-                "                   --window frames from the last u frames, which damps long runs);\n"
-                "  --mode complete  fill the gaps between --keyframes: a forward chain from each\n"
-                "                   keyframe (states +0.1) and a backward chain from the next (-0.1)\n"
-                "                   are merged at the closest pair of frames of the same or adjacent\n"
-                "                   time (--blend N cross-fades them over N frames); random initial\n"
-                "                   states are retried until the relative feature difference is below\n"
-                "                   --threshold (paper: 5%; --merge-scale motion: relative to the\n"
-                "                   chains' change per step).\n"
-                "The default --restart never (not the paper's) was chosen on validation parts (README).\n"
-                "--samples K draws K different results per case from random initial LSTM states.\n"
-                "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
-                "(from the last two given frames) or interpolation in ACAP feature space; --method\n"
-                "static repeats the last given frame (what a network that learned no motion does).\n"
-                "--test-every K makes the cases from the model's held-out test parts.\n"
-                "A model trained with --stride q steps q data frames per generated frame: the\n"
-                "given frames and keyframes are q apart, and so are the frames it is compared with.\n\n"
-                "INPUT: MODEL (bdlstm-model) and DATA (acap file on the same template: the given\n"
-                "frames). Frames are global indices of DATA or SEQUENCE:K.\n"
-                "OUTPUT: an acap .h5 with normalized features, one sequence per case and sample;\n"
-                "/frames/source names the DATA frame of the same time (-1 past its end) and\n"
-                "/frames/step the frames after the last given one. acap2obj makes meshes of it;\n"
-                "eval-metrics compares it with DATA.");
+  df::Tool tool(
+      "gen-bdlstm",
+      "Generate mesh sequences with a BD-LSTM from train-bdlstm (Qiao et al., TVCG 2020).\n"
+      "  --mode predict   feed --initial u frames ending at each --from frame, then let the\n"
+      "                   network run --length frames, z = the encoder's mean (--latent\n"
+      "                   sample: drawn from q(z|x) as in training); one chain carries its LSTM\n"
+      "                   state over any length (--restart window: the paper's restart every\n"
+      "                   --window frames from the last u frames, which damps long runs);\n"
+      "  --mode complete  fill the gaps between --keyframes: a forward chain from each\n"
+      "                   keyframe (states +0.1) and a backward chain from the next (-0.1)\n"
+      "                   are merged at the closest pair of frames of the same or adjacent\n"
+      "                   time (--blend N cross-fades them over N frames); random initial\n"
+      "                   states are retried until the relative feature difference is below\n"
+      "                   --threshold (paper: 5%; --merge-scale motion: relative to the\n"
+      "                   chains' change per step).\n"
+      "The default --restart never (not the paper's) was chosen on validation parts (README).\n"
+      "--samples K draws K different results per case from random initial LSTM states.\n"
+      "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
+      "(from the last two given frames) or interpolation in ACAP feature space; --method\n"
+      "static repeats the last given frame (what a network that learned no motion does).\n"
+      "--test-every K makes the cases from the model's held-out test parts.\n"
+      "A model trained with --stride q steps q data frames per generated frame: the\n"
+      "given frames and keyframes are q apart, and so are the frames it is compared with.\n\n"
+      "INPUT: MODEL (bdlstm-model) and DATA (acap file on the same template: the given\n"
+      "frames). Frames are global indices of DATA or SEQUENCE:K.\n"
+      "OUTPUT: an acap .h5 with normalized features, one sequence per case and sample;\n"
+      "/frames/source names the DATA frame of the same time (-1 past its end) and\n"
+      "/frames/step the frames after the last given one. acap2obj makes meshes of it;\n"
+      "eval-metrics compares it with DATA.");
   tool.with_seed(1).with_force();
   df::models::BdlstmGenerateOptions opt;
   auto& app = tool.app();
@@ -38,11 +39,16 @@ int main(int argc, char** argv) {
   app.add_option("DATA", opt.data, "acap .h5 holding the given frames")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
   app.add_option("--mode", opt.mode, "predict or complete")->default_val(opt.mode);
-  app.add_option("--method", opt.method, "bdlstm, linear (feature-space baseline), or static (predict: the last given\nframe repeated, the zero-motion reference)")->default_val(opt.method);
-  app.add_option("--from", opt.from, "predict: last given frame of a case (repeatable, or comma-separated: 5,walk:12)")
+  app.add_option("--method", opt.method,
+                 "bdlstm, linear (feature-space baseline), or static (predict: the last "
+                 "given\nframe repeated, the zero-motion reference)")
+      ->default_val(opt.method);
+  app.add_option("--from", opt.from,
+                 "predict: last given frame of a case (repeatable, or comma-separated: 5,walk:12)")
       ->delimiter(',')
       ->allow_extra_args(false);
-  app.add_option("--keyframes", opt.keyframes, "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
+  app.add_option("--keyframes", opt.keyframes,
+                 "complete: keyframes in time order, e.g. 10,20,35 or walk:0,walk:12")
       ->delimiter(',')
       ->allow_extra_args(false);
   app.add_option("--test-every", opt.test_every,
@@ -73,44 +79,52 @@ int main(int argc, char** argv) {
                  "complete: difference that merges the chains, relative as --merge-scale says\n"
                  "(0 = 1 for motion, 0.05 for features)")
       ->default_val(opt.threshold);
-  app.add_option("--retries", opt.retries, "complete: attempts per gap before taking the closest pair")
+  app.add_option("--retries", opt.retries,
+                 "complete: attempts per gap before taking the closest pair")
       ->default_val(opt.retries);
-  app.add_option("--window", opt.window, "predict: frames per chained run (0 = the training window)")
+  app.add_option("--window", opt.window,
+                 "predict: frames per chained run (0 = the training window)")
       ->default_val(opt.window);
-  app.add_option("--restart", opt.restart,
-                 "predict: window = restart the chain every --window frames from the last u frames\n"
-                 "with fresh states (the paper's chaining); never = one chain carries its LSTM state\n"
-                 "over the whole length")
+  app.add_option(
+         "--restart", opt.restart,
+         "predict: window = restart the chain every --window frames from the last u frames\n"
+         "with fresh states (the paper's chaining); never = one chain carries its LSTM state\n"
+         "over the whole length")
       ->default_val(opt.restart)
       ->check(CLI::IsMember({"window", "never"}));
-  app.add_option("--latent", opt.latent,
-                 "z fed to the LSTM: mean (the encoder's) or sample (a draw from q(z|x), as in training)")
+  app.add_option(
+         "--latent", opt.latent,
+         "z fed to the LSTM: mean (the encoder's) or sample (a draw from q(z|x), as in training)")
       ->default_val(opt.latent)
       ->check(CLI::IsMember({"mean", "sample"}));
-  app.add_option("--merge", opt.merge,
-                 "complete: closest = switch chains at their closest pair of frames (the paper);\n"
-                 "weighted = mix them at every step, the forward chain's weight falling from 1 to 0\n"
-                 "over the gap (no threshold, no retries)")
+  app.add_option(
+         "--merge", opt.merge,
+         "complete: closest = switch chains at their closest pair of frames (the paper);\n"
+         "weighted = mix them at every step, the forward chain's weight falling from 1 to 0\n"
+         "over the gap (no threshold, no retries)")
       ->default_val(opt.merge)
       ->check(CLI::IsMember({"closest", "weighted"}));
   app.add_option("--blend", opt.blend,
                  "complete: cross-fade the forward and backward chains over N frames around the\n"
                  "merge (0 = switch at the merge, the paper)")
       ->default_val(opt.blend);
-  app.add_option("--merge-scale", opt.merge_scale,
-                 "complete: --threshold relative to the frame's feature norm (features, the paper) or\n"
-                 "to the chains' mean change per step (motion)")
+  app.add_option(
+         "--merge-scale", opt.merge_scale,
+         "complete: --threshold relative to the frame's feature norm (features, the paper) or\n"
+         "to the chains' mean change per step (motion)")
       ->default_val(opt.merge_scale)
       ->check(CLI::IsMember({"features", "motion"}));
-  app.add_option("--stride", opt.stride,
-                 "Data frames per generated frame (0 = the model's training --stride): given frames,\n"
-                 "keyframes and the frames compared with the data are this far apart")
+  app.add_option(
+         "--stride", opt.stride,
+         "Data frames per generated frame (0 = the model's training --stride): given frames,\n"
+         "keyframes and the frames compared with the data are this far apart")
       ->default_val(opt.stride);
-  tool.footer("Examples:\n"
-              "  gen-bdlstm pcow-model.h5 pcow.h5 --from 170 --initial 3 --length 15 -o pred.h5\n"
-              "  gen-bdlstm model.h5 data.h5 --from walk:0 --length 300 -o long.h5\n"
-              "  gen-bdlstm model.h5 data.h5 --mode complete --keyframes 10,20 --samples 8 -o c.h5\n"
-              "  gen-bdlstm model.h5 data.h5 --test-every 2 --initial 2 --method linear -o lin.h5\n"
-              "  acap2obj pred.h5 -o pred-meshes/");
+  tool.footer(
+      "Examples:\n"
+      "  gen-bdlstm pcow-model.h5 pcow.h5 --from 170 --initial 3 --length 15 -o pred.h5\n"
+      "  gen-bdlstm model.h5 data.h5 --from walk:0 --length 300 -o long.h5\n"
+      "  gen-bdlstm model.h5 data.h5 --mode complete --keyframes 10,20 --samples 8 -o c.h5\n"
+      "  gen-bdlstm model.h5 data.h5 --test-every 2 --initial 2 --method linear -o lin.h5\n"
+      "  acap2obj pred.h5 -o pred-meshes/");
   return tool.run(argc, argv, [&] { df::models::generate_bdlstm(opt, tool.common()); });
 }

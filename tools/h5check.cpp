@@ -14,16 +14,20 @@ int main(int argc, char** argv) {
   df::io::InspectOptions opt;
   bool no_history = false;
   tool.app().add_option("FILE", files, "HDF5 files to check")->required();
-  tool.app().add_option("--kind", opt.expected_kind, "Require this file kind (e.g. acap, skeleton)");
+  tool.app().add_option("--kind", opt.expected_kind,
+                        "Require this file kind (e.g. acap, skeleton)");
   tool.app().add_flag("--structure-only", opt.structure_only,
                       "Check groups, types and shapes only; do not read the data (faster)");
   tool.app().add_flag("--no-history", no_history, "Do not print the history lines");
-  tool.footer("Schemas: schemas/<kind>.json in the source tree (embedded in this binary).\n"
-              "Example: h5check out/finger.h5 && echo valid");
+  tool.footer(
+      "Schemas: schemas/<kind>.json in the source tree (embedded in this binary).\n"
+      "Example: h5check out/finger.h5 && echo valid");
   return tool.run(argc, argv, [&] {
     opt.show_history = !no_history;
     if (!opt.expected_kind.empty()) df::io::schema(opt.expected_kind);  // unknown kind -> error
     int bad = df::io::inspect_files(files, opt);
-    if (bad) throw df::InvalidInput(std::to_string(bad) + " of " + std::to_string(files.size()) + " files invalid");
+    if (bad)
+      throw df::InvalidInput(std::to_string(bad) + " of " + std::to_string(files.size()) +
+                             " files invalid");
   });
 }

@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
       ->default_val(opt.part)
       ->check(CLI::IsMember({"train", "validation", "test", "all"}));
   app.add_option("--levels", opt.levels, "Decode through the first L levels, or all of them")
-      ->transform([](std::string s) { return s == "all" ? std::string("0") : s; })  // 0: every level
+      ->transform(
+          [](std::string s) { return s == "all" ? std::string("0") : s; })  // 0: every level
       ->default_str("all");
   app.add_option("--fit-codes", opt.fit_codes,
                  "Fit each shape's codes through the decoders in N Adam steps (least squares,\n"

@@ -1,6 +1,6 @@
 // render-mesh: pictures (PNG) of mesh frames and skeleton poses, without a display or GPU.
-#include "core/tool.h"
 #include "apps/render_mesh.h"
+#include "core/tool.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -95,10 +95,11 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->allow_extra_args(false);
   app.add_option("--title", opt.title, "Title above the sheet");
-  app.add_option("--points", opt.points,
-                 "Mark vertices with red dots: a handle file (edit-shape's; the first number of each\n"
-                 "line is the vertex) on every mesh, or 'edit': on each input written by edit-shape\n"
-                 "its handles");
+  app.add_option(
+      "--points", opt.points,
+      "Mark vertices with red dots: a handle file (edit-shape's; the first number of each\n"
+      "line is the vertex) on every mesh, or 'edit': on each input written by edit-shape\n"
+      "its handles");
   tool.footer(
       "Examples:\n"
       "  render-mesh horse.h5 --every 20 -o horse.png\n"

@@ -1,5 +1,6 @@
 // skel2h5: labelled skeleton recordings -> one normalized skeleton file for the ActGAN tools.
 #include "convert/skel2h5.h"
+
 #include "core/tool.h"
 
 int main(int argc, char** argv) {
@@ -33,16 +34,19 @@ int main(int argc, char** argv) {
   tool.with_seed(0).with_force();
   df::convert::Skel2h5Options opt;
   auto& app = tool.app();
-  app.add_option("INPUT", opt.inputs, "Directory, label file, skeleton/BVH files or a .h5")->required();
+  app.add_option("INPUT", opt.inputs, "Directory, label file, skeleton/BVH files or a .h5")
+      ->required();
   app.add_option("-o,--output", opt.output, "Output skeleton file (.h5)")->required();
   app.add_option("--format", opt.format, "Input format")
       ->default_val(opt.format)
       ->check(CLI::IsMember({"auto", "utkinect", "msr", "bvh", "skeleton"}));
   app.add_option("--label", opt.label, "BVH: the class of every file (default: the file's stem)");
-  app.add_option("--fps", opt.fps, "Frame rate to resample to (default: the source's: UTKinect 30,\n"
-                                   "MSR-Action3D 15, BVH its frame time)")
+  app.add_option("--fps", opt.fps,
+                 "Frame rate to resample to (default: the source's: UTKinect 30,\n"
+                 "MSR-Action3D 15, BVH its frame time)")
       ->default_val(opt.fps);
-  app.add_option("--length", opt.length, "Frames per clip (0: whole sequences)")->default_val(opt.length);
+  app.add_option("--length", opt.length, "Frames per clip (0: whole sequences)")
+      ->default_val(opt.length);
   app.add_option("--clip-stride", opt.clip_stride, "Frames between clip starts (0: --length)")
       ->default_val(opt.clip_stride);
   app.add_option("--test-subjects", opt.test_subjects,
@@ -52,7 +56,8 @@ int main(int argc, char** argv) {
   app.add_option("--test-fraction", opt.test_fraction,
                  "Or hold out this fraction of each class's sequences, drawn by --seed")
       ->default_val(opt.test_fraction);
-  app.add_option("--root-joint", opt.root_joint, "Joint subtracted from every pose (Kinect: 0 = hip centre)")
+  app.add_option("--root-joint", opt.root_joint,
+                 "Joint subtracted from every pose (Kinect: 0 = hip centre)")
       ->default_val(opt.root_joint);
   app.add_option("--bone-tolerance", opt.bone_tolerance,
                  "Largest spread of a bone's length within a recording (relative to its median,\n"
@@ -60,10 +65,12 @@ int main(int argc, char** argv) {
                  "data reach 0.25 at the hands, a wrong joint order 0.5 and more")
       ->default_val(opt.bone_tolerance);
   app.add_flag("--strict", opt.strict, "Bones over --bone-tolerance are an error, not a warning");
-  app.add_flag("!--raw", opt.normalize, "Keep raw coordinates (no root-centring, scaling, z-score)");
+  app.add_flag("!--raw", opt.normalize,
+               "Keep raw coordinates (no root-centring, scaling, z-score)");
   tool.footer(
       "Examples:\n"
-      "  skel2h5 UTKinect/joints --fps 15 --length 30 --clip-stride 10 --test-subjects 2,4,6,8,10 -o utk.h5\n"
+      "  skel2h5 UTKinect/joints --fps 15 --length 30 --clip-stride 10 --test-subjects 2,4,6,8,10 "
+      "-o utk.h5\n"
       "  skel2h5 MSRAction3DSkeletonReal3D --test-subjects 1,3,5,7,9 -o msr.h5\n"
       "  skel2h5 --label boxing Boxing_Toes.bvh --fps 30 --length 60 -o box.h5\n"
       "  skel2h5 actions.h5 --length 30 --test-fraction 0.2 -o train.h5");

@@ -1,7 +1,7 @@
 // train-actgan: train the action generator with smooth latent transitions (paper 3).
 #include "apps/train_actgan.h"
-#include "models/actgan/settings.h"
 #include "core/tool.h"
+#include "models/actgan/settings.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -47,11 +47,13 @@ int main(int argc, char** argv) {
   tool.footer(
       "Examples:\n"
       "  train-actgan actions.h5 -o actgan.h5\n"
-      "  train-actgan --pretrain-iterations 500 --iterations 1000 --batch 16 utk.h5 -o utk-actgan.h5\n"
+      "  train-actgan --pretrain-iterations 500 --iterations 1000 --batch 16 utk.h5 -o "
+      "utk-actgan.h5\n"
       "  train-actgan --smoothness none actions.h5 -o no-smooth.h5          # paper Table 5\n"
       "  train-actgan --direct-latent actions.h5 -o direct.h5               # paper Table 6\n"
       "  train-actgan --validation-subjects 4 actions.h5 -o val.h5          # choose --iterations\n"
-      "  train-actgan --discriminator critic --d-steps 5 actions.h5 -o c.h5 # the pipeline's choice");
+      "  train-actgan --discriminator critic --d-steps 5 actions.h5 -o c.h5 # the pipeline's "
+      "choice");
   return tool.run(argc, argv, [&] {
     opt.training.seed = tool.common().seed;
     df::apps::train_actgan(opt, tool.common());

@@ -4,23 +4,24 @@
 #include "models/bdlstm/train.h"
 
 int main(int argc, char** argv) {
-  df::Tool tool("train-bdlstm",
-                "Train the share-weight bidirectional LSTM of Qiao, Lai, Fu, Gao, 'Synthesizing Mesh\n"
-                "Deformation Sequences with Bidirectional LSTM' (TVCG 2020) on ACAP features.\n"
-                "Each step encodes a frame with 3 mesh convolutions + FC to a Gaussian latent (KL),\n"
-                "advances a 3x128 LSTM and decodes the change dX; X(t+1) = X(t) + dX. Each iteration\n"
-                "draws --batch windows of --window frames from the training part of the sequences;\n"
-                "a forward chain starts at each window's first frame (LSTM states +0.1) and a\n"
-                "backward chain at its last frame (states -0.1), both free-running with the same\n"
-                "weights. Loss: L_recon + 0.5 L_bidir + 0.1 (L_KL + sum w^2) (eq. 3-5); by default\n"
-                "with remedies that keep the latent alive on new data (KL warm-up, free bits, L_2\n"
-                "on the weights at 1/8, a small decoder start; --paper-form for the paper's exact\n"
-                "form). A loss line warns when the latent collapses anyway.\n\n"
-                "INPUT: an acap .h5 with /features/normalized (from obj2acap).\n"
-                "OUTPUT: a bdlstm-model .h5 (weights, Adam/RNG state, config, template,\n"
-                "normalization, train/test split, loss log), for gen-bdlstm. A contiguous --test-fraction\n"
-                "of every sequence is held out (not trained on): at its end by default; --test-part\n"
-                "random places it by the seed, as the paper does (no window crosses it).");
+  df::Tool tool(
+      "train-bdlstm",
+      "Train the share-weight bidirectional LSTM of Qiao, Lai, Fu, Gao, 'Synthesizing Mesh\n"
+      "Deformation Sequences with Bidirectional LSTM' (TVCG 2020) on ACAP features.\n"
+      "Each step encodes a frame with 3 mesh convolutions + FC to a Gaussian latent (KL),\n"
+      "advances a 3x128 LSTM and decodes the change dX; X(t+1) = X(t) + dX. Each iteration\n"
+      "draws --batch windows of --window frames from the training part of the sequences;\n"
+      "a forward chain starts at each window's first frame (LSTM states +0.1) and a\n"
+      "backward chain at its last frame (states -0.1), both free-running with the same\n"
+      "weights. Loss: L_recon + 0.5 L_bidir + 0.1 (L_KL + sum w^2) (eq. 3-5); by default\n"
+      "with remedies that keep the latent alive on new data (KL warm-up, free bits, L_2\n"
+      "on the weights at 1/8, a small decoder start; --paper-form for the paper's exact\n"
+      "form). A loss line warns when the latent collapses anyway.\n\n"
+      "INPUT: an acap .h5 with /features/normalized (from obj2acap).\n"
+      "OUTPUT: a bdlstm-model .h5 (weights, Adam/RNG state, config, template,\n"
+      "normalization, train/test split, loss log), for gen-bdlstm. A contiguous --test-fraction\n"
+      "of every sequence is held out (not trained on): at its end by default; --test-part\n"
+      "random places it by the seed, as the paper does (no window crosses it).");
   tool.with_seed(1).with_force().with_stop_requests();
   df::models::BdlstmTrainOptions opt;
   // The defaults learn on new data; --paper-form restores the paper's exact loss and start.
@@ -31,11 +32,12 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "Output model (.h5)")->required();
   auto* g = app.add_option_group("Training");
   df::models::add_settings(*g, df::models::bdlstm_training_settings(opt.training, opt.net));
-  g->add_flag("--paper-form", paper_form,
-              "The paper's exact form: --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1\n"
-              "--decoder-init zero (options given explicitly still win). The defaults differ in\n"
-              "those five because on new data the paper's form often learns nothing: the latent\n"
-              "collapses to the prior and the model predicts no motion (docs/bdlstm.md)");
+  g->add_flag(
+      "--paper-form", paper_form,
+      "The paper's exact form: --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1\n"
+      "--decoder-init zero (options given explicitly still win). The defaults differ in\n"
+      "those five because on new data the paper's form often learns nothing: the latent\n"
+      "collapses to the prior and the model predicts no motion (docs/bdlstm.md)");
   g->add_option("--collapse-threshold", opt.training.collapse_threshold,
                 "Warn at a loss line (and at the end; recorded in the model file) when the KL is\n"
                 "below this many nats per frame while the reconstruction has not improved by 10%:\n"
@@ -44,12 +46,13 @@ int main(int argc, char** argv) {
   df::models::add_training_run_options(*g, opt.run);
   auto* n = app.add_option_group("Network (ablations: paper Table 2)");
   df::models::add_settings(*n, df::models::bdlstm_network_settings(opt.net));
-  tool.footer("Examples:\n"
-              "  train-bdlstm pcow.h5 -o pcow-bdlstm.h5\n"
-              "  train-bdlstm --paper-form pcow.h5 -o pcow-paper.h5                 # eq. 3-5 as written\n"
-              "  train-bdlstm --iterations 600 --window 16 --batch 4 finger.h5 -o finger-model.h5\n"
-              "  train-bdlstm --directions unidirectional pcow.h5 -o pcow-uni.h5   # ablation\n"
-              "  train-bdlstm --resume --checkpoint-every 100 pcow.h5 -o m.h5       # after a kill");
+  tool.footer(
+      "Examples:\n"
+      "  train-bdlstm pcow.h5 -o pcow-bdlstm.h5\n"
+      "  train-bdlstm --paper-form pcow.h5 -o pcow-paper.h5                 # eq. 3-5 as written\n"
+      "  train-bdlstm --iterations 600 --window 16 --batch 4 finger.h5 -o finger-model.h5\n"
+      "  train-bdlstm --directions unidirectional pcow.h5 -o pcow-uni.h5   # ablation\n"
+      "  train-bdlstm --resume --checkpoint-every 100 pcow.h5 -o m.h5       # after a kill");
   return tool.run(argc, argv, [&] {
     if (paper_form) {
       auto given = opt;

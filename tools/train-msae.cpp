@@ -67,7 +67,8 @@ int main(int argc, char** argv) {
       while (opt.net.d.size() < opt.net.kz.size()) opt.net.d.push_back(opt.net.d.back() / 2);
       opt.net.d.resize(opt.net.kz.size());
     }
-    opt.position_error = [](const df::models::MsaeModel& m, const std::vector<std::int64_t>& frames) {
+    opt.position_error = [](const df::models::MsaeModel& m,
+                            const std::vector<std::int64_t>& frames) {
       auto measure = std::make_shared<df::eval::ShapeErms>(m.split.data, frames, m.normalization);
       return df::models::MsaeShapeMeasure(
           [measure](const df::nn::Matrix<float>& normalized) { return (*measure)(normalized); });

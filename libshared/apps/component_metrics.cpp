@@ -28,7 +28,8 @@ std::vector<RegionMatch> localization_scores(const models::Components& c,
     const auto& L = c.levels[static_cast<std::size_t>(m.level)];
     for (Eigen::Index k = 0; k < L.features.rows(); ++k) {
       if (!L.kept[static_cast<std::size_t>(k)]) continue;
-      const auto mag = models::deformation_per_vertex(L.features.row(k).data(), static_cast<int>(V), ref);
+      const auto mag =
+          models::deformation_per_vertex(L.features.row(k).data(), static_cast<int>(V), ref);
       const double top = *std::max_element(mag.begin(), mag.end());
       int inter = 0, uni = 0, support = 0;
       for (std::size_t i = 0; i < V; ++i) {
@@ -41,7 +42,8 @@ std::vector<RegionMatch> localization_scores(const models::Components& c,
       if (m.component < 0 || iou > m.iou) {
         m.component = static_cast<int>(k);
         m.block = L.block[static_cast<std::size_t>(k)];
-        m.name = io::component_name(c, static_cast<std::size_t>(m.level), static_cast<std::size_t>(k));
+        m.name =
+            io::component_name(c, static_cast<std::size_t>(m.level), static_cast<std::size_t>(k));
         m.iou = iou;
         m.support_size = support;
       }

@@ -19,7 +19,7 @@ struct RegionMatch {
   int level = 0;              ///< the level searched
   int component = -1;         ///< index within the level (-1: no kept component there)
   int block = -1;
-  std::string name;           ///< as the components' acap file names it (L<level>.<block>.<k>)
+  std::string name;  ///< as the components' acap file names it (L<level>.<block>.<k>)
   double iou = 0;
   int region_size = 0, support_size = 0;
 };

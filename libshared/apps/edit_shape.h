@@ -13,7 +13,7 @@ namespace df::apps {
 
 struct EditShapeOptions {
   std::string components, handles, from, output;
-  std::vector<int> fixed;   ///< vertices held where they are in the shape edited from
+  std::vector<int> fixed;  ///< vertices held where they are in the shape edited from
   int from_frame = 0;
   /// --sample N handles by furthest-point sampling on the template, their targets in frame
   /// --to-frame of --to (the paper's Fig. 6 protocol: a shape rebuilt from N control points)
@@ -21,7 +21,7 @@ struct EditShapeOptions {
   int to_frame = 0, sample = 0;
   std::vector<int> levels;  ///< empty: every level
   bool include_pruned = false;
-  bool relative = false;    ///< the handle file's targets are displacements from the start shape
+  bool relative = false;  ///< the handle file's targets are displacements from the start shape
   bool release_handles = false;  ///< do not hold the handles of --from's own edit
   geometry::SubspaceEditOptions solver;
 };

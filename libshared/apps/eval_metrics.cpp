@@ -1,6 +1,4 @@
 #include "apps/eval_metrics.h"
-#include "apps/component_metrics.h"
-#include "eval/skeleton_metrics.h"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -11,17 +9,19 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <numeric>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <optional>
 #include <sstream>
 
+#include "apps/component_metrics.h"
 #include "convert/frame_set.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "eval/mesh_metrics.h"
+#include "eval/skeleton_metrics.h"
 #include "geometry/acap_features.h"
 #include "geometry/reconstruction.h"
 #include "io/h5.h"
@@ -34,7 +34,8 @@ namespace {
 // eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
 void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
                     const std::string& json, const SkeletonSelection& select, bool force) {
-  if (truth_path.empty()) throw UsageError("skeleton files are measured against TRUTH (real sequences)");
+  if (truth_path.empty())
+    throw UsageError("skeleton files are measured against TRUTH (real sequences)");
   const io::SkeletonFile pred = io::read_skeleton_file(pred_path);
   const io::SkeletonFile truth = io::read_skeleton_file(truth_path);
   const SkeletonMetrics r = skeleton_metrics(pred, truth, select);
@@ -48,31 +49,40 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
   js["mmd_motion_seq"] = r.mmd_motion_seq;
   js["pairwise_ratio"] = r.pairwise_ratio;
   for (const auto& m : r.classes)
-    js["classes"][m.name] = {{"generated", m.generated}, {"real", m.real},
-                             {"mmd_avg", m.mmd_avg},     {"mmd_seq", m.mmd_seq},
-                             {"mmd_motion_avg", m.mmd_motion_avg}, {"mmd_motion_seq", m.mmd_motion_seq},
-                             {"spread_mean", m.spread_mean}, {"spread_sd", m.spread_sd},
-                             {"pairwise_generated", m.pairwise_generated}, {"pairwise_real", m.pairwise_real},
+    js["classes"][m.name] = {{"generated", m.generated},
+                             {"real", m.real},
+                             {"mmd_avg", m.mmd_avg},
+                             {"mmd_seq", m.mmd_seq},
+                             {"mmd_motion_avg", m.mmd_motion_avg},
+                             {"mmd_motion_seq", m.mmd_motion_seq},
+                             {"spread_mean", m.spread_mean},
+                             {"spread_sd", m.spread_sd},
+                             {"pairwise_generated", m.pairwise_generated},
+                             {"pairwise_real", m.pairwise_real},
                              {"halves_generated", m.halves_generated},
                              {"halves_real", m.halves_real}};
   if (json != "-") {
     fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
                pred_path, truth_path, r.frames);
-    fmt::print("{:<16} {:>9} {:>6} {:>11} {:>11} {:>11} {:>11} {:>12} {:>10}\n", "class", "generated", "real",
-               "MMD_avg", "MMD_seq", "motion_avg", "motion_seq", "spread mean", "spread sd");
+    fmt::print("{:<16} {:>9} {:>6} {:>11} {:>11} {:>11} {:>11} {:>12} {:>10}\n", "class",
+               "generated", "real", "MMD_avg", "MMD_seq", "motion_avg", "motion_seq", "spread mean",
+               "spread sd");
     for (const auto& m : r.classes)
-      fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>12.5g} {:>10.5g}\n", m.name,
-                 m.generated, m.real, m.mmd_avg, m.mmd_seq, m.mmd_motion_avg, m.mmd_motion_seq, m.spread_mean,
-                 m.spread_sd);
-    fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "", r.mmd_avg, r.mmd_seq,
-               r.mmd_motion_avg, r.mmd_motion_seq);
-    fmt::print("\nvariety: mean distance between two sequences, and MMD_u^2 of one half of a set against the other\n"
-               "(at the bandwidth of the class's MMD_seq: its sampling noise)\n");
-    fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real", "ratio",
-               "halves gen.", "halves real");
+      fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g} {:>12.5g} {:>10.5g}\n",
+                 m.name, m.generated, m.real, m.mmd_avg, m.mmd_seq, m.mmd_motion_avg,
+                 m.mmd_motion_seq, m.spread_mean, m.spread_sd);
+    fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "",
+               r.mmd_avg, r.mmd_seq, r.mmd_motion_avg, r.mmd_motion_seq);
+    fmt::print(
+        "\nvariety: mean distance between two sequences, and MMD_u^2 of one half of a set against "
+        "the other\n"
+        "(at the bandwidth of the class's MMD_seq: its sampling noise)\n");
+    fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real",
+               "ratio", "halves gen.", "halves real");
     for (const auto& m : r.classes)
-      fmt::print("{:<16} {:>14.5g} {:>14.5g} {:>8.3f} {:>14.5g} {:>14.5g}\n", m.name, m.pairwise_generated,
-                 m.pairwise_real, m.pairwise_generated / m.pairwise_real, m.halves_generated, m.halves_real);
+      fmt::print("{:<16} {:>14.5g} {:>14.5g} {:>8.3f} {:>14.5g} {:>14.5g}\n", m.name,
+                 m.pairwise_generated, m.pairwise_real, m.pairwise_generated / m.pairwise_real,
+                 m.halves_generated, m.halves_real);
     fmt::print("{:<16} {:>14} {:>14} {:>8.3f}\n", "mean", "", "", r.pairwise_ratio);
   }
   if (json.empty()) return;
@@ -110,7 +120,8 @@ struct Shape {
 };
 
 Shape shape_of(const FrameSet& pred) {
-  Shape sh{geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())), {}, 0};
+  Shape sh{
+      geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())), {}, 0};
   sh.component = geometry::connected_components(sh.topo, 0, &sh.n_components);
   return sh;
 }
@@ -131,7 +142,9 @@ FeatureChange feature_change_of(const FrameSet& pred, int change_span) {
   std::vector<int> count;
   // Each frame is normalized once; the last span + 1 stay in a ring.
   std::vector<Eigen::VectorXd> ring(static_cast<std::size_t>(span + 1));
-  auto slot = [&](std::int64_t t) -> Eigen::VectorXd& { return ring[static_cast<std::size_t>(t % (span + 1))]; };
+  auto slot = [&](std::int64_t t) -> Eigen::VectorXd& {
+    return ring[static_cast<std::size_t>(t % (span + 1))];
+  };
   for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
     const std::int64_t begin = pred.offsets[s], n = pred.offsets[s + 1] - begin;
     for (std::int64_t t = 0; t < n; ++t) {
@@ -148,25 +161,29 @@ FeatureChange feature_change_of(const FrameSet& pred, int change_span) {
 }
 
 // Which PRED frame is measured against which TRUTH frame: /frames/source, else frame by frame.
-std::vector<std::pair<std::size_t, std::size_t>> pair_frames(const FrameSet& pred, const FrameSet& truth,
+std::vector<std::pair<std::size_t, std::size_t>> pair_frames(const FrameSet& pred,
+                                                             const FrameSet& truth,
                                                              const EvalOptions& opt) {
-  if (truth.tmpl.vertices.rows() != pred.tmpl.vertices.rows() || truth.tmpl.faces != pred.tmpl.faces)
-    throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)", truth.tmpl.vertices.rows(),
-                                   opt.pred, pred.tmpl.vertices.rows()),
+  if (truth.tmpl.vertices.rows() != pred.tmpl.vertices.rows() ||
+      truth.tmpl.faces != pred.tmpl.faces)
+    throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)",
+                                   truth.tmpl.vertices.rows(), opt.pred, pred.tmpl.vertices.rows()),
                        opt.truth);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (pred frame, truth frame)
   if (!pred.source.empty()) {
     for (std::size_t i = 0; i < pred.size(); ++i)
       if (pred.source[i] >= 0) {
         if (static_cast<std::size_t>(pred.source[i]) >= truth.size())
-          throw InvalidInput(fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
-                                         pred.source[i], truth.size()),
-                             opt.pred + "/frames/source");
+          throw InvalidInput(
+              fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
+                          pred.source[i], truth.size()),
+              opt.pred + "/frames/source");
         pairs.emplace_back(i, static_cast<std::size_t>(pred.source[i]));
       }
   } else {
     if (pred.size() != truth.size())
-      throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}", pred.size(), truth.size()),
+      throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}",
+                                     pred.size(), truth.size()),
                          opt.pred);
     for (std::size_t i = 0; i < pred.size(); ++i) pairs.emplace_back(i, i);
   }
@@ -198,20 +215,25 @@ PairMeasures measure_pairs(FrameSet& pred, FrameSet& truth, const Shape& sh,
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
     const auto [i, j] = pairs[k];
     const io::Vertices& gt = truth.positions[j];
-    aligned[k] = opt.align == "rigid" ? align_rigid(pred.positions[i], gt, sh.component, sh.n_components)
-                                      : align_translation(pred.positions[i], gt, sh.component, sh.n_components);
+    aligned[k] = opt.align == "rigid"
+                     ? align_rigid(pred.positions[i], gt, sh.component, sh.n_components)
+                     : align_translation(pred.positions[i], gt, sh.component, sh.n_components);
     PairResult& r = pm.results[k];
     r.error = mean_vertex_error(aligned[k], gt);
     r.unit_ball = unit_ball_squared_error(aligned[k], gt);
     r.sted_s = sted_spatial(aligned[k], gt, sh.topo, hoods);
-    if (features) r.rse = relative_squared_error(normalized_features(truth, j, nz), normalized_features(pred, i, nz));
+    if (features)
+      r.rse = relative_squared_error(normalized_features(truth, j, nz),
+                                     normalized_features(pred, i, nz));
   });
   for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
     const auto [i0, j0] = pairs[k];
     const auto [i1, j1] = pairs[k + 1];
-    const auto s = std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
+    const auto s =
+        std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
     if (i1 != i0 + 1 || static_cast<std::int64_t>(i1) >= *s) continue;
-    pm.sted_t += sted_temporal(aligned[k], aligned[k + 1], truth.positions[j0], truth.positions[j1], sh.topo, opt.sted_dt);
+    pm.sted_t += sted_temporal(aligned[k], aligned[k + 1], truth.positions[j0], truth.positions[j1],
+                               sh.topo, opt.sted_dt);
     ++pm.sted_t_n;
   }
   return pm;
@@ -232,8 +254,8 @@ SampleGroups sample_groups(const FrameSet& pred) {
 
 // Spread of diverse samples: samples of equal length compared frame by frame (given frames,
 // identical in every sample, left out). Returns the sum and the count of compared pairs.
-std::pair<double, std::size_t> sample_spread(FrameSet& pred, const SampleGroups& groups, const Shape& sh,
-                                             const std::string& pred_path) {
+std::pair<double, std::size_t> sample_spread(FrameSet& pred, const SampleGroups& groups,
+                                             const Shape& sh, const std::string& pred_path) {
   double spread = 0;
   std::size_t n = 0;
   if (groups.empty()) return {spread, n};
@@ -267,13 +289,16 @@ struct Totals {
   std::map<int, std::pair<double, int>> by_step;  ///< step -> (error sum, frames)
 };
 
-Totals totals_of(const FrameSet& pred, const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+Totals totals_of(const FrameSet& pred,
+                 const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
                  const std::vector<PairResult>& results) {
   Totals t;
-  t.skip_given = std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
+  t.skip_given =
+      std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
   for (std::size_t k = 0; k < results.size(); ++k) {
     const auto& r = results[k];
-    const int step = pred.step.empty() ? static_cast<int>(pairs[k].first) : pred.step[pairs[k].first];
+    const int step =
+        pred.step.empty() ? static_cast<int>(pairs[k].first) : pred.step[pairs[k].first];
     t.by_step[step].first += r.error, t.by_step[step].second += 1;
     if (t.skip_given && step == 0) continue;
     ++t.counted;
@@ -343,7 +368,8 @@ Pace pace_of(const FrameSet& pred, const FrameSet& truth) {
   Pace p;
   if (pred.step.empty() || pred.source.empty()) return p;
   for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
-    const auto begin = static_cast<std::size_t>(pred.offsets[s]), end = static_cast<std::size_t>(pred.offsets[s + 1]);
+    const auto begin = static_cast<std::size_t>(pred.offsets[s]),
+               end = static_cast<std::size_t>(pred.offsets[s + 1]);
     std::size_t last_given = end;  // the frame before step 1
     for (std::size_t i = begin; i + 1 < end; ++i)
       if (pred.step[i] == 0 && pred.step[i + 1] == 1) last_given = i;
@@ -378,7 +404,8 @@ struct MeshMeasures {
   double spread_diag = 0;
 };
 
-nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, const EvalOptions& opt) {
+nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred,
+                               const EvalOptions& opt) {
   nlohmann::ordered_json js;
   js["pred"] = opt.pred;
   const auto& t = m.totals;
@@ -391,15 +418,21 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, cons
     js["frames_measured"] = t.counted;
     js["diagonal"] = diag;
     js["vertex_error"] = {{"mean", t.err / np}, {"mean_relative", t.err / np / diag}};
-    if (!pred.step.empty()) {  // steps after the given frames (gen-bdlstm); else per_frame says it all
+    if (!pred.step
+             .empty()) {  // steps after the given frames (gen-bdlstm); else per_frame says it all
       nlohmann::ordered_json steps = nlohmann::ordered_json::array();
       for (const auto& [s, v] : t.by_step)
-        steps.push_back({{"step", s}, {"frames", v.second}, {"mean", v.first / v.second}, {"relative", v.first / v.second / diag}});
+        steps.push_back({{"step", s},
+                         {"frames", v.second},
+                         {"mean", v.first / v.second},
+                         {"relative", v.first / v.second / diag}});
       js["vertex_error"]["per_step"] = steps;
     }
     nlohmann::ordered_json frames = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < m.pm.results.size(); ++k)
-      frames.push_back({{"pred", m.pairs[k].first}, {"truth", m.pairs[k].second}, {"error", m.pm.results[k].error},
+      frames.push_back({{"pred", m.pairs[k].first},
+                        {"truth", m.pairs[k].second},
+                        {"error", m.pm.results[k].error},
                         {"sted_spatial", m.pm.results[k].sted_s}});
     js["vertex_error"]["per_frame"] = frames;
     js["erms"] = erms_from_sum(t.ub, np, static_cast<double>(nv));
@@ -407,11 +440,14 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, cons
     js["sted"] = {{"spatial", t.sted_s / np}, {"rings", opt.sted_rings}};
     if (m.pm.sted_t_n) {
       js["sted"]["temporal"] = st;
-      js["sted"]["combined"] = std::sqrt(std::pow(t.sted_s / np, 2) + opt.sted_c * opt.sted_c * st * st);
+      js["sted"]["combined"] =
+          std::sqrt(std::pow(t.sted_s / np, 2) + opt.sted_c * opt.sted_c * st * st);
       js["sted"]["dt"] = opt.sted_dt;
       js["sted"]["c"] = opt.sted_c;
     }
-    if (t.rse_n) js["relative_squared_error"] = {{"max", t.rse_max}, {"mean", t.rse_mean / static_cast<double>(t.rse_n)}};
+    if (t.rse_n)
+      js["relative_squared_error"] = {{"max", t.rse_max},
+                                      {"mean", t.rse_mean / static_cast<double>(t.rse_n)}};
     if (m.pace.cases) {
       const double n = static_cast<double>(m.pace.cases * kPaceSteps);
       js["pace"] = {{"steps", kPaceSteps},
@@ -439,9 +475,10 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred, cons
                                 {"worst_of_k_relative", v.worst / diag}};
   }
   if (m.spread_n)
-    js["sample_spread"] = {{"mean", m.spread / static_cast<double>(m.spread_n)},
-                           {"mean_relative", m.spread / static_cast<double>(m.spread_n) / m.spread_diag},
-                           {"cases", m.spread_cases}};
+    js["sample_spread"] = {
+        {"mean", m.spread / static_cast<double>(m.spread_n)},
+        {"mean_relative", m.spread / static_cast<double>(m.spread_n) / m.spread_diag},
+        {"cases", m.spread_cases}};
   const auto& c = m.change;
   if (c.n)
     js["feature_change"] = {{"span", opt.change_span},
@@ -458,31 +495,38 @@ void write_tsv(const MeshMeasures& m, const FrameSet& pred, const EvalOptions& o
   if (!pred.step.empty()) {
     out << "# step: frames error relative_error\n";
     for (const auto& [st, v] : m.totals.by_step)
-      out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second, v.first / v.second / m.pm.diag);
+      out << fmt::format("{} {} {:.9g} {:.9g}\n", st, v.second, v.first / v.second,
+                         v.first / v.second / m.pm.diag);
   } else {
     out << "# frame: pred_frame truth_frame error relative_error\n";
     for (std::size_t k = 0; k < m.pm.results.size(); ++k)
-      out << fmt::format("{} {} {:.9g} {:.9g}\n", m.pairs[k].first, m.pairs[k].second, m.pm.results[k].error,
-                         m.pm.results[k].error / m.pm.diag);
+      out << fmt::format("{} {} {:.9g} {:.9g}\n", m.pairs[k].first, m.pairs[k].second,
+                         m.pm.results[k].error, m.pm.results[k].error / m.pm.diag);
   }
-  out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n", opt.change_span);
-  for (std::size_t k = 0; k < m.change.by_index.size(); ++k) out << fmt::format("{} {:.9g}\n", k, m.change.by_index[k]);
+  out << fmt::format("\n\n# feature_change: index change (frames index and index + {})\n",
+                     opt.change_span);
+  for (std::size_t k = 0; k < m.change.by_index.size(); ++k)
+    out << fmt::format("{} {:.9g}\n", k, m.change.by_index[k]);
   write_text_output(opt.tsv, out.str(), force, {opt.pred, opt.truth});
 }
 
 // The human table.
-std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const FrameSet& pred, const EvalOptions& opt) {
+std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const FrameSet& pred,
+                  const EvalOptions& opt) {
   const auto& tt = m.totals;
   const double np = static_cast<double>(tt.counted), diag = m.pm.diag;
   std::string t = fmt::format(
       "{}{}\n", opt.pred,
-      m.has_truth ? fmt::format(" vs {} ({} frame pairs{}{})", opt.truth, m.pm.results.size(),
-                                tt.skip_given ? fmt::format("; totals over the {} generated frames", tt.counted) : "",
-                                opt.align == "rigid" ? "; each part aligned by a rotation and translation" : "")
-                  : "");
+      m.has_truth
+          ? fmt::format(
+                " vs {} ({} frame pairs{}{})", opt.truth, m.pm.results.size(),
+                tt.skip_given ? fmt::format("; totals over the {} generated frames", tt.counted)
+                              : "",
+                opt.align == "rigid" ? "; each part aligned by a rotation and translation" : "")
+          : "");
   if (m.has_truth) {
-    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n", "per-vertex position error", tt.err / np,
-                     tt.err / np / diag, diag);
+    t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n",
+                     "per-vertex position error", tt.err / np, tt.err / np / diag, diag);
     t += fmt::format("  {:<28} {:.6g}\n", "E_rms", js["erms"].get<double>());
     t += fmt::format("  {:<28} spatial {:.6g}", "STED", js["sted"]["spatial"].get<double>());
     if (m.pm.sted_t_n)
@@ -495,41 +539,49 @@ std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const
   }
   if (m.change.n)
     t += fmt::format("  {:<28} mean {:.6g}  min {:.6g}  max {:.6g} (over time indices)\n",
-                     opt.change_span == 1 ? std::string("feature change") : fmt::format("feature change, span {}", opt.change_span),
-                     js["feature_change"]["mean"].get<double>(), js["feature_change"]["min"].get<double>(),
+                     opt.change_span == 1 ? std::string("feature change")
+                                          : fmt::format("feature change, span {}", opt.change_span),
+                     js["feature_change"]["mean"].get<double>(),
+                     js["feature_change"]["min"].get<double>(),
                      js["feature_change"]["max"].get<double>());
   if (m.spread_n)
     t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal; {} cases)\n", "spread of samples",
-                     js["sample_spread"]["mean"].get<double>(), js["sample_spread"]["mean_relative"].get<double>(),
-                     m.spread_cases);
+                     js["sample_spread"]["mean"].get<double>(),
+                     js["sample_spread"]["mean_relative"].get<double>(), m.spread_cases);
   if (js.contains("pace"))
-    t += fmt::format("  {:<28} {:.4g} per frame, the data {:.4g} (x bbox diagonal), over the first {} predicted "
-                     "frames of {} cases: ratio {:.3f}\n",
-                     "pace", js["pace"]["predicted_per_frame_relative"].get<double>(),
-                     js["pace"]["true_per_frame_relative"].get<double>(), kPaceSteps, m.pace.cases,
-                     js["pace"]["ratio"].get<double>());
+    t += fmt::format(
+        "  {:<28} {:.4g} per frame, the data {:.4g} (x bbox diagonal), over the first {} predicted "
+        "frames of {} cases: ratio {:.3f}\n",
+        "pace", js["pace"]["predicted_per_frame_relative"].get<double>(),
+        js["pace"]["true_per_frame_relative"].get<double>(), kPaceSteps, m.pace.cases,
+        js["pace"]["ratio"].get<double>());
   const auto& v = m.samples;
   if (v.cases)
-    t += fmt::format("  {:<28} mean of K {:.6g}  best of K {:.6g}  worst of K {:.6g}  (x bbox diagonal {:.4g} / {:.4g} / {:.4g}; {} cases)\n",
-                     "error per sample", v.mean, v.best, v.worst, v.mean / diag, v.best / diag, v.worst / diag, v.cases);
+    t += fmt::format(
+        "  {:<28} mean of K {:.6g}  best of K {:.6g}  worst of K {:.6g}  (x bbox diagonal {:.4g} / "
+        "{:.4g} / {:.4g}; {} cases)\n",
+        "error per sample", v.mean, v.best, v.worst, v.mean / diag, v.best / diag, v.worst / diag,
+        v.cases);
   const auto shown = [&](std::size_t n, int key) {
-    return opt.steps.empty() ? n <= 40 || key % 5 == 0
-                             : std::find(opt.steps.begin(), opt.steps.end(), key) != opt.steps.end();
+    return opt.steps.empty()
+               ? n <= 40 || key % 5 == 0
+               : std::find(opt.steps.begin(), opt.steps.end(), key) != opt.steps.end();
   };
   if (m.has_truth && !pred.step.empty() && tt.by_step.size() > 1) {
     t += fmt::format("  {:>6} {:>7} {:>14} {:>14}\n", "step", "frames", "error", "x diagonal");
     for (const auto& [s, val] : tt.by_step)
       if (shown(tt.by_step.size(), s))
-        t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, val.second, val.first / val.second,
-                         val.first / val.second / diag);
+        t += fmt::format("  {:>6} {:>7} {:>14.6g} {:>14.6g}\n", s, val.second,
+                         val.first / val.second, val.first / val.second / diag);
   } else if (m.has_truth && pred.step.empty() && m.pm.results.size() > 1) {
     // Frames without steps (a reconstruction, a file of meshes): each pair's own row, numbered
     // in each file (the truth's frame is the data frame).
-    t += fmt::format("  {:>10} {:>11} {:>14} {:>14}\n", "pred frame", "truth frame", "error", "x diagonal");
+    t += fmt::format("  {:>10} {:>11} {:>14} {:>14}\n", "pred frame", "truth frame", "error",
+                     "x diagonal");
     for (std::size_t k = 0; k < m.pm.results.size(); ++k)
       if (shown(m.pm.results.size(), static_cast<int>(m.pairs[k].first)))
-        t += fmt::format("  {:>10} {:>11} {:>14.6g} {:>14.6g}\n", m.pairs[k].first, m.pairs[k].second,
-                         m.pm.results[k].error, m.pm.results[k].error / diag);
+        t += fmt::format("  {:>10} {:>11} {:>14.6g} {:>14.6g}\n", m.pairs[k].first,
+                         m.pairs[k].second, m.pm.results[k].error, m.pm.results[k].error / diag);
   }
   return t;
 }
@@ -559,7 +611,8 @@ void eval_meshes(const EvalOptions& opt, bool force) {
   if (truth) m.pace = pace_of(pred, *truth);
 
   const nlohmann::ordered_json js = to_json(m, pred, opt);
-  if (!opt.json.empty() && opt.json != "-") write_text_output(opt.json, js.dump(2) + "\n", force, {opt.pred, opt.truth});
+  if (!opt.json.empty() && opt.json != "-")
+    write_text_output(opt.json, js.dump(2) + "\n", force, {opt.pred, opt.truth});
   if (!opt.tsv.empty()) write_tsv(m, pred, opt, force);
   if (opt.json == "-")
     std::cout << js.dump(2) << "\n";
@@ -572,12 +625,15 @@ void eval_meshes(const EvalOptions& opt, bool force) {
 void eval_metrics(const EvalOptions& opt, const CommonOptions& common) {
   check_options(opt);
   const auto claims = claim_outputs({opt.json, opt.tsv}, common.force, {opt.pred, opt.truth});
-  const std::string kind = io::is_hdf5_path(opt.pred)
-                               ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
-                               : std::string();
-  if (kind == "skeleton") return eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons, common.force);
+  const std::string kind =
+      io::is_hdf5_path(opt.pred)
+          ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
+          : std::string();
+  if (kind == "skeleton")
+    return eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons, common.force);
   if (kind == "components") {
-    if (opt.truth.empty()) throw UsageError("a components file is measured against TRUTH's planted regions");
+    if (opt.truth.empty())
+      throw UsageError("a components file is measured against TRUTH's planted regions");
     return eval_components(opt.pred, opt.truth, opt.json, opt.support_threshold, common.force);
   }
   eval_meshes(opt, common.force);

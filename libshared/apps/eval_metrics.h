@@ -27,8 +27,8 @@ namespace df::apps {
 struct EvalOptions {
   std::string pred, truth;  ///< truth "" = only single-file measures (feature change)
   std::string json;         ///< "" = none; "-" = stdout (then no table)
-  std::string tsv;          ///< "" = none; else per-step errors and feature change per index, for gnuplot
-  std::vector<int> steps;   ///< steps shown in the table (empty = all when few)
+  std::string tsv;  ///< "" = none; else per-step errors and feature change per index, for gnuplot
+  std::vector<int> steps;  ///< steps shown in the table (empty = all when few)
   /// How PRED is aligned to TRUTH before measuring, per connected part: "translation" (the
   /// reconstruction's own freedom) or "rigid" (rotation too, Kabsch; the MSAE paper's protocol)
   std::string align = "translation";

@@ -25,10 +25,12 @@ std::vector<std::size_t> chosen_frames(const convert::FrameSet& fs, const Export
   std::size_t first = 0, last = fs.size();
   if (!opt.sequence.empty()) {
     const std::size_t s = sequence_index(opt.sequence, fs.sequences, opt.input);
-    first = static_cast<std::size_t>(fs.offsets[s]), last = static_cast<std::size_t>(fs.offsets[s + 1]);
+    first = static_cast<std::size_t>(fs.offsets[s]),
+    last = static_cast<std::size_t>(fs.offsets[s + 1]);
   }
   std::vector<std::size_t> frames;
-  for (std::size_t i = first; i < last; i += static_cast<std::size_t>(opt.every)) frames.push_back(i);
+  for (std::size_t i = first; i < last; i += static_cast<std::size_t>(opt.every))
+    frames.push_back(i);
   return frames;
 }
 
@@ -40,8 +42,8 @@ void export_skeleton(const ExportGltfOptions& opt, const CommonOptions& common) 
   if (!opt.sequence.empty()) {
     seq = sequence_index(opt.sequence, s.sequence_names, opt.input);
   } else if (s.sequences() > 1) {
-    log::info("{} holds {} sequences: exporting the first ('{}'; --sequence chooses)", opt.input, s.sequences(),
-              s.sequence_names.front());
+    log::info("{} holds {} sequences: exporting the first ('{}'; --sequence chooses)", opt.input,
+              s.sequences(), s.sequence_names.front());
   }
   if (s.dims != 3) throw InvalidInput("has 2-D poses: glTF joints need 3-D ones", opt.input);
   const std::vector<float> raw = s.raw_poses();
@@ -51,8 +53,8 @@ void export_skeleton(const ExportGltfOptions& opt, const CommonOptions& common) 
   g.fps = (opt.fps > 0 ? opt.fps : s.frame_rate) / opt.every;
   g.name = s.sequence_names[seq].empty() ? "sequence" + std::to_string(seq) : s.sequence_names[seq];
   const std::size_t fs = s.frame_size();
-  for (auto t = static_cast<std::size_t>(s.offsets[seq]); t < static_cast<std::size_t>(s.offsets[seq + 1]);
-       t += static_cast<std::size_t>(opt.every))
+  for (auto t = static_cast<std::size_t>(s.offsets[seq]);
+       t < static_cast<std::size_t>(s.offsets[seq + 1]); t += static_cast<std::size_t>(opt.every))
     g.positions.insert(g.positions.end(), raw.begin() + static_cast<std::ptrdiff_t>(t * fs),
                        raw.begin() + static_cast<std::ptrdiff_t>((t + 1) * fs));
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, {opt.input});
@@ -81,13 +83,17 @@ void export_gltf(const ExportGltfOptions& opt, const CommonOptions& common) {
   seq.name = opt.sequence.empty() ? "deformflow" : opt.sequence;
   for (auto i : frames) seq.frames.push_back(fs.positions[i]);
   seq.normals.resize(frames.size());
-  tbb::parallel_for(std::size_t{0}, frames.size(),
-                    [&](std::size_t k) { seq.normals[k] = geometry::vertex_normals(seq.frames[k], seq.faces); });
+  tbb::parallel_for(std::size_t{0}, frames.size(), [&](std::size_t k) {
+    seq.normals[k] = geometry::vertex_normals(seq.frames[k], seq.faces);
+  });
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, {opt.input});
   io::write_gltf_sequence(out.temp_path().string(), seq);
   out.commit();
-  log::info("wrote {}: {} frames of {} vertices as morph targets at {:g} fps (the animation plays {:.3g} s)",
-            opt.output, frames.size(), fs.vertices(), seq.fps, static_cast<double>(frames.size() - 1) / seq.fps);
+  log::info(
+      "wrote {}: {} frames of {} vertices as morph targets at {:g} fps (the animation plays {:.3g} "
+      "s)",
+      opt.output, frames.size(), fs.vertices(), seq.fps,
+      static_cast<double>(frames.size() - 1) / seq.fps);
 }
 
 }  // namespace df::apps

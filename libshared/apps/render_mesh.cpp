@@ -1,8 +1,5 @@
 #include "apps/render_mesh.h"
 
-#include "apps/edit_shape.h"
-#include "apps/sequence_choice.h"
-
 #include <fmt/args.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,6 +12,8 @@
 #include <set>
 #include <span>
 
+#include "apps/edit_shape.h"
+#include "apps/sequence_choice.h"
 #include "convert/acap2obj.h"
 #include "convert/frame_set.h"
 #include "core/atomic_output.h"
@@ -118,7 +117,8 @@ std::vector<std::size_t> select_frames(std::size_t begin, std::size_t end,
     if (out.empty())
       throw UsageError(fmt::format("--frames: no frame of {} is named {}", where, opt.frames));
   } else {
-    for (std::size_t k : convert::parse_frame_selection(opt.frames, cand.size())) out.push_back(cand[k]);
+    for (std::size_t k : convert::parse_frame_selection(opt.frames, cand.size()))
+      out.push_back(cand[k]);
   }
   if (opt.every > 1) {
     std::vector<std::size_t> thinned;
@@ -334,7 +334,8 @@ std::vector<Row> skeleton_rows(const std::vector<io::SkeletonFile>& files,
     for (std::size_t q : seqs) {
       Row r;
       r.input = k;
-      r.label = fmt::format("{}{} ({})", files.size() > 1 ? stem(paths[k]) + " / " : "", names[q], s.label_text(q));
+      r.label = fmt::format("{}{} ({})", files.size() > 1 ? stem(paths[k]) + " / " : "", names[q],
+                            s.label_text(q));
       const auto begin = static_cast<std::size_t>(s.offsets[q]);
       r.frames = select_frames(begin, static_cast<std::size_t>(s.offsets[q + 1]), {}, opt, r.label);
       for (std::size_t i : r.frames) r.captions.push_back(fmt::format("frame {}", i - begin));
@@ -517,7 +518,8 @@ SheetSpec sheet_spec(const RenderOptions& opt, const Scene& sc) {
   for (std::size_t c = 0; c < sc.columns(); ++c)
     spec.column_labels.push_back(c < first.captions.size() ? first.captions[c] : "");
   spec.column_labels = labels_or(opt.column_labels, spec.column_labels, "--column-labels");
-  log::debug("rows: {}; columns: {}", fmt::join(spec.row_labels, " | "), fmt::join(spec.column_labels, " | "));
+  log::debug("rows: {}; columns: {}", fmt::join(spec.row_labels, " | "),
+             fmt::join(spec.column_labels, " | "));
   spec.bar = sc.bar;
   spec.background = parse_color(opt.background);
   return spec;
@@ -557,7 +559,8 @@ std::vector<std::vector<int>> marked_points(const RenderOptions& opt, const Scen
   if (opt.points.empty()) return {};
   if (sc.skeleton) throw UsageError("--points marks mesh vertices; these inputs are skeletons");
   const int V = static_cast<int>(sc.sets.front().tmpl.vertices.rows());
-  if (opt.points != "edit") return std::vector<std::vector<int>>(opt.inputs.size(), read_handles(opt.points, V).vertices);
+  if (opt.points != "edit")
+    return std::vector<std::vector<int>>(opt.inputs.size(), read_handles(opt.points, V).vertices);
   std::vector<std::vector<int>> points;
   bool any = false;
   for (const auto& p : opt.inputs) {
@@ -607,7 +610,8 @@ void draw_pictures(const Scene& sc, const RenderOptions& opt, const CommonOption
             const auto input = sc.rows[ri].truth ? 0 : sc.rows[ri].input;
             for (int v : sc.points.empty() ? kNoPoints : sc.points[input]) {
               if (v >= shown.rows()) continue;
-              const Eigen::Vector3d q = sc.camera.to_panel(shown.row(v).transpose(), opt.width, opt.height);
+              const Eigen::Vector3d q =
+                  sc.camera.to_panel(shown.row(v).transpose(), opt.width, opt.height);
               canvas.disc(x + q.x(), y + q.y(), 4.5, Rgb{1, 1, 1});
               canvas.disc(x + q.x(), y + q.y(), 3.2, Rgb{0.86, 0.1, 0.1});
             }

@@ -10,12 +10,13 @@ namespace df::apps {
 using eval::ClassSkeletonMetrics;
 using eval::RowMatrixF;
 
-std::vector<double> actgan_validation_mmd(const models::ActganModel& model, const models::ActionClips& clips,
-                                          int per_class) {
+std::vector<double> actgan_validation_mmd(const models::ActganModel& model,
+                                          const models::ActionClips& clips, int per_class) {
   const auto classes = static_cast<Eigen::Index>(model.class_names.size());
   const auto fs = static_cast<std::size_t>(clips.pose);
   const auto row = static_cast<Eigen::Index>(static_cast<std::size_t>(clips.length) * fs);
-  Rng rng(model.training.seed, 2);  // the same noise at every evaluation: the curve shows the model, not the draw
+  Rng rng(model.training.seed,
+          2);  // the same noise at every evaluation: the curve shows the model, not the draw
   double avg = 0, seq = 0, motion_avg = 0, motion_seq = 0;
   int measured = 0;
   for (Eigen::Index c = 0; c < classes; ++c) {
@@ -30,7 +31,8 @@ std::vector<double> actgan_validation_mmd(const models::ActganModel& model, cons
     const RowMatrixF X = Eigen::Map<const RowMatrixF>(poses.data(), per_class, row);
     RowMatrixF Y(static_cast<Eigen::Index>(real.size()), row);
     for (std::size_t r = 0; r < real.size(); ++r)
-      std::copy_n(clips.frame(real[r], 0), static_cast<std::size_t>(row), Y.row(static_cast<Eigen::Index>(r)).data());
+      std::copy_n(clips.frame(real[r], 0), static_cast<std::size_t>(row),
+                  Y.row(static_cast<Eigen::Index>(r)).data());
     const ClassSkeletonMetrics m = eval::skeleton_class_metrics(X, Y, fs);
     avg += m.mmd_avg;
     seq += m.mmd_seq;

@@ -9,12 +9,13 @@
 
 namespace df::apps {
 
-/// train-actgan's validation columns: MMD_avg, MMD_seq and their motion forms (as skeleton_metrics, in the model's
-/// normalized coordinates) of `per_class` sequences generated for each class against the held-out
-/// clips of that class (classes with fewer than 2 clips are left out), averaged over classes. The
-/// noise is drawn from Rng(seed, 2) afresh at every call: the same draw at every evaluation.
-std::vector<double> actgan_validation_mmd(const models::ActganModel& model, const models::ActionClips& clips,
-                                          int per_class = 100);
+/// train-actgan's validation columns: MMD_avg, MMD_seq and their motion forms (as skeleton_metrics,
+/// in the model's normalized coordinates) of `per_class` sequences generated for each class against
+/// the held-out clips of that class (classes with fewer than 2 clips are left out), averaged over
+/// classes. The noise is drawn from Rng(seed, 2) afresh at every call: the same draw at every
+/// evaluation.
+std::vector<double> actgan_validation_mmd(const models::ActganModel& model,
+                                          const models::ActionClips& clips, int per_class = 100);
 
 /// train-actgan: models::train_actgan with actgan_validation_mmd as its validator.
 void train_actgan(models::ActganTrainOptions opt, const CommonOptions& common);

@@ -29,7 +29,8 @@ using geometry::kFeatureDims;
 struct FrameError {
   double max = 0, mean = 0;
 };
-FrameError frame_error(const io::Vertices& P, const io::Vertices& truth, const std::vector<int>& component, int nc) {
+FrameError frame_error(const io::Vertices& P, const io::Vertices& truth,
+                       const std::vector<int>& component, int nc) {
   Eigen::MatrixXd shift = Eigen::MatrixXd::Zero(nc, 3);
   Eigen::VectorXd count = Eigen::VectorXd::Zero(nc);
   for (Eigen::Index v = 0; v < P.rows(); ++v) {
@@ -61,7 +62,8 @@ std::vector<std::size_t> parse_frame_selection(const std::string& spec, std::siz
   };
   while (pos <= spec.size()) {
     std::size_t comma = spec.find(',', pos);
-    std::string part = spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    std::string part =
+        spec.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
     std::size_t dash = part.find('-');
     std::size_t a, b;
     if (dash == std::string::npos) {
@@ -84,9 +86,11 @@ namespace {
 void check_options(const Acap2ObjOptions& opt) {
   if (opt.features != "raw" && opt.features != "normalized" && opt.features != "auto")
     throw UsageError("--features must be raw, normalized or auto");
-  if (opt.anchor_positions != "auto" && opt.anchor_positions != "reference" && opt.anchor_positions != "frames")
+  if (opt.anchor_positions != "auto" && opt.anchor_positions != "reference" &&
+      opt.anchor_positions != "frames")
     throw UsageError("--anchor-positions must be auto, reference or frames");
-  if (opt.solver != "gradients" && opt.solver != "edges") throw UsageError("--solver must be gradients or edges");
+  if (opt.solver != "gradients" && opt.solver != "edges")
+    throw UsageError("--solver must be gradients or edges");
 }
 
 // Which features to reconstruct from (--features; auto: raw when the file has them) and, for the
@@ -99,9 +103,11 @@ struct FeatureSource {
 FeatureSource feature_source(const io::AcapReader& in, const Acap2ObjOptions& opt) {
   const bool has_raw = in.has_raw(), has_norm = in.has_normalized();
   if (!has_raw && !has_norm)
-    throw InvalidInput("has no features (/features/raw or /features/normalized); run obj2acap first", opt.input);
+    throw InvalidInput(
+        "has no features (/features/raw or /features/normalized); run obj2acap first", opt.input);
   if (opt.features == "raw" && !has_raw) throw InvalidInput("has no /features/raw", opt.input);
-  if (opt.features == "normalized" && !has_norm) throw InvalidInput("has no /features/normalized", opt.input);
+  if (opt.features == "normalized" && !has_norm)
+    throw InvalidInput("has no /features/normalized", opt.input);
   FeatureSource src;
   src.raw = opt.features == "raw" || (opt.features == "auto" && has_raw);
   if (!src.raw) src.nz = in.normalization();
@@ -124,9 +130,11 @@ Selection select_frames(const io::AcapReader& in, const Acap2ObjOptions& opt) {
   if (!opt.sequences.empty()) {
     for (const auto& s : opt.sequences)
       if (std::find(sel.seq_names.begin(), sel.seq_names.end(), s) == sel.seq_names.end())
-        throw UsageError(fmt::format("no sequence '{}' in {} (it has: {})", s, opt.input, fmt::join(sel.seq_names, ", ")));
+        throw UsageError(fmt::format("no sequence '{}' in {} (it has: {})", s, opt.input,
+                                     fmt::join(sel.seq_names, ", ")));
     std::erase_if(sel.frames, [&](std::size_t i) {
-      return std::find(opt.sequences.begin(), opt.sequences.end(), sel.seq_names[sel.seq_of[i]]) == opt.sequences.end();
+      return std::find(opt.sequences.begin(), opt.sequences.end(), sel.seq_names[sel.seq_of[i]]) ==
+             opt.sequences.end();
     });
   }
   if (sel.frames.empty()) throw UsageError("the selection holds no frames");
@@ -147,14 +155,16 @@ std::vector<std::string> mesh_file_names(const Selection& sel, const std::string
   for (auto i : sel.frames) {
     std::string name;
     try {
-      name = fmt::format(fmt::runtime(pattern), fmt::arg("name", sel.names[i]), fmt::arg("index", i),
-                         fmt::arg("sequence", sel.seq_names[sel.seq_of[i]]));
+      name = fmt::format(fmt::runtime(pattern), fmt::arg("name", sel.names[i]),
+                         fmt::arg("index", i), fmt::arg("sequence", sel.seq_names[sel.seq_of[i]]));
     } catch (const fmt::format_error& e) {
       throw UsageError(fmt::format("bad --name pattern '{}': {}", pattern, e.what()));
     }
-    if (name.find('/') != std::string::npos || name.empty()) throw UsageError("--name must give plain file names: " + name);
+    if (name.find('/') != std::string::npos || name.empty())
+      throw UsageError("--name must give plain file names: " + name);
     if (!io::is_mesh_file(name)) throw UsageError("--name must end in .obj, .ply or .off: " + name);
-    if (!seen.insert(name).second) throw UsageError("two frames get the file name " + name + "; use --name with {index}");
+    if (!seen.insert(name).second)
+      throw UsageError("two frames get the file name " + name + "; use --name with {index}");
     file_names.push_back(name);
   }
   return file_names;
@@ -162,8 +172,9 @@ std::vector<std::string> mesh_file_names(const Selection& sel, const std::string
 
 // An acap output: the template, the selected frames' names, sequences and labels, and room for
 // their positions.
-std::unique_ptr<io::AcapWriter> acap_output(const std::filesystem::path& temp, const std::string& output,
-                                            const io::AcapReader& in, const io::Mesh& tmpl, const Selection& sel) {
+std::unique_ptr<io::AcapWriter> acap_output(const std::filesystem::path& temp,
+                                            const std::string& output, const io::AcapReader& in,
+                                            const io::Mesh& tmpl, const Selection& sel) {
   auto f = std::make_unique<io::AcapWriter>(temp, output, std::vector<std::string>{in.history()});
   f->write_template(tmpl);
   std::vector<std::string> sel_names, sel_seqs;
@@ -195,8 +206,8 @@ std::unique_ptr<io::AcapWriter> acap_output(const std::filesystem::path& temp, c
 // written in order. Buffers are reused across blocks.
 std::vector<FrameError> reconstruct_frames(const io::AcapReader& in, const FeatureSource& src,
                                            const Selection& sel, const geometry::Reconstructor& rec,
-                                           bool pin_to_frames, const io::Mesh& tmpl, io::AcapWriter* f,
-                                           const std::filesystem::path& dir,
+                                           bool pin_to_frames, const io::Mesh& tmpl,
+                                           io::AcapWriter* f, const std::filesystem::path& dir,
                                            const std::vector<std::string>& file_names) {
   const std::size_t nv = in.vertices();
   const bool has_positions = in.has_positions();
@@ -238,9 +249,11 @@ std::vector<FrameError> reconstruct_frames(const io::AcapReader& in, const Featu
     }
     tbb::parallel_for(std::size_t{0}, count, [&](std::size_t b) {
       result[b] = rec.solve(feat.data() + b * row, pin_to_frames ? &truth[b] : nullptr);
-      if (has_positions) errors[first + b] = frame_error(result[b], truth[b], rec.component_of(), rec.components());
+      if (has_positions)
+        errors[first + b] = frame_error(result[b], truth[b], rec.component_of(), rec.components());
       if (f)
-        for (std::size_t k = 0; k < nv * 3; ++k) pos_out[b * nv * 3 + k] = static_cast<float>(result[b].data()[k]);
+        for (std::size_t k = 0; k < nv * 3; ++k)
+          pos_out[b * nv * 3 + k] = static_cast<float>(result[b].data()[k]);
       else
         writer.write((dir / file_names[first + b]).string(), result[b]);
       progress.advance();
@@ -254,13 +267,15 @@ std::vector<FrameError> reconstruct_frames(const io::AcapReader& in, const Featu
 
 void report_round_trip(const std::vector<FrameError>& errors, const Selection& sel, double diag) {
   if (errors.empty()) return;
-  auto worst = std::max_element(errors.begin(), errors.end(), [](auto& a, auto& b) { return a.max < b.max; });
+  auto worst = std::max_element(errors.begin(), errors.end(),
+                                [](auto& a, auto& b) { return a.max < b.max; });
   double mean = 0;
   for (const auto& e : errors) mean += e.mean / static_cast<double>(errors.size());
   const std::size_t frame = sel.frames[static_cast<std::size_t>(worst - errors.begin())];
-  log::info("round-trip error vs stored positions (per-component translation removed): max {:.3g} x bbox "
-            "diagonal (frame {} '{}'), mean {:.3g} x diagonal",
-            worst->max / diag, frame, sel.names[frame], mean / diag);
+  log::info(
+      "round-trip error vs stored positions (per-component translation removed): max {:.3g} x bbox "
+      "diagonal (frame {} '{}'), mean {:.3g} x diagonal",
+      worst->max / diag, frame, sel.names[frame], mean / diag);
 }
 
 }  // namespace
@@ -269,8 +284,9 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   const auto t0 = std::chrono::steady_clock::now();
   check_options(opt);
   const bool h5out = io::is_hdf5_path(opt.output);
-  const OutputClaim claim = claim_output(opt.output, common.force, {opt.input},
-                                         h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory);
+  const OutputClaim claim =
+      claim_output(opt.output, common.force, {opt.input},
+                   h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory);
   const io::AcapReader in(opt.input);
   const FeatureSource src = feature_source(in, opt);
   const io::Mesh tmpl = in.read_template();
@@ -282,22 +298,26 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
   const auto solver = opt.solver == "gradients" ? geometry::ReconstructionSolver::gradients
                                                 : geometry::ReconstructionSolver::edges;
   geometry::Reconstructor rec(tmpl.vertices, tmpl.faces, opt.anchor, solver);
-  log::info("template {} vertices, {} components; {} system factored in {:.3f} s", in.vertices(), rec.components(),
-            opt.solver == "gradients" ? "gradient" : "edge", rec.factor_seconds());
+  log::info("template {} vertices, {} components; {} system factored in {:.3f} s", in.vertices(),
+            rec.components(), opt.solver == "gradients" ? "gradient" : "edge",
+            rec.factor_seconds());
   const auto& fs = rec.factor_stats();
-  log::debug("of which: assembly {:.3f} s, ordering and analysis {:.3f} s, numeric factorisation {:.3f} s "
-             "({:.2f} GFLOP, {:.1f} M non-zeros in the factor), simplicial copy for the solves {:.3f} s",
-             rec.assemble_seconds(), fs.analyse_seconds, fs.factor_seconds, fs.flops / 1e9, fs.factor_nonzeros / 1e6,
-             fs.simplicial_seconds);
-  const double diag = (tmpl.vertices.colwise().maxCoeff() - tmpl.vertices.colwise().minCoeff()).norm();
+  log::debug(
+      "of which: assembly {:.3f} s, ordering and analysis {:.3f} s, numeric factorisation {:.3f} s "
+      "({:.2f} GFLOP, {:.1f} M non-zeros in the factor), simplicial copy for the solves {:.3f} s",
+      rec.assemble_seconds(), fs.analyse_seconds, fs.factor_seconds, fs.flops / 1e9,
+      fs.factor_nonzeros / 1e6, fs.simplicial_seconds);
+  const double diag =
+      (tmpl.vertices.colwise().maxCoeff() - tmpl.vertices.colwise().minCoeff()).norm();
 
   // Output: a directory of meshes, or an acap .h5.
-  AtomicOutput out(opt.output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory, common.force,
-                   {opt.input});
-  const std::vector<std::string> file_names = h5out ? std::vector<std::string>{} : mesh_file_names(sel, opt.name_pattern);
+  AtomicOutput out(opt.output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory,
+                   common.force, {opt.input});
+  const std::vector<std::string> file_names =
+      h5out ? std::vector<std::string>{} : mesh_file_names(sel, opt.name_pattern);
   const auto f = h5out ? acap_output(out.temp_path(), opt.output, in, tmpl, sel) : nullptr;
-  const auto errors =
-      reconstruct_frames(in, src, sel, rec, pin_to_frames, tmpl, f.get(), out.temp_path(), file_names);
+  const auto errors = reconstruct_frames(in, src, sel, rec, pin_to_frames, tmpl, f.get(),
+                                         out.temp_path(), file_names);
   if (f) f->close();
   out.commit();
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

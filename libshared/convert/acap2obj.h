@@ -15,7 +15,7 @@ struct Acap2ObjOptions {
   std::string output;  ///< a directory (mesh files) or NAME.h5 (acap kind: reconstructed positions)
   std::string frames;  ///< "0-9,20,30-" (global frame indices); "" = all
   std::vector<std::string> sequences;  ///< sequence names to keep ("" = all)
-  std::string name_pattern;  ///< mesh file names: {name} {index} {sequence}; "" = automatic
+  std::string name_pattern;       ///< mesh file names: {name} {index} {sequence}; "" = automatic
   std::string features = "auto";  ///< raw | normalized | auto (raw when present)
   int anchor = 0;
   std::string anchor_positions = "auto";  ///< auto | reference | frames

@@ -12,7 +12,9 @@
 namespace df::convert {
 namespace {
 
-bool untracked(const float* p) { return p[0] == 0 && p[1] == 0 && p[2] == 0; }
+bool untracked(const float* p) {
+  return p[0] == 0 && p[1] == 0 && p[2] == 0;
+}
 
 // The p-quantile of sorted values, linear between neighbours.
 double quantile(const std::vector<double>& sorted, double p) {
@@ -43,14 +45,16 @@ std::vector<BoneSpread> bone_length_spread(const RawSkeletonCollection& c) {
         const float* a = s.poses.data() + t * fs + j * 3;
         const float* q = s.poses.data() + t * fs + static_cast<std::size_t>(parent) * 3;
         if (untracked(a) || untracked(q)) continue;
-        lengths.push_back(std::hypot(double(a[0]) - q[0], double(a[1]) - q[1], double(a[2]) - q[2]));
+        lengths.push_back(
+            std::hypot(double(a[0]) - q[0], double(a[1]) - q[1], double(a[2]) - q[2]));
       }
       if (lengths.size() < 2) continue;
       for (double l : lengths) total += l;
       counted += lengths.size();
       std::sort(lengths.begin(), lengths.end());
       const double mid = quantile(lengths, 0.5);
-      const double spread = mid > 0 ? (quantile(lengths, 0.75) - quantile(lengths, 0.25)) / 1.349 / mid : 0;
+      const double spread =
+          mid > 0 ? (quantile(lengths, 0.75) - quantile(lengths, 0.25)) / 1.349 / mid : 0;
       spreads.push_back(spread);
       if (spread > b.worst || b.worst_sequence.empty()) {
         b.worst = spread;
@@ -73,19 +77,23 @@ void check_bone_lengths(const RawSkeletonCollection& c, double tolerance, bool s
   const auto bones = bone_length_spread(c);
   if (bones.empty()) return;
   for (const auto& b : bones)
-    log::debug("bone {}: length {:.4g}, spread {:.3f} (a quarter of the recordings reach it), worst {:.3f} in {}",
-               b.name, b.mean_length, b.typical, b.worst, b.worst_sequence);
+    log::debug(
+        "bone {}: length {:.4g}, spread {:.3f} (a quarter of the recordings reach it), worst "
+        "{:.3f} in {}",
+        b.name, b.mean_length, b.typical, b.worst, b.worst_sequence);
   std::vector<std::string> over;
   for (const auto& b : bones)
-    if (b.typical > tolerance && over.size() < 5) over.push_back(fmt::format("{} {:.2f}", b.name, b.typical));
+    if (b.typical > tolerance && over.size() < 5)
+      over.push_back(fmt::format("{} {:.2f}", b.name, b.typical));
   if (over.empty()) {
-    log::debug("bone lengths: the most variable bone is {} (spread {:.3f} of its length in a quarter of "
-               "the {} recordings; --bone-tolerance {})",
-               bones.front().name, bones.front().typical, c.sequences.size(), tolerance);
+    log::debug(
+        "bone lengths: the most variable bone is {} (spread {:.3f} of its length in a quarter of "
+        "the {} recordings; --bone-tolerance {})",
+        bones.front().name, bones.front().typical, c.sequences.size(), tolerance);
     return;
   }
-  const std::size_t n_over = static_cast<std::size_t>(
-      std::count_if(bones.begin(), bones.end(), [&](const BoneSpread& b) { return b.typical > tolerance; }));
+  const std::size_t n_over = static_cast<std::size_t>(std::count_if(
+      bones.begin(), bones.end(), [&](const BoneSpread& b) { return b.typical > tolerance; }));
   const std::string message = fmt::format(
       "{} of {} bones change length within a recording by more than --bone-tolerance {} of their "
       "length ({}{}): is the joint order right for this format?",

@@ -19,15 +19,15 @@ namespace df::convert {
 
 struct BoneSpread {
   int joint = 0, parent = 0;
-  std::string name;           ///< "parent-joint", e.g. "elbow_left-wrist_left"
-  double typical = 0;         ///< 75th percentile over recordings of its length's relative spread
-  double worst = 0;           ///< the largest recording's spread
-  std::string worst_sequence; ///< the recording it was found in
-  double mean_length = 0;     ///< mean length over every frame of every recording
+  std::string name;            ///< "parent-joint", e.g. "elbow_left-wrist_left"
+  double typical = 0;          ///< 75th percentile over recordings of its length's relative spread
+  double worst = 0;            ///< the largest recording's spread
+  std::string worst_sequence;  ///< the recording it was found in
+  double mean_length = 0;      ///< mean length over every frame of every recording
 };
 
-/// Every bone's spread, worst (largest typical spread) first. Frames where either joint is untracked
-/// (both points at the origin) are left out.
+/// Every bone's spread, worst (largest typical spread) first. Frames where either joint is
+/// untracked (both points at the origin) are left out.
 std::vector<BoneSpread> bone_length_spread(const RawSkeletonCollection& c);
 
 /// Warns (or, when `strict`, throws InvalidInput) naming the bones whose typical spread exceeds

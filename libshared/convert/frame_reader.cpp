@@ -18,10 +18,10 @@ namespace df::convert {
 struct FrameReader::Source {
   enum class Kind { mesh_files, md2, hdf5 } kind;
   std::string path;
-  std::vector<io::FrameSource> files;       // mesh_files
-  io::Md2Model md2;                         // md2
-  std::unique_ptr<io::AcapReader> file;     // hdf5
-  io::Faces faces;                          // md2, hdf5: the connectivity of every frame
+  std::vector<io::FrameSource> files;    // mesh_files
+  io::Md2Model md2;                      // md2
+  std::unique_ptr<io::AcapReader> file;  // hdf5
+  io::Faces faces;                       // md2, hdf5: the connectivity of every frame
   std::size_t n_vertices = 0;
   std::string history;
 };
@@ -60,7 +60,8 @@ FrameReader::FrameReader(const std::vector<std::string>& inputs) {
       for (const auto& a : src->md2.animations) {
         add_sequence(a.name, a.name);
         for (int f = a.first; f < a.first + a.count; ++f)
-          add_frame(id, static_cast<std::size_t>(f), src->md2.frame_names[static_cast<std::size_t>(f)]);
+          add_frame(id, static_cast<std::size_t>(f),
+                    src->md2.frame_names[static_cast<std::size_t>(f)]);
       }
     } else if (input[0] != '@' && io::is_hdf5_path(input)) {
       pending = -1;
@@ -104,9 +105,13 @@ FrameReader::FrameReader(const std::vector<std::string>& inputs) {
 
 FrameReader::~FrameReader() = default;
 
-std::size_t FrameReader::size() const { return frames_.size(); }
+std::size_t FrameReader::size() const {
+  return frames_.size();
+}
 
-const std::string& FrameReader::frame_name(std::size_t i) const { return frames_[i].name; }
+const std::string& FrameReader::frame_name(std::size_t i) const {
+  return frames_[i].name;
+}
 
 std::string FrameReader::frame_origin(std::size_t i) const {
   const Frame& f = frames_[i];
@@ -152,7 +157,8 @@ io::Vertices FrameReader::read_positions(std::size_t i, const io::Mesh& referenc
   const Source& s = *sources_[static_cast<std::size_t>(f.source)];
   if (s.kind == Source::Kind::mesh_files) {
     const std::string& path = s.files[f.index].path;
-    if (io::lower_extension(path) == ".obj") return io::read_obj_frame(path, reference, reference_name);
+    if (io::lower_extension(path) == ".obj")
+      return io::read_obj_frame(path, reference, reference_name);
   }
   io::Mesh m = read(i);
   io::check_same_connectivity(reference, reference_name, m, frame_origin(i));

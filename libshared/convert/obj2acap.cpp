@@ -22,17 +22,21 @@ namespace df::convert {
 namespace {
 using geometry::kFeatureDims;
 
-std::vector<fs::path> as_paths(const std::vector<std::string>& v) { return {v.begin(), v.end()}; }
+std::vector<fs::path> as_paths(const std::vector<std::string>& v) {
+  return {v.begin(), v.end()};
+}
 
 // Class names in order of first appearance and each sequence's class index; no labels at all
 // gives empty results, some but not all labels is an error.
 void labels_of(const std::vector<SequenceInfo>& seqs, std::vector<std::string>& classes,
                std::vector<std::int32_t>& index) {
-  std::size_t labelled = std::count_if(seqs.begin(), seqs.end(), [](const auto& s) { return !s.label.empty(); });
+  std::size_t labelled =
+      std::count_if(seqs.begin(), seqs.end(), [](const auto& s) { return !s.label.empty(); });
   if (labelled == 0) return;
   for (const auto& s : seqs) {
     if (s.label.empty())
-      throw UsageError("sequence '" + s.name + "' has no label while others have; give --labels for every sequence");
+      throw UsageError("sequence '" + s.name +
+                       "' has no label while others have; give --labels for every sequence");
     auto it = std::find(classes.begin(), classes.end(), s.label);
     if (it == classes.end()) {
       classes.push_back(s.label);
@@ -57,7 +61,8 @@ Labelled labelled_sequences(const FrameReader& reader, const std::vector<std::st
   Labelled l{reader.sequences(), {}, {}};
   if (!labels.empty()) {
     if (labels.size() != l.sequences.size())
-      throw UsageError(fmt::format("--labels gives {} labels for {} sequences", labels.size(), l.sequences.size()));
+      throw UsageError(fmt::format("--labels gives {} labels for {} sequences", labels.size(),
+                                   l.sequences.size()));
     for (std::size_t s = 0; s < l.sequences.size(); ++s) l.sequences[s].label = labels[s];
   }
   labels_of(l.sequences, l.classes, l.label_index);
@@ -74,8 +79,8 @@ io::Mesh read_reference(FrameReader& reader, const std::string& reference) {
 }
 
 // Template, frame names, sequences and labels, and the three datasets the frames fill.
-std::vector<std::string> write_layout(io::AcapWriter& f, const FrameReader& reader, const Labelled& l,
-                                      const io::Mesh& reference) {
+std::vector<std::string> write_layout(io::AcapWriter& f, const FrameReader& reader,
+                                      const Labelled& l, const io::Mesh& reference) {
   const std::size_t n = reader.size(), nv = static_cast<std::size_t>(reference.vertices.rows());
   f.write_template(reference);
   std::vector<std::string> frame_names, seq_names;
@@ -99,12 +104,14 @@ std::vector<std::string> write_layout(io::AcapWriter& f, const FrameReader& read
 // time order (the first frame of each sequence without a temporal prior), pack, write (in order).
 // The in-order stage of one block overlaps with the parallel stage of the next. A bad frame is
 // reported deterministically: the first one.
-geometry::Normalization extract_features(FrameReader& reader, const Labelled& l, const io::Mesh& reference,
+geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
+                                         const io::Mesh& reference,
                                          const std::string& reference_name,
                                          const std::vector<std::string>& frame_names,
                                          const Obj2AcapOptions& opt, io::AcapWriter& f) {
   const std::size_t n = reader.size(), nv = static_cast<std::size_t>(reference.vertices.rows());
-  geometry::AcapFeatureExtractor extractor(reference.vertices, reference.faces, opt.consistency_options);
+  geometry::AcapFeatureExtractor extractor(reference.vertices, reference.faces,
+                                           opt.consistency_options);
   log::debug("template: {} edges", extractor.topology().edges.size());
   std::vector<char> starts(n, 0);
   for (const auto& s : l.sequences)
@@ -128,79 +135,75 @@ geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
   // build). A finished block frees its frames.
   std::deque<Block> blocks;
   tbb::parallel_pipeline(
-      4,
-      tbb::make_filter<void, Block*>(
-          tbb::filter_mode::serial_in_order,
-          [&](tbb::flow_control& fc) -> Block* {
-            if (next_first >= n) {
-              fc.stop();
-              return nullptr;
-            }
-            Block* b = &blocks.emplace_back();
-            b->first = next_first;
-            b->count = std::min(block, n - next_first);
-            next_first += b->count;
-            return b;
-          }) &
-          tbb::make_filter<Block*, Block*>(
-              tbb::filter_mode::parallel,
-              [&](Block* b) {
-                b->positions.resize(b->count);
-                b->dec.resize(b->count);
-                std::vector<std::exception_ptr> errors(b->count);
-                tbb::parallel_for(std::size_t{0}, b->count, [&](std::size_t k) {
-                  const std::size_t i = b->first + k;
-                  try {
-                    b->positions[k] = (i == 0 && opt.reference.empty())
-                                          ? reference.vertices
-                                          : reader.read_positions(i, reference, reference_name);
-                    extractor.decompose(b->positions[k], b->dec[k]);
-                  } catch (...) {
-                    errors[k] = std::current_exception();
-                  }
-                });
-                for (auto& e : errors)
-                  if (e && !b->error) b->error = e;
-                return b;
-              }) &
-          tbb::make_filter<Block*, void>(
-              tbb::filter_mode::serial_in_order, [&](Block* b) {
-                if (b->error) std::rethrow_exception(b->error);
-                const std::size_t first = b->first, count = b->count;
-                raw.resize(count * nv * kFeatureDims);  // fully overwritten below
-                pos.resize(count * nv * 3);
-                for (std::size_t k = 0; k < count; ++k) {  // consistency: in time order
-                  const std::size_t i = first + k;
-                  const auto rep = sequence.add(b->dec[k], starts[i] != 0, raw.data() + k * nv * kFeatureDims);
-                  if (!opt.consistency) continue;
-                  axis_before += rep.axis_before;
-                  angle_before += rep.angle_before;
-                  axis_gain += rep.axis_after - rep.axis_before;
-                  angle_gain += rep.angle_before - rep.angle_after;
-                  log::debug("frame {} ({}): axis agreement {} -> {}, angle spread {:.6g} -> {:.6g}, {} sweeps", i,
-                             frame_names[i], rep.axis_before, rep.axis_after, rep.angle_before, rep.angle_after,
-                             rep.sweeps);
-                }
-                for (std::size_t k = 0; k < count; ++k) {
-                  const double* p = b->positions[k].data();
-                  for (std::size_t c = 0; c < nv * 3; ++c) pos[k * nv * 3 + c] = static_cast<float>(p[c]);
-                }
-                norm.add(raw.data(), count * nv);
-                f.write_positions_rows(first, count, pos.data());
-                f.write_raw_rows(first, count, raw.data());
-                progress.advance(count);
-                *b = Block{};  // its frames are written
-              }));
+      4, tbb::make_filter<
+             void, Block*>(tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) -> Block* {
+           if (next_first >= n) {
+             fc.stop();
+             return nullptr;
+           }
+           Block* b = &blocks.emplace_back();
+           b->first = next_first;
+           b->count = std::min(block, n - next_first);
+           next_first += b->count;
+           return b;
+         }) & tbb::make_filter<Block*, Block*>(tbb::filter_mode::parallel, [&](Block* b) {
+           b->positions.resize(b->count);
+           b->dec.resize(b->count);
+           std::vector<std::exception_ptr> errors(b->count);
+           tbb::parallel_for(std::size_t{0}, b->count, [&](std::size_t k) {
+             const std::size_t i = b->first + k;
+             try {
+               b->positions[k] = (i == 0 && opt.reference.empty())
+                                     ? reference.vertices
+                                     : reader.read_positions(i, reference, reference_name);
+               extractor.decompose(b->positions[k], b->dec[k]);
+             } catch (...) {
+               errors[k] = std::current_exception();
+             }
+           });
+           for (auto& e : errors)
+             if (e && !b->error) b->error = e;
+           return b;
+         }) & tbb::make_filter<Block*, void>(tbb::filter_mode::serial_in_order, [&](Block* b) {
+           if (b->error) std::rethrow_exception(b->error);
+           const std::size_t first = b->first, count = b->count;
+           raw.resize(count * nv * kFeatureDims);  // fully overwritten below
+           pos.resize(count * nv * 3);
+           for (std::size_t k = 0; k < count; ++k) {  // consistency: in time order
+             const std::size_t i = first + k;
+             const auto rep =
+                 sequence.add(b->dec[k], starts[i] != 0, raw.data() + k * nv * kFeatureDims);
+             if (!opt.consistency) continue;
+             axis_before += rep.axis_before;
+             angle_before += rep.angle_before;
+             axis_gain += rep.axis_after - rep.axis_before;
+             angle_gain += rep.angle_before - rep.angle_after;
+             log::debug(
+                 "frame {} ({}): axis agreement {} -> {}, angle spread {:.6g} -> {:.6g}, {} sweeps",
+                 i, frame_names[i], rep.axis_before, rep.axis_after, rep.angle_before,
+                 rep.angle_after, rep.sweeps);
+           }
+           for (std::size_t k = 0; k < count; ++k) {
+             const double* p = b->positions[k].data();
+             for (std::size_t c = 0; c < nv * 3; ++c)
+               pos[k * nv * 3 + c] = static_cast<float>(p[c]);
+           }
+           norm.add(raw.data(), count * nv);
+           f.write_positions_rows(first, count, pos.data());
+           f.write_raw_rows(first, count, raw.data());
+           progress.advance(count);
+           *b = Block{};  // its frames are written
+         }));
   progress.finish();
   if (opt.consistency)
-    log::debug("consistency totals: axis agreement {} (+{}), angle spread {:.6g} (-{:.6g})", axis_before,
-               axis_gain, angle_before, angle_gain);
+    log::debug("consistency totals: axis agreement {} (+{}), angle spread {:.6g} (-{:.6g})",
+               axis_before, axis_gain, angle_before, angle_gain);
   return norm.finish();
 }
 
 // The normalization over all frames, then the normalized copy, block by block.
-void write_normalized(io::AcapWriter& f, const geometry::Normalization& nz, std::size_t n, std::size_t nv,
-                      std::size_t block) {
+void write_normalized(io::AcapWriter& f, const geometry::Normalization& nz, std::size_t n,
+                      std::size_t nv, std::size_t block) {
   f.write_normalization(nz);
   std::vector<double> raw;
   std::vector<float> normalized;
@@ -231,8 +234,8 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
   auto inputs = as_paths(reader.input_paths());
   if (!opt.reference.empty()) inputs.emplace_back(opt.reference);
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, inputs);
-  log::info("{} frames in {} sequences, {} vertices, {} triangles; reference {}", n, labelled.sequences.size(), nv,
-            reference.faces.rows(), reference_name);
+  log::info("{} frames in {} sequences, {} vertices, {} triangles; reference {}", n,
+            labelled.sequences.size(), nv, reference.faces.rows(), reference_name);
   io::AcapWriter f(out.temp_path(), opt.output, reader.histories());
   const auto frame_names = write_layout(f, reader, labelled, reference);
   const geometry::Normalization nz =
@@ -240,9 +243,10 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
   write_normalized(f, nz, n, nv, std::max<std::size_t>(1, opt.block_frames));
   f.close();
   out.commit();
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  log::info("wrote {}: {} frames x {} vertices in {:.2f} s ({:.3g} vertex-frames/s)", opt.output, n, nv, secs,
-            static_cast<double>(n * nv) / secs);
+  const double secs =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  log::info("wrote {}: {} frames x {} vertices in {:.2f} s ({:.3g} vertex-frames/s)", opt.output, n,
+            nv, secs, static_cast<double>(n * nv) / secs);
 }
 
 }  // namespace df::convert

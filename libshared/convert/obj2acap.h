@@ -19,7 +19,7 @@ struct Obj2AcapOptions {
   std::vector<std::string> labels;  ///< one per sequence ("" = keep the inputs' labels)
   bool consistency = true;          ///< false: principal per-vertex logs (for comparison only)
   geometry::ConsistencyOptions consistency_options;
-  std::size_t block_frames = 16;    ///< frames per pipeline block
+  std::size_t block_frames = 16;  ///< frames per pipeline block
 };
 
 void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common);

@@ -99,12 +99,12 @@ ResolvedInputs resolve_inputs(const Skel2h5Options& opt) {
     r.files.push_back(f.path);
   }
   if (kinds.empty())
-    throw InvalidInput(
-        opt.format == "auto"
-            ? "cannot tell the format (a UTKinect directory or actionLabel.txt, aXX_sYY_eZZ_skeleton3D.txt "
-              "files or a directory of them, .bvh, or a skeleton .h5); use --format"
-            : fmt::format("no input file of --format {}", opt.format),
-        files.front().path);
+    throw InvalidInput(opt.format == "auto"
+                           ? "cannot tell the format (a UTKinect directory or actionLabel.txt, "
+                             "aXX_sYY_eZZ_skeleton3D.txt "
+                             "files or a directory of them, .bvh, or a skeleton .h5); use --format"
+                           : fmt::format("no input file of --format {}", opt.format),
+                       files.front().path);
   if (kinds.size() > 1)
     throw InvalidInput(fmt::format("inputs of more than one format ({}): give one kind at a time",
                                    fmt::join(kinds, ", ")),
@@ -112,7 +112,8 @@ ResolvedInputs resolve_inputs(const Skel2h5Options& opt) {
   r.format = kinds.front();
   if (!ignored.empty())
     log::warn("{} input file(s) not of format {} left out: {}{}", ignored.size(), r.format,
-              fmt::join(ignored.begin(), ignored.begin() + std::min<std::ptrdiff_t>(3, std::ssize(ignored)), ", "),
+              fmt::join(ignored.begin(),
+                        ignored.begin() + std::min<std::ptrdiff_t>(3, std::ssize(ignored)), ", "),
               ignored.size() > 3 ? ", ..." : "");
   return r;
 }
@@ -121,7 +122,8 @@ RawSkeletonCollection read_inputs(const Skel2h5Options& opt) {
   const ResolvedInputs in = resolve_inputs(opt);
   const auto one = [&](const char* what) {
     if (in.files.size() != 1)
-      throw UsageError(fmt::format("--format {} reads one input ({} given)", what, in.files.size()));
+      throw UsageError(
+          fmt::format("--format {} reads one input ({} given)", what, in.files.size()));
     return in.files.front();
   };
   if (in.format == "utkinect") return read_utkinect(one("utkinect"));
@@ -147,7 +149,8 @@ void resample(RawSkeletonCollection& c, double fps) {
       const double span = s.times[k + 1] - s.times[k];
       const double w = std::clamp(span > 0 ? (t - s.times[k]) / span : 0.0, 0.0, 1.0);
       for (std::size_t d = 0; d < fs; ++d)
-        poses[i * fs + d] = static_cast<float>((1 - w) * s.poses[k * fs + d] + w * s.poses[(k + 1) * fs + d]);
+        poses[i * fs + d] =
+            static_cast<float>((1 - w) * s.poses[k * fs + d] + w * s.poses[(k + 1) * fs + d]);
       times[i] = t;
     }
     s.poses = std::move(poses);
@@ -161,7 +164,8 @@ std::vector<std::int32_t> assign_test_split(const RawSkeletonCollection& c,
   std::vector<std::int32_t> test(c.sequences.size(), 0);
   if (!opt.test_subjects.empty()) {
     for (std::size_t s = 0; s < test.size(); ++s)
-      test[s] = std::count(opt.test_subjects.begin(), opt.test_subjects.end(), c.sequences[s].subject) > 0;
+      test[s] = std::count(opt.test_subjects.begin(), opt.test_subjects.end(),
+                           c.sequences[s].subject) > 0;
     return test;
   }
   if (opt.test_fraction <= 0) return test;
@@ -173,8 +177,10 @@ std::vector<std::int32_t> assign_test_split(const RawSkeletonCollection& c,
     std::vector<std::size_t> members;
     for (std::size_t s = 0; s < test.size(); ++s)
       if (c.sequences[s].label == label) members.push_back(s);
-    for (std::size_t k = members.size(); k > 1; --k) std::swap(members[k - 1], members[rng.below(k)]);
-    const auto held = static_cast<std::size_t>(std::lround(opt.test_fraction * static_cast<double>(members.size())));
+    for (std::size_t k = members.size(); k > 1; --k)
+      std::swap(members[k - 1], members[rng.below(k)]);
+    const auto held = static_cast<std::size_t>(
+        std::lround(opt.test_fraction * static_cast<double>(members.size())));
     for (std::size_t k = 0; k < held; ++k) test[members[k]] = 1;
   }
   return test;
@@ -190,9 +196,11 @@ void normalize_skeletons(io::SkeletonFile& s, int root_joint) {
   if (training_frames == 0) throw InvalidInput("no training sequence to fit the normalization on");
   for (std::size_t t = 0; t < s.frames; ++t) {  // root-centre
     float* p = s.poses.data() + t * fs;
-    const std::array<float, 3> root{p[root_joint * 3], p[root_joint * 3 + 1], p[root_joint * 3 + 2]};
+    const std::array<float, 3> root{p[root_joint * 3], p[root_joint * 3 + 1],
+                                    p[root_joint * 3 + 2]};
     for (std::size_t j = 0; j < J; ++j)
-      for (int d = 0; d < 3; ++d) p[j * 3 + static_cast<std::size_t>(d)] -= root[static_cast<std::size_t>(d)];
+      for (int d = 0; d < 3; ++d)
+        p[j * 3 + static_cast<std::size_t>(d)] -= root[static_cast<std::size_t>(d)];
   }
   double distance = 0;
   for (std::size_t t = 0; t < s.frames; ++t)
@@ -223,7 +231,8 @@ void normalize_skeletons(io::SkeletonFile& s, int root_joint) {
   }
   for (std::size_t t = 0; t < s.frames; ++t)
     for (std::size_t k = 0; k < fs; ++k)
-      s.poses[t * fs + k] = static_cast<float>((s.poses[t * fs + k] / n.scale - n.mean[k]) / n.std[k]);
+      s.poses[t * fs + k] =
+          static_cast<float>((s.poses[t * fs + k] / n.scale - n.mean[k]) / n.std[k]);
 }
 
 io::SkeletonFile build_skeleton_file(const RawSkeletonCollection& c,
@@ -245,7 +254,8 @@ io::SkeletonFile build_skeleton_file(const RawSkeletonCollection& c,
     const auto label = static_cast<std::int32_t>(it - s.class_names.begin());
     const std::size_t n = src.times.size();
     const std::size_t length = opt.length > 0 ? static_cast<std::size_t>(opt.length) : n;
-    const std::size_t stride = opt.clip_stride > 0 ? static_cast<std::size_t>(opt.clip_stride) : length;
+    const std::size_t stride =
+        opt.clip_stride > 0 ? static_cast<std::size_t>(opt.clip_stride) : length;
     if (n < length) {
       ++too_short;
       continue;
@@ -274,7 +284,8 @@ io::SkeletonFile build_skeleton_file(const RawSkeletonCollection& c,
 void skel2h5(const Skel2h5Options& opt, const CommonOptions& common) {
   if (opt.length < 0 || opt.clip_stride < 0 || opt.fps < 0 || opt.test_fraction < 0 ||
       opt.test_fraction >= 1)
-    throw UsageError("--length, --clip-stride and --fps must not be negative, --test-fraction in [0, 1)");
+    throw UsageError(
+        "--length, --clip-stride and --fps must not be negative, --test-fraction in [0, 1)");
   if (!opt.test_subjects.empty() && opt.test_fraction > 0)
     throw UsageError("--test-subjects and --test-fraction exclude each other");
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force,
@@ -283,7 +294,8 @@ void skel2h5(const Skel2h5Options& opt, const CommonOptions& common) {
   RawSkeletonCollection c = read_inputs(opt);
   check_bone_lengths(c, opt.bone_tolerance, opt.strict, opt.inputs.front());
   if (opt.root_joint < 0 || static_cast<std::size_t>(opt.root_joint) >= c.joints())
-    throw UsageError(fmt::format("--root-joint {} is not one of the {} joints", opt.root_joint, c.joints()));
+    throw UsageError(
+        fmt::format("--root-joint {} is not one of the {} joints", opt.root_joint, c.joints()));
   resample(c, opt.fps > 0 ? opt.fps : c.frame_rate);
   const auto test = assign_test_split(c, opt, common.seed);
   io::SkeletonFile s = build_skeleton_file(c, test, opt);
@@ -294,9 +306,10 @@ void skel2h5(const Skel2h5Options& opt, const CommonOptions& common) {
   }
   out.commit();
   const auto held = std::count(s.test.begin(), s.test.end(), 1);
-  log::info("wrote {}: {} sequences ({} training, {} test) of {} classes, {} frames at {} fps, {} joints",
-            opt.output, s.sequences(), static_cast<std::int64_t>(s.sequences()) - held, held,
-            s.class_names.size(), s.frames, s.frame_rate, s.joints);
+  log::info(
+      "wrote {}: {} sequences ({} training, {} test) of {} classes, {} frames at {} fps, {} joints",
+      opt.output, s.sequences(), static_cast<std::int64_t>(s.sequences()) - held, held,
+      s.class_names.size(), s.frames, s.frame_rate, s.joints);
 }
 
 }  // namespace df::convert

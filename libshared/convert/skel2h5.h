@@ -26,8 +26,8 @@ struct Skel2h5Options {
   double test_fraction = 0;        ///< or this fraction of each class, drawn by the seed
   int root_joint = 0;
   bool normalize = true;
-  double bone_tolerance = 0.3;     ///< a bone's relative length spread that warns (bone_lengths.h)
-  bool strict = false;             ///< the bone-length warning becomes an error
+  double bone_tolerance = 0.3;  ///< a bone's relative length spread that warns (bone_lengths.h)
+  bool strict = false;          ///< the bone-length warning becomes an error
 };
 
 /// Every sequence at `fps` frames per second from its first to its last time (linear
@@ -50,7 +50,8 @@ io::SkeletonFile build_skeleton_file(const RawSkeletonCollection& c,
 /// coordinate; all fitted on the sequences with test == 0. Applied to s.poses in place.
 void normalize_skeletons(io::SkeletonFile& s, int root_joint);
 
-/// The tool: read (every format through the bone-length check), resample, split, clip, normalize, write atomically.
+/// The tool: read (every format through the bone-length check), resample, split, clip, normalize,
+/// write atomically.
 void skel2h5(const Skel2h5Options& opt, const CommonOptions& common);
 
 }  // namespace df::convert

@@ -1,10 +1,10 @@
 // BVH through assimp: its BVH loader builds the joint hierarchy as nodes and one animation whose
 // channels key each joint's rotation (and the root's position) per frame; the joint positions
 // are the nodes' global translations, frame by frame.
-#include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 #include <fmt/format.h>
 
+#include <assimp/Importer.hpp>
 #include <filesystem>
 #include <map>
 
@@ -20,7 +20,8 @@ void collect(const aiNode* node, int parent, std::vector<const aiNode*>& nodes,
   const int index = static_cast<int>(nodes.size());
   nodes.push_back(node);
   parents.push_back(parent);
-  for (unsigned k = 0; k < node->mNumChildren; ++k) collect(node->mChildren[k], index, nodes, parents);
+  for (unsigned k = 0; k < node->mNumChildren; ++k)
+    collect(node->mChildren[k], index, nodes, parents);
 }
 
 aiMatrix4x4 local_transform(const aiNode* node, const aiNodeAnim* channel, unsigned frame) {
@@ -51,9 +52,10 @@ RawSkeletonSequence read_one(const std::string& path, RawSkeletonCollection& c, 
     c.joint_names = names;
     c.parents = parents;
   } else if (names != c.joint_names || parents != c.parents) {
-    throw InvalidInput(fmt::format("its joint hierarchy ({} joints) differs from the first file's ({})",
-                                   names.size(), c.joint_names.size()),
-                       path);
+    throw InvalidInput(
+        fmt::format("its joint hierarchy ({} joints) differs from the first file's ({})",
+                    names.size(), c.joint_names.size()),
+        path);
   }
   std::map<std::string, const aiNodeAnim*> channels;
   unsigned frames = 0;
@@ -72,7 +74,8 @@ RawSkeletonSequence read_one(const std::string& path, RawSkeletonCollection& c, 
   for (unsigned f = 0; f < frames; ++f) {
     for (std::size_t j = 0; j < nodes.size(); ++j) {
       const auto it = channels.find(nodes[j]->mName.C_Str());
-      const aiMatrix4x4 local = local_transform(nodes[j], it == channels.end() ? nullptr : it->second, f);
+      const aiMatrix4x4 local =
+          local_transform(nodes[j], it == channels.end() ? nullptr : it->second, f);
       global[j] = parents[j] < 0 ? local : global[static_cast<std::size_t>(parents[j])] * local;
       s.poses.push_back(global[j].a4);
       s.poses.push_back(global[j].b4);

@@ -39,9 +39,9 @@ std::vector<double> numbers(const std::string& line, const std::string& file, st
     double x = 0;
     const auto [stop, ec] = std::from_chars(token, p, x);
     if (ec != std::errc() || stop != p || !std::isfinite(x))
-      throw InvalidInput(fmt::format("field {} is not a finite number: '{}'", v.size() + 1,
-                                     std::string(token, p)),
-                         at_line(file, lineno));
+      throw InvalidInput(
+          fmt::format("field {} is not a finite number: '{}'", v.size() + 1, std::string(token, p)),
+          at_line(file, lineno));
     v.push_back(x);
   }
   return v;
@@ -84,7 +84,8 @@ Take read_utkinect_take(const std::string& path) {
     if (v.empty()) continue;
     if (v.size() != 61)
       throw InvalidInput(
-          fmt::format("expected a frame id and 20 joints x (x y z) = 61 numbers, found {}", v.size()),
+          fmt::format("expected a frame id and 20 joints x (x y z) = 61 numbers, found {}",
+                      v.size()),
           at_line(path, lineno));
     if (!take.ids.empty() && v[0] <= take.ids.back()) {
       ++dropped;
@@ -93,8 +94,7 @@ Take read_utkinect_take(const std::string& path) {
     take.ids.push_back(v[0]);
     for (std::size_t k = 1; k < v.size(); ++k) take.poses.push_back(static_cast<float>(v[k]));
   }
-  if (dropped)
-    log::debug("{}: {} frame(s) whose id repeats an earlier one dropped", path, dropped);
+  if (dropped) log::debug("{}: {} frame(s) whose id repeats an earlier one dropped", path, dropped);
   return take;
 }
 
@@ -169,10 +169,11 @@ RawSkeletonCollection read_utkinect(const std::string& labels) {
 
 const std::vector<std::string>& msr_action_names() {
   static const std::vector<std::string> names{
-      "high_arm_wave", "horizontal_arm_wave", "hammer",       "hand_catch",    "forward_punch",
-      "high_throw",    "draw_x",              "draw_tick",    "draw_circle",   "hand_clap",
-      "two_hand_wave", "side_boxing",         "bend",         "forward_kick",  "side_kick",
-      "jogging",       "tennis_swing",        "tennis_serve", "golf_swing",    "pickup_throw"};
+      "high_arm_wave", "horizontal_arm_wave", "hammer",        "hand_catch",
+      "forward_punch", "high_throw",          "draw_x",        "draw_tick",
+      "draw_circle",   "hand_clap",           "two_hand_wave", "side_boxing",
+      "bend",          "forward_kick",        "side_kick",     "jogging",
+      "tennis_swing",  "tennis_serve",        "golf_swing",    "pickup_throw"};
   return names;
 }
 
@@ -208,14 +209,17 @@ int side_vote(const RawSkeletonSequence& s, int a, int b) {
     const double left[2] = {up[1] * facing_z, -up[0] * facing_z};
     const double norm = std::hypot(left[0], left[1]);
     if (norm == 0) continue;
-    score += ((double(p[a * 3]) - p[b * 3]) * left[0] + (double(p[a * 3 + 1]) - p[b * 3 + 1]) * left[1]) / norm;
+    score += ((double(p[a * 3]) - p[b * 3]) * left[0] +
+              (double(p[a * 3 + 1]) - p[b * 3 + 1]) * left[1]) /
+             norm;
   }
   return score > 0 ? 1 : score < 0 ? -1 : 0;
 }
 
 // Whether chain `a` is the subject's left in most recordings (ties: yes, the order the dataset's
 // users publish), with one line saying how clear the geometry was.
-bool chain_a_is_left(const RawSkeletonCollection& c, const Chain& a, const Chain& b, const char* what) {
+bool chain_a_is_left(const RawSkeletonCollection& c, const Chain& a, const Chain& b,
+                     const char* what) {
   std::size_t left = 0, right = 0;
   for (const auto& s : c.sequences) {
     const int v = side_vote(s, a[0], b[0]);
@@ -224,9 +228,10 @@ bool chain_a_is_left(const RawSkeletonCollection& c, const Chain& a, const Chain
   }
   const bool a_left = left >= right;
   const Chain& l = a_left ? a : b;
-  log::info("MSR-Action3D: joints {}, {}, {}, {} taken as the {} (on the subject's left in {} of {} "
-            "recordings, subjects facing the camera)",
-            l[0] + 1, l[1] + 1, l[2] + 1, l[3] + 1, what, a_left ? left : right, c.sequences.size());
+  log::info(
+      "MSR-Action3D: joints {}, {}, {}, {} taken as the {} (on the subject's left in {} of {} "
+      "recordings, subjects facing the camera)",
+      l[0] + 1, l[1] + 1, l[2] + 1, l[3] + 1, what, a_left ? left : right, c.sequences.size());
   if (std::min(left, right) * 5 > left + right)
     log::warn("MSR-Action3D: the {}'s side is unclear ({} recordings one way, {} the other)", what,
               left, right);
@@ -272,7 +277,8 @@ RawSkeletonCollection read_msr_action3d(const std::vector<std::string>& files) {
     const std::string base = fs::path(path).filename().string();
     std::smatch m;
     if (!std::regex_match(base, m, name_re))
-      throw InvalidInput("not an MSR-Action3D skeleton file name (aXX_sYY_eZZ_skeleton3D.txt)", path);
+      throw InvalidInput("not an MSR-Action3D skeleton file name (aXX_sYY_eZZ_skeleton3D.txt)",
+                         path);
     const int action = std::stoi(m[1].str());
     RawSkeletonSequence s;
     s.name = fmt::format("a{}_s{}_e{}", m[1].str(), m[2].str(), m[3].str());
@@ -288,7 +294,8 @@ RawSkeletonCollection read_msr_action3d(const std::vector<std::string>& files) {
       if (v.size() != 4)
         throw InvalidInput(fmt::format("expected 'x y z confidence', found {} numbers", v.size()),
                            at_line(path, lineno));
-      for (int k = 0; k < 3; ++k) s.poses.push_back(static_cast<float>(v[static_cast<std::size_t>(k)]));
+      for (int k = 0; k < 3; ++k)
+        s.poses.push_back(static_cast<float>(v[static_cast<std::size_t>(k)]));
       if (++joint == 20) {
         s.times.push_back(static_cast<double>(s.times.size()) / kMsrRate);
         joint = 0;

@@ -28,7 +28,7 @@ struct RawSkeletonSequence {
 struct RawSkeletonCollection {
   std::vector<std::string> joint_names;
   std::vector<std::int32_t> parents;
-  double frame_rate = 30;     ///< the source's nominal rate
+  double frame_rate = 30;  ///< the source's nominal rate
   std::vector<RawSkeletonSequence> sequences;
   std::size_t joints() const { return joint_names.size(); }
 };

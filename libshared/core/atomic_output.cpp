@@ -2,16 +2,15 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 
-#include <fmt/format.h>
-
 #include <array>
-#include <cerrno>
 #include <atomic>
+#include <cerrno>
 #include <charconv>
 #include <csignal>
 #include <cstring>
@@ -144,22 +143,25 @@ int lock_exclusively(const fs::path& lock, const fs::path& output) {
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int fd = open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd < 0)
-      throw IOError(fmt::format("cannot create a file in the output's directory: {}", std::strerror(errno)),
-                    lock.parent_path().string());
+      throw IOError(
+          fmt::format("cannot create a file in the output's directory: {}", std::strerror(errno)),
+          lock.parent_path().string());
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const int e = errno;
       const std::string holder = holder_of(fd);
       close(fd);
       if (e == EWOULDBLOCK)
-        throw IOError(fmt::format("another process{} is writing this output; wait for it to end or choose "
-                                  "another output",
-                                  holder.empty() ? "" : " (PID " + holder + ")"),
-                      output.string());
+        throw IOError(
+            fmt::format("another process{} is writing this output; wait for it to end or choose "
+                        "another output",
+                        holder.empty() ? "" : " (PID " + holder + ")"),
+            output.string());
       throw IOError(fmt::format("cannot lock the output: {}", std::strerror(e)), lock.string());
     }
-    struct stat opened {}, named {};
-    if (fstat(fd, &opened) == 0 && stat(lock.c_str(), &named) == 0 && opened.st_dev == named.st_dev &&
-        opened.st_ino == named.st_ino) {
+    struct stat opened {
+    }, named{};
+    if (fstat(fd, &opened) == 0 && stat(lock.c_str(), &named) == 0 &&
+        opened.st_dev == named.st_dev && opened.st_ino == named.st_ino) {
       const std::string pid = std::to_string(getpid()) + "\n";
       if (ftruncate(fd, 0) != 0 || pwrite(fd, pid.data(), pid.size(), 0) < 0) {
         // the PID only improves a rival's message; the lock holds without it
@@ -199,10 +201,11 @@ void remove_stale_temporaries(const fs::path& output) {
     std::error_code rm;
     fs::remove_all(path, rm);
     if (rm)
-      log::warn("cannot remove {}, a temporary left by process {} that no longer runs: {}", path.string(), pid,
-                rm.message());
+      log::warn("cannot remove {}, a temporary left by process {} that no longer runs: {}",
+                path.string(), pid, rm.message());
     else
-      log::info("removed {}, a temporary left by process {} that no longer runs", path.string(), pid);
+      log::info("removed {}, a temporary left by process {} that no longer runs", path.string(),
+                pid);
   }
 }
 
@@ -230,7 +233,9 @@ void install_stop_request_handlers() {
   for (int sig : {SIGTERM, SIGUSR1}) sigaction(sig, &sa, nullptr);
 }
 
-int stop_requested() { return g_stop_signal.load(); }
+int stop_requested() {
+  return g_stop_signal.load();
+}
 
 void check_not_an_input(const fs::path& output, const std::vector<fs::path>& inputs) {
   std::error_code ec;
@@ -247,7 +252,8 @@ fs::path OutputClaim::lock_path(const fs::path& output) {
 OutputClaim::OutputClaim(const fs::path& output) {
   std::error_code ec;
   const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
-  const fs::path lock = fs::weakly_canonical(fs::absolute(dir, ec), ec) / lock_path(output).filename();
+  const fs::path lock =
+      fs::weakly_canonical(fs::absolute(dir, ec), ec) / lock_path(output).filename();
   std::lock_guard guard(g_claim_mutex);
   auto& held = held_claims();
   if (auto it = held.find(lock.string()); it != held.end()) {
@@ -255,9 +261,11 @@ OutputClaim::OutputClaim(const fs::path& output) {
     key_ = it->first;
     return;
   }
-  if (!fs::is_directory(dir, ec)) throw IOError("the output's directory does not exist", dir.string());
+  if (!fs::is_directory(dir, ec))
+    throw IOError("the output's directory does not exist", dir.string());
   if (access(dir.c_str(), W_OK) != 0)
-    throw IOError(fmt::format("cannot write in the output's directory: {}", std::strerror(errno)), dir.string());
+    throw IOError(fmt::format("cannot write in the output's directory: {}", std::strerror(errno)),
+                  dir.string());
   Held h;
   h.fd = lock_exclusively(lock, output);
   h.count = 1;
@@ -286,7 +294,8 @@ fs::path output_path(fs::path p) {
   if (!p.has_filename()) p = p.parent_path();
   std::error_code ec;
   const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  if (!fs::is_directory(parent, ec)) throw IOError("the output's directory does not exist", parent.string());
+  if (!fs::is_directory(parent, ec))
+    throw IOError("the output's directory does not exist", parent.string());
   return p;
 }
 }  // namespace
@@ -302,11 +311,14 @@ void check_replaceable(const fs::path& output, AtomicOutput::Kind kind, bool for
     for (const auto& in : inputs) {
       fs::path a = fs::weakly_canonical(in, ec), d = fs::weakly_canonical(output, ec);
       auto [m, _] = std::mismatch(d.begin(), d.end(), a.begin(), a.end());
-      if (m == d.end()) throw IOError("refusing to replace a directory that holds an input", output.string());
+      if (m == d.end())
+        throw IOError("refusing to replace a directory that holds an input", output.string());
     }
   }
-  if (fs::exists(output, ec) && !force) throw IOError("output exists; use --force to overwrite it", output.string());
-  if (fs::exists(output, ec) && (kind == AtomicOutput::Kind::directory) != fs::is_directory(output, ec))
+  if (fs::exists(output, ec) && !force)
+    throw IOError("output exists; use --force to overwrite it", output.string());
+  if (fs::exists(output, ec) &&
+      (kind == AtomicOutput::Kind::directory) != fs::is_directory(output, ec))
     throw IOError(kind == AtomicOutput::Kind::directory ? "output exists and is not a directory"
                                                         : "output exists and is a directory",
                   output.string());

@@ -8,11 +8,11 @@ namespace df {
 
 /// Options every tool shares (samtools' global options): declared once, same everywhere.
 struct CommonOptions {
-  int threads = 0;          ///< 0 = all cores
-  std::uint64_t seed = 0;   ///< only for tools that draw random numbers
+  int threads = 0;         ///< 0 = all cores
+  std::uint64_t seed = 0;  ///< only for tools that draw random numbers
   bool quiet = false;
   bool verbose = false;
-  bool force = false;       ///< overwrite an existing output
+  bool force = false;  ///< overwrite an existing output
 };
 
 }  // namespace df

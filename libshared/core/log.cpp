@@ -10,10 +10,18 @@ Level g_level = Level::info;
 std::mutex g_mutex;
 }  // namespace
 
-void set_program(std::string name) { g_program = std::move(name); }
-const std::string& program() { return g_program; }
-void set_level(Level level) { g_level = level; }
-Level level() { return g_level; }
+void set_program(std::string name) {
+  g_program = std::move(name);
+}
+const std::string& program() {
+  return g_program;
+}
+void set_level(Level level) {
+  g_level = level;
+}
+Level level() {
+  return g_level;
+}
 
 void write_line(Level level, std::string_view text) {
   std::string line = g_program + ": ";

@@ -17,7 +17,9 @@ const std::string& program();
 /// error+warning with --quiet, +info by default, +debug with --verbose.
 void set_level(Level level);
 Level level();
-inline bool enabled(Level l) { return static_cast<int>(l) <= static_cast<int>(level()); }
+inline bool enabled(Level l) {
+  return static_cast<int>(l) <= static_cast<int>(level());
+}
 
 /// Writes one whole line atomically (threads never interleave inside a line).
 void write_line(Level level, std::string_view text);
@@ -28,7 +30,8 @@ void error(fmt::format_string<Args...> f, Args&&... args) {
 }
 template <class... Args>
 void warn(fmt::format_string<Args...> f, Args&&... args) {
-  if (enabled(Level::warning)) write_line(Level::warning, fmt::format(f, std::forward<Args>(args)...));
+  if (enabled(Level::warning))
+    write_line(Level::warning, fmt::format(f, std::forward<Args>(args)...));
 }
 template <class... Args>
 void info(fmt::format_string<Args...> f, Args&&... args) {

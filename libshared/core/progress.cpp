@@ -20,7 +20,9 @@ Progress::Mode default_mode() {
 }
 }  // namespace
 
-void Progress::force_mode(Mode mode) { g_forced = mode; }
+void Progress::force_mode(Mode mode) {
+  g_forced = mode;
+}
 
 Progress::Progress(std::string label, std::size_t total)
     : label_(std::move(label)),

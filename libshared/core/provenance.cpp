@@ -25,14 +25,17 @@ void set_command_line(int argc, const char* const* argv) {
   std::string s;
   for (int i = 0; i < argc; ++i) {
     std::string a = argv[i];
-    if (i == 0) a = a.substr(a.find_last_of('/') == std::string::npos ? 0 : a.find_last_of('/') + 1);
+    if (i == 0)
+      a = a.substr(a.find_last_of('/') == std::string::npos ? 0 : a.find_last_of('/') + 1);
     if (i) s += ' ';
     s += shell_quote(a);
   }
   g_command_line = s;
 }
 
-const std::string& command_line() { return g_command_line; }
+const std::string& command_line() {
+  return g_command_line;
+}
 
 std::string now_iso8601() {
   std::time_t t = std::time(nullptr);

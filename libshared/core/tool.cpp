@@ -28,15 +28,17 @@ int default_threads() {
 
 }  // namespace
 
-Tool::Tool(std::string name, std::string description) : name_(std::move(name)), app_(description, name_) {
+Tool::Tool(std::string name, std::string description)
+    : name_(std::move(name)), app_(description, name_) {
   app_.set_version_flag("--version", name_ + " (deformflow) " DEFORMFLOW_VERSION);
   app_.add_flag("-q,--quiet", common_.quiet, "Print only warnings and errors (no progress)");
   app_.add_flag("-v,--verbose", common_.verbose, "Print details of the work (debug level)");
   // Every tool takes --threads, those that compute on one thread too: a script or a cluster
   // job can pass the same common options to any tool.
-  app_.add_option("--threads", common_.threads,
-                  "Worker threads (0 = all cores, or $SLURM_CPUS_PER_TASK in a Slurm job); results\n"
-                  "do not depend on it")
+  app_.add_option(
+          "--threads", common_.threads,
+          "Worker threads (0 = all cores, or $SLURM_CPUS_PER_TASK in a Slurm job); results\n"
+          "do not depend on it")
       ->default_val(0)
       ->check(CLI::NonNegativeNumber);
   app_.get_formatter()->column_width(34);

@@ -7,12 +7,11 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-
-#include "core/common_options.h"
-
 #include <cstdint>
 #include <functional>
 #include <string>
+
+#include "core/common_options.h"
 
 namespace df {
 

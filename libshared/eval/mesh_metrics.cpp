@@ -8,8 +8,8 @@
 
 namespace df::eval {
 
-io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
-                               int n_components) {
+io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth,
+                               const std::vector<int>& component, int n_components) {
   Eigen::MatrixXd shift = Eigen::MatrixXd::Zero(n_components, 3);
   Eigen::VectorXd count = Eigen::VectorXd::Zero(n_components);
   for (Eigen::Index v = 0; v < pred.rows(); ++v) {
@@ -24,10 +24,11 @@ io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& tru
   return out;
 }
 
-io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
-                         int n_components) {
+io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth,
+                         const std::vector<int>& component, int n_components) {
   const auto nc = static_cast<std::size_t>(n_components);
-  std::vector<Eigen::RowVector3d> cp(nc, Eigen::RowVector3d::Zero()), ct(nc, Eigen::RowVector3d::Zero());
+  std::vector<Eigen::RowVector3d> cp(nc, Eigen::RowVector3d::Zero()),
+      ct(nc, Eigen::RowVector3d::Zero());
   std::vector<double> count(nc, 0.0);
   for (Eigen::Index v = 0; v < pred.rows(); ++v) {
     const auto c = static_cast<std::size_t>(component[static_cast<std::size_t>(v)]);
@@ -43,7 +44,8 @@ io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth, co
   // Row vectors: aligned = (p − p̄) R + t̄ with R = U diag(1, 1, ±1) Vᵀ of cross = U Σ Vᵀ.
   std::vector<Eigen::Matrix3d> rot(nc, Eigen::Matrix3d::Identity());
   for (std::size_t c = 0; c < nc; ++c) {
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cross[c], Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cross[c],
+                                                Eigen::ComputeFullU | Eigen::ComputeFullV);
     Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
     d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
     rot[c] = svd.matrixU() * d * svd.matrixV().transpose();
@@ -90,7 +92,8 @@ std::vector<std::vector<int>> edge_neighbourhoods(const geometry::MeshTopology& 
   return out;
 }
 
-double sted_spatial(const io::Vertices& pred, const io::Vertices& truth, const geometry::MeshTopology& topo,
+double sted_spatial(const io::Vertices& pred, const io::Vertices& truth,
+                    const geometry::MeshTopology& topo,
                     const std::vector<std::vector<int>>& neighbourhoods) {
   const std::size_t ne = topo.edges.size();
   std::vector<double> ed(ne), len(ne);
@@ -103,7 +106,9 @@ double sted_spatial(const io::Vertices& pred, const io::Vertices& truth, const g
   double total = 0;
   for (const auto& nb : neighbourhoods) {
     double w = 0, m = 0;
-    for (int e : nb) w += len[static_cast<std::size_t>(e)], m += len[static_cast<std::size_t>(e)] * ed[static_cast<std::size_t>(e)];
+    for (int e : nb)
+      w += len[static_cast<std::size_t>(e)],
+          m += len[static_cast<std::size_t>(e)] * ed[static_cast<std::size_t>(e)];
     if (w <= 0) continue;
     m /= w;
     double var = 0;
@@ -116,8 +121,9 @@ double sted_spatial(const io::Vertices& pred, const io::Vertices& truth, const g
   return neighbourhoods.empty() ? 0.0 : total / static_cast<double>(neighbourhoods.size());
 }
 
-double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1, const io::Vertices& truth0,
-                     const io::Vertices& truth1, const geometry::MeshTopology& topo, double dt) {
+double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1,
+                     const io::Vertices& truth0, const io::Vertices& truth1,
+                     const geometry::MeshTopology& topo, double dt) {
   auto speed = [&](const io::Vertices& p0, const io::Vertices& p1, int i) {
     double l = 0;
     const int d = topo.degree(i);
@@ -127,16 +133,19 @@ double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1, const
     return l > 0 ? (p1.row(i) - p0.row(i)).norm() / (dt * l) : 0.0;
   };
   double total = 0;
-  for (int i = 0; i < topo.n_vertices; ++i) total += std::abs(speed(pred0, pred1, i) - speed(truth0, truth1, i));
+  for (int i = 0; i < topo.n_vertices; ++i)
+    total += std::abs(speed(pred0, pred1, i) - speed(truth0, truth1, i));
   return topo.n_vertices ? total / topo.n_vertices : 0.0;
 }
 
-double relative_squared_error(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::Ref<const Eigen::VectorXd>& xhat) {
+double relative_squared_error(const Eigen::Ref<const Eigen::VectorXd>& x,
+                              const Eigen::Ref<const Eigen::VectorXd>& xhat) {
   const double n = x.squaredNorm();
   return n > 0 ? (x - xhat).squaredNorm() / n : 0.0;
 }
 
-double feature_change(const Eigen::Ref<const Eigen::VectorXd>& xt, const Eigen::Ref<const Eigen::VectorXd>& xt1) {
+double feature_change(const Eigen::Ref<const Eigen::VectorXd>& xt,
+                      const Eigen::Ref<const Eigen::VectorXd>& xt1) {
   const double n = xt.norm();
   return n > 0 ? (xt - xt1).norm() / n : 0.0;
 }

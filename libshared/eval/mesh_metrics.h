@@ -14,16 +14,16 @@ namespace df::eval {
 
 /// Moves each connected component of `pred` so that its centroid matches `truth`'s (the
 /// reconstruction fixes positions only up to one translation per component).
-io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
-                               int n_components);
+io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth,
+                               const std::vector<int>& component, int n_components);
 
 /// Moves each connected component of `pred` by the rotation and translation that best fit it to
 /// `truth`'s (Kabsch: least squares over the component's vertices, no reflection): the paper's
 /// "align all the models" before E_rms (MSAE paper §5.1). A reconstruction from ACAP features is
 /// fixed up to one translation per component only, but an error in the features can turn a whole
 /// part; this alignment forgives that turn, translation-only does not.
-io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth, const std::vector<int>& component,
-                         int n_components);
+io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth,
+                         const std::vector<int>& component, int n_components);
 
 /// Mean over vertices of ‖pred_i − truth_i‖.
 double mean_vertex_error(const io::Vertices& pred, const io::Vertices& truth);
@@ -41,19 +41,23 @@ std::vector<std::vector<int>> edge_neighbourhoods(const geometry::MeshTopology& 
 
 /// STED's spatial part for one frame: per edge ed = |l′ − l| / l; per vertex the standard
 /// deviation of ed over its neighbourhood weighted by l; the mean over vertices.
-double sted_spatial(const io::Vertices& pred, const io::Vertices& truth, const geometry::MeshTopology& topo,
+double sted_spatial(const io::Vertices& pred, const io::Vertices& truth,
+                    const geometry::MeshTopology& topo,
                     const std::vector<std::vector<int>>& neighbourhoods);
 
 /// STED's temporal part for one pair of consecutive frames (t, t+1): per vertex the relative
 /// speed s = ‖p_i(t+1) − p_i(t)‖ / (dt · mean incident edge length at t) of each mesh, and the
 /// mean over vertices of |s_pred − s_truth|.
-double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1, const io::Vertices& truth0,
-                     const io::Vertices& truth1, const geometry::MeshTopology& topo, double dt);
+double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1,
+                     const io::Vertices& truth0, const io::Vertices& truth1,
+                     const geometry::MeshTopology& topo, double dt);
 
 /// ‖X − X̂‖²_F / ‖X‖²_F (features of one frame).
-double relative_squared_error(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::Ref<const Eigen::VectorXd>& xhat);
+double relative_squared_error(const Eigen::Ref<const Eigen::VectorXd>& x,
+                              const Eigen::Ref<const Eigen::VectorXd>& xhat);
 
 /// ‖X_t − X_{t+1}‖ / ‖X_t‖.
-double feature_change(const Eigen::Ref<const Eigen::VectorXd>& xt, const Eigen::Ref<const Eigen::VectorXd>& xt1);
+double feature_change(const Eigen::Ref<const Eigen::VectorXd>& xt,
+                      const Eigen::Ref<const Eigen::VectorXd>& xt1);
 
 }  // namespace df::eval

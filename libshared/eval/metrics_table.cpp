@@ -41,7 +41,8 @@ std::string cell_of(const nlohmann::ordered_json& j) {
 nlohmann::ordered_json parse_object(const std::string& text, const std::string& where) {
   auto j = nlohmann::ordered_json::parse(text, nullptr, false);
   if (j.is_discarded()) throw InvalidInput("not JSON", where);
-  if (!j.is_object()) throw InvalidInput("not a JSON object (expected eval-metrics --json output)", where);
+  if (!j.is_object())
+    throw InvalidInput("not a JSON object (expected eval-metrics --json output)", where);
   return j;
 }
 
@@ -58,7 +59,8 @@ std::string value_at(const nlohmann::ordered_json& doc, const std::string& path)
     } else if (j->is_array()) {
       std::size_t index = 0;
       const auto [ptr, ec] = std::from_chars(key.data(), key.data() + key.size(), index);
-      if (key.empty() || ec != std::errc() || ptr != key.data() + key.size() || index >= j->size()) return "";
+      if (key.empty() || ec != std::errc() || ptr != key.data() + key.size() || index >= j->size())
+        return "";
       j = &(*j)[index];
     } else {
       return "";
@@ -143,7 +145,8 @@ void write_tsv(std::ostream& out, const MetricsTable& table, bool values_only) {
 }
 
 void collect_metrics_tool(const CollectMetricsOptions& opt) {
-  if (opt.values && opt.columns.empty()) throw UsageError("--values needs --columns (the values to print)");
+  if (opt.values && opt.columns.empty())
+    throw UsageError("--values needs --columns (the values to print)");
   const std::vector<std::filesystem::path> inputs(opt.files.begin(), opt.files.end());
   const auto claims = claim_outputs({opt.output}, opt.force, inputs);
   const MetricsTable table = collect_metrics(opt.files, opt.names, opt.columns, opt.values);

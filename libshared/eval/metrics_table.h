@@ -9,9 +9,9 @@
 namespace df::eval {
 
 struct MetricsTable {
-  std::vector<std::string> columns;            ///< dotted paths: "E_rms", "sted.spatial", ...
-  std::vector<std::string> names;              ///< one per row
-  std::vector<std::vector<std::string>> cells; ///< [row][column]; "" where a file lacks it
+  std::vector<std::string> columns;             ///< dotted paths: "E_rms", "sted.spatial", ...
+  std::vector<std::string> names;               ///< one per row
+  std::vector<std::vector<std::string>> cells;  ///< [row][column]; "" where a file lacks it
 };
 
 /// The numbers of a JSON document as (dotted path, printed value) in document order: members
@@ -42,7 +42,7 @@ struct CollectMetricsOptions {
   std::vector<std::string> names;
   std::vector<std::string> columns;  ///< "" = every number found
   bool values = false;               ///< only the cells; every value must exist
-  std::string output;  ///< "" or "-" = stdout
+  std::string output;                ///< "" or "-" = stdout
   bool force = false;
 };
 

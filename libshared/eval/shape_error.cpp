@@ -32,17 +32,20 @@ ShapeErms::~ShapeErms() = default;
 double ShapeErms::operator()(
     const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& normalized) const {
   if (static_cast<std::size_t>(normalized.rows()) != truth_.size())
-    throw Error(fmt::format("internal: {} shapes to measure against {} true ones", normalized.rows(), truth_.size()));
+    throw Error(fmt::format("internal: {} shapes to measure against {} true ones",
+                            normalized.rows(), truth_.size()));
   if (truth_.empty()) return 0;
   const Eigen::Index nv = truth_[0].rows();
   std::vector<double> squared(truth_.size());
   tbb::parallel_for(std::size_t{0}, truth_.size(), [&](std::size_t k) {
     std::vector<double> raw(static_cast<std::size_t>(normalized.cols()));
     for (Eigen::Index c = 0; c < normalized.cols(); ++c)
-      raw[static_cast<std::size_t>(c)] = nz_.denormalize(static_cast<int>(c % geometry::kFeatureDims),
-                                                          static_cast<double>(normalized(static_cast<Eigen::Index>(k), c)));
+      raw[static_cast<std::size_t>(c)] =
+          nz_.denormalize(static_cast<int>(c % geometry::kFeatureDims),
+                          static_cast<double>(normalized(static_cast<Eigen::Index>(k), c)));
     const io::Vertices p = solver_->solve(raw.data());
-    squared[k] = unit_ball_squared_error(align_translation(p, truth_[k], component_, n_components_), truth_[k]);
+    squared[k] = unit_ball_squared_error(align_translation(p, truth_[k], component_, n_components_),
+                                         truth_[k]);
   });
   double sum = 0;
   for (double s : squared) sum += s;

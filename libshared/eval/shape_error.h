@@ -22,11 +22,13 @@ class ShapeErms {
   /// @param data    an acap file; its frames `frames` are the truth (stored positions, or
   ///                reconstructed from its features once, here)
   /// @param nz      the normalization of the features that operator() receives
-  ShapeErms(const std::string& data, const std::vector<std::int64_t>& frames, const geometry::Normalization& nz);
+  ShapeErms(const std::string& data, const std::vector<std::int64_t>& frames,
+            const geometry::Normalization& nz);
   ~ShapeErms();
   /// E_rms × 1000 of `normalized` (one row of 9V normalized features per frame of `frames`, in
   /// that order). Frames in parallel; the sum is taken in frame order (thread-count independent).
-  double operator()(const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& normalized) const;
+  double operator()(const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>&
+                        normalized) const;
 
  private:
   geometry::Normalization nz_;

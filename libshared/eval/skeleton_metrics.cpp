@@ -17,7 +17,8 @@
 namespace df::eval {
 namespace {
 
-constexpr Eigen::Index kBlock = 128;  // rows per parallel task (fixed: results do not depend on threads)
+constexpr Eigen::Index kBlock =
+    128;  // rows per parallel task (fixed: results do not depend on threads)
 
 enum Pair { kXX = 0, kYY = 1, kXY = 2 };
 
@@ -117,12 +118,13 @@ void check_samples(Eigen::Index m, Eigen::Index n, Eigen::Index dx, Eigen::Index
 }  // namespace
 
 const std::vector<double>& mmd_bandwidths() {
-  static const std::vector<double> s{1e-4, 1e-3, 1e-2, 1e-1, 1, 1e1, 1e2,
+  static const std::vector<double> s{1e-4, 1e-3, 1e-2, 1e-1, 1,   1e1, 1e2,
                                      1e3,  1e4,  1e5,  1e6,  1e7, 1e8, 1e9};
   return s;
 }
 
-MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y, const std::vector<double>& bandwidths) {
+MmdResult mmd2_max(const RowMatrixF& X, const RowMatrixF& Y,
+                   const std::vector<double>& bandwidths) {
   check_samples(X.rows(), Y.rows(), X.cols(), Y.cols());
   const Distances d = squared_distances(X, Y);
   const std::array<const RowMatrixF*, 3> D{&d.xx, &d.yy, &d.xy};
@@ -218,7 +220,8 @@ RowMatrixF sequence_rows(const io::SkeletonFile& f, const std::vector<float>& po
 void spread(const RowMatrixF& seqs, double& mean, double& sd) {
   const Eigen::RowVectorXf centre = seqs.colwise().mean();
   std::vector<double> d(static_cast<std::size_t>(seqs.rows()));
-  for (Eigen::Index r = 0; r < seqs.rows(); ++r) d[static_cast<std::size_t>(r)] = (seqs.row(r) - centre).norm();
+  for (Eigen::Index r = 0; r < seqs.rows(); ++r)
+    d[static_cast<std::size_t>(r)] = (seqs.row(r) - centre).norm();
   mean = 0;
   for (double x : d) mean += x / static_cast<double>(d.size());
   sd = 0;
@@ -235,29 +238,32 @@ RowMatrixF frame_differences(const RowMatrixF& M, std::size_t frame_size) {
 
 // MMD_seq (whole rows) and MMD_avg (per frame index, averaged) of X against Y; the bandwidth of
 // MMD_seq's maximum.
-double mmd_seq_avg(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size, double& seq, double& avg) {
+double mmd_seq_avg(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size, double& seq,
+                   double& avg) {
   const MmdResult whole = mmd2_max(X, Y);
   seq = whole.mmd2;
   const auto cols = static_cast<Eigen::Index>(frame_size);
   const Eigen::Index frames = X.cols() / cols;
   avg = 0;
   for (Eigen::Index t = 0; t < frames; ++t)
-    avg += mmd2_max(X.middleCols(t * cols, cols), Y.middleCols(t * cols, cols)).mmd2 / static_cast<double>(frames);
+    avg += mmd2_max(X.middleCols(t * cols, cols), Y.middleCols(t * cols, cols)).mmd2 /
+           static_cast<double>(frames);
   return whole.bandwidth;
 }
-
 
 // Per sequence of `f` (named `what` in errors): 1 when its subject is one of `subjects`.
 std::vector<char> of_subjects(const io::SkeletonFile& f, const std::vector<std::int32_t>& subjects,
                               const char* what) {
   if (f.subjects.size() != f.sequences())
-    throw InvalidInput(fmt::format("{} names no subjects (/sequences/subjects): it cannot be selected by subject", what));
+    throw InvalidInput(fmt::format(
+        "{} names no subjects (/sequences/subjects): it cannot be selected by subject", what));
   std::vector<char> in(f.sequences(), 0);
   for (const auto v : subjects) {
     bool found = false;
     for (std::size_t s = 0; s < f.sequences(); ++s)
       if (f.subjects[s] == v) in[s] = 1, found = true;
-    if (!found) throw InvalidInput(fmt::format("subject {} performs none of {}'s sequences", v, what));
+    if (!found)
+      throw InvalidInput(fmt::format("subject {} performs none of {}'s sequences", v, what));
   }
   return in;
 }
@@ -266,16 +272,18 @@ std::vector<char> of_subjects(const io::SkeletonFile& f, const std::vector<std::
 
 // One class's MMD_seq, MMD_avg, the same of frame differences, and spread: generated sequences X
 // against real ones Y, one flattened sequence per row, `frame_size` values per frame.
-ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size) {
+ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrixF& Y,
+                                            std::size_t frame_size) {
   ClassSkeletonMetrics m;
   m.generated = static_cast<std::size_t>(X.rows());
   m.real = static_cast<std::size_t>(Y.rows());
   const double seq_bandwidth = mmd_seq_avg(X, Y, frame_size, m.mmd_seq, m.mmd_avg);
   if (X.cols() > static_cast<Eigen::Index>(frame_size))
-    mmd_seq_avg(frame_differences(X, frame_size), frame_differences(Y, frame_size), frame_size, m.mmd_motion_seq,
-                m.mmd_motion_avg);
+    mmd_seq_avg(frame_differences(X, frame_size), frame_differences(Y, frame_size), frame_size,
+                m.mmd_motion_seq, m.mmd_motion_avg);
   else
-    m.mmd_motion_seq = m.mmd_motion_avg = std::numeric_limits<double>::quiet_NaN();  // one frame: no motion
+    m.mmd_motion_seq = m.mmd_motion_avg =
+        std::numeric_limits<double>::quiet_NaN();  // one frame: no motion
   spread(X, m.spread_mean, m.spread_sd);
   m.pairwise_generated = mean_pairwise_distance(X);
   m.pairwise_real = mean_pairwise_distance(Y);
@@ -290,9 +298,11 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     throw InvalidInput(fmt::format("PRED has {} joints x {}, TRUTH {} x {}", pred.joints, pred.dims,
                                    truth.joints, truth.dims));
   if (select.all_truth && !select.truth_subjects.empty())
-    throw UsageError("--all-truth or --truth-subjects: the first takes every TRUTH sequence, the second some");
-  const std::vector<char> pred_in = select.pred_subjects.empty() ? std::vector<char>(pred.sequences(), 1)
-                                                                 : of_subjects(pred, select.pred_subjects, "PRED");
+    throw UsageError(
+        "--all-truth or --truth-subjects: the first takes every TRUTH sequence, the second some");
+  const std::vector<char> pred_in = select.pred_subjects.empty()
+                                        ? std::vector<char>(pred.sequences(), 1)
+                                        : of_subjects(pred, select.pred_subjects, "PRED");
   std::vector<char> truth_in(truth.sequences(), 1);
   if (!select.truth_subjects.empty())
     truth_in = of_subjects(truth, select.truth_subjects, "TRUTH");
@@ -307,13 +317,15 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
   const std::vector<float> pred_poses = io::poses_normalized_as(pred, truth.normalization);
   const std::size_t fs = pred.frame_size();
   for (std::size_t c = 0; c < pred.class_names.size(); ++c) {
-    const auto tc = std::find(truth.class_names.begin(), truth.class_names.end(), pred.class_names[c]);
+    const auto tc =
+        std::find(truth.class_names.begin(), truth.class_names.end(), pred.class_names[c]);
     if (tc == truth.class_names.end()) continue;
     std::vector<std::size_t> gen, real;
     for (std::size_t s = 0; s < pred.sequences(); ++s)
       if (pred_in[s] && pred.labels[s] == static_cast<std::int32_t>(c)) gen.push_back(s);
     for (std::size_t s = 0; s < truth.sequences(); ++s)
-      if (truth_in[s] && truth.labels[s] == static_cast<std::int32_t>(tc - truth.class_names.begin()))
+      if (truth_in[s] &&
+          truth.labels[s] == static_cast<std::int32_t>(tc - truth.class_names.begin()))
         real.push_back(s);
     if (gen.size() < 2 || real.size() < 2) {
       log::warn("class {}: {} generated and {} real sequences; MMD needs 2 of each, skipped",
@@ -326,7 +338,8 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     m.name = pred.class_names[c];
     out.classes.push_back(m);
   }
-  if (out.classes.empty()) throw InvalidInput("PRED and TRUTH share no class with 2 sequences each");
+  if (out.classes.empty())
+    throw InvalidInput("PRED and TRUTH share no class with 2 sequences each");
   for (const auto& m : out.classes) {
     const auto n = static_cast<double>(out.classes.size());
     out.mmd_avg += m.mmd_avg / n;

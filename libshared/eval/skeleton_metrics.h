@@ -50,10 +50,12 @@ struct ClassSkeletonMetrics {
   std::string name;
   std::size_t generated = 0, real = 0;  ///< sequences compared
   double mmd_avg = 0, mmd_seq = 0;
-  double mmd_motion_avg = 0, mmd_motion_seq = 0;  ///< of frame differences (NaN for 1-frame sequences)
+  double mmd_motion_avg = 0,
+         mmd_motion_seq = 0;              ///< of frame differences (NaN for 1-frame sequences)
   double spread_mean = 0, spread_sd = 0;  ///< distance of generated sequences to their mean
   double pairwise_generated = 0, pairwise_real = 0;  ///< mean distance between two sequences
-  double halves_generated = 0, halves_real = 0;      ///< MMD_seq of one half against the other (NaN below 4)
+  double halves_generated = 0,
+         halves_real = 0;  ///< MMD_seq of one half against the other (NaN below 4)
 };
 
 struct SkeletonMetrics {
@@ -73,12 +75,14 @@ double halves_mmd(const RowMatrixF& X, double s);
 
 /// One class's measures of generated sequences X against real ones Y (one flattened sequence per
 /// row, `frame_size` values per frame): MMD_seq, MMD_avg, their motion forms, spread, variety.
-ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size);
+ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrixF& Y,
+                                            std::size_t frame_size);
 
 /// Which sequences of the two files are compared.
 struct SkeletonSelection {
-  bool all_truth = false;                    ///< all of TRUTH's sequences, not only its test part
-  std::vector<std::int32_t> pred_subjects;   ///< only PRED's sequences of these subjects (empty: all)
+  bool all_truth = false;  ///< all of TRUTH's sequences, not only its test part
+  std::vector<std::int32_t>
+      pred_subjects;  ///< only PRED's sequences of these subjects (empty: all)
   /// only TRUTH's sequences of these subjects, in its test part or not (empty: its test part)
   std::vector<std::int32_t> truth_subjects;
 };

@@ -11,7 +11,9 @@ constexpr double kTwoPi = 2 * std::numbers::pi;
 
 struct UnionFind {
   std::vector<int> parent;
-  explicit UnionFind(int n) : parent(static_cast<std::size_t>(n)) { std::iota(parent.begin(), parent.end(), 0); }
+  explicit UnionFind(int n) : parent(static_cast<std::size_t>(n)) {
+    std::iota(parent.begin(), parent.end(), 0);
+  }
   int find(int x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
@@ -22,7 +24,9 @@ struct UnionFind {
   }
 };
 
-int sgn(double x) { return (x > 0) - (x < 0); }
+int sgn(double x) {
+  return (x > 0) - (x < 0);
+}
 
 // Vertices grouped into clusters joined by edges for which `joined(edge)` holds: the clusters in
 // order of their smallest vertex (vertex lists) and each vertex's cluster.
@@ -53,9 +57,11 @@ Clusters clusters(const MeshTopology& t, Joined joined) {
 
 }  // namespace
 
-AcapConsistency::AcapConsistency(const MeshTopology& topo, ConsistencyOptions opt) : topo_(topo), opt_(opt) {}
+AcapConsistency::AcapConsistency(const MeshTopology& topo, ConsistencyOptions opt)
+    : topo_(topo), opt_(opt) {}
 
-double AcapConsistency::axis_agreement(const std::vector<AxisAngle>& rot, const std::vector<int>& o) const {
+double AcapConsistency::axis_agreement(const std::vector<AxisAngle>& rot,
+                                       const std::vector<int>& o) const {
   double a = 0;
   for (const auto& [i, j] : topo_.edges) a += sgn(rot[i].axis.dot(rot[j].axis)) * o[i] * o[j];
   return a;
@@ -136,7 +142,8 @@ ConsistencyReport AcapConsistency::solve(const std::vector<AxisAngle>& rot,
         int boundary = 0;  // Σ s o_i o_j over edges leaving the cluster, with the current o
         for (int i : groups[c])
           for (int k = off[i]; k < off[i + 1]; ++k)
-            if (member[nbr[k]] != static_cast<int>(c)) boundary += s[ring_edge[k]] * o[i] * o[nbr[k]];
+            if (member[nbr[k]] != static_cast<int>(c))
+              boundary += s[ring_edge[k]] * o[i] * o[nbr[k]];
         if (boundary < 0) {
           for (int i : groups[c]) o[i] = -o[i];
           changed = true;
@@ -152,7 +159,7 @@ ConsistencyReport AcapConsistency::solve(const std::vector<AxisAngle>& rot,
   rep.axis_after = axis_agreement(rot, o);
 
   // --- 2. turns: φ_i = θ'_i + 2πk_i
-  std::vector<double> base(static_cast<std::size_t>(n));  // θ'_i
+  std::vector<double> base(static_cast<std::size_t>(n));           // θ'_i
   std::vector<Eigen::Vector3d> axis(static_cast<std::size_t>(n));  // o_i ω_i
   for (int i = 0; i < n; ++i) {
     base[i] = o[i] > 0 ? rot[i].angle : kTwoPi - rot[i].angle;

@@ -2,7 +2,8 @@
 //
 // Each vertex's rotation (ω_i, θ_i), θ_i ∈ [0, π], may be written with the flipped axis
 // (−ω_i, 2π − θ_i) (sign o_i = −1) and any number of extra turns 2πk_i. We choose
-//   1. signs o maximising the axis agreement  A(o) = Σ_(i,j)∈E sign(ω_i·ω_j) o_i o_j   (Ising), then
+//   1. signs o maximising the axis agreement  A(o) = Σ_(i,j)∈E sign(ω_i·ω_j) o_i o_j   (Ising),
+//   then
 //   2. turns k minimising the angle spread    C(k) = Σ_(i,j)∈E (φ_i − φ_j)²,
 //      φ_i = θ'_i + 2πk_i, θ'_i = θ_i (o_i = 1) or 2π − θ_i (o_i = −1),
 // and store r_i = o_i ω_i φ_i. The authors solve both exactly with Gurobi. Here:
@@ -44,7 +45,8 @@ class AcapConsistency {
   /// @param rot       per-vertex principal axis-angle of one frame (rotation_log)
   /// @param previous  the previous frame's r of the same sequence, or nullptr for a first frame
   /// @param r         out: per-vertex consistent rotation vectors θω
-  ConsistencyReport solve(const std::vector<AxisAngle>& rot, const std::vector<Eigen::Vector3d>* previous,
+  ConsistencyReport solve(const std::vector<AxisAngle>& rot,
+                          const std::vector<Eigen::Vector3d>* previous,
                           std::vector<Eigen::Vector3d>& r) const;
 
   /// The objectives, for tests and reports.

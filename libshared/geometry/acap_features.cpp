@@ -6,17 +6,17 @@
 #include <algorithm>
 #include <exception>
 
+#include "core/error.h"
 #include "geometry/cotangent_weights.h"
 #include "geometry/polar_decomposition.h"
-#include "core/error.h"
 
 namespace df::geometry {
 
 AcapFeatureExtractor::AcapFeatureExtractor(const io::Vertices& reference, const io::Faces& faces,
                                            ConsistencyOptions opt)
     : topo_(mesh_topology(faces, static_cast<int>(reference.rows()))),
-      gradients_(std::make_unique<DeformationGradientSolver>(reference, faces, topo_,
-                                                             cotangent_weights(reference, faces, topo_))),
+      gradients_(std::make_unique<DeformationGradientSolver>(
+          reference, faces, topo_, cotangent_weights(reference, faces, topo_))),
       consistency_(topo_, opt) {}
 
 void AcapFeatureExtractor::decompose(const io::Vertices& frame, FrameDecomposition& out) const {
@@ -32,9 +32,9 @@ void AcapFeatureExtractor::decompose(const io::Vertices& frame, FrameDecompositi
   }
 }
 
-ConsistencyReport AcapFeatureExtractor::make_consistent(const FrameDecomposition& d,
-                                                        const std::vector<Eigen::Vector3d>* previous,
-                                                        std::vector<Eigen::Vector3d>& r) const {
+ConsistencyReport AcapFeatureExtractor::make_consistent(
+    const FrameDecomposition& d, const std::vector<Eigen::Vector3d>* previous,
+    std::vector<Eigen::Vector3d>& r) const {
   return consistency_.solve(d.rotation, previous, r);
 }
 
@@ -44,7 +44,8 @@ std::vector<Eigen::Vector3d> principal_rotation_vectors(const FrameDecomposition
   return r;
 }
 
-void pack_features(const std::vector<Eigen::Vector3d>& r, const std::vector<Eigen::Matrix3d>& S, double* out) {
+void pack_features(const std::vector<Eigen::Vector3d>& r, const std::vector<Eigen::Matrix3d>& S,
+                   double* out) {
   for (std::size_t i = 0; i < r.size(); ++i) {
     double* f = out + kFeatureDims * i;
     f[0] = -r[i].z();  // L01
@@ -103,7 +104,8 @@ Normalization NormalizationBuilder::finish() const {
 std::array<double, kFeatureDims> identity_features(const Normalization* nz) {
   std::array<double, kFeatureDims> id = {0, 0, 0, 1, 0, 0, 1, 0, 1};
   if (nz)
-    for (int d = 0; d < kFeatureDims; ++d) id[static_cast<std::size_t>(d)] = nz->normalize(d, id[static_cast<std::size_t>(d)]);
+    for (int d = 0; d < kFeatureDims; ++d)
+      id[static_cast<std::size_t>(d)] = nz->normalize(d, id[static_cast<std::size_t>(d)]);
   return id;
 }
 
@@ -119,7 +121,8 @@ ConsistencyReport FeatureSequence::add(const FrameDecomposition& d, bool start, 
   return rep;
 }
 
-std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std::vector<io::Vertices>& frames,
+std::vector<double> sequence_features(const AcapFeatureExtractor& ex,
+                                      const std::vector<io::Vertices>& frames,
                                       const std::vector<char>& starts, bool consistency) {
   const std::size_t n = frames.size(), nv = static_cast<std::size_t>(ex.n_vertices());
   std::vector<FrameDecomposition> dec(n);
@@ -127,7 +130,8 @@ std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std:
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
     try {
       if (static_cast<std::size_t>(frames[k].rows()) != nv)
-        throw InvalidInput(fmt::format("frame {} has {} vertices, the reference {}", k, frames[k].rows(), nv));
+        throw InvalidInput(
+            fmt::format("frame {} has {} vertices, the reference {}", k, frames[k].rows(), nv));
       ex.decompose(frames[k], dec[k]);
     } catch (...) {
       errors[k] = std::current_exception();

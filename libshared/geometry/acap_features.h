@@ -43,7 +43,8 @@ class AcapFeatureExtractor {
 
   /// Consistent rotation vectors of a decomposed frame (`previous`: the previous frame of the
   /// same sequence, or nullptr).
-  ConsistencyReport make_consistent(const FrameDecomposition& d, const std::vector<Eigen::Vector3d>* previous,
+  ConsistencyReport make_consistent(const FrameDecomposition& d,
+                                    const std::vector<Eigen::Vector3d>* previous,
                                     std::vector<Eigen::Vector3d>& r) const;
 
  private:
@@ -57,7 +58,8 @@ class AcapFeatureExtractor {
 /// of its sequence (`consistency`; principal logs otherwise), then packed.
 class FeatureSequence {
  public:
-  FeatureSequence(const AcapFeatureExtractor& ex, bool consistency) : ex_(ex), consistency_(consistency) {}
+  FeatureSequence(const AcapFeatureExtractor& ex, bool consistency)
+      : ex_(ex), consistency_(consistency) {}
   /// Writes the frame's 9 features per vertex to `out`; `start`: the first frame of a sequence
   /// (no temporal prior). The consistency solve's report (zeros without consistency).
   ConsistencyReport add(const FrameDecomposition& d, bool start, double* out);
@@ -71,11 +73,13 @@ class FeatureSequence {
 /// Raw features [frames][9V] of frames in time order, as obj2acap computes them: each frame
 /// decomposed (in parallel), then a FeatureSequence (`starts[f]` marks frame f as a sequence's
 /// first; frame 0 always is). InvalidInput naming the frame when one has another vertex count.
-std::vector<double> sequence_features(const AcapFeatureExtractor& ex, const std::vector<io::Vertices>& frames,
+std::vector<double> sequence_features(const AcapFeatureExtractor& ex,
+                                      const std::vector<io::Vertices>& frames,
                                       const std::vector<char>& starts, bool consistency);
 
 /// Writes the 9 features of each vertex (row-major #V by 9) from rotation vectors and stretches.
-void pack_features(const std::vector<Eigen::Vector3d>& r, const std::vector<Eigen::Matrix3d>& S, double* out);
+void pack_features(const std::vector<Eigen::Vector3d>& r, const std::vector<Eigen::Matrix3d>& S,
+                   double* out);
 
 /// Reads vertex i's features back: the rotation vector r = θω and the stretch S.
 void unpack_features(const double* f9, Eigen::Vector3d& r, Eigen::Matrix3d& S);
@@ -97,7 +101,9 @@ std::array<double, kFeatureDims> identity_features(const Normalization* nz = nul
 /// Running minima/maxima of features, merged into a Normalization at the end.
 class NormalizationBuilder {
  public:
-  explicit NormalizationBuilder(NormalizationMode mode) : mode_(mode) { lo_.fill(1e300), hi_.fill(-1e300); }
+  explicit NormalizationBuilder(NormalizationMode mode) : mode_(mode) {
+    lo_.fill(1e300), hi_.fill(-1e300);
+  }
   /// @param features  n rows of 9 (row-major)
   void add(const double* features, std::size_t rows);
   void merge(const NormalizationBuilder& other);

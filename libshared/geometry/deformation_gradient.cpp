@@ -1,7 +1,8 @@
 #include "geometry/deformation_gradient.h"
 
-#include <Eigen/Eigenvalues>
 #include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
 
 #include "geometry/vertex_normals.h"
 
@@ -19,8 +20,8 @@ io::Vertices pseudo_edges(const io::Vertices& V, const io::Faces& F, const MeshT
   return N;
 }
 
-Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo, const MeshTopology& topo,
-                        const std::vector<double>& weights, int i) {
+Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo,
+                        const MeshTopology& topo, const std::vector<double>& weights, int i) {
   Eigen::Vector3d n = pseudo.row(i);
   Matrix3 A = n * n.transpose();
   for (int k = topo.ring_offsets[i]; k < topo.ring_offsets[i + 1]; ++k) {
@@ -31,7 +32,8 @@ Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseud
 }
 
 DeformationGradientSolver::DeformationGradientSolver(const io::Vertices& reference,
-                                                     const io::Faces& faces, const MeshTopology& topo,
+                                                     const io::Faces& faces,
+                                                     const MeshTopology& topo,
                                                      std::vector<double> weights)
     : reference_(reference), faces_(faces), topo_(topo), weights_(std::move(weights)) {
   pseudo_ = pseudo_edges(reference_, faces_, topo_);
@@ -45,8 +47,10 @@ DeformationGradientSolver::DeformationGradientSolver(const io::Vertices& referen
     Eigen::Vector3d lambda = eig.eigenvalues();
     double cutoff = 1e-12 * std::max(lambda.maxCoeff(), 0.0);
     Eigen::Vector3d inv;
-    for (int k = 0; k < 3; ++k) inv[k] = lambda[k] > cutoff && lambda[k] > 0 ? 1.0 / lambda[k] : 0.0;
-    a_inv_[static_cast<std::size_t>(i)] = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+    for (int k = 0; k < 3; ++k)
+      inv[k] = lambda[k] > cutoff && lambda[k] > 0 ? 1.0 / lambda[k] : 0.0;
+    a_inv_[static_cast<std::size_t>(i)] =
+        eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
   });
 }
 

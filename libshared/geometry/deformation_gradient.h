@@ -23,8 +23,8 @@ io::Vertices pseudo_edges(const io::Vertices& V, const io::Faces& F, const MeshT
 
 /// The reference one-ring moment A_i = Σ_j w_ij e_ij e_ijᵀ + ñ_i ñ_iᵀ of vertex i.
 /// @param pseudo  the reference's pseudo-edges (#V by 3)
-Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo, const MeshTopology& topo,
-                        const std::vector<double>& weights, int i);
+Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo,
+                        const MeshTopology& topo, const std::vector<double>& weights, int i);
 
 /// Holds the reference side; compute() is const and thread-safe (one frame per thread).
 class DeformationGradientSolver {
@@ -47,8 +47,8 @@ class DeformationGradientSolver {
   io::Faces faces_;
   const MeshTopology& topo_;
   std::vector<double> weights_;
-  io::Vertices pseudo_;           // ñ_i of the reference
-  std::vector<Matrix3> a_inv_;    // A_i⁻¹ (pseudo-inverse where singular)
+  io::Vertices pseudo_;         // ñ_i of the reference
+  std::vector<Matrix3> a_inv_;  // A_i⁻¹ (pseudo-inverse where singular)
 };
 
 }  // namespace df::geometry

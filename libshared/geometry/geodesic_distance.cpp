@@ -4,9 +4,9 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <algorithm>
 #include <map>
 
 #include "core/error.h"
@@ -197,7 +197,8 @@ Eigen::VectorXd HeatMethodDistance::from(int source) const {
   return phi;
 }
 
-GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F) : heat_(V, F), n_vertices_(V.rows()) {
+GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F)
+    : heat_(V, F), n_vertices_(V.rows()) {
   // Farthest-point sweeps: each solve starts from the vertex farthest from the previous source.
   int source = 0;
   for (int sweep = 0; sweep < 8; ++sweep) {
@@ -210,7 +211,8 @@ GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F) : heat_(V,
     diameter_ = best;
     source = far;
   }
-  if (!(diameter_ > 0)) throw InvalidInput("the template has no extent: geodesic distances are all zero");
+  if (!(diameter_ > 0))
+    throw InvalidInput("the template has no extent: geodesic distances are all zero");
 }
 
 GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F, double diameter)
@@ -228,10 +230,12 @@ Eigen::VectorXf GeodesicRows::normalized(const Eigen::VectorXd& d) const {
 void GeodesicRows::prepare(const std::vector<int>& sources) {
   std::vector<int> missing;
   for (int s : sources)
-    if (!rows_.count(s) && std::find(missing.begin(), missing.end(), s) == missing.end()) missing.push_back(s);
+    if (!rows_.count(s) && std::find(missing.begin(), missing.end(), s) == missing.end())
+      missing.push_back(s);
   if (missing.empty()) return;
   constexpr std::size_t kBudget = std::size_t{256} << 20;
-  if ((rows_.size() + missing.size()) * static_cast<std::size_t>(n_vertices_) * sizeof(float) > kBudget)
+  if ((rows_.size() + missing.size()) * static_cast<std::size_t>(n_vertices_) * sizeof(float) >
+      kBudget)
     rows_.clear();
   std::vector<Eigen::VectorXf> solved(missing.size());
   tbb::parallel_for(std::size_t{0}, missing.size(),

@@ -23,7 +23,8 @@ MeshTopology mesh_topology(const io::Faces& F, int n_vertices) {
     ++count[e[1] + 1];
   }
   t.ring_offsets.assign(count.size(), 0);
-  for (std::size_t i = 1; i < count.size(); ++i) t.ring_offsets[i] = t.ring_offsets[i - 1] + count[i];
+  for (std::size_t i = 1; i < count.size(); ++i)
+    t.ring_offsets[i] = t.ring_offsets[i - 1] + count[i];
   t.ring_vertices.resize(static_cast<std::size_t>(t.ring_offsets.back()));
   t.ring_edges.resize(t.ring_vertices.size());
   std::vector<int> fill(t.ring_offsets.begin(), t.ring_offsets.end() - 1);

@@ -51,7 +51,8 @@ void newton_lanes(const Eigen::Matrix3d* T, int n, PolarDecomposition* out) {
     return std::array<Lane, 3>{m[c], m[3 + c], m[6 + c]};
   };
   auto cross = [](const std::array<Lane, 3>& a, const std::array<Lane, 3>& b) {
-    return std::array<Lane, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    return std::array<Lane, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                               a[0] * b[1] - a[1] * b[0]};
   };
   LaneMask done = LaneMask::Constant(false), fallback = LaneMask::Constant(false);
   for (int it = 0; it < 40 && !done.all(); ++it) {
@@ -70,7 +71,8 @@ void newton_lanes(const Eigen::Matrix3d* T, int n, PolarDecomposition* out) {
       cc += cof[e] * cof[e];
     }
     const Lane gamma = (cc.sqrt() / (det * xx.sqrt())).sqrt();
-    const LaneMask bad = !done && (!(det > 1e-300) || !det.isFinite() || !gamma.isFinite() || gamma == 0.0);
+    const LaneMask bad =
+        !done && (!(det > 1e-300) || !det.isFinite() || !gamma.isFinite() || gamma == 0.0);
     fallback = fallback || bad;
     done = done || bad;
     const Lane a = 0.5 * gamma, b = 0.5 / (gamma * det);
@@ -103,7 +105,8 @@ void newton_lanes(const Eigen::Matrix3d* T, int n, PolarDecomposition* out) {
 void polar_decompose(std::span<const Eigen::Matrix3d> T, std::span<PolarDecomposition> out) {
   if (out.size() != T.size()) throw Error("internal: polar_decompose needs one output per matrix");
   for (std::size_t i = 0; i < T.size(); i += kLanes)
-    newton_lanes(T.data() + i, static_cast<int>(std::min<std::size_t>(kLanes, T.size() - i)), out.data() + i);
+    newton_lanes(T.data() + i, static_cast<int>(std::min<std::size_t>(kLanes, T.size() - i)),
+                 out.data() + i);
 }
 
 PolarDecomposition polar_decompose(const Eigen::Matrix3d& T) {

@@ -18,13 +18,15 @@ Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& fac
       weights_(cotangent_weights(reference, faces, topo_)),
       solver_(solver) {
   if (anchor < 0 || anchor >= reference.rows())
-    throw InvalidInput("anchor vertex " + std::to_string(anchor) + " does not exist (the template has " +
-                       std::to_string(reference.rows()) + " vertices)");
+    throw InvalidInput("anchor vertex " + std::to_string(anchor) +
+                       " does not exist (the template has " + std::to_string(reference.rows()) +
+                       " vertices)");
   pin_components(anchor);
   factor();
 }
 
-Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& faces, const std::vector<int>& pinned)
+Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& faces,
+                             const std::vector<int>& pinned)
     : reference_(reference),
       faces_(faces),
       topo_(mesh_topology(faces, static_cast<int>(reference.rows()))),
@@ -77,7 +79,8 @@ void Reconstructor::pin_vertices(const std::vector<int>& pinned) {
   int count = 0;
   component_ = connected_components(topo_, 0, &count);
   n_components_ = count;
-  std::vector<char> held(static_cast<std::size_t>(count), 0), is_pinned(static_cast<std::size_t>(n), 0);
+  std::vector<char> held(static_cast<std::size_t>(count), 0),
+      is_pinned(static_cast<std::size_t>(n), 0);
   for (int v : pinned) {
     if (!is_pinned[v]) pinned_.push_back(v);
     is_pinned[v] = 1;
@@ -143,7 +146,8 @@ Eigen::SparseMatrix<double> Reconstructor::gradient_system() {
   return m_free_.transpose() * m_free_;
 }
 
-io::Vertices Reconstructor::solve(const double* features, const io::Vertices* pinned_positions) const {
+io::Vertices Reconstructor::solve(const double* features,
+                                  const io::Vertices* pinned_positions) const {
   const io::Vertices& pinned = pinned_positions ? *pinned_positions : reference_;
   const int n = topo_.n_vertices;
   // T_i = exp(L_i) S_i
@@ -162,7 +166,8 @@ io::Vertices Reconstructor::solve(const double* features, const io::Vertices* pi
     for (const auto& t : pinned_terms_) g.row(t.row) -= t.coefficient * pinned.row(t.vertex);
     x = cholesky_.solve(Eigen::MatrixXd(m_free_.transpose() * g));
   } else {
-    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(reduced_.size() - pinned_.size()), 3);
+    Eigen::MatrixXd b =
+        Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(reduced_.size() - pinned_.size()), 3);
     for (std::size_t e = 0; e < topo_.edges.size(); ++e) {
       auto [i, j] = topo_.edges[e];
       Eigen::Vector3d pij = reference_.row(i) - reference_.row(j);
@@ -177,7 +182,9 @@ io::Vertices Reconstructor::solve(const double* features, const io::Vertices* pi
     x = cholesky_.solve(b);
   }
   io::Vertices P(n, 3);
-  for (int i = 0; i < n; ++i) P.row(i) = reduced_[i] >= 0 ? Eigen::RowVector3d(x.row(reduced_[i])) : Eigen::RowVector3d(pinned.row(i));
+  for (int i = 0; i < n; ++i)
+    P.row(i) = reduced_[i] >= 0 ? Eigen::RowVector3d(x.row(reduced_[i]))
+                                : Eigen::RowVector3d(pinned.row(i));
   return P;
 }
 

@@ -4,7 +4,8 @@
 // the lowest-index vertex of every other component; all at their reference positions, since
 // the features carry no translation). The normal equations L p' = b have the weighted graph
 // Laplacian L of the template, which Reconstructor factors once (sparse Cholesky,
-// geometry/sparse_cholesky); every frame is then two triangular solves, and frames may be solved in parallel.
+// geometry/sparse_cholesky); every frame is then two triangular solves, and frames may be solved in
+// parallel.
 //
 // ReconstructionSolver::gradients: the SPEC's system has a residual wherever a one-ring does not
 // deform affinely, so even features computed from a real mesh do not give that mesh back.
@@ -45,7 +46,8 @@ class Reconstructor {
   /// Pins the given vertices (e.g. an edit's handles, at the positions solve() is given) and
   /// the lowest-index vertex of every connected component that holds none of them. Only the edge
   /// system; InvalidInput for a vertex out of range.
-  Reconstructor(const io::Vertices& reference, const io::Faces& faces, const std::vector<int>& pinned);
+  Reconstructor(const io::Vertices& reference, const io::Faces& faces,
+                const std::vector<int>& pinned);
   ~Reconstructor();
 
   /// Positions (#V by 3) from one frame's raw features (#V rows of 9, row-major). Pinned
@@ -88,7 +90,7 @@ class Reconstructor {
   std::vector<int> pinned_;     // one vertex per connected component
   std::vector<int> component_;  // component of each vertex
   int n_components_ = 0;
-  std::vector<int> reduced_;    // vertex -> unknown of the reduced system (−1 for a pinned vertex)
+  std::vector<int> reduced_;  // vertex -> unknown of the reduced system (−1 for a pinned vertex)
   SparseCholesky cholesky_;
   double factor_seconds_ = 0, assemble_seconds_ = 0;
 

@@ -1,10 +1,10 @@
 #include "geometry/subspace_edit.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
-
-#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "geometry/acap_features.h"
@@ -14,7 +14,8 @@ namespace df::geometry {
 namespace {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-constexpr Eigen::Index kChunk = 2048;  // edges per partial sum: fixed, so sums do not depend on threads
+constexpr Eigen::Index kChunk =
+    2048;  // edges per partial sum: fixed, so sums do not depend on threads
 
 // J_r(ρ): exp([ρ + δ]×) ≈ exp([ρ]×) exp([J_r(ρ) δ]×) to first order.
 Eigen::Matrix3d right_jacobian(const Eigen::Vector3d& r) {
@@ -26,19 +27,25 @@ Eigen::Matrix3d right_jacobian(const Eigen::Vector3d& r) {
 
 // dT/dw_k at a vertex, T = exp(ρ) S = R S, its rotation vector and stretch moving along (dr, dS):
 // R ([J dr]× S + dS).
-Eigen::Matrix3d transform_change(const Eigen::Matrix3d& R, const Eigen::Matrix3d& J, const Eigen::Matrix3d& S,
-                                 const Eigen::Vector3d& dr, const Eigen::Matrix3d& dS) {
+Eigen::Matrix3d transform_change(const Eigen::Matrix3d& R, const Eigen::Matrix3d& J,
+                                 const Eigen::Matrix3d& S, const Eigen::Vector3d& dr,
+                                 const Eigen::Matrix3d& dS) {
   return R * (skew(J * dr) * S + dS);
 }
 
 }  // namespace
 
-SubspaceEditor::SubspaceEditor(const io::Vertices& reference, const io::Faces& faces, const std::vector<int>& handles,
-                               const Eigen::MatrixXd& directions, std::vector<double> base)
-    : rec_(reference, faces, handles), directions_(directions), base_(std::move(base)), reference_(reference) {
+SubspaceEditor::SubspaceEditor(const io::Vertices& reference, const io::Faces& faces,
+                               const std::vector<int>& handles, const Eigen::MatrixXd& directions,
+                               std::vector<double> base)
+    : rec_(reference, faces, handles),
+      directions_(directions),
+      base_(std::move(base)),
+      reference_(reference) {
   const auto n9 = static_cast<Eigen::Index>(kFeatureDims) * reference.rows();
   if (directions_.cols() != n9 || static_cast<Eigen::Index>(base_.size()) != n9)
-    throw InvalidInput("the directions and base features do not have 9 numbers per template vertex");
+    throw InvalidInput(
+        "the directions and base features do not have 9 numbers per template vertex");
   scale_ = 0;
   const auto& c = rec_.edge_weights();
   for (std::size_t e = 0; e < rec_.topology().edges.size(); ++e) {
@@ -49,7 +56,8 @@ SubspaceEditor::SubspaceEditor(const io::Vertices& reference, const io::Faces& f
   for (int m = 0; m < kFeatureDims; ++m) {
     double unit[kFeatureDims] = {};
     unit[m] = 1;
-    unpack_features(unit, unit_rotation_[static_cast<std::size_t>(m)], unit_stretch_[static_cast<std::size_t>(m)]);
+    unpack_features(unit, unit_rotation_[static_cast<std::size_t>(m)],
+                    unit_stretch_[static_cast<std::size_t>(m)]);
   }
 }
 
@@ -67,7 +75,8 @@ Eigen::Matrix3d SubspaceEditor::transform(const Eigen::VectorXd& w, int vertex) 
   return rotation_exp(r) * S;
 }
 
-Eigen::Matrix3d SubspaceEditor::transform_derivative(const Eigen::VectorXd& w, int vertex, int k) const {
+Eigen::Matrix3d SubspaceEditor::transform_derivative(const Eigen::VectorXd& w, int vertex,
+                                                     int k) const {
   const auto f = features(w);
   Eigen::Vector3d r, dr;
   Eigen::Matrix3d S, dS;
@@ -121,8 +130,8 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
   if (parts == EnergyParts::value) return out;
 
   // The gradient by the adjoint: p* is stationary, so dE/dw_k = Σ_i ⟨∂E/∂T_i, dT_i/dw_k⟩ + 2λw_k
-  // with ∂E/∂T_i = −M_i / s, M_i = Σ_(e∋i) c_e r_e q_eᵀ; ⟨M_i, dT_i/dw_k⟩ is linear in direction k's
-  // 9 numbers at i, so the gradient is D h for one vector h of 9 numbers per vertex.
+  // with ∂E/∂T_i = −M_i / s, M_i = Σ_(e∋i) c_e r_e q_eᵀ; ⟨M_i, dT_i/dw_k⟩ is linear in direction
+  // k's 9 numbers at i, so the gradient is D h for one vector h of 9 numbers per vertex.
   const auto& topo = rec_.topology();
   Eigen::VectorXd h(static_cast<Eigen::Index>(kFeatureDims) * V);
   tbb::parallel_for(0, V, [&](int i) {
@@ -134,9 +143,12 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
     const auto v = static_cast<std::size_t>(i);
     const Eigen::Matrix3d N = R[v].transpose() * M, NS = N * S[v];
     // ⟨N, [x]× S⟩ = x · (NS₂₁ − NS₁₂, NS₀₂ − NS₂₀, NS₁₀ − NS₀₁); x = J dr
-    const Eigen::Vector3d a = J[v].transpose() * Eigen::Vector3d(NS(2, 1) - NS(1, 2), NS(0, 2) - NS(2, 0), NS(1, 0) - NS(0, 1));
+    const Eigen::Vector3d a =
+        J[v].transpose() *
+        Eigen::Vector3d(NS(2, 1) - NS(1, 2), NS(0, 2) - NS(2, 0), NS(1, 0) - NS(0, 1));
     for (int m = 0; m < kFeatureDims; ++m)
-      h[kFeatureDims * i + m] = -(a.dot(unit_rotation_[m]) + (N.array() * unit_stretch_[m].array()).sum()) / scale_;
+      h[kFeatureDims * i + m] =
+          -(a.dot(unit_rotation_[m]) + (N.array() * unit_stretch_[m].array()).sum()) / scale_;
   });
   out.gradient = directions_ * h + 2 * reg.l2 * w;
   out.gradient.array() += reg.l1 * w.array() / root;
@@ -162,14 +174,15 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
     const Eigen::Vector3d qe = q(e);
     for (Eigen::Index k = 0; k < K; ++k) {
       const Eigen::Vector3d g =
-          0.5 * (dT[static_cast<std::size_t>(i * K + k)] + dT[static_cast<std::size_t>(j * K + k)]) * qe;
+          0.5 *
+          (dT[static_cast<std::size_t>(i * K + k)] + dT[static_cast<std::size_t>(j * K + k)]) * qe;
       G.block<3, 1>(3 * e, k) = g;
       CG.block<3, 1>(3 * e, k) = c[static_cast<std::size_t>(e)] * g;
     }
   });
   const auto& reduced = rec_.reduced_index();
-  const auto free = static_cast<Eigen::Index>(reduced.size() - static_cast<std::size_t>(
-                                                                   std::count(reduced.begin(), reduced.end(), -1)));
+  const auto free = static_cast<Eigen::Index>(
+      reduced.size() - static_cast<std::size_t>(std::count(reduced.begin(), reduced.end(), -1)));
   Eigen::MatrixXd B = Eigen::MatrixXd::Zero(free, 3 * K);
   tbb::parallel_for(0, V, [&](int v) {  // gathered per vertex over its edges
     const int rv = reduced[static_cast<std::size_t>(v)];
@@ -181,15 +194,19 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
     }
   });
   Eigen::MatrixXd X(free, 3 * K);
-  tbb::parallel_for(Eigen::Index{0}, 3 * K, [&](Eigen::Index col) { X.col(col) = rec_.solve_reduced(B.col(col)); });
+  tbb::parallel_for(Eigen::Index{0}, 3 * K,
+                    [&](Eigen::Index col) { X.col(col) = rec_.solve_reduced(B.col(col)); });
   std::vector<Eigen::MatrixXd> part(static_cast<std::size_t>(chunks));  // GᵀCG by fixed chunks
   tbb::parallel_for(Eigen::Index{0}, chunks, [&](Eigen::Index ch) {
-    const Eigen::Index first = 3 * ch * kChunk, rows = 3 * (std::min(E, (ch + 1) * kChunk) - ch * kChunk);
-    part[static_cast<std::size_t>(ch)] = G.middleRows(first, rows).transpose() * CG.middleRows(first, rows);
+    const Eigen::Index first = 3 * ch * kChunk,
+                       rows = 3 * (std::min(E, (ch + 1) * kChunk) - ch * kChunk);
+    part[static_cast<std::size_t>(ch)] =
+        G.middleRows(first, rows).transpose() * CG.middleRows(first, rows);
   });
   Eigen::MatrixXd JCJ = Eigen::MatrixXd::Zero(K, K);
   for (const auto& m : part) JCJ += m;
-  for (int a = 0; a < 3; ++a) JCJ.noalias() -= X.middleCols(a * K, K).transpose() * B.middleCols(a * K, K);
+  for (int a = 0; a < 3; ++a)
+    JCJ.noalias() -= X.middleCols(a * K, K).transpose() * B.middleCols(a * K, K);
   out.gauss_newton = 2 / scale_ * 0.5 * (JCJ + JCJ.transpose());
   out.gauss_newton.diagonal().array() += 2 * reg.l2 + reg.l1 * eps * eps / root.cube();
   return out;
@@ -198,11 +215,13 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
 SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::Vertices& pinned,
                                         const SubspaceEditOptions& opt,
                                         const std::function<void(int, double)>& progress) const {
-  if (start.size() != directions_.rows()) throw InvalidInput("the start weights do not match the directions");
+  if (start.size() != directions_.rows())
+    throw InvalidInput("the start weights do not match the directions");
   SubspaceEditResult res;
   res.weights = start;
   SubspaceEnergy cur = energy(res.weights, pinned, opt, EnergyParts::gauss_newton);
-  Eigen::MatrixXd H = cur.gauss_newton;  // kept while steps succeed: the costly part, refreshed on failure
+  Eigen::MatrixXd H =
+      cur.gauss_newton;  // kept while steps succeed: the costly part, refreshed on failure
   bool fresh = true;
   int stale_steps = 0;
   res.energy.push_back(cur.value);
@@ -216,7 +235,8 @@ SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::
     SubspaceEnergy trial = energy(res.weights + step, pinned, opt, EnergyParts::gradient);
     const bool lower = trial.value < cur.value;
     const double gain = lower ? (cur.value - trial.value) / std::max(cur.value, 1e-300) : 0.0;
-    const bool small = step.lpNorm<Eigen::Infinity>() < 1e-13 * (1 + res.weights.lpNorm<Eigen::Infinity>());
+    const bool small =
+        step.lpNorm<Eigen::Infinity>() < 1e-13 * (1 + res.weights.lpNorm<Eigen::Infinity>());
     // Only a step that lowers E by the tolerance is taken: one below it changes E at the level of
     // rounding, where whether it is "lower" at all depends on the machine's arithmetic, and taking
     // it would make the step count (and the file's energy trace) differ between builds.

@@ -25,7 +25,7 @@
 namespace df::geometry {
 
 struct SubspaceEditOptions {
-  double l2 = 1e-4;          ///< λ
+  double l2 = 1e-4;  ///< λ
   /// μ of a sparsity term μ Σ_k (√(w_k² + ε²) − ε), ε = 1e-3 (a smooth |w_k|: the ACAP paper's
   /// data-driven deformation favours few active components); 0 = none
   double l1 = 0;
@@ -34,10 +34,10 @@ struct SubspaceEditOptions {
 };
 
 struct SubspaceEditResult {
-  Eigen::VectorXd weights;        ///< [K]
-  io::Vertices positions;         ///< [V, 3]
-  std::vector<double> features;   ///< [V * 9] raw ACAP features of the edited shape
-  std::vector<double> energy;     ///< E at the start and after each accepted step
+  Eigen::VectorXd weights;       ///< [K]
+  io::Vertices positions;        ///< [V, 3]
+  std::vector<double> features;  ///< [V * 9] raw ACAP features of the edited shape
+  std::vector<double> energy;    ///< E at the start and after each accepted step
   int iterations = 0;
   bool converged = false;
 };
@@ -55,20 +55,22 @@ class SubspaceEditor {
   /// Factors the system with `handles` pinned (every connected component without a handle gets
   /// its lowest vertex pinned too). @param directions  [K, 9V] raw feature directions D_k;
   /// @param base  [9V] raw features f⁰ at w = 0
-  SubspaceEditor(const io::Vertices& reference, const io::Faces& faces, const std::vector<int>& handles,
-                 const Eigen::MatrixXd& directions, std::vector<double> base);
+  SubspaceEditor(const io::Vertices& reference, const io::Faces& faces,
+                 const std::vector<int>& handles, const Eigen::MatrixXd& directions,
+                 std::vector<double> base);
 
   /// Minimises E from `start` [K]. `pinned` [V, 3]: the handles' targets at their rows, and the
   /// positions the other pinned vertices keep (e.g. the shape edited from). `progress` gets each
   /// iteration and E.
-  SubspaceEditResult edit(const Eigen::VectorXd& start, const io::Vertices& pinned, const SubspaceEditOptions& opt,
+  SubspaceEditResult edit(const Eigen::VectorXd& start, const io::Vertices& pinned,
+                          const SubspaceEditOptions& opt,
                           const std::function<void(int, double)>& progress = {}) const;
 
   enum class EnergyParts { value, gradient, gauss_newton };
   /// E, and its gradient (cheap: the adjoint) or its gradient and Gauss-Newton matrix (K more
   /// solves, O(E K²)).
-  SubspaceEnergy energy(const Eigen::VectorXd& w, const io::Vertices& pinned, const SubspaceEditOptions& reg,
-                        EnergyParts parts) const;
+  SubspaceEnergy energy(const Eigen::VectorXd& w, const io::Vertices& pinned,
+                        const SubspaceEditOptions& reg, EnergyParts parts) const;
   /// f⁰ + Σ w_k D_k
   std::vector<double> features(const Eigen::VectorXd& w) const;
   /// dT_i/dw_k [3, 3] at w (for the tests' finite differences).
@@ -84,7 +86,7 @@ class SubspaceEditor {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> directions_;  // [K, 9V]
   std::vector<double> base_;
   io::Vertices reference_;
-  double scale_ = 1;            // Σ c_ij ‖q_i − q_j‖²
+  double scale_ = 1;  // Σ c_ij ‖q_i − q_j‖²
   // the rotation vector and stretch of each of the 9 unit feature vectors (the features' layout)
   std::array<Eigen::Vector3d, 9> unit_rotation_;
   std::array<Eigen::Matrix3d, 9> unit_stretch_;

@@ -77,17 +77,36 @@ Mesh read_template(const h5::File& f) {
 
 // --- AcapReader
 
-AcapReader::AcapReader(const std::string& path) : path_(path), file_(open_input(path, "acap", &dims_)) {}
+AcapReader::AcapReader(const std::string& path)
+    : path_(path), file_(open_input(path, "acap", &dims_)) {}
 
-std::string AcapReader::history() const { return read_history(file_); }
-Mesh AcapReader::read_template() const { return io::read_template(file_); }
-Faces AcapReader::read_faces() const { return file_.read_matrix<int>(kFaces); }
-std::vector<std::string> AcapReader::frame_names() const { return file_.read_strings(kFrameNames); }
-std::vector<std::string> AcapReader::sequence_names() const { return file_.read_strings(kSequenceNames); }
-std::vector<std::int64_t> AcapReader::offsets() const { return file_.read<std::int64_t>(kOffsets).data; }
-bool AcapReader::labelled() const { return file_.exists(kLabels); }
-std::vector<std::int32_t> AcapReader::labels() const { return file_.read<std::int32_t>(kLabels).data; }
-std::vector<std::string> AcapReader::class_names() const { return file_.read_strings(kClassNames); }
+std::string AcapReader::history() const {
+  return read_history(file_);
+}
+Mesh AcapReader::read_template() const {
+  return io::read_template(file_);
+}
+Faces AcapReader::read_faces() const {
+  return file_.read_matrix<int>(kFaces);
+}
+std::vector<std::string> AcapReader::frame_names() const {
+  return file_.read_strings(kFrameNames);
+}
+std::vector<std::string> AcapReader::sequence_names() const {
+  return file_.read_strings(kSequenceNames);
+}
+std::vector<std::int64_t> AcapReader::offsets() const {
+  return file_.read<std::int64_t>(kOffsets).data;
+}
+bool AcapReader::labelled() const {
+  return file_.exists(kLabels);
+}
+std::vector<std::int32_t> AcapReader::labels() const {
+  return file_.read<std::int32_t>(kLabels).data;
+}
+std::vector<std::string> AcapReader::class_names() const {
+  return file_.read_strings(kClassNames);
+}
 
 std::vector<std::string> AcapReader::sequence_labels() const {
   std::vector<std::string> out(sequence_names().size());
@@ -98,18 +117,39 @@ std::vector<std::string> AcapReader::sequence_labels() const {
   return out;
 }
 
-bool AcapReader::has_source() const { return file_.exists(kSource); }
-std::vector<std::int64_t> AcapReader::source() const { return file_.read<std::int64_t>(kSource).data; }
-bool AcapReader::has_steps() const { return file_.exists(kSteps); }
-std::vector<std::int32_t> AcapReader::steps() const { return file_.read<std::int32_t>(kSteps).data; }
-bool AcapReader::has_positions() const { return file_.exists(kPositions); }
-bool AcapReader::has_raw() const { return file_.exists(kRaw); }
-bool AcapReader::has_normalized() const { return file_.exists(kNormalized); }
-bool AcapReader::has_normalization() const { return file_.exists(kNormMin); }
-FeatureNormalization AcapReader::normalization() const { return read_normalization(file_); }
-bool AcapReader::has_regions() const { return file_.exists(kRegions); }
+bool AcapReader::has_source() const {
+  return file_.exists(kSource);
+}
+std::vector<std::int64_t> AcapReader::source() const {
+  return file_.read<std::int64_t>(kSource).data;
+}
+bool AcapReader::has_steps() const {
+  return file_.exists(kSteps);
+}
+std::vector<std::int32_t> AcapReader::steps() const {
+  return file_.read<std::int32_t>(kSteps).data;
+}
+bool AcapReader::has_positions() const {
+  return file_.exists(kPositions);
+}
+bool AcapReader::has_raw() const {
+  return file_.exists(kRaw);
+}
+bool AcapReader::has_normalized() const {
+  return file_.exists(kNormalized);
+}
+bool AcapReader::has_normalization() const {
+  return file_.exists(kNormMin);
+}
+FeatureNormalization AcapReader::normalization() const {
+  return read_normalization(file_);
+}
+bool AcapReader::has_regions() const {
+  return file_.exists(kRegions);
+}
 
-void AcapReader::read_regions(std::vector<std::vector<std::uint8_t>>& masks, std::vector<std::int32_t>& scale) const {
+void AcapReader::read_regions(std::vector<std::vector<std::uint8_t>>& masks,
+                              std::vector<std::int32_t>& scale) const {
   const auto m = file_.read<std::uint8_t>(kRegions);
   const std::size_t R = m.dims[0], V = m.dims[1];
   masks.assign(R, {});
@@ -121,19 +161,22 @@ void AcapReader::read_regions(std::vector<std::vector<std::uint8_t>>& masks, std
 
 void AcapReader::require_template(const Mesh& tmpl, const std::string& whose) const {
   const Faces faces = read_faces();
-  if (vertices() != static_cast<std::size_t>(tmpl.vertices.rows()) || faces.rows() != tmpl.faces.rows())
-    throw InvalidInput(fmt::format("has another template than {0} ({1} vertices, {2} triangles; {0}'s: {3}, {4}): "
-                                   "the two must share the template",
-                                   whose, vertices(), faces.rows(), tmpl.vertices.rows(), tmpl.faces.rows()),
-                       path_);
+  if (vertices() != static_cast<std::size_t>(tmpl.vertices.rows()) ||
+      faces.rows() != tmpl.faces.rows())
+    throw InvalidInput(
+        fmt::format("has another template than {0} ({1} vertices, {2} triangles; {0}'s: {3}, {4}): "
+                    "the two must share the template",
+                    whose, vertices(), faces.rows(), tmpl.vertices.rows(), tmpl.faces.rows()),
+        path_);
   for (Eigen::Index f = 0; f < faces.rows(); ++f)
     if (faces.row(f) != tmpl.faces.row(f))
-      throw InvalidInput(fmt::format("has another template than {0}: the same {1} vertices and {2} triangles, but "
-                                     "triangle {3} joins vertices ({4} {5} {6}) here and ({7} {8} {9}) in {0} "
-                                     "(counting from 0): the two must share the template",
-                                     whose, vertices(), faces.rows(), f, faces(f, 0), faces(f, 1), faces(f, 2),
-                                     tmpl.faces(f, 0), tmpl.faces(f, 1), tmpl.faces(f, 2)),
-                         path_);
+      throw InvalidInput(
+          fmt::format("has another template than {0}: the same {1} vertices and {2} triangles, but "
+                      "triangle {3} joins vertices ({4} {5} {6}) here and ({7} {8} {9}) in {0} "
+                      "(counting from 0): the two must share the template",
+                      whose, vertices(), faces.rows(), f, faces(f, 0), faces(f, 1), faces(f, 2),
+                      tmpl.faces(f, 0), tmpl.faces(f, 1), tmpl.faces(f, 2)),
+          path_);
 }
 
 Vertices AcapReader::read_frame_positions(std::size_t frame) const {
@@ -146,7 +189,9 @@ Vertices AcapReader::read_frame_positions(std::size_t frame) const {
       .cast<double>();
 }
 
-bool AcapReader::has_edit() const { return file_.exists(kEdit); }
+bool AcapReader::has_edit() const {
+  return file_.exists(kEdit);
+}
 
 ShapeEdit AcapReader::read_edit() const {
   ShapeEdit e;
@@ -182,7 +227,9 @@ void AcapReader::read_normalized(std::size_t first, std::size_t count, float* ou
 void AcapReader::read_features(std::size_t first, std::size_t count, double* out) const {
   if (has_raw()) return read_raw(first, count, out);
   if (!has_normalized())
-    throw InvalidInput("has no ACAP features (/features/raw or /features/normalized): run obj2acap on it first", path_);
+    throw InvalidInput(
+        "has no ACAP features (/features/raw or /features/normalized): run obj2acap on it first",
+        path_);
   const std::size_t n = count * vertices() * kDims;
   std::vector<float> x(n);
   read_normalized(first, count, x.data());
@@ -198,16 +245,24 @@ AcapWriter::AcapWriter(const std::string& temp_path, const std::string& display,
   write_header(file_, "acap", histories);
 }
 
-void AcapWriter::write_template(const Mesh& tmpl) { io::write_template(file_, tmpl); }
-void AcapWriter::write_normalization(const FeatureNormalization& nz) { io::write_normalization(file_, nz); }
-void AcapWriter::write_frame_names(const std::vector<std::string>& names) { file_.write_strings(kFrameNames, names); }
+void AcapWriter::write_template(const Mesh& tmpl) {
+  io::write_template(file_, tmpl);
+}
+void AcapWriter::write_normalization(const FeatureNormalization& nz) {
+  io::write_normalization(file_, nz);
+}
+void AcapWriter::write_frame_names(const std::vector<std::string>& names) {
+  file_.write_strings(kFrameNames, names);
+}
 
-void AcapWriter::write_sequences(const std::vector<std::int64_t>& offsets, const std::vector<std::string>& names) {
+void AcapWriter::write_sequences(const std::vector<std::int64_t>& offsets,
+                                 const std::vector<std::string>& names) {
   file_.write<std::int64_t>(kOffsets, offsets, {offsets.size()});
   file_.write_strings(kSequenceNames, names);
 }
 
-void AcapWriter::write_labels(const std::vector<std::int32_t>& labels, const std::vector<std::string>& class_names) {
+void AcapWriter::write_labels(const std::vector<std::int32_t>& labels,
+                              const std::vector<std::string>& class_names) {
   file_.write<std::int32_t>(kLabels, labels, {labels.size()});
   file_.write_strings(kClassNames, class_names);
 }
@@ -276,7 +331,8 @@ void AcapWriter::write_normalized_rows(std::size_t first, std::size_t count, con
   file_.write_rows<float>(kNormalized, first, count, data);
 }
 void AcapWriter::write_positions(std::size_t frames, std::size_t vertices, const float* data) {
-  file_.write<float>(kPositions, std::span<const float>(data, frames * vertices * 3), {frames, vertices, 3});
+  file_.write<float>(kPositions, std::span<const float>(data, frames * vertices * 3),
+                     {frames, vertices, 3});
 }
 void AcapWriter::write_normalized(std::size_t frames, std::size_t vertices, const float* data) {
   file_.write<float>(kNormalized, std::span<const float>(data, frames * vertices * kDims),
@@ -287,6 +343,8 @@ void AcapWriter::read_raw_rows(std::size_t first, std::size_t count, double* out
   file_.read_rows<double>(kRaw, first, count, out);
 }
 
-void AcapWriter::close() { file_.close(); }
+void AcapWriter::close() {
+  file_.close();
+}
 
 }  // namespace df::io

@@ -31,7 +31,9 @@ struct FeatureNormalization {
 
   /// x_norm = −0.95 + 1.9 (x − min_d) / (max_d − min_d)
   double normalize(int d, double x) const { return -0.95 + 1.9 * (x - min[d]) / (max[d] - min[d]); }
-  double denormalize(int d, double y) const { return min[d] + (y + 0.95) * (max[d] - min[d]) / 1.9; }
+  double denormalize(int d, double y) const {
+    return min[d] + (y + 0.95) * (max[d] - min[d]) / 1.9;
+  }
   bool same_numbers(const FeatureNormalization& o) const { return min == o.min && max == o.max; }
 };
 
@@ -51,26 +53,26 @@ struct SyntheticTruth {
   std::string kind;
   double amplitude = 0, twist_degrees = 0, periods = 0;
   std::int64_t resolution = 0, seed = 0;
-  std::vector<std::vector<std::uint8_t>> regions;  ///< [R][V] 1 inside region r
+  std::vector<std::vector<std::uint8_t>> regions;         ///< [R][V] 1 inside region r
   std::vector<std::int32_t> region_scale, region_center;  ///< [R]
-  std::vector<float> weights;                       ///< [N, R]
+  std::vector<float> weights;                             ///< [N, R]
 };
 
 /// What edit-shape did to make a shape (/edit): the weights of every component of the components
 /// file it used (levels in order, pruned ones with weight 0), which of them this edit solved for,
 /// the handles and their targets, and how far the weights alone reach each target.
 struct ShapeEdit {
-  std::string components;               ///< the components file as given
+  std::string components;  ///< the components file as given
   double l2 = 0;
   std::int64_t iterations = 0;
   bool converged = false;
-  std::vector<double> weights;          ///< [K]
-  std::vector<std::int32_t> level;      ///< [K] the level of each component
-  std::vector<std::uint8_t> edited;     ///< [K] 1 = solved in this edit, 0 = kept from --from
-  std::vector<std::int32_t> handles;    ///< [H] vertices held
-  std::vector<double> targets;          ///< [H, 3]
-  std::vector<double> residual;         ///< [H] see edit-shape --help
-  std::vector<double> energy;           ///< the energy at the start and after each step
+  std::vector<double> weights;        ///< [K]
+  std::vector<std::int32_t> level;    ///< [K] the level of each component
+  std::vector<std::uint8_t> edited;   ///< [K] 1 = solved in this edit, 0 = kept from --from
+  std::vector<std::int32_t> handles;  ///< [H] vertices held
+  std::vector<double> targets;        ///< [H, 3]
+  std::vector<double> residual;       ///< [H] see edit-shape --help
+  std::vector<double> energy;         ///< the energy at the start and after each step
 };
 
 /// An ACAP input, opened and validated (io::open_input) once; partial reads by frame.
@@ -95,12 +97,12 @@ class AcapReader {
   std::vector<std::string> sequence_names() const;
   std::vector<std::int64_t> offsets() const;  ///< [S+1]
   bool labelled() const;
-  std::vector<std::int32_t> labels() const;   ///< [S] (labelled files only)
+  std::vector<std::int32_t> labels() const;  ///< [S] (labelled files only)
   std::vector<std::string> class_names() const;
   /// Per sequence its class name, "" for every sequence of an unlabelled file.
   std::vector<std::string> sequence_labels() const;
   bool has_source() const;
-  std::vector<std::int64_t> source() const;   ///< generated frames' data frame (has_source)
+  std::vector<std::int64_t> source() const;  ///< generated frames' data frame (has_source)
   bool has_steps() const;
   std::vector<std::int32_t> steps() const;
 
@@ -114,7 +116,8 @@ class AcapReader {
   /// The /edit record of a shape made by edit-shape; has_edit first.
   bool has_edit() const;
   ShapeEdit read_edit() const;
-  void read_regions(std::vector<std::vector<std::uint8_t>>& masks, std::vector<std::int32_t>& scale) const;
+  void read_regions(std::vector<std::vector<std::uint8_t>>& masks,
+                    std::vector<std::int32_t>& scale) const;
 
   /// Rows [first, first + count) (a row: one frame, V x 3 or V x 9 values), checked finite.
   void read_positions(std::size_t first, std::size_t count, float* out) const;
@@ -142,8 +145,10 @@ class AcapWriter {
   void write_template(const Mesh& tmpl);
   void write_normalization(const FeatureNormalization& nz);
   void write_frame_names(const std::vector<std::string>& names);
-  void write_sequences(const std::vector<std::int64_t>& offsets, const std::vector<std::string>& names);
-  void write_labels(const std::vector<std::int32_t>& labels, const std::vector<std::string>& class_names);
+  void write_sequences(const std::vector<std::int64_t>& offsets,
+                       const std::vector<std::string>& names);
+  void write_labels(const std::vector<std::int32_t>& labels,
+                    const std::vector<std::string>& class_names);
   /// Generated frames: the data frame at the same time (-1 past its end); `data` the data file,
   /// `method` what made them ("" = not recorded).
   void write_source(const std::vector<std::int64_t>& source, const std::string& data,

@@ -36,7 +36,8 @@ void write_components(const std::string& path, const Components& c,
       const std::string g = fmt::format("/level{}", l);
       const auto K = static_cast<std::size_t>(L.features.rows());
       const auto D = static_cast<std::size_t>(c.per_vertex());
-      f.write<float>(g + "/features", std::span<const float>(L.features.data(), K * D * V), {K, V, D});
+      f.write<float>(g + "/features", std::span<const float>(L.features.data(), K * D * V),
+                     {K, V, D});
       f.write<double>(g + "/strength", L.strength, {K});
       f.write<std::int32_t>(g + "/center",
                             std::vector<std::int32_t>(L.center.begin(), L.center.end()), {K});
@@ -76,8 +77,9 @@ Components read_components(const std::string& path) {
                          f.where(g + "/features"));
     const auto D = static_cast<std::size_t>(c.per_vertex());
     if (feats.dims[2] != D)
-      throw InvalidInput(fmt::format("{} numbers per vertex; {} components have {}", feats.dims[2], c.space, D),
-                         f.where(g + "/features"));
+      throw InvalidInput(
+          fmt::format("{} numbers per vertex; {} components have {}", feats.dims[2], c.space, D),
+          f.where(g + "/features"));
     const auto K = static_cast<Index>(feats.dims[0]);
     L.features =
         Eigen::Map<const h5::RowMatrix<float>>(feats.data.data(), K, static_cast<Index>(D * V));
@@ -103,11 +105,13 @@ Components read_components(const std::string& path) {
   return c;
 }
 
-void require_acap_components(const Components& c, const std::string& path, const std::string& what) {
+void require_acap_components(const Components& c, const std::string& path,
+                             const std::string& what) {
   if (c.space != "acap")
-    throw InvalidInput(fmt::format("holds {} components (SPLOCS on vertex positions); {} needs ACAP components",
-                                   c.space, what),
-                       path);
+    throw InvalidInput(
+        fmt::format("holds {} components (SPLOCS on vertex positions); {} needs ACAP components",
+                    c.space, what),
+        path);
 }
 
 void write_components_acap(const std::string& path, const Components& c, bool kept_only,
@@ -147,11 +151,13 @@ void write_components_acap(const std::string& path, const Components& c, bool ke
 
 std::string component_name(const Components& c, std::size_t level, std::size_t k) {
   const auto& block = c.levels.at(level).block;
-  const auto within = std::count(block.begin(), block.begin() + static_cast<std::ptrdiff_t>(k), block.at(k));
+  const auto within =
+      std::count(block.begin(), block.begin() + static_cast<std::ptrdiff_t>(k), block.at(k));
   return fmt::format("L{}.{}.{}", level, block[k], within);
 }
 
-bool names_components(const std::vector<std::string>& sequence_names, const std::vector<std::string>& frame_names,
+bool names_components(const std::vector<std::string>& sequence_names,
+                      const std::vector<std::string>& frame_names,
                       const std::vector<std::int64_t>& offsets) {
   if (sequence_names.empty() || offsets.size() != sequence_names.size() + 1 ||
       offsets.back() != static_cast<std::int64_t>(frame_names.size()))

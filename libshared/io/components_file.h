@@ -63,7 +63,8 @@ std::string component_name(const Components& c, std::size_t level, std::size_t k
 
 /// Whether an acap file's frames are components as write_components_acap names them (every
 /// sequence "level<l>", its frames "L<l>.<block>.<k>"): render-mesh captions them by name.
-bool names_components(const std::vector<std::string>& sequence_names, const std::vector<std::string>& frame_names,
+bool names_components(const std::vector<std::string>& sequence_names,
+                      const std::vector<std::string>& frame_names,
                       const std::vector<std::int64_t>& offsets);
 
 }  // namespace df::io

@@ -13,8 +13,8 @@
 namespace df::io {
 
 struct GltfSequence {
-  Faces faces;                  ///< [T, 3]
-  std::vector<Vertices> frames;  ///< [F] positions [V, 3], F >= 1
+  Faces faces;                    ///< [T, 3]
+  std::vector<Vertices> frames;   ///< [F] positions [V, 3], F >= 1
   std::vector<Vertices> normals;  ///< [F] unit vertex normals [V, 3], or empty: none written
   double fps = 30;
   std::string name = "sequence";
@@ -26,7 +26,7 @@ void write_gltf_sequence(const std::string& path, const GltfSequence& s);
 /// A skeleton sequence: one node per joint in the joints' hierarchy (a child's translation is
 /// its offset from its parent, no rotations), each node's translation animated over the frames.
 struct GltfSkeleton {
-  std::vector<std::int32_t> parents;    ///< [J], −1 for a root
+  std::vector<std::int32_t> parents;     ///< [J], −1 for a root
   std::vector<std::string> joint_names;  ///< [J]
   std::vector<float> positions;          ///< [T, J, 3] joint positions
   double fps = 30;

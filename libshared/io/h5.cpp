@@ -1,12 +1,12 @@
 #include "io/h5.h"
 
+#include <tbb/parallel_for.h>
+#include <zstd.h>
+
 #include <algorithm>
 #include <cstring>
 #include <mutex>
 #include <numeric>
-
-#include <tbb/parallel_for.h>
-#include <zstd.h>
 
 #include "core/error.h"
 #include "io/zstd_filter.h"
@@ -53,18 +53,26 @@ std::string parent_of(const std::string& path) {
 Dtype dtype_of(hid_t type) {
   switch (H5Tget_class(type)) {
     case H5T_FLOAT:
-      return H5Tget_size(type) == 4 ? Dtype::f32 : H5Tget_size(type) == 8 ? Dtype::f64 : Dtype::other;
+      return H5Tget_size(type) == 4   ? Dtype::f32
+             : H5Tget_size(type) == 8 ? Dtype::f64
+                                      : Dtype::other;
     case H5T_INTEGER: {
       bool sign = H5Tget_sign(type) == H5T_SGN_2;
       switch (H5Tget_size(type)) {
-        case 1: return sign ? Dtype::i8 : Dtype::u8;
-        case 4: return sign ? Dtype::i32 : Dtype::u32;
-        case 8: return sign ? Dtype::i64 : Dtype::u64;
-        default: return Dtype::other;
+        case 1:
+          return sign ? Dtype::i8 : Dtype::u8;
+        case 4:
+          return sign ? Dtype::i32 : Dtype::u32;
+        case 8:
+          return sign ? Dtype::i64 : Dtype::u64;
+        default:
+          return Dtype::other;
       }
     }
-    case H5T_STRING: return Dtype::string;
-    default: return Dtype::other;
+    case H5T_STRING:
+      return Dtype::string;
+    default:
+      return Dtype::other;
   }
 }
 
@@ -119,16 +127,26 @@ std::vector<std::string> read_string_values(hid_t file_type, std::size_t n, Read
 
 const char* dtype_name(Dtype t) {
   switch (t) {
-    case Dtype::f32: return "float32";
-    case Dtype::f64: return "float64";
-    case Dtype::i8: return "int8";
-    case Dtype::u8: return "uint8";
-    case Dtype::i32: return "int32";
-    case Dtype::u32: return "uint32";
-    case Dtype::i64: return "int64";
-    case Dtype::u64: return "uint64";
-    case Dtype::string: return "string";
-    default: return "other";
+    case Dtype::f32:
+      return "float32";
+    case Dtype::f64:
+      return "float64";
+    case Dtype::i8:
+      return "int8";
+    case Dtype::u8:
+      return "uint8";
+    case Dtype::i32:
+      return "int32";
+    case Dtype::u32:
+      return "uint32";
+    case Dtype::i64:
+      return "int64";
+    case Dtype::u64:
+      return "uint64";
+    case Dtype::string:
+      return "string";
+    default:
+      return "other";
   }
 }
 
@@ -139,14 +157,38 @@ Dtype dtype_from_name(const std::string& name) {
   return Dtype::other;
 }
 
-template <> hid_t native_type<float>() { return H5T_NATIVE_FLOAT; }
-template <> hid_t native_type<double>() { return H5T_NATIVE_DOUBLE; }
-template <> hid_t native_type<std::int8_t>() { return H5T_NATIVE_INT8; }
-template <> hid_t native_type<std::uint8_t>() { return H5T_NATIVE_UINT8; }
-template <> hid_t native_type<std::int32_t>() { return H5T_NATIVE_INT32; }
-template <> hid_t native_type<std::uint32_t>() { return H5T_NATIVE_UINT32; }
-template <> hid_t native_type<std::int64_t>() { return H5T_NATIVE_INT64; }
-template <> hid_t native_type<std::uint64_t>() { return H5T_NATIVE_UINT64; }
+template <>
+hid_t native_type<float>() {
+  return H5T_NATIVE_FLOAT;
+}
+template <>
+hid_t native_type<double>() {
+  return H5T_NATIVE_DOUBLE;
+}
+template <>
+hid_t native_type<std::int8_t>() {
+  return H5T_NATIVE_INT8;
+}
+template <>
+hid_t native_type<std::uint8_t>() {
+  return H5T_NATIVE_UINT8;
+}
+template <>
+hid_t native_type<std::int32_t>() {
+  return H5T_NATIVE_INT32;
+}
+template <>
+hid_t native_type<std::uint32_t>() {
+  return H5T_NATIVE_UINT32;
+}
+template <>
+hid_t native_type<std::int64_t>() {
+  return H5T_NATIVE_INT64;
+}
+template <>
+hid_t native_type<std::uint64_t>() {
+  return H5T_NATIVE_UINT64;
+}
 
 void initialize() {
   static std::once_flag once;
@@ -175,8 +217,8 @@ File::File(const fs::path& path, Mode mode, std::string display_name)
   H5Eclear2(H5E_DEFAULT);
   if (is <= 0) throw InvalidInput("not an HDF5 file", name_);
   unsigned flags = mode == Mode::read ? H5F_ACC_RDONLY : H5F_ACC_RDWR;
-  file_ = checked(H5Fopen(p.c_str(), flags, H5P_DEFAULT), H5Fclose, "cannot open the HDF5 file",
-                  name_);
+  file_ =
+      checked(H5Fopen(p.c_str(), flags, H5P_DEFAULT), H5Fclose, "cannot open the HDF5 file", name_);
 }
 
 void File::close() {
@@ -217,8 +259,8 @@ Handle File::open_object(const std::string& path) const {
 Handle File::open_dataset(const std::string& path) const {
   if (!exists(path)) throw InvalidInput("missing dataset", where(path));
   if (!is_dataset(path)) throw InvalidInput("is not a dataset", where(path));
-  return checked(H5Dopen2(file_.get(), path.c_str(), H5P_DEFAULT), H5Dclose,
-                 "cannot open dataset", where(path));
+  return checked(H5Dopen2(file_.get(), path.c_str(), H5P_DEFAULT), H5Dclose, "cannot open dataset",
+                 where(path));
 }
 
 bool File::is_group(const std::string& path) const {
@@ -253,8 +295,8 @@ std::vector<std::string> File::children(const std::string& group) const {
   check(H5Gget_info(g.get(), &gi), "cannot list group", where(group));
   std::vector<std::string> names;
   for (hsize_t i = 0; i < gi.nlinks; ++i) {
-    ssize_t n = H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0,
-                                   H5P_DEFAULT);
+    ssize_t n =
+        H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
     if (n < 0) fail("cannot list group", where(group));
     std::string s(static_cast<std::size_t>(n), '\0');
     H5Lget_name_by_idx(g.get(), ".", H5_INDEX_NAME, H5_ITER_INC, i, s.data(),
@@ -276,8 +318,8 @@ void File::create_groups(const std::string& path) {
       if (!is_group(prefix)) throw InvalidInput("is not a group", where(prefix));
       continue;
     }
-    checked(H5Gcreate2(file_.get(), prefix.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
-            H5Gclose, "cannot create group", where(prefix));
+    checked(H5Gcreate2(file_.get(), prefix.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), H5Gclose,
+            "cannot create group", where(prefix));
   }
 }
 
@@ -297,8 +339,10 @@ static bool stores_all_data(hid_t ds, hid_t dcpl, const std::vector<std::size_t>
       if (H5Dget_num_chunks(ds, space.get(), &written) < 0) return false;
       return static_cast<long double>(written) == expected;
     }
-    case H5D_CONTIGUOUS: return H5Dget_storage_size(ds) > 0;
-    default: return true;  // compact: stored in the header
+    case H5D_CONTIGUOUS:
+      return H5Dget_storage_size(ds) > 0;
+    default:
+      return true;  // compact: stored in the header
   }
 }
 
@@ -378,8 +422,7 @@ void File::set_attr(const std::string& object, const std::string& name, std::int
   write_attr_raw(object, name, H5T_NATIVE_INT64, space.get(), &value);
 }
 
-void File::set_attr(const std::string& object, const std::string& name,
-                    std::span<const double> v) {
+void File::set_attr(const std::string& object, const std::string& name, std::span<const double> v) {
   hsize_t n = v.size();
   Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
   write_attr_raw(object, name, H5T_NATIVE_DOUBLE, space.get(), v.data());
@@ -429,7 +472,8 @@ std::vector<double> File::attr_doubles(const std::string& object, const std::str
 
 double File::attr_double(const std::string& object, const std::string& name) const {
   auto v = attr_doubles(object, name);
-  if (v.size() != 1) throw InvalidInput("attribute '" + name + "' is not a single number", where(object));
+  if (v.size() != 1)
+    throw InvalidInput("attribute '" + name + "' is not a single number", where(object));
   return v[0];
 }
 
@@ -438,7 +482,8 @@ std::int64_t File::attr_int(const std::string& object, const std::string& name) 
   if (H5Tget_class(a.type.get()) != H5T_INTEGER || a.count != 1)
     throw InvalidInput("attribute '" + name + "' is not a single integer", where(object));
   std::int64_t v = 0;
-  check(H5Aread(a.attr.get(), H5T_NATIVE_INT64, &v), "cannot read attribute " + name, where(object));
+  check(H5Aread(a.attr.get(), H5T_NATIVE_INT64, &v), "cannot read attribute " + name,
+        where(object));
   return v;
 }
 
@@ -462,7 +507,8 @@ Handle File::make_dataset(const std::string& path, hid_t type, const std::vector
     chunk[0] = std::clamp<hsize_t>(opt.chunk_bytes / std::max<std::size_t>(row_bytes, 1), 1, hd[0]);
     if (row_bytes > 4 * opt.chunk_bytes && hd.size() >= 2) {
       std::size_t sub_bytes = row_bytes / std::max<hsize_t>(hd[1], 1);
-      chunk[1] = std::clamp<hsize_t>(opt.chunk_bytes / std::max<std::size_t>(sub_bytes, 1), 1, hd[1]);
+      chunk[1] =
+          std::clamp<hsize_t>(opt.chunk_bytes / std::max<std::size_t>(sub_bytes, 1), 1, hd[1]);
     }
     check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()),
           "cannot set chunking", where(path));
@@ -514,7 +560,9 @@ std::vector<std::string> File::read_strings(const std::string& path) const {
   std::size_t n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
   return read_string_values(
       type.get(), n,
-      [&](hid_t mem, void* buf) { return H5Dread(ds.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf); },
+      [&](hid_t mem, void* buf) {
+        return H5Dread(ds.get(), mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf);
+      },
       where(path));
 }
 
@@ -558,7 +606,8 @@ Slab select_rows(hid_t ds, std::size_t first, std::size_t count, const std::stri
   check(H5Sselect_hyperslab(s.file_space.get(), H5S_SELECT_SET, start.data(), nullptr, cnt.data(),
                             nullptr),
         "cannot select rows", where);
-  s.mem_space = Handle(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr), H5Sclose);
+  s.mem_space =
+      Handle(H5Screate_simple(static_cast<int>(cnt.size()), cnt.data(), nullptr), H5Sclose);
   return s;
 }
 
@@ -580,12 +629,16 @@ ChunkLayout chunk_layout(hid_t ds) {
   Handle dcpl(H5Dget_create_plist(ds), H5Pclose);
   Handle space(H5Dget_space(ds), H5Sclose);
   L.dims = space_dims(space.get());
-  if (L.dims.empty() || H5Pget_layout(dcpl.get()) != H5D_CHUNKED || H5Pget_nfilters(dcpl.get()) != 2) return L;
+  if (L.dims.empty() || H5Pget_layout(dcpl.get()) != H5D_CHUNKED ||
+      H5Pget_nfilters(dcpl.get()) != 2)
+    return L;
   unsigned flags = 0, cd[4] = {0, 0, 0, 0}, config = 0;
   std::size_t ncd = 4;
-  if (H5Pget_filter2(dcpl.get(), 0, &flags, &ncd, cd, 0, nullptr, &config) != H5Z_FILTER_SHUFFLE) return L;
+  if (H5Pget_filter2(dcpl.get(), 0, &flags, &ncd, cd, 0, nullptr, &config) != H5Z_FILTER_SHUFFLE)
+    return L;
   ncd = 4;
-  if (H5Pget_filter2(dcpl.get(), 1, &flags, &ncd, cd, 0, nullptr, &config) != kZstdFilterId) return L;
+  if (H5Pget_filter2(dcpl.get(), 1, &flags, &ncd, cd, 0, nullptr, &config) != kZstdFilterId)
+    return L;
   L.zstd_level = ncd > 0 ? static_cast<int>(cd[0]) : 3;
   std::vector<hsize_t> chunk(L.dims.size());
   if (H5Pget_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()) < 0) return L;
@@ -611,9 +664,12 @@ void unshuffle_fixed(const unsigned char* in, unsigned char* out, std::size_t n)
 }
 void shuffle_bytes(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t size) {
   switch (size) {
-    case 8: return shuffle_fixed<8>(in, out, n);
-    case 4: return shuffle_fixed<4>(in, out, n);
-    case 2: return shuffle_fixed<2>(in, out, n);
+    case 8:
+      return shuffle_fixed<8>(in, out, n);
+    case 4:
+      return shuffle_fixed<4>(in, out, n);
+    case 2:
+      return shuffle_fixed<2>(in, out, n);
     default:
       for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < size; ++j) out[j * n + i] = in[i * size + j];
@@ -621,9 +677,12 @@ void shuffle_bytes(const unsigned char* in, unsigned char* out, std::size_t n, s
 }
 void unshuffle_bytes(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t size) {
   switch (size) {
-    case 8: return unshuffle_fixed<8>(in, out, n);
-    case 4: return unshuffle_fixed<4>(in, out, n);
-    case 2: return unshuffle_fixed<2>(in, out, n);
+    case 8:
+      return unshuffle_fixed<8>(in, out, n);
+    case 4:
+      return unshuffle_fixed<4>(in, out, n);
+    case 2:
+      return unshuffle_fixed<2>(in, out, n);
     default:
       for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < size; ++j) out[i * size + j] = in[j * n + i];
@@ -674,7 +733,8 @@ RowSplit split_rows(const ChunkLayout& L, std::size_t first, std::size_t count) 
 }
 
 template <class T>
-void File::write_rows(const std::string& path, std::size_t first, std::size_t count, const T* data) {
+void File::write_rows(const std::string& path, std::size_t first, std::size_t count,
+                      const T* data) {
   Handle ds = open_dataset(path);
   ChunkLayout L = chunk_layout(ds.get());
   RowSplit sp = split_rows(L, first, count);
@@ -690,7 +750,8 @@ void File::write_rows(const std::string& path, std::size_t first, std::size_t co
     const std::size_t m0 = first + sp.head;
     const T* mdata = data + sp.head * L.row_elems;
     const std::size_t n_chunks = (sp.middle + L.chunk_rows - 1) / L.chunk_rows;
-    const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
+    const std::size_t chunk_elems = L.chunk_rows * L.row_elems,
+                      chunk_bytes = chunk_elems * sizeof(T);
     std::vector<std::vector<unsigned char>> packed(n_chunks);
     std::vector<char> failed(n_chunks, 0);
     tbb::parallel_for(std::size_t{0}, n_chunks, [&](std::size_t c) {
@@ -704,18 +765,22 @@ void File::write_rows(const std::string& path, std::size_t first, std::size_t co
       }
       Scratch& sc = scratch();
       sc.bytes.resize(chunk_bytes);
-      shuffle_bytes(reinterpret_cast<const unsigned char*>(src), sc.bytes.data(), chunk_elems, sizeof(T));
+      shuffle_bytes(reinterpret_cast<const unsigned char*>(src), sc.bytes.data(), chunk_elems,
+                    sizeof(T));
       packed[c].resize(ZSTD_compressBound(chunk_bytes));
-      std::size_t n = ZSTD_compressCCtx(sc.cctx, packed[c].data(), packed[c].size(), sc.bytes.data(), chunk_bytes,
-                                        L.zstd_level);
-      if (ZSTD_isError(n)) failed[c] = 1;
-      else packed[c].resize(n);
+      std::size_t n = ZSTD_compressCCtx(sc.cctx, packed[c].data(), packed[c].size(),
+                                        sc.bytes.data(), chunk_bytes, L.zstd_level);
+      if (ZSTD_isError(n))
+        failed[c] = 1;
+      else
+        packed[c].resize(n);
     });
     for (std::size_t c = 0; c < n_chunks; ++c) {
       if (failed[c]) throw IOError("zstd compression failed", where(path));
       std::vector<hsize_t> offset(L.dims.size(), 0);
       offset[0] = m0 + c * L.chunk_rows;
-      check(H5Dwrite_chunk(ds.get(), H5P_DEFAULT, 0, offset.data(), packed[c].size(), packed[c].data()),
+      check(H5Dwrite_chunk(ds.get(), H5P_DEFAULT, 0, offset.data(), packed[c].size(),
+                           packed[c].data()),
             "cannot write chunk", where(path));
     }
   }
@@ -741,14 +806,16 @@ void File::read_rows(const std::string& path, std::size_t first, std::size_t cou
     const std::size_t m0 = first + sp.head;
     T* mdata = data + sp.head * L.row_elems;
     const std::size_t n_chunks = (sp.middle + L.chunk_rows - 1) / L.chunk_rows;
-    const std::size_t chunk_elems = L.chunk_rows * L.row_elems, chunk_bytes = chunk_elems * sizeof(T);
+    const std::size_t chunk_elems = L.chunk_rows * L.row_elems,
+                      chunk_bytes = chunk_elems * sizeof(T);
     std::vector<std::vector<unsigned char>> packed(n_chunks);
     std::vector<std::uint32_t> mask(n_chunks, 0);
     for (std::size_t c = 0; c < n_chunks; ++c) {
       std::vector<hsize_t> offset(L.dims.size(), 0);
       offset[0] = m0 + c * L.chunk_rows;
       hsize_t nbytes = 0;
-      check(H5Dget_chunk_storage_size(ds.get(), offset.data(), &nbytes), "cannot locate chunk", where(path));
+      check(H5Dget_chunk_storage_size(ds.get(), offset.data(), &nbytes), "cannot locate chunk",
+            where(path));
       packed[c].resize(nbytes);
       if (nbytes)
         check(H5Dread_chunk(ds.get(), H5P_DEFAULT, offset.data(), &mask[c], packed[c].data()),
@@ -766,7 +833,8 @@ void File::read_rows(const std::string& path, std::size_t first, std::size_t cou
       const unsigned char* shuffled = packed[c].data();
       if (!(mask[c] & 2u)) {  // zstd applied
         sc.bytes.resize(chunk_bytes);
-        std::size_t n = ZSTD_decompressDCtx(sc.dctx, sc.bytes.data(), chunk_bytes, packed[c].data(), packed[c].size());
+        std::size_t n = ZSTD_decompressDCtx(sc.dctx, sc.bytes.data(), chunk_bytes, packed[c].data(),
+                                            packed[c].size());
         if (ZSTD_isError(n) || n != chunk_bytes) {
           failed[c] = 1;
           return;
@@ -786,7 +854,9 @@ void File::read_rows(const std::string& path, std::size_t first, std::size_t cou
         unshuffle_bytes(shuffled, reinterpret_cast<unsigned char*>(out), chunk_elems, sizeof(T));
       else
         std::memcpy(out, shuffled, chunk_bytes);
-      if (out != dst) std::copy(padded.begin(), padded.begin() + static_cast<std::ptrdiff_t>(rows * L.row_elems), dst);
+      if (out != dst)
+        std::copy(padded.begin(), padded.begin() + static_cast<std::ptrdiff_t>(rows * L.row_elems),
+                  dst);
     });
     for (char f : failed)
       if (f) throw IOError("corrupt compressed chunk", where(path));
@@ -794,13 +864,13 @@ void File::read_rows(const std::string& path, std::size_t first, std::size_t cou
   pipeline_read(first + sp.head + sp.middle, count - sp.head - sp.middle);
 }
 
-#define DF_H5_INSTANTIATE(T)                                                                  \
-  template void File::write<T>(const std::string&, std::span<const T>,                      \
-                               const std::vector<std::size_t>&, const StorageOptions&);     \
-  template void File::create<T>(const std::string&, const std::vector<std::size_t>&,        \
-                                const StorageOptions&);                                     \
-  template Array<T> File::read<T>(const std::string&) const;                                \
-  template RowMatrix<T> File::read_matrix<T>(const std::string&) const;                     \
+#define DF_H5_INSTANTIATE(T)                                                                 \
+  template void File::write<T>(const std::string&, std::span<const T>,                       \
+                               const std::vector<std::size_t>&, const StorageOptions&);      \
+  template void File::create<T>(const std::string&, const std::vector<std::size_t>&,         \
+                                const StorageOptions&);                                      \
+  template Array<T> File::read<T>(const std::string&) const;                                 \
+  template RowMatrix<T> File::read_matrix<T>(const std::string&) const;                      \
   template void File::write_rows<T>(const std::string&, std::size_t, std::size_t, const T*); \
   template void File::read_rows<T>(const std::string&, std::size_t, std::size_t, T*) const;
 

@@ -44,8 +44,8 @@ struct DatasetInfo {
 
 /// How a dataset is stored.
 struct StorageOptions {
-  bool compress = true;     ///< chunk + shuffle + zstd when the data exceeds 4 KiB
-  int zstd_level = 1;        ///< level 3 took twice as long for 0.6% smaller feature files
+  bool compress = true;               ///< chunk + shuffle + zstd when the data exceeds 4 KiB
+  int zstd_level = 1;                 ///< level 3 took twice as long for 0.6% smaller feature files
   std::size_t chunk_bytes = 1 << 20;  ///< target chunk size
 };
 
@@ -177,8 +177,8 @@ class File {
   Handle open_dataset(const std::string& path) const;
   Handle make_dataset(const std::string& path, hid_t type, const std::vector<std::size_t>& dims,
                       std::size_t elem_size, const StorageOptions& opt);
-  void write_attr_raw(const std::string& object, const std::string& name, hid_t type,
-                      hid_t space, const void* data);
+  void write_attr_raw(const std::string& object, const std::string& name, hid_t type, hid_t space,
+                      const void* data);
 
   std::string name_;
   Handle file_;

@@ -27,8 +27,11 @@ void list_datasets(const h5::File& f, std::string& out) {
     h5::DatasetInfo info = f.info(path);
     std::string filters;
     for (int id : info.filters)
-      filters += id == h5::kZstdFilterId ? " zstd" : id == H5Z_FILTER_SHUFFLE ? " shuffle" : fmt::format(" filter{}", id);
-    out += fmt::format("  {:<28} {:<8} {}{}\n", path, h5::dtype_name(info.dtype), shape(info.dims), filters);
+      filters += id == h5::kZstdFilterId    ? " zstd"
+                 : id == H5Z_FILTER_SHUFFLE ? " shuffle"
+                                            : fmt::format(" filter{}", id);
+    out += fmt::format("  {:<28} {:<8} {}{}\n", path, h5::dtype_name(info.dtype), shape(info.dims),
+                       filters);
   }
 }
 
@@ -49,14 +52,17 @@ int inspect_files(const std::vector<std::string>& files, const InspectOptions& o
       std::string d;
       const auto& doc = schema(kind).doc;
       for (const auto& [name, size] : dims) {
-        std::string meaning = doc["dimensions"].contains(name) ? doc["dimensions"][name].value("description", "") : "";
+        std::string meaning = doc["dimensions"].contains(name)
+                                  ? doc["dimensions"][name].value("description", "")
+                                  : "";
         d += fmt::format("  {} = {}{}\n", name, size, meaning.empty() ? "" : "  (" + meaning + ")");
       }
       out += d;
       list_datasets(f, out);
       if (opt.show_history) {
         out += "  history:\n";
-        for (const auto& line : provenance::history_lines(read_history(f))) out += "    " + line + "\n";
+        for (const auto& line : provenance::history_lines(read_history(f)))
+          out += "    " + line + "\n";
       }
       if (log::enabled(log::Level::info)) std::fputs(out.c_str(), stdout);
       std::fflush(stdout);

@@ -9,7 +9,7 @@ namespace df::io {
 struct InspectOptions {
   bool structure_only = false;  ///< skip reading the data (no NaN/index/offset checks)
   bool show_history = true;
-  std::string expected_kind;    ///< require this kind ("" = any)
+  std::string expected_kind;  ///< require this kind ("" = any)
 };
 
 /// Validates each file and prints a summary per file on stdout (kind, dimensions, datasets

@@ -18,8 +18,8 @@ struct Md2Animation {
 };
 
 struct Md2Model {
-  Faces faces;                            ///< counter-clockwise triangles (MD2 stores clockwise)
-  std::vector<Vertices> frames;           ///< #V by 3 positions per frame
+  Faces faces;                   ///< counter-clockwise triangles (MD2 stores clockwise)
+  std::vector<Vertices> frames;  ///< #V by 3 positions per frame
   std::vector<std::string> frame_names;
   std::vector<Md2Animation> animations;
 };

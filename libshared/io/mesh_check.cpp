@@ -116,9 +116,10 @@ MeshTextScan check_obj(const std::string& path, const std::string& text) {
         if (part.empty() && k > 0) continue;  // "1//3"
         std::int64_t index = 0;
         if (parse_int(part, index) && index == 0)
-          throw InvalidInput(fmt::format("face corner '{}' names {} 0: OBJ counts from 1 (or back from -1)",
-                                         tokens[c], kinds[k]),
-                             lines.where(path));
+          throw InvalidInput(
+              fmt::format("face corner '{}' names {} 0: OBJ counts from 1 (or back from -1)",
+                          tokens[c], kinds[k]),
+              lines.where(path));
         if (!parse_int(part, index) || index > counts[k] || index < -counts[k])
           throw InvalidInput(
               fmt::format("face corner '{}' names {} {}, but {} are defined before it", tokens[c],

@@ -1,18 +1,18 @@
 #include "io/mesh_io.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <iterator>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -87,7 +87,8 @@ class VerbatimImporter : public OpenMesh::IO::BaseImporter {
   void add_face_texcoords(FH, VH, const std::vector<OpenMesh::Vec3f>&) override {}
   void set_face_texindex(FH, int) override {}
   void set_point(VH v, const OpenMesh::Vec3f& p) override {
-    if (v.idx() >= 0 && static_cast<std::size_t>(v.idx()) < points.size()) points[v.idx()] = OpenMesh::Vec3d(p);
+    if (v.idx() >= 0 && static_cast<std::size_t>(v.idx()) < points.size())
+      points[v.idx()] = OpenMesh::Vec3d(p);
   }
   void set_halfedge(VH, HH) override {}
   void set_normal(VH, const OpenMesh::Vec3f&) override {}
@@ -165,16 +166,20 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   }
   auto first_line = [](const std::string& s) { return s.substr(0, s.find('\n')); };
   if (!ok)
-    throw InvalidInput(messages.empty() ? "cannot read as a mesh" : "cannot read as a mesh: " + first_line(messages), path);
+    throw InvalidInput(messages.empty() ? "cannot read as a mesh"
+                                        : "cannot read as a mesh: " + first_line(messages),
+                       path);
   if (importer.points.empty()) throw InvalidInput("no vertices found; not a mesh file?", path);
-  if (importer.polygons.empty()) throw InvalidInput("no faces found (a point cloud is not a mesh)", path);
+  if (importer.polygons.empty())
+    throw InvalidInput("no faces found (a point cloud is not a mesh)", path);
 
   const auto nv = importer.points.size();
   if (ext == ".obj" && scan.obj_vertex_lines != nv)
-    throw InvalidInput(fmt::format("{} of {} vertex lines could not be read (non-numeric coordinates?)",
-                                   scan.obj_vertex_lines - std::min(scan.obj_vertex_lines, nv),
-                                   scan.obj_vertex_lines),
-                       path);
+    throw InvalidInput(
+        fmt::format("{} of {} vertex lines could not be read (non-numeric coordinates?)",
+                    scan.obj_vertex_lines - std::min(scan.obj_vertex_lines, nv),
+                    scan.obj_vertex_lines),
+        path);
 
   Mesh mesh;
   mesh.vertices.resize(static_cast<Eigen::Index>(nv), 3);
@@ -182,7 +187,8 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
     for (int k = 0; k < 3; ++k) {
       double x = importer.points[i][k];
       if (!std::isfinite(x))
-        throw InvalidInput(fmt::format("vertex {} has a non-finite coordinate ({})", i + 1, x), path);
+        throw InvalidInput(fmt::format("vertex {} has a non-finite coordinate ({})", i + 1, x),
+                           path);
       mesh.vertices(static_cast<Eigen::Index>(i), k) = x;
     }
   }
@@ -199,9 +205,11 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
       throw InvalidInput(fmt::format("face {} has {} corners", f + 1, poly.size()), path);
     for (int v : poly)
       if (v < 0 || static_cast<std::size_t>(v) >= nv)
-        throw InvalidInput(fmt::format("face {} refers to vertex {} of {}", f + 1, v + 1, nv), path);
+        throw InvalidInput(fmt::format("face {} refers to vertex {} of {}", f + 1, v + 1, nv),
+                           path);
     if (poly.size() > 3) ++rep.polygons_triangulated;
-    for (std::size_t k = 1; k + 1 < poly.size(); ++k) tris.push_back({poly[0], poly[k], poly[k + 1]});
+    for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+      tris.push_back({poly[0], poly[k], poly[k + 1]});
   }
   mesh.faces.resize(static_cast<Eigen::Index>(tris.size()), 3);
   std::vector<char> used(nv, 0);
@@ -216,7 +224,8 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
     }
     Eigen::Vector3d e1 = mesh.vertices.row(t[1]) - mesh.vertices.row(t[0]);
     Eigen::Vector3d e2 = mesh.vertices.row(t[2]) - mesh.vertices.row(t[0]);
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || e1.cross(e2).norm() == 0.0) ++rep.degenerate_faces;
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || e1.cross(e2).norm() == 0.0)
+      ++rep.degenerate_faces;
   }
   for (const auto& [edge, count] : edge_faces)
     if (count > 2) ++rep.nonmanifold_edges;
@@ -227,7 +236,8 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   return mesh;
 }
 
-Vertices read_obj_frame(const std::string& path, const Mesh& reference, const std::string& reference_name) {
+Vertices read_obj_frame(const std::string& path, const Mesh& reference,
+                        const std::string& reference_name) {
   const std::string text = read_file_bytes(path);
   if (text.empty()) throw InvalidInput("empty file", path);
   const auto nv = reference.vertices.rows();
@@ -248,18 +258,21 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference, const st
     const char* q = p;
     skip_blank(q, eol);
     if (q + 1 < eol && q[0] == 'v' && (q[1] == ' ' || q[1] == '\t')) {
-      if (v >= nv) throw InvalidInput(fmt::format("more than the reference's {} vertices", nv), where());
+      if (v >= nv)
+        throw InvalidInput(fmt::format("more than the reference's {} vertices", nv), where());
       q += 2;
       for (int k = 0; k < 3; ++k) {
         skip_blank(q, eol);
         double x = 0;
-        if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+') ++q;  // "+1.5", as strtod reads it
+        if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+')
+          ++q;  // "+1.5", as strtod reads it
         auto [ptr, ec] = std::from_chars(q, eol, x);
         if (ec != std::errc() || !std::isfinite(x))
-          throw InvalidInput(ec != std::errc() ? "unreadable vertex coordinate" : "non-finite coordinate (NaN or Inf)",
+          throw InvalidInput(ec != std::errc() ? "unreadable vertex coordinate"
+                                               : "non-finite coordinate (NaN or Inf)",
                              where());
         q = ptr;
-      V(v, k) = x;
+        V(v, k) = x;
       }
       ++v;
     } else if (q + 1 < eol && q[0] == 'f' && (q[1] == ' ' || q[1] == '\t')) {
@@ -277,7 +290,8 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference, const st
         q = ptr;
         while (q < eol && *q != ' ' && *q != '\t' && *q != '\r') ++q;  // skip /vt/vn
       }
-      if (poly.size() < 3) throw InvalidInput(fmt::format("face with {} corners", poly.size()), where());
+      if (poly.size() < 3)
+        throw InvalidInput(fmt::format("face with {} corners", poly.size()), where());
       // As the general reader (OpenMesh) takes a face: a corner that repeats an earlier one is
       // left out (a polygon that returns to a vertex), a face of fewer than 3 corners then skipped.
       for (std::size_t k = 1; k < poly.size();) {
@@ -292,35 +306,40 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference, const st
         if (tri >= reference.faces.rows() || reference.faces(tri, 0) != poly[0] ||
             reference.faces(tri, 1) != poly[k] || reference.faces(tri, 2) != poly[k + 1]) {
           if (tri >= reference.faces.rows())
-            throw InvalidInput(fmt::format("has more triangles than the reference {} ({})", reference_name,
-                                           reference.faces.rows()),
+            throw InvalidInput(fmt::format("has more triangles than the reference {} ({})",
+                                           reference_name, reference.faces.rows()),
                                path);
           throw InvalidInput(
-              fmt::format("connectivity differs from the reference {} first at triangle {}: ({} {} {}) "
-                          "instead of ({} {} {})",
-                          reference_name, tri + 1, poly[0] + 1, poly[k] + 1, poly[k + 1] + 1,
-                          reference.faces(tri, 0) + 1, reference.faces(tri, 1) + 1, reference.faces(tri, 2) + 1),
+              fmt::format(
+                  "connectivity differs from the reference {} first at triangle {}: ({} {} {}) "
+                  "instead of ({} {} {})",
+                  reference_name, tri + 1, poly[0] + 1, poly[k] + 1, poly[k + 1] + 1,
+                  reference.faces(tri, 0) + 1, reference.faces(tri, 1) + 1,
+                  reference.faces(tri, 2) + 1),
               path);
         }
       }
     }
   }
   if (v != nv)
-    throw InvalidInput(fmt::format("has {} vertices but the reference {} has {}", v, reference_name, nv), path);
+    throw InvalidInput(
+        fmt::format("has {} vertices but the reference {} has {}", v, reference_name, nv), path);
   if (tri != reference.faces.rows())
-    throw InvalidInput(fmt::format("has {} triangles but the reference {} has {}", tri, reference_name,
-                                   reference.faces.rows()),
+    throw InvalidInput(fmt::format("has {} triangles but the reference {} has {}", tri,
+                                   reference_name, reference.faces.rows()),
                        path);
   return V;
 }
 
 void warn_about(const MeshReadReport& r, const std::string& path) {
   if (r.dropped_faces)
-    log::warn("{}: {} faces with repeated corners were skipped by the reader", path, r.dropped_faces);
+    log::warn("{}: {} faces with repeated corners were skipped by the reader", path,
+              r.dropped_faces);
   if (r.degenerate_faces)
     log::warn("{}: {} degenerate (zero-area) faces; they get no weight", path, r.degenerate_faces);
   if (r.nonmanifold_edges)
-    log::warn("{}: {} non-manifold edges (shared by more than two faces)", path, r.nonmanifold_edges);
+    log::warn("{}: {} non-manifold edges (shared by more than two faces)", path,
+              r.nonmanifold_edges);
   if (r.isolated_vertices)
     log::warn("{}: {} vertices belong to no face", path, r.isolated_vertices);
   if (r.polygons_triangulated)
@@ -330,9 +349,10 @@ void warn_about(const MeshReadReport& r, const std::string& path) {
 void check_same_connectivity(const Mesh& reference, const std::string& reference_name,
                              const Mesh& frame, const std::string& frame_name) {
   if (frame.vertices.rows() != reference.vertices.rows())
-    throw InvalidInput(fmt::format("has {} vertices but the reference {} has {}",
-                                   frame.vertices.rows(), reference_name, reference.vertices.rows()),
-                       frame_name);
+    throw InvalidInput(
+        fmt::format("has {} vertices but the reference {} has {}", frame.vertices.rows(),
+                    reference_name, reference.vertices.rows()),
+        frame_name);
   if (frame.faces.rows() != reference.faces.rows())
     throw InvalidInput(fmt::format("has {} triangles but the reference {} has {}",
                                    frame.faces.rows(), reference_name, reference.faces.rows()),
@@ -359,7 +379,9 @@ MeshWriter::~MeshWriter() = default;
 
 void MeshWriter::write(const std::string& path, const Vertices& V) const {
   if (static_cast<std::size_t>(V.rows()) != n_vertices_)
-    throw Error(fmt::format("internal: {} positions for a mesh of {} vertices", V.rows(), n_vertices_), path);
+    throw Error(
+        fmt::format("internal: {} positions for a mesh of {} vertices", V.rows(), n_vertices_),
+        path);
   std::string ext = lower_extension(path);
   if (ext != ".obj" && ext != ".off" && ext != ".ply")
     throw InvalidInput("unknown mesh format (expected .obj, .off or .ply)", path);
@@ -368,7 +390,9 @@ void MeshWriter::write(const std::string& path, const Vertices& V) const {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw IOError("cannot create file", path);
   fmt::memory_buffer b;
-  auto fmt_vertex = [&](Eigen::Index i) { fmt::format_to(std::back_inserter(b), "{:.9g} {:.9g} {:.9g}", V(i, 0), V(i, 1), V(i, 2)); };
+  auto fmt_vertex = [&](Eigen::Index i) {
+    fmt::format_to(std::back_inserter(b), "{:.9g} {:.9g} {:.9g}", V(i, 0), V(i, 1), V(i, 2));
+  };
   if (ext == ".obj") {
     fmt::format_to(std::back_inserter(b), "# deformflow\n");
     for (Eigen::Index i = 0; i < V.rows(); ++i) {
@@ -377,7 +401,8 @@ void MeshWriter::write(const std::string& path, const Vertices& V) const {
       b.push_back('\n');
     }
     for (Eigen::Index f = 0; f < faces_.rows(); ++f)
-      fmt::format_to(std::back_inserter(b), "f {} {} {}\n", faces_(f, 0) + 1, faces_(f, 1) + 1, faces_(f, 2) + 1);
+      fmt::format_to(std::back_inserter(b), "f {} {} {}\n", faces_(f, 0) + 1, faces_(f, 1) + 1,
+                     faces_(f, 2) + 1);
   } else if (ext == ".off") {
     fmt::format_to(std::back_inserter(b), "OFF\n{} {} 0\n", V.rows(), faces_.rows());
     for (Eigen::Index i = 0; i < V.rows(); ++i) {
@@ -385,19 +410,22 @@ void MeshWriter::write(const std::string& path, const Vertices& V) const {
       b.push_back('\n');
     }
     for (Eigen::Index f = 0; f < faces_.rows(); ++f)
-      fmt::format_to(std::back_inserter(b), "3 {} {} {}\n", faces_(f, 0), faces_(f, 1), faces_(f, 2));
+      fmt::format_to(std::back_inserter(b), "3 {} {} {}\n", faces_(f, 0), faces_(f, 1),
+                     faces_(f, 2));
   } else {
-    fmt::format_to(std::back_inserter(b),
-                   "ply\nformat ascii 1.0\ncomment deformflow\nelement vertex {}\nproperty double x\n"
-                   "property double y\nproperty double z\nelement face {}\n"
-                   "property list uchar int vertex_indices\nend_header\n",
-                   V.rows(), faces_.rows());
+    fmt::format_to(
+        std::back_inserter(b),
+        "ply\nformat ascii 1.0\ncomment deformflow\nelement vertex {}\nproperty double x\n"
+        "property double y\nproperty double z\nelement face {}\n"
+        "property list uchar int vertex_indices\nend_header\n",
+        V.rows(), faces_.rows());
     for (Eigen::Index i = 0; i < V.rows(); ++i) {
       fmt_vertex(i);
       b.push_back('\n');
     }
     for (Eigen::Index f = 0; f < faces_.rows(); ++f)
-      fmt::format_to(std::back_inserter(b), "3 {} {} {}\n", faces_(f, 0), faces_(f, 1), faces_(f, 2));
+      fmt::format_to(std::back_inserter(b), "3 {} {} {}\n", faces_(f, 0), faces_(f, 1),
+                     faces_(f, 2));
   }
   out.write(b.data(), static_cast<std::streamsize>(b.size()));
   if (!out) throw IOError("cannot write file (disk full?)", path);

@@ -51,7 +51,8 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report = nullptr);
 /// can be read in parallel). Every face line is checked against the reference as it is parsed;
 /// any difference, a NaN/Inf or unreadable coordinate, or a wrong vertex count is an
 /// InvalidInput naming the file (and line), as read_mesh + check_same_connectivity would.
-Vertices read_obj_frame(const std::string& path, const Mesh& reference, const std::string& reference_name);
+Vertices read_obj_frame(const std::string& path, const Mesh& reference,
+                        const std::string& reference_name);
 
 /// Logs one warning line per kind of problem in `report`, naming the file.
 void warn_about(const MeshReadReport& report, const std::string& path);

@@ -8,14 +8,26 @@
 namespace df::io {
 
 namespace model_layout {
-std::string split_part(const std::string& part) { return std::string(split) + "/" + part; }
-std::string geodesic_part(const std::string& name) { return std::string(geodesic) + "/" + name; }
-std::string param(const std::string& name) { return std::string(params) + "/" + name; }
-std::string optimizer(const std::string& name) { return name.empty() ? "/optimizer" : "/optimizers/" + name; }
+std::string split_part(const std::string& part) {
+  return std::string(split) + "/" + part;
+}
+std::string geodesic_part(const std::string& name) {
+  return std::string(geodesic) + "/" + name;
+}
+std::string param(const std::string& name) {
+  return std::string(params) + "/" + name;
+}
+std::string optimizer(const std::string& name) {
+  return name.empty() ? "/optimizer" : "/optimizers/" + name;
+}
 }  // namespace model_layout
 
-void write_iteration(h5::File& f, std::int64_t iteration) { f.set_attr("/", "iteration", iteration); }
-std::int64_t read_iteration(const h5::File& f) { return f.attr_int("/", "iteration"); }
+void write_iteration(h5::File& f, std::int64_t iteration) {
+  f.set_attr("/", "iteration", iteration);
+}
+std::int64_t read_iteration(const h5::File& f) {
+  return f.attr_int("/", "iteration");
+}
 
 void write_param_order(h5::File& f, const std::vector<std::string>& names) {
   std::string order;
@@ -27,18 +39,19 @@ std::vector<std::string> read_param_order(const h5::File& f) {
   return provenance::history_lines(f.attr_string(model_layout::params, "order"));
 }
 
-h5::RowMatrix<float> read_param(const h5::File& f, const std::string& name, Eigen::Index rows, Eigen::Index cols) {
+h5::RowMatrix<float> read_param(const h5::File& f, const std::string& name, Eigen::Index rows,
+                                Eigen::Index cols) {
   const auto path = model_layout::param(name);
   auto m = f.read_matrix<float>(path);
   if (m.rows() != rows || m.cols() != cols)
-    throw InvalidInput(fmt::format("parameter '{}' is [{},{}], the model expects [{},{}]", name, m.rows(), m.cols(),
-                                   rows, cols),
+    throw InvalidInput(fmt::format("parameter '{}' is [{},{}], the model expects [{},{}]", name,
+                                   m.rows(), m.cols(), rows, cols),
                        f.where(path));
   return m;
 }
 
-void write_adam_state(h5::File& f, const std::string& group, std::span<const float> m, std::span<const float> v,
-                      std::int64_t step) {
+void write_adam_state(h5::File& f, const std::string& group, std::span<const float> m,
+                      std::span<const float> v, std::int64_t step) {
   f.create_groups(group);
   f.set_attr(group, "step", step);
   f.write<float>(group + "/m", m, {m.size()});
@@ -56,7 +69,8 @@ AdamState read_adam_state(const h5::File& f, const std::string& group, std::size
 }
 
 void write_rng_state(h5::File& f, const RngState& s) {
-  f.write<std::uint64_t>("/rng/state", std::span<const std::uint64_t>(s.state.data(), s.state.size()), {4});
+  f.write<std::uint64_t>("/rng/state",
+                         std::span<const std::uint64_t>(s.state.data(), s.state.size()), {4});
   f.set_attr(model_layout::rng, "has_spare", static_cast<std::int64_t>(s.has_spare));
   f.set_attr(model_layout::rng, "spare", s.spare);
 }
@@ -71,7 +85,8 @@ RngState read_rng_state(const h5::File& f) {
   return s;
 }
 
-void write_training_log(h5::File& f, const std::vector<double>& log, const std::vector<std::string>& columns,
+void write_training_log(h5::File& f, const std::vector<double>& log,
+                        const std::vector<std::string>& columns,
                         const std::vector<double>& unprinted) {
   if (!unprinted.empty()) f.write<double>("/training/unprinted", unprinted, {unprinted.size()});
   if (log.empty()) return;

@@ -19,12 +19,12 @@
 namespace df::io {
 
 namespace model_layout {
-inline constexpr const char* config = "/config";        ///< each model's settings, as attributes
-inline constexpr const char* params = "/params";        ///< one dataset per parameter
+inline constexpr const char* config = "/config";  ///< each model's settings, as attributes
+inline constexpr const char* params = "/params";  ///< one dataset per parameter
 inline constexpr const char* rng = "/rng";
 inline constexpr const char* training_log = "/training/log";
-inline constexpr const char* split = "/split";          ///< bdlstm, msae: which frames trained
-inline constexpr const char* geodesic = "/geodesic";    ///< msae: the geodesic distances it used
+inline constexpr const char* split = "/split";        ///< bdlstm, msae: which frames trained
+inline constexpr const char* geodesic = "/geodesic";  ///< msae: the geodesic distances it used
 inline constexpr const char* validation_subjects = "/validation/subjects";  ///< actgan
 /// "/split/<part>" (part: train, validation, test; bdlstm also sequences)
 std::string split_part(const std::string& part);
@@ -51,15 +51,16 @@ void write_param(h5::File& f, const std::string& name, const Eigen::DenseBase<De
 void write_param_order(h5::File& f, const std::vector<std::string>& names);
 std::vector<std::string> read_param_order(const h5::File& f);
 /// Reads /params/<name> and checks its shape: InvalidInput naming the dataset when it differs.
-h5::RowMatrix<float> read_param(const h5::File& f, const std::string& name, Eigen::Index rows, Eigen::Index cols);
+h5::RowMatrix<float> read_param(const h5::File& f, const std::string& name, Eigen::Index rows,
+                                Eigen::Index cols);
 
 struct AdamState {
   std::vector<float> m, v;  ///< first and second moments, flat in store order
   std::int64_t step = 0;
 };
 /// group: model_layout::optimizer(name)
-void write_adam_state(h5::File& f, const std::string& group, std::span<const float> m, std::span<const float> v,
-                      std::int64_t step);
+void write_adam_state(h5::File& f, const std::string& group, std::span<const float> m,
+                      std::span<const float> v, std::int64_t step);
 /// Reads it and checks that it holds `size` moments: InvalidInput naming the group when not.
 AdamState read_adam_state(const h5::File& f, const std::string& group, std::size_t size);
 
@@ -76,7 +77,8 @@ RngState read_rng_state(const h5::File& f);
 /// /training/log [rows, columns] with a `columns` attribute naming them (written only when it has
 /// rows), and when a checkpoint falls between two log rows /training/unprinted (the iterations
 /// since the last row and their loss sums: see models/common/training.h).
-void write_training_log(h5::File& f, const std::vector<double>& log, const std::vector<std::string>& columns,
+void write_training_log(h5::File& f, const std::vector<double>& log,
+                        const std::vector<std::string>& columns,
                         const std::vector<double>& unprinted);
 struct TrainingLog {
   std::vector<double> rows, unprinted;  ///< empty when the file has none

@@ -78,7 +78,8 @@ class Validator {
     const std::string path = o.at("path");
     bool present = f_.exists(path);
     bool required = o.value("required", false);
-    if (o.contains("required_with") && f_.exists(o["required_with"].get<std::string>())) required = true;
+    if (o.contains("required_with") && f_.exists(o["required_with"].get<std::string>()))
+      required = true;
     if (!present) {
       if (required)
         fail(fmt::format("missing {} (required in a '{}' file)",
@@ -121,7 +122,8 @@ class Validator {
         f_.attr_int(object, name);
       } else if (type == "numbers") {  // a non-empty array of finite numbers
         const auto v = f_.attr_doubles(object, name);
-        if (v.empty() || !std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }))
+        if (v.empty() ||
+            !std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }))
           fail("attribute '" + name + "' is not a non-empty array of finite numbers", object);
       }
     }
@@ -142,12 +144,14 @@ class Validator {
     // A declared shape without stored data reads as fill values: a crafted or foreign file, and
     // scanning a huge one would take hours (found by fuzzing).
     if (!info.fully_stored)
-      fail(fmt::format("declares shape {} but does not store its data", shape_string(info.dims)), path);
+      fail(fmt::format("declares shape {} but does not store its data", shape_string(info.dims)),
+           path);
     if (!opt_.check_values) return;
     std::size_t bytes = (info.dtype == h5::Dtype::f32 ? 4 : 8);
     for (auto d : info.dims) bytes *= d;
     if (o.value("finite", false) && bytes <= opt_.max_finite_scan_bytes) check_finite(path, info);
-    if (o.contains("index_of")) check_indices(path, info, o["index_of"], o.value("allow_minus_one", false));
+    if (o.contains("index_of"))
+      check_indices(path, info, o["index_of"], o.value("allow_minus_one", false));
     if (o.contains("offsets_of")) check_offsets(path, o["offsets_of"]);
   }
 
@@ -166,16 +170,17 @@ class Validator {
       plus = std::stoul(s.substr(p + 1));
       s = s.substr(0, p);
     }
-    if (actual < plus) fail(fmt::format("axis {} has size {}, expected {}", axis, actual, spec.get<std::string>()), path);
+    if (actual < plus)
+      fail(fmt::format("axis {} has size {}, expected {}", axis, actual, spec.get<std::string>()),
+           path);
     std::size_t value = actual - plus;
     auto it = dims_.find(s);
     if (it == dims_.end()) {
       dims_[s] = value;
       first_[s] = path;
     } else if (it->second != value) {
-      std::string meaning = s_.doc["dimensions"].contains(s)
-                                ? s_.doc["dimensions"][s].value("description", s)
-                                : s;
+      std::string meaning =
+          s_.doc["dimensions"].contains(s) ? s_.doc["dimensions"][s].value("description", s) : s;
       fail(fmt::format("axis {} implies {} = {} ({}), but {} has {} = {}", axis, s, value, meaning,
                        first_[s], s, it->second),
            path);
@@ -203,10 +208,12 @@ class Validator {
   void scan(const std::string& path, const h5::DatasetInfo& info, Fn&& fn) {
     // Nothing to read when an axis is zero; a huge first axis over empty rows would otherwise
     // be walked block by block for hours (found by fuzzing: shape [2^40, 0]).
-    if (info.dims.empty() || std::find(info.dims.begin(), info.dims.end(), 0) != info.dims.end()) return;
+    if (info.dims.empty() || std::find(info.dims.begin(), info.dims.end(), 0) != info.dims.end())
+      return;
     std::size_t row = 1;
     for (std::size_t i = 1; i < info.dims.size(); ++i) row *= info.dims[i];
-    std::size_t rows_per_block = std::max<std::size_t>(1, (8u << 20) / std::max<std::size_t>(row * sizeof(T), 1));
+    std::size_t rows_per_block =
+        std::max<std::size_t>(1, (8u << 20) / std::max<std::size_t>(row * sizeof(T), 1));
     std::vector<T> buf;
     for (std::size_t first = 0; first < info.dims[0]; first += rows_per_block) {
       std::size_t count = std::min(rows_per_block, info.dims[0] - first);
@@ -219,7 +226,9 @@ class Validator {
   void check_finite(const std::string& path, const h5::DatasetInfo& info) {
     auto test = [&](std::size_t flat, double v) {
       if (!std::isfinite(v))
-        fail(fmt::format("{} at index {}", std::isnan(v) ? "NaN" : "Inf", index_string(flat, info.dims)), path);
+        fail(fmt::format("{} at index {}", std::isnan(v) ? "NaN" : "Inf",
+                         index_string(flat, info.dims)),
+             path);
     };
     if (info.dtype == h5::Dtype::f32)
       scan<float>(path, info, [&](std::size_t i, float v) { test(i, v); });
@@ -246,9 +255,13 @@ class Validator {
     if (offsets.empty() || offsets.front() != 0) fail("offsets must start at 0", path);
     for (std::size_t i = 1; i < offsets.size(); ++i)
       if (offsets[i] < offsets[i - 1])
-        fail(fmt::format("offsets decrease at index {} ({} after {})", i, offsets[i], offsets[i - 1]), path);
+        fail(fmt::format("offsets decrease at index {} ({} after {})", i, offsets[i],
+                         offsets[i - 1]),
+             path);
     if (it != dims_.end() && offsets.back() != static_cast<std::int64_t>(it->second))
-      fail(fmt::format("offsets end at {} but there are {} = {} frames", offsets.back(), dim, it->second), path);
+      fail(fmt::format("offsets end at {} but there are {} = {} frames", offsets.back(), dim,
+                       it->second),
+           path);
   }
 
   const h5::File& f_;
@@ -271,18 +284,21 @@ void check_finite_rows(const T* data, std::size_t first, std::size_t count, std:
                        const std::string& where) {
   for (std::size_t k = 0; k < count * row_size; ++k)
     if (!std::isfinite(data[k]))
-      throw InvalidInput(fmt::format("{} in row {}, element {}", std::isnan(data[k]) ? "NaN" : "Inf",
-                                     first + k / row_size, k % row_size),
-                         where);
+      throw InvalidInput(
+          fmt::format("{} in row {}, element {}", std::isnan(data[k]) ? "NaN" : "Inf",
+                      first + k / row_size, k % row_size),
+          where);
 }
-template void check_finite_rows<float>(const float*, std::size_t, std::size_t, std::size_t, const std::string&);
-template void check_finite_rows<double>(const double*, std::size_t, std::size_t, std::size_t, const std::string&);
+template void check_finite_rows<float>(const float*, std::size_t, std::size_t, std::size_t,
+                                       const std::string&);
+template void check_finite_rows<double>(const double*, std::size_t, std::size_t, std::size_t,
+                                        const std::string&);
 
 const Schema& schema(const std::string& kind) {
   auto it = all().find(kind);
   if (it == all().end())
-    throw InvalidInput(fmt::format("unknown file kind '{}' (known: {})", kind,
-                                   fmt::join(schema_kinds(), ", ")));
+    throw InvalidInput(
+        fmt::format("unknown file kind '{}' (known: {})", kind, fmt::join(schema_kinds(), ", ")));
   return it->second;
 }
 
@@ -302,7 +318,8 @@ Dimensions validate(const h5::File& f, const std::string& expected_kind,
                     const ValidationOptions& opt) {
   std::string kind = declared_kind(f);
   if (!expected_kind.empty() && kind != expected_kind)
-    throw InvalidInput(fmt::format("is a '{}' file, expected a '{}' file", kind, expected_kind), f.name());
+    throw InvalidInput(fmt::format("is a '{}' file, expected a '{}' file", kind, expected_kind),
+                       f.name());
   const Schema& s = schema(kind);
   for (const auto& a : kCommonRootAttributes)
     if (!f.has_attr("/", a)) throw InvalidInput("missing root attribute '" + a + "'", f.name());

@@ -1,9 +1,9 @@
 #include "io/skeleton_file.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "core/error.h"
 #include "io/schema.h"
@@ -14,17 +14,20 @@ namespace {
 
 // Mixture weights: none negative and every row summing to 1 (to rounding); the schema has checked
 // shape and finiteness.
-std::vector<float> read_label_weights(const h5::File& f, std::size_t sequences, std::size_t classes) {
+std::vector<float> read_label_weights(const h5::File& f, std::size_t sequences,
+                                      std::size_t classes) {
   std::vector<float> w = f.read<float>("/sequences/label_weights").data;
   for (std::size_t s = 0; s < sequences; ++s) {
     double sum = 0;
     for (std::size_t c = 0; c < classes; ++c) {
       if (w[s * classes + c] < 0)
-        throw InvalidInput(fmt::format("a negative weight in row {}", s), f.where("/sequences/label_weights"));
+        throw InvalidInput(fmt::format("a negative weight in row {}", s),
+                           f.where("/sequences/label_weights"));
       sum += w[s * classes + c];
     }
     if (std::abs(sum - 1) > 1e-4)
-      throw InvalidInput(fmt::format("row {} sums to {:g}, not 1", s, sum), f.where("/sequences/label_weights"));
+      throw InvalidInput(fmt::format("row {} sums to {:g}, not 1", s, sum),
+                         f.where("/sequences/label_weights"));
   }
   return w;
 }
@@ -70,7 +73,8 @@ SkeletonFile read_skeleton_file(const std::string& path) {
   s.labels = f.read<std::int32_t>("/sequences/labels").data;
   read_classes_and_skeleton(f, s.class_names, s.parents, s.joint_names);
   s.frame_rate = f.attr_double("/", "frame_rate");
-  if (f.exists("/sequences/subjects")) s.subjects = f.read<std::int32_t>("/sequences/subjects").data;
+  if (f.exists("/sequences/subjects"))
+    s.subjects = f.read<std::int32_t>("/sequences/subjects").data;
   if (f.exists("/sequences/test")) s.test = f.read<std::int32_t>("/sequences/test").data;
   if (f.exists("/sequences/label_weights"))
     s.label_weights = read_label_weights(f, s.sequences(), s.class_names.size());
@@ -85,22 +89,26 @@ void write_skeleton_data(h5::File& f, const SkeletonFile& s) {
   f.write<std::int32_t>("/sequences/labels", s.labels, {s.labels.size()});
   if (!s.sequence_names.empty()) f.write_strings("/sequences/names", s.sequence_names);
   write_classes_and_skeleton(f, s.class_names, s.parents, s.joint_names);
-  if (!s.subjects.empty()) f.write<std::int32_t>("/sequences/subjects", s.subjects, {s.subjects.size()});
+  if (!s.subjects.empty())
+    f.write<std::int32_t>("/sequences/subjects", s.subjects, {s.subjects.size()});
   if (!s.test.empty()) f.write<std::int32_t>("/sequences/test", s.test, {s.test.size()});
   if (!s.label_weights.empty())
-    f.write<float>("/sequences/label_weights", s.label_weights, {s.sequences(), s.class_names.size()});
+    f.write<float>("/sequences/label_weights", s.label_weights,
+                   {s.sequences(), s.class_names.size()});
   write_pose_normalization(f, s.normalization, s.dims);
 }
 
 void write_classes_and_skeleton(h5::File& f, const std::vector<std::string>& class_names,
-                                const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names) {
+                                const std::vector<std::int32_t>& parents,
+                                const std::vector<std::string>& joint_names) {
   f.write_strings("/classes/names", class_names);
   f.write<std::int32_t>("/skeleton/parents", parents, {parents.size()});
   f.write_strings("/skeleton/joint_names", joint_names);
 }
 
 void read_classes_and_skeleton(const h5::File& f, std::vector<std::string>& class_names,
-                               std::vector<std::int32_t>& parents, std::vector<std::string>& joint_names) {
+                               std::vector<std::int32_t>& parents,
+                               std::vector<std::string>& joint_names) {
   class_names = f.read_strings("/classes/names");
   parents = f.read<std::int32_t>("/skeleton/parents").data;
   joint_names = f.read_strings("/skeleton/joint_names");
@@ -108,7 +116,8 @@ void read_classes_and_skeleton(const h5::File& f, std::vector<std::string>& clas
 
 void write_pose_normalization(h5::File& f, const SkeletonNormalization& n, int dims) {
   if (!n.present()) return;
-  const std::vector<std::size_t> shape{n.mean.size() / static_cast<std::size_t>(dims), static_cast<std::size_t>(dims)};
+  const std::vector<std::size_t> shape{n.mean.size() / static_cast<std::size_t>(dims),
+                                       static_cast<std::size_t>(dims)};
   f.write<double>("/normalization/mean", n.mean, shape);
   f.write<double>("/normalization/std", n.std, shape);
   f.set_attr("/normalization", "root_joint", n.root_joint);
@@ -157,15 +166,15 @@ std::vector<float> poses_normalized_as(const SkeletonFile& s, const SkeletonNorm
 
 const std::vector<std::string>& kinect_joint_names() {
   static const std::vector<std::string> names{
-      "hip_center", "spine",     "shoulder_center", "head",       "shoulder_left", "elbow_left",
-      "wrist_left", "hand_left", "shoulder_right",  "elbow_right", "wrist_right",  "hand_right",
-      "hip_left",   "knee_left", "ankle_left",      "foot_left",  "hip_right",     "knee_right",
-      "ankle_right", "foot_right"};
+      "hip_center",  "spine",      "shoulder_center", "head",           "shoulder_left",
+      "elbow_left",  "wrist_left", "hand_left",       "shoulder_right", "elbow_right",
+      "wrist_right", "hand_right", "hip_left",        "knee_left",      "ankle_left",
+      "foot_left",   "hip_right",  "knee_right",      "ankle_right",    "foot_right"};
   return names;
 }
 
 const std::vector<std::int32_t>& kinect_joint_parents() {
-  static const std::vector<std::int32_t> parents{-1, 0, 1, 2, 2,  4,  5,  6,  2,  8,
+  static const std::vector<std::int32_t> parents{-1, 0,  1, 2,  2,  4,  5, 6,  2,  8,
                                                  9,  10, 0, 12, 13, 14, 0, 16, 17, 18};
   return parents;
 }

@@ -36,7 +36,7 @@ struct SkeletonFile {
   /// [S, C] the mixture of classes each sequence was generated for (optional; gen-actgan --mix):
   /// weights summing to 1, labels[s] its strongest class.
   std::vector<float> label_weights;
-  SkeletonNormalization normalization;      ///< absent: poses are raw coordinates
+  SkeletonNormalization normalization;  ///< absent: poses are raw coordinates
   std::size_t sequences() const { return offsets.empty() ? 0 : offsets.size() - 1; }
   /// Joint j of frame t, as (x, y, z) with z = 0 for 2-D data.
   void joint(std::size_t t, std::size_t j, double out[3]) const;
@@ -60,9 +60,11 @@ std::vector<float> poses_normalized_as(const SkeletonFile& s, const SkeletonNorm
 /// /classes/names and /skeleton/{parents,joint_names}: the parts of this kind the ActGAN model
 /// kind carries too (the classes and skeleton it was trained on).
 void write_classes_and_skeleton(h5::File& f, const std::vector<std::string>& class_names,
-                                const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names);
+                                const std::vector<std::int32_t>& parents,
+                                const std::vector<std::string>& joint_names);
 void read_classes_and_skeleton(const h5::File& f, std::vector<std::string>& class_names,
-                               std::vector<std::int32_t>& parents, std::vector<std::string>& joint_names);
+                               std::vector<std::int32_t>& parents,
+                               std::vector<std::string>& joint_names);
 /// /normalization [J, dims] with its root joint and scale, written when present; read as absent
 /// (empty) when the file has none.
 void write_pose_normalization(h5::File& f, const SkeletonNormalization& n, int dims);

@@ -54,7 +54,9 @@ const H5Z_class2_t kZstdClass = {
 
 }  // namespace
 
-const H5Z_class2_t* zstd_filter_class() { return &kZstdClass; }
+const H5Z_class2_t* zstd_filter_class() {
+  return &kZstdClass;
+}
 
 void register_zstd_filter() {
   if (H5Zfilter_avail(kZstdFilterId) <= 0) H5Zregister(&kZstdClass);

@@ -11,9 +11,12 @@ namespace {
 double rate_at(const AdamOptions& opt, long step) {
   const double t = static_cast<double>(step);
   switch (opt.schedule) {
-    case AdamOptions::Schedule::exponential: return opt.lr * std::pow(opt.decay_rate, t / opt.decay_steps);
-    case AdamOptions::Schedule::step: return opt.lr * std::pow(opt.decay_rate, std::floor(t / opt.decay_steps));
-    default: return opt.lr;
+    case AdamOptions::Schedule::exponential:
+      return opt.lr * std::pow(opt.decay_rate, t / opt.decay_steps);
+    case AdamOptions::Schedule::step:
+      return opt.lr * std::pow(opt.decay_rate, std::floor(t / opt.decay_steps));
+    default:
+      return opt.lr;
   }
 }
 
@@ -28,12 +31,14 @@ template <class T>
 typename Adam<T>::StepSizes Adam<T>::last_step_sizes() const {
   if (t_ == 0) return {&v_, T(0), T(1), T(1)};
   return {&v_, static_cast<T>(rate_at(opt_, t_ - 1)),
-          static_cast<T>(1.0 - std::pow(opt_.beta2, static_cast<double>(t_))), static_cast<T>(opt_.eps)};
+          static_cast<T>(1.0 - std::pow(opt_.beta2, static_cast<double>(t_))),
+          static_cast<T>(opt_.eps)};
 }
 
 template <class T>
 void Adam<T>::step(Vector<T>& values, Vector<T>& grads) {
-  if (values.size() != m_.size() || grads.size() != m_.size()) throw Error("internal: Adam sized for another model");
+  if (values.size() != m_.size() || grads.size() != m_.size())
+    throw Error("internal: Adam sized for another model");
   if (opt_.weight_decay != 0) grads += static_cast<T>(opt_.weight_decay) * values;
   if (opt_.clip_norm > 0) {
     const double norm = static_cast<double>(grads.norm());

@@ -12,17 +12,19 @@ namespace df::nn {
 
 struct AdamOptions {
   double lr = 1e-3, beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
-  double weight_decay = 0;   ///< L2 penalty λ: g += λ θ
-  double clip_norm = 0;      ///< 0 = no clipping; else scale g so that ‖g‖₂ ≤ clip_norm
+  double weight_decay = 0;  ///< L2 penalty λ: g += λ θ
+  double clip_norm = 0;     ///< 0 = no clipping; else scale g so that ‖g‖₂ ≤ clip_norm
   enum class Schedule { constant, exponential, step } schedule = Schedule::constant;
-  double decay_rate = 1.0;   ///< exponential: lr·rate^(step/decay_steps); step: lr·rate^⌊step/decay_steps⌋
+  double decay_rate =
+      1.0;  ///< exponential: lr·rate^(step/decay_steps); step: lr·rate^⌊step/decay_steps⌋
   double decay_steps = 1.0;
 };
 
 template <class T>
 class Adam {
  public:
-  Adam(std::size_t n_parameters, AdamOptions opt) : opt_(opt), m_(Vector<T>::Zero(static_cast<Eigen::Index>(n_parameters))), v_(m_) {}
+  Adam(std::size_t n_parameters, AdamOptions opt)
+      : opt_(opt), m_(Vector<T>::Zero(static_cast<Eigen::Index>(n_parameters))), v_(m_) {}
 
   /// One update of `values` from `grads` (grads may be modified: penalty, clipping).
   void step(Vector<T>& values, Vector<T>& grads);

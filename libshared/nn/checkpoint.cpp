@@ -11,8 +11,8 @@
 
 namespace df::nn {
 
-void write_training_state(h5::File& f, const ParameterStore<float>& params, const Adam<float>& adam, const Rng& rng,
-                          std::int64_t iteration) {
+void write_training_state(h5::File& f, const ParameterStore<float>& params, const Adam<float>& adam,
+                          const Rng& rng, std::int64_t iteration) {
   io::write_iteration(f, iteration);
   std::vector<std::string> names;
   for (std::size_t i = 0; i < params.views().size(); ++i) {
@@ -22,20 +22,25 @@ void write_training_state(h5::File& f, const ParameterStore<float>& params, cons
   io::write_param_order(f, names);
   const auto group = io::model_layout::optimizer();
   io::write_adam_state(f, group, std::span<const float>(adam.first_moment().data(), params.size()),
-                       std::span<const float>(adam.second_moment().data(), params.size()), adam.steps());
+                       std::span<const float>(adam.second_moment().data(), params.size()),
+                       adam.steps());
   f.set_attr(group, "kind", std::string("adam"));
   io::write_rng_state(f, {rng.state(), rng.has_spare_normal(), rng.spare_normal()});
 }
 
-std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& params, Adam<float>& adam, Rng& rng) {
+std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& params,
+                                 Adam<float>& adam, Rng& rng) {
   const auto names = io::read_param_order(f);
   if (names.size() != params.views().size())
-    throw InvalidInput(fmt::format("holds {} parameters, the model has {}", names.size(), params.views().size()),
-                       f.name());
+    throw InvalidInput(
+        fmt::format("holds {} parameters, the model has {}", names.size(), params.views().size()),
+        f.name());
   for (std::size_t i = 0; i < names.size(); ++i) {
     const auto& v = params.views()[i];
     if (names[i] != v.name)
-      throw InvalidInput(fmt::format("parameter {} is '{}', the model expects '{}'", i, names[i], v.name), f.name());
+      throw InvalidInput(
+          fmt::format("parameter {} is '{}', the model expects '{}'", i, names[i], v.name),
+          f.name());
     params.value(static_cast<int>(i)) = io::read_param(f, v.name, v.rows, v.cols);
   }
   restore_adam(adam, io::read_adam_state(f, io::model_layout::optimizer(), params.size()));
@@ -44,15 +49,19 @@ std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& param
 }
 
 void restore_adam(Adam<float>& adam, const io::AdamState& s) {
-  adam.first_moment() = Eigen::Map<const Vector<float>>(s.m.data(), static_cast<Eigen::Index>(s.m.size()));
-  adam.second_moment() = Eigen::Map<const Vector<float>>(s.v.data(), static_cast<Eigen::Index>(s.v.size()));
+  adam.first_moment() =
+      Eigen::Map<const Vector<float>>(s.m.data(), static_cast<Eigen::Index>(s.m.size()));
+  adam.second_moment() =
+      Eigen::Map<const Vector<float>>(s.v.data(), static_cast<Eigen::Index>(s.v.size()));
   adam.set_steps(static_cast<long>(s.step));
 }
 
-void restore_rng(Rng& rng, const io::RngState& s) { rng.restore(s.state, s.has_spare, s.spare); }
+void restore_rng(Rng& rng, const io::RngState& s) {
+  rng.restore(s.state, s.has_spare, s.spare);
+}
 
-void save_checkpoint(const std::string& path, const ParameterStore<float>& params, const Adam<float>& adam,
-                     const Rng& rng, std::int64_t iteration) {
+void save_checkpoint(const std::string& path, const ParameterStore<float>& params,
+                     const Adam<float>& adam, const Rng& rng, std::int64_t iteration) {
   AtomicOutput out(path, AtomicOutput::Kind::file, true);
   {
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
@@ -63,7 +72,8 @@ void save_checkpoint(const std::string& path, const ParameterStore<float>& param
   out.commit();
 }
 
-std::int64_t load_checkpoint(const std::string& path, ParameterStore<float>& params, Adam<float>& adam, Rng& rng) {
+std::int64_t load_checkpoint(const std::string& path, ParameterStore<float>& params,
+                             Adam<float>& adam, Rng& rng) {
   h5::File f = io::open_input(path, "nn-checkpoint");
   return read_training_state(f, params, adam, rng);
 }

@@ -65,8 +65,10 @@ inline GradientCheck gradient_check(
     }
     const double diff = (analytic[k] - numeric).norm(), scale = analytic[k].norm() + numeric.norm();
     const double err = scale < 1e-12 ? diff : diff / scale;
-    result.report += "input " + std::to_string(k) + ": |analytic| " + std::to_string(analytic[k].norm()) +
-                     " |numeric| " + std::to_string(numeric.norm()) + " relative error " + std::to_string(err) + "\n";
+    result.report += "input " + std::to_string(k) + ": |analytic| " +
+                     std::to_string(analytic[k].norm()) + " |numeric| " +
+                     std::to_string(numeric.norm()) + " relative error " + std::to_string(err) +
+                     "\n";
     if (!(err <= result.max_error)) {
       result.max_error = err;
       result.worst_input = static_cast<int>(k);
@@ -76,7 +78,8 @@ inline GradientCheck gradient_check(
 }
 
 /// A random matrix with entries uniform in [lo, hi].
-inline Matrix<double> random_matrix(Eigen::Index rows, Eigen::Index cols, Rng& rng, double lo = -1, double hi = 1) {
+inline Matrix<double> random_matrix(Eigen::Index rows, Eigen::Index cols, Rng& rng, double lo = -1,
+                                    double hi = 1) {
   Matrix<double> m(rows, cols);
   for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = rng.uniform(lo, hi);
   return m;

@@ -15,18 +15,24 @@ using Eigen::Index;
 template <class T>
 Var<T> activate(Var<T> x, Activation a, T leaky_slope) {
   switch (a) {
-    case Activation::tanh: return tanh(x);
-    case Activation::relu: return relu(x);
-    case Activation::leaky_relu: return leaky_relu(x, leaky_slope);
-    case Activation::sigmoid: return sigmoid(x);
-    default: return x;
+    case Activation::tanh:
+      return tanh(x);
+    case Activation::relu:
+      return relu(x);
+    case Activation::leaky_relu:
+      return leaky_relu(x, leaky_slope);
+    case Activation::sigmoid:
+      return sigmoid(x);
+    default:
+      return x;
   }
 }
 
 // --- Linear
 
 template <class T>
-Linear<T>::Linear(ParameterStore<T>& s, const std::string& name, Index in_, Index out_, Rng& rng, bool bias)
+Linear<T>::Linear(ParameterStore<T>& s, const std::string& name, Index in_, Index out_, Rng& rng,
+                  bool bias)
     : in(in_), out(out_) {
   w = s.add(name + ".weight", in, out);
   s.glorot_uniform(w, rng);
@@ -48,8 +54,8 @@ Var<T> Linear<T>::repeated(const Bound<T>& p, Var<T> x) const {
 // --- MLP
 
 template <class T>
-Mlp<T>::Mlp(ParameterStore<T>& s, const std::string& name, const std::vector<Index>& sizes, Activation hidden_,
-            Rng& rng)
+Mlp<T>::Mlp(ParameterStore<T>& s, const std::string& name, const std::vector<Index>& sizes,
+            Activation hidden_, Rng& rng)
     : hidden(hidden_) {
   for (std::size_t k = 0; k + 1 < sizes.size(); ++k)
     layers.emplace_back(s, fmt::format("{}.{}", name, k), sizes[k], sizes[k + 1], rng);
@@ -66,7 +72,8 @@ Var<T> Mlp<T>::operator()(const Bound<T>& p, Var<T> x) const {
 
 template <class T>
 Var<T> Mlp<T>::input_gradient(const Bound<T>& p, Var<T> x) const {
-  if (layers.empty() || layers.back().out != 1) throw Error("internal: input_gradient needs a 1-output MLP");
+  if (layers.empty() || layers.back().out != 1)
+    throw Error("internal: input_gradient needs a 1-output MLP");
   Tape<T>& t = *x.tape;
   // Forward, keeping each hidden layer's derivative act'(pre).
   std::vector<Var<T>> slopes;
@@ -77,7 +84,8 @@ Var<T> Mlp<T>::input_gradient(const Bound<T>& p, Var<T> x) const {
       case Activation::relu:
       case Activation::leaky_relu: {  // piecewise constant: a constant mask
         const T low = hidden == Activation::relu ? T(0) : leaky_slope;
-        slopes.push_back(t.constant(pre.value().unaryExpr([low](T v) { return v > 0 ? T(1) : low; })));
+        slopes.push_back(
+            t.constant(pre.value().unaryExpr([low](T v) { return v > 0 ? T(1) : low; })));
         break;
       }
       case Activation::tanh: {
@@ -90,24 +98,27 @@ Var<T> Mlp<T>::input_gradient(const Bound<T>& p, Var<T> x) const {
         slopes.push_back(mul(y, sub(t.constant(Matrix<T>::Ones(1, 1)), y)));
         break;
       }
-      default: slopes.push_back(t.constant(Matrix<T>::Ones(1, 1)));
+      default:
+        slopes.push_back(t.constant(Matrix<T>::Ones(1, 1)));
     }
     h = activate(pre, hidden, leaky_slope);
   }
   // Backward by hand, as ops: g = w_Lᵀ, then g = (g ∘ act'_k) W_kᵀ down to the input.
   Var<T> g = transpose(p[layers.back().w]);  // [1, H_last]
   for (std::size_t k = layers.size() - 1; k-- > 0;) {
-    g = mul(slopes[k], g);                      // [rows, H_k]
-    g = matmul_transposed(g, p[layers[k].w]);   // [rows, H_{k-1}]
+    g = mul(slopes[k], g);                     // [rows, H_k]
+    g = matmul_transposed(g, p[layers[k].w]);  // [rows, H_{k-1}]
   }
-  if (g.rows() != x.rows()) g = add(g, t.constant(Matrix<T>::Zero(x.rows(), g.cols())));  // no hidden layer
+  if (g.rows() != x.rows())
+    g = add(g, t.constant(Matrix<T>::Zero(x.rows(), g.cols())));  // no hidden layer
   return g;
 }
 
 // --- mesh convolution
 
 template <class T>
-std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(int n, const std::vector<std::array<int, 2>>& edges) {
+std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(
+    int n, const std::vector<std::array<int, 2>>& edges) {
   std::vector<int> degree(static_cast<std::size_t>(n), 0);
   for (const auto& e : edges) ++degree[e[0]], ++degree[e[1]];
   std::vector<Eigen::Triplet<T>> trip;
@@ -179,7 +190,8 @@ Matrix<T> sparse_rows_product(const SparseMatrix<T>& a, const Matrix<T>& x) {
 // product's [V, B·c] result and the strided add back into sample-major rows were 12% of
 // mesh_conv's backward on BD-LSTM's pcow step.
 template <class T>
-void add_neighbour_means_adjoint(T* gx, const SparseMatrix<T>& at, const Matrix<T>& g, Index B, Index V, Index c) {
+void add_neighbour_means_adjoint(T* gx, const SparseMatrix<T>& at, const Matrix<T>& g, Index B,
+                                 Index V, Index c) {
   constexpr Index kBlock = 256;
   const Index ld = B * c;
   const auto* outer = at.outerIndexPtr();
@@ -225,15 +237,17 @@ void for_vertex_blocks(Index V, F f) {
 }  // namespace
 
 template <class T>
-Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<const SparseMatrix<T>> a) {
+Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias,
+                 std::shared_ptr<const SparseMatrix<T>> a) {
   Tape<T>& t = *x.tape;
   const Index V = a->rows(), cin = wp.rows(), cout = wp.cols(), B = x.rows();
-  if (x.cols() != V * cin || wn.rows() != cin || wn.cols() != cout || bias.rows() != 1 || bias.cols() != cout ||
-      !detail::narrow_fits(cin, cout))
-    throw Error(fmt::format("internal: mesh_conv of x [{},{}] with V = {}, W [{},{}]/[{},{}], b [{},{}] (at most {} "
-                            "channels)",
-                            x.rows(), x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(),
-                            bias.cols(), detail::kNarrowMax));
+  if (x.cols() != V * cin || wn.rows() != cin || wn.cols() != cout || bias.rows() != 1 ||
+      bias.cols() != cout || !detail::narrow_fits(cin, cout))
+    throw Error(fmt::format(
+        "internal: mesh_conv of x [{},{}] with V = {}, W [{},{}]/[{},{}], b [{},{}] (at most {} "
+        "channels)",
+        x.rows(), x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(), bias.cols(),
+        detail::kNarrowMax));
   using ConstMap = Eigen::Map<const Matrix<T>>;
   ConstMap X(x.value().data(), B * V, cin);  // a sample row [V·cin] is V rows of cin
   // Neighbour means, vertex-major [V, B·cin] (sample s in columns s·cin ..), kept for backward.
@@ -241,60 +255,68 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias, std::shared_ptr<co
   const Index ldn = B * cin;
   Matrix<T> out(B, V * cout);
   {
-    const auto p = detail::pack_narrow(wp.value(), false), n = detail::pack_narrow(wn.value(), false);
+    const auto p = detail::pack_narrow(wp.value(), false),
+               n = detail::pack_narrow(wn.value(), false);
     // Y_s = b + X_s W_p + N_s W_n, row by row.
     for_vertex_blocks(V, [&](Index, Index v0, Index nv) {
       for (Index s = 0; s < B; ++s)
-        detail::narrow_product<T>(out.data() + (s * V + v0) * cout, cout, nv, X.data() + (s * V + v0) * cin, cin,
-                                  p, Nv->data() + v0 * ldn + s * cin, ldn, &n, bias.value().data(), false);
+        detail::narrow_product<T>(
+            out.data() + (s * V + v0) * cout, cout, nv, X.data() + (s * V + v0) * cin, cin, p,
+            Nv->data() + v0 * ldn + s * cin, ldn, &n, bias.value().data(), false);
     });
   }
   const int ix = x.id, ip = wp.id, in = wn.id, ib = bias.id, io = static_cast<int>(t.size());
   // The products: the neighbour means, then [x_v, n_v]·[W_p; W_n] per vertex (backward: twice).
-  const double flops = 2.0 * double(a->nonZeros()) * double(B * cin) + 4.0 * double(B * V * cin * cout);
-  const bool rg = x.requires_grad() || wp.requires_grad() || wn.requires_grad() || bias.requires_grad();
-  return t.record(std::move(out), rg, [&t, a, Nv, ix, ip, in, ib, io, B, V, cin, cout, ldn] {
-    const T* G = t.grad(io).data();
-    const T* X = t.value(ix).data();
-    // Weight gradients: one partial per vertex block (in parallel) over its samples in order,
-    // the partials summed in block order — the same bits at any thread count.
-    const bool gp = t.requires_grad(ip), gn = t.requires_grad(in), gb = t.requires_grad(ib);
-    if (gp || gn || gb) {
-      const auto blocks = static_cast<std::size_t>((V + kVertexBlock - 1) / kVertexBlock);
-      std::vector<Matrix<T>> dp(blocks, Matrix<T>::Zero(cin, cout)), dn(blocks, Matrix<T>::Zero(cin, cout)),
-          db(blocks, Matrix<T>::Zero(1, cout));
-      for_vertex_blocks(V, [&](Index k, Index v0, Index nv) {
-        const auto b = static_cast<std::size_t>(k);
-        for (Index s = 0; s < B; ++s)
-          detail::narrow_weight_gradients<T>(dp[b].data(), gn ? dn[b].data() : nullptr, gb ? db[b].data() : nullptr,
-                                             nv, cin, cout,
-                                             X + (s * V + v0) * cin, cin, Nv->data() + v0 * ldn + s * cin, ldn,
-                                             G + (s * V + v0) * cout, cout, true);
-      });
-      for (std::size_t b = 0; b < blocks; ++b) {
-        if (gp) t.grad(ip) += dp[b];
-        if (gn) t.grad(in) += dn[b];
-        if (gb) t.grad(ib) += db[b];
-      }
-    }
-    if (t.requires_grad(ix)) {
-      T* GX = t.grad(ix).data();
-      Matrix<T> GNv(V, ldn);  // ∂/∂(neighbour means), vertex-major
-      const auto pt = detail::pack_narrow(t.value(ip), true), nt = detail::pack_narrow(t.value(in), true);
-      for_vertex_blocks(V, [&](Index, Index v0, Index nv) {
-        for (Index s = 0; s < B; ++s) {
-          const T* g = G + (s * V + v0) * cout;
-          detail::narrow_product<T>(GX + (s * V + v0) * cin, cin, nv, g, cout, pt, nullptr, 0, nullptr, nullptr,
-                                    true);
-          detail::narrow_product<T>(GNv.data() + v0 * ldn + s * cin, ldn, nv, g, cout, nt, nullptr, 0, nullptr,
-                                    nullptr, false);
+  const double flops =
+      2.0 * double(a->nonZeros()) * double(B * cin) + 4.0 * double(B * V * cin * cout);
+  const bool rg =
+      x.requires_grad() || wp.requires_grad() || wn.requires_grad() || bias.requires_grad();
+  return t.record(
+      std::move(out), rg,
+      [&t, a, Nv, ix, ip, in, ib, io, B, V, cin, cout, ldn] {
+        const T* G = t.grad(io).data();
+        const T* X = t.value(ix).data();
+        // Weight gradients: one partial per vertex block (in parallel) over its samples in order,
+        // the partials summed in block order — the same bits at any thread count.
+        const bool gp = t.requires_grad(ip), gn = t.requires_grad(in), gb = t.requires_grad(ib);
+        if (gp || gn || gb) {
+          const auto blocks = static_cast<std::size_t>((V + kVertexBlock - 1) / kVertexBlock);
+          std::vector<Matrix<T>> dp(blocks, Matrix<T>::Zero(cin, cout)),
+              dn(blocks, Matrix<T>::Zero(cin, cout)), db(blocks, Matrix<T>::Zero(1, cout));
+          for_vertex_blocks(V, [&](Index k, Index v0, Index nv) {
+            const auto b = static_cast<std::size_t>(k);
+            for (Index s = 0; s < B; ++s)
+              detail::narrow_weight_gradients<T>(
+                  dp[b].data(), gn ? dn[b].data() : nullptr, gb ? db[b].data() : nullptr, nv, cin,
+                  cout, X + (s * V + v0) * cin, cin, Nv->data() + v0 * ldn + s * cin, ldn,
+                  G + (s * V + v0) * cout, cout, true);
+          });
+          for (std::size_t b = 0; b < blocks; ++b) {
+            if (gp) t.grad(ip) += dp[b];
+            if (gn) t.grad(in) += dn[b];
+            if (gb) t.grad(ib) += db[b];
+          }
         }
-      });
-      // Aᵀ as its own row-major matrix (transposing costs under 1% of the step).
-      const SparseMatrix<T> at = a->transpose();
-      add_neighbour_means_adjoint(GX, at, GNv, B, V, cin);
-    }
-  }, {flops, 2 * flops});
+        if (t.requires_grad(ix)) {
+          T* GX = t.grad(ix).data();
+          Matrix<T> GNv(V, ldn);  // ∂/∂(neighbour means), vertex-major
+          const auto pt = detail::pack_narrow(t.value(ip), true),
+                     nt = detail::pack_narrow(t.value(in), true);
+          for_vertex_blocks(V, [&](Index, Index v0, Index nv) {
+            for (Index s = 0; s < B; ++s) {
+              const T* g = G + (s * V + v0) * cout;
+              detail::narrow_product<T>(GX + (s * V + v0) * cin, cin, nv, g, cout, pt, nullptr, 0,
+                                        nullptr, nullptr, true);
+              detail::narrow_product<T>(GNv.data() + v0 * ldn + s * cin, ldn, nv, g, cout, nt,
+                                        nullptr, 0, nullptr, nullptr, false);
+            }
+          });
+          // Aᵀ as its own row-major matrix (transposing costs under 1% of the step).
+          const SparseMatrix<T> at = a->transpose();
+          add_neighbour_means_adjoint(GX, at, GNv, B, V, cin);
+        }
+      },
+      {flops, 2 * flops});
 }
 
 template <class T>
@@ -321,7 +343,8 @@ Var<T> MeshConv<T>::tied_transpose(const Bound<T>& p, Var<T> x, Var<T> bias) con
 // --- LSTM
 
 template <class T>
-LstmCell<T>::LstmCell(ParameterStore<T>& s, const std::string& name, Index in_, Index hidden_, Rng& rng)
+LstmCell<T>::LstmCell(ParameterStore<T>& s, const std::string& name, Index in_, Index hidden_,
+                      Rng& rng)
     : in(in_), hidden(hidden_) {
   wx = s.add(name + ".wx", in, 4 * hidden);
   wh = s.add(name + ".wh", hidden, 4 * hidden);
@@ -348,9 +371,10 @@ Var<T> LstmCell<T>::sequence(const Bound<T>& p, Var<T> x, LstmState<T> s, bool r
 }
 
 template <class T>
-StackedLstm<T>::StackedLstm(ParameterStore<T>& s, const std::string& name, Index in, Index hidden, int layers,
-                            Rng& rng) {
-  for (int l = 0; l < layers; ++l) cells.emplace_back(s, fmt::format("{}.{}", name, l), l ? hidden : in, hidden, rng);
+StackedLstm<T>::StackedLstm(ParameterStore<T>& s, const std::string& name, Index in, Index hidden,
+                            int layers, Rng& rng) {
+  for (int l = 0; l < layers; ++l)
+    cells.emplace_back(s, fmt::format("{}.{}", name, l), l ? hidden : in, hidden, rng);
 }
 
 template <class T>
@@ -389,8 +413,9 @@ std::vector<LstmState<T>> StackedLstm<T>::constant_states(Tape<T>& t, Index batc
 }
 
 template <class T>
-SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bound<T>& p, const std::vector<Var<T>>& x,
-                                            T forward_init, T backward_init) {
+SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bound<T>& p,
+                                            const std::vector<Var<T>>& x, T forward_init,
+                                            T backward_init) {
   if (x.empty()) throw Error("internal: empty sequence");
   Tape<T>& t = *x[0].tape;
   auto sf = lstm.constant_states(t, x[0].rows(), forward_init);
@@ -402,27 +427,30 @@ SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bo
 }
 
 template <class T>
-BidirectionalLstm<T>::BidirectionalLstm(ParameterStore<T>& s, const std::string& name, Index in, Index hidden,
-                                        int layers, Rng& rng)
-    : forward(s, name + ".fw", in, hidden, layers, rng), backward(s, name + ".bw", in, hidden, layers, rng) {}
+BidirectionalLstm<T>::BidirectionalLstm(ParameterStore<T>& s, const std::string& name, Index in,
+                                        Index hidden, int layers, Rng& rng)
+    : forward(s, name + ".fw", in, hidden, layers, rng),
+      backward(s, name + ".bw", in, hidden, layers, rng) {}
 
 template <class T>
-typename BidirectionalLstm<T>::Outputs BidirectionalLstm<T>::run(const Bound<T>& p, Var<T> x, Index batch) const {
+typename BidirectionalLstm<T>::Outputs BidirectionalLstm<T>::run(const Bound<T>& p, Var<T> x,
+                                                                 Index batch) const {
   return {forward.sequence(p, x, batch, false), backward.sequence(p, x, batch, true)};
 }
 
-#define DF_NN_LAYERS(T)                                                                                    \
-  template Var<T> activate(Var<T>, Activation, T);                                                         \
-  template struct Linear<T>;                                                                               \
-  template struct Mlp<T>;                                                                                  \
-  template std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator<T>(int,                          \
-                                                                             const std::vector<std::array<int, 2>>&); \
-  template Var<T> mesh_conv(Var<T>, Var<T>, Var<T>, Var<T>, std::shared_ptr<const SparseMatrix<T>>);       \
-  template struct MeshConv<T>;                                                                             \
-  template struct LstmCell<T>;                                                                             \
-  template struct StackedLstm<T>;                                                                          \
-  template struct BidirectionalLstm<T>;                                                                    \
-  template SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>&, const Bound<T>&,            \
+#define DF_NN_LAYERS(T)                                                                        \
+  template Var<T> activate(Var<T>, Activation, T);                                             \
+  template struct Linear<T>;                                                                   \
+  template struct Mlp<T>;                                                                      \
+  template std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator<T>(                  \
+      int, const std::vector<std::array<int, 2>>&);                                            \
+  template Var<T> mesh_conv(Var<T>, Var<T>, Var<T>, Var<T>,                                    \
+                            std::shared_ptr<const SparseMatrix<T>>);                           \
+  template struct MeshConv<T>;                                                                 \
+  template struct LstmCell<T>;                                                                 \
+  template struct StackedLstm<T>;                                                              \
+  template struct BidirectionalLstm<T>;                                                        \
+  template SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>&, const Bound<T>&, \
                                                        const std::vector<Var<T>>&, T, T);
 
 DF_NN_LAYERS(float)

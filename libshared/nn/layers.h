@@ -13,7 +13,8 @@
 namespace df::nn {
 
 enum class Activation { none, tanh, relu, leaky_relu, sigmoid };
-template <class T> Var<T> activate(Var<T> x, Activation a, T leaky_slope = T(0.2));
+template <class T>
+Var<T> activate(Var<T> x, Activation a, T leaky_slope = T(0.2));
 
 /// y = x W + b, W [in, out] (Glorot uniform), b [1, out] (zeros).
 template <class T>
@@ -21,7 +22,8 @@ struct Linear {
   int w = -1, b = -1;
   Eigen::Index in = 0, out = 0;
   Linear() = default;
-  Linear(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index out, Rng& rng, bool bias = true);
+  Linear(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index out, Rng& rng,
+         bool bias = true);
   Var<T> operator()(const Bound<T>& p, Var<T> x) const;
   /// The same for a layer applied at every step of a sequence on one tape (matmul_repeated).
   Var<T> repeated(const Bound<T>& p, Var<T> x) const;
@@ -35,7 +37,8 @@ struct Mlp {
   T leaky_slope = T(0.2);
   Mlp() = default;
   /// sizes = {in, h1, ..., out}
-  Mlp(ParameterStore<T>& s, const std::string& name, const std::vector<Eigen::Index>& sizes, Activation hidden, Rng& rng);
+  Mlp(ParameterStore<T>& s, const std::string& name, const std::vector<Eigen::Index>& sizes,
+      Activation hidden, Rng& rng);
   Var<T> operator()(const Bound<T>& p, Var<T> x) const;
   /// ∇ₓ Σ_rows D(x) for a 1-output MLP, built from differentiable ops ([rows, in]): the
   /// WGAN-GP penalty's gradient w.r.t. the weights flows through it. (ReLU / leaky-ReLU
@@ -46,14 +49,16 @@ struct Mlp {
 /// The row-normalised adjacency of a mesh: A[i, j] = 1/d_i for j in the one-ring of i.
 /// @param edges  undirected edges (i, j)
 template <class T>
-std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(int n_vertices, const std::vector<std::array<int, 2>>& edges);
+std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(
+    int n_vertices, const std::vector<std::array<int, 2>>& edges);
 
 /// Mesh convolution (SPEC §5) as one fused op: for every sample row of x [B, V·cin] and vertex i,
 /// y_i = W_pointᵀ x_i + W_nbᵀ (1/d_i) Σ_{j∈N(i)} x_j + b  →  [B, V·cout].
 /// w_point, w_nb [cin, cout] (at most 16 channels each way: narrow_product.h); bias [1, cout]. A
 /// transposed/tied variant passes transpose(W).
 template <class T>
-Var<T> mesh_conv(Var<T> x, Var<T> w_point, Var<T> w_nb, Var<T> bias, std::shared_ptr<const SparseMatrix<T>> a);
+Var<T> mesh_conv(Var<T> x, Var<T> w_point, Var<T> w_nb, Var<T> bias,
+                 std::shared_ptr<const SparseMatrix<T>> a);
 
 template <class T>
 struct MeshConv {
@@ -81,7 +86,8 @@ struct LstmCell {
   int wx = -1, wh = -1, b = -1;
   Eigen::Index in = 0, hidden = 0;
   LstmCell() = default;
-  LstmCell(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index hidden, Rng& rng);
+  LstmCell(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index hidden,
+           Rng& rng);
   LstmState<T> operator()(const Bound<T>& p, Var<T> x, LstmState<T> s) const;
   /// The layer over a whole sequence x [T·B, in] from state s (lstm_sequence): h of every step.
   Var<T> sequence(const Bound<T>& p, Var<T> x, LstmState<T> s, bool reverse = false) const;
@@ -100,11 +106,13 @@ template <class T>
 struct StackedLstm {
   std::vector<LstmCell<T>> cells;
   StackedLstm() = default;
-  StackedLstm(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index hidden, int layers, Rng& rng);
+  StackedLstm(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index hidden,
+              int layers, Rng& rng);
   /// One time step; `states` (one per layer) are updated; returns the top layer's h.
   Var<T> step(const Bound<T>& p, Var<T> x, std::vector<LstmState<T>>& states) const;
   /// Runs over a sequence (x[t] [B, in]) from `states`; returns the top h of every step.
-  std::vector<Var<T>> run(const Bound<T>& p, const std::vector<Var<T>>& x, std::vector<LstmState<T>>& states) const;
+  std::vector<Var<T>> run(const Bound<T>& p, const std::vector<Var<T>>& x,
+                          std::vector<LstmState<T>>& states) const;
   /// The top layer's h of every step of x [T·B, in] (time-major, batch B) from zero states, each
   /// layer as one lstm_sequence node; reverse: from the last step to the first.
   Var<T> sequence(const Bound<T>& p, Var<T> x, Eigen::Index batch, bool reverse = false) const;
@@ -121,8 +129,9 @@ struct SharedBidirectional {
   std::vector<Var<T>> forward, backward;
 };
 template <class T>
-SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bound<T>& p, const std::vector<Var<T>>& x,
-                                            T forward_init, T backward_init);
+SharedBidirectional<T> shared_bidirectional(const StackedLstm<T>& lstm, const Bound<T>& p,
+                                            const std::vector<Var<T>>& x, T forward_init,
+                                            T backward_init);
 
 /// Standard bidirectional LSTM (separate weights per direction, zero initial states).
 template <class T>
@@ -134,7 +143,8 @@ struct BidirectionalLstm {
   };
   StackedLstm<T> forward, backward;
   BidirectionalLstm() = default;
-  BidirectionalLstm(ParameterStore<T>& s, const std::string& name, Eigen::Index in, Eigen::Index hidden, int layers, Rng& rng);
+  BidirectionalLstm(ParameterStore<T>& s, const std::string& name, Eigen::Index in,
+                    Eigen::Index hidden, int layers, Rng& rng);
   /// Over x [T·B, in] (time-major, batch B).
   Outputs run(const Bound<T>& p, Var<T> x, Eigen::Index batch) const;
 };

@@ -71,7 +71,8 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
   const bool rg = x.requires_grad() || wx.requires_grad() || wh.requires_grad() ||
                   b.requires_grad() || h0.requires_grad() || c0.requires_grad();
   return t.record(
-      std::move(out), rg, [&t, gates, cells, order, B, H, ix, iwx, iwh, ib, ih, ic, io] {
+      std::move(out), rg,
+      [&t, gates, cells, order, B, H, ix, iwx, iwh, ib, ih, ic, io] {
         const Matrix<T>& G = t.grad(io);
         const Matrix<T>& Hs = t.value(io);
         const Index TB = G.rows();

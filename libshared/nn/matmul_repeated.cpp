@@ -75,21 +75,26 @@ Var<T> matmul_repeated(Var<T> x, Var<T> w) {
   Matrix<T> y(x.rows(), w.cols());
   detail::packed_product<T>(y, x.value(), *s.w, false);
   const double flops = 2.0 * double(x.rows()) * double(x.cols()) * double(w.cols());
-  return t.record(std::move(y), x.requires_grad() || w.requires_grad(), [&t, ix, iw, io] {
-    RepeatedWeight<T>& s = state_of(t, iw);
-    if (t.requires_grad(ix)) {
-      if (!s.wt) s.wt = detail::pack_rhs(t.value(iw), true);
-      detail::packed_product_into_grad(t, ix, t.grad(io), *s.wt);
-    }
-    if (t.requires_grad(iw)) {
-      if (s.uses.empty())
-        t.when_backward_reaches(iw, [&t, iw] {
-          RepeatedWeight<T>& s = state_of(t, iw);
-          weight_gradient(t, iw, std::exchange(s.uses, {}));
-        }, "matmul_repeated");
-      s.uses.push_back({ix, io});
-    }
-  }, {flops, flops * (x.requires_grad() + w.requires_grad())});
+  return t.record(std::move(y), x.requires_grad() || w.requires_grad(),
+                  [&t, ix, iw, io] {
+                    RepeatedWeight<T>& s = state_of(t, iw);
+                    if (t.requires_grad(ix)) {
+                      if (!s.wt) s.wt = detail::pack_rhs(t.value(iw), true);
+                      detail::packed_product_into_grad(t, ix, t.grad(io), *s.wt);
+                    }
+                    if (t.requires_grad(iw)) {
+                      if (s.uses.empty())
+                        t.when_backward_reaches(
+                            iw,
+                            [&t, iw] {
+                              RepeatedWeight<T>& s = state_of(t, iw);
+                              weight_gradient(t, iw, std::exchange(s.uses, {}));
+                            },
+                            "matmul_repeated");
+                      s.uses.push_back({ix, io});
+                    }
+                  },
+                  {flops, flops * (x.requires_grad() + w.requires_grad())});
 }
 
 template Var<float> matmul_repeated(Var<float>, Var<float>);

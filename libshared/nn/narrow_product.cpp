@@ -47,8 +47,8 @@ void store(T* p, const V<T>& v, bool accumulate_into) {
 // KFixed > 0: k known at compile time (the loops unroll, the accumulators stay in registers);
 // HasB: b (and u) known present. 0 / false: both decided at run time.
 template <class T, Index N, Index R, Index KFixed, bool HasB>
-void rows_tile(T* c, Index ldc, const T* a, Index lda, Index k_runtime, const T* w, const T* b, Index ldb,
-               const T* u, const T* bias, bool accumulate_into) {
+void rows_tile(T* c, Index ldc, const T* a, Index lda, Index k_runtime, const T* w, const T* b,
+               Index ldb, const T* u, const T* bias, bool accumulate_into) {
   constexpr Index L = kLanes<T>, NV = (N + L - 1) / L;
   const Index k = KFixed > 0 ? KFixed : k_runtime;
   V<T> acc[R][NV];
@@ -78,11 +78,11 @@ void product(T* c, Index ldc, Index m, const T* a, Index lda, Index k, const T* 
              Index ldb, const T* u, const T* bias, bool accumulate_into) {
   Index r = 0;
   for (; r + kRows <= m; r += kRows)
-    rows_tile<T, N, kRows, KFixed, HasB>(c + r * ldc, ldc, a + r * lda, lda, k, w, b ? b + r * ldb : nullptr, ldb,
-                                         u, bias, accumulate_into);
+    rows_tile<T, N, kRows, KFixed, HasB>(c + r * ldc, ldc, a + r * lda, lda, k, w,
+                                         b ? b + r * ldb : nullptr, ldb, u, bias, accumulate_into);
   for (; r < m; ++r)
-    rows_tile<T, N, 1, KFixed, HasB>(c + r * ldc, ldc, a + r * lda, lda, k, w, b ? b + r * ldb : nullptr, ldb, u,
-                                     bias, accumulate_into);
+    rows_tile<T, N, 1, KFixed, HasB>(c + r * ldc, ldc, a + r * lda, lda, k, w,
+                                     b ? b + r * ldb : nullptr, ldb, u, bias, accumulate_into);
 }
 
 template <class T, Index K, Index NV, bool UB>

@@ -30,8 +30,8 @@ constexpr double kParallelWork = 4e6;
 // one that does not start at 0 continues from them: every element is the same one sum over k in
 // order, whether the panel is walked in chunks or at once.
 template <class T, Index R>
-void tile(T* c, Index ldc, const T* a, Index rs, Index cs, const T* panel, Index k0, Index k1, Index K,
-          Index cols, bool accumulate_into, typename Vector<T>::type* carry) {
+void tile(T* c, Index ldc, const T* a, Index rs, Index cs, const T* panel, Index k0, Index k1,
+          Index K, Index cols, bool accumulate_into, typename Vector<T>::type* carry) {
   using V = typename Vector<T>::type;
   constexpr Index L = kLanes<T>;
   V acc[R][2];
@@ -73,8 +73,9 @@ void tile(T* c, Index ldc, const T* a, Index rs, Index cs, const T* panel, Index
 
 // The last `rows` (< kTileRows) rows: the tile of exactly that height.
 template <class T, Index R>
-void last_rows(T* c, Index ldc, const T* a, Index rs, Index cs, Index rows, const T* panel, Index k0, Index k1,
-               Index K, Index cols, bool accumulate_into, typename Vector<T>::type* carry) {
+void last_rows(T* c, Index ldc, const T* a, Index rs, Index cs, Index rows, const T* panel,
+               Index k0, Index k1, Index K, Index cols, bool accumulate_into,
+               typename Vector<T>::type* carry) {
   if constexpr (R > 0) {
     if (rows == R)
       tile<T, R>(c, ldc, a, rs, cs, panel, k0, k1, K, cols, accumulate_into, carry);
@@ -101,8 +102,8 @@ void panel_product(T* c, Index ldc, const T* a, Index rs, Index cs, Index m, con
     const Index k1 = std::min(K, k0 + kPanelChunk);
     Index r = 0;
     for (; r + kTileRows <= m; r += kTileRows)
-      tile<T, kTileRows>(c + r * ldc, ldc, a + r * rs, rs, cs, panel, k0, k1, K, cols, accumulate_into,
-                         carry.empty() ? nullptr : carry.data() + 2 * r);
+      tile<T, kTileRows>(c + r * ldc, ldc, a + r * rs, rs, cs, panel, k0, k1, K, cols,
+                         accumulate_into, carry.empty() ? nullptr : carry.data() + 2 * r);
     last_rows<T, kTileRows - 1>(c + r * ldc, ldc, a + r * rs, rs, cs, m - r, panel, k0, k1, K, cols,
                                 accumulate_into, carry.empty() ? nullptr : carry.data() + 2 * r);
     k0 = k1;

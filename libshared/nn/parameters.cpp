@@ -46,14 +46,16 @@ Eigen::Map<Matrix<T>> ParameterStore<T>::grad(int p) {
 template <class T>
 Bound<T> ParameterStore<T>::bind(Tape<T>& tape) const {
   Bound<T> b;
-  for (std::size_t i = 0; i < views_.size(); ++i) b.vars.push_back(tape.variable(value(static_cast<int>(i))));
+  for (std::size_t i = 0; i < views_.size(); ++i)
+    b.vars.push_back(tape.variable(value(static_cast<int>(i))));
   return b;
 }
 
 template <class T>
 Bound<T> ParameterStore<T>::bind_constant(Tape<T>& tape) const {
   Bound<T> b;
-  for (std::size_t i = 0; i < views_.size(); ++i) b.vars.push_back(tape.constant(value(static_cast<int>(i))));
+  for (std::size_t i = 0; i < views_.size(); ++i)
+    b.vars.push_back(tape.constant(value(static_cast<int>(i))));
   return b;
 }
 
@@ -62,7 +64,8 @@ Bound<T> ParameterStore<T>::bind_except(Tape<T>& tape, std::string_view frozen_p
   Bound<T> b;
   for (std::size_t i = 0; i < views_.size(); ++i) {
     const auto p = static_cast<int>(i);
-    b.vars.push_back(views_[i].name.starts_with(frozen_prefix) ? tape.constant(value(p)) : tape.variable(value(p)));
+    b.vars.push_back(views_[i].name.starts_with(frozen_prefix) ? tape.constant(value(p))
+                                                               : tape.variable(value(p)));
   }
   return b;
 }
@@ -79,7 +82,8 @@ template <class T>
 void ParameterStore<T>::glorot_uniform(int p, Rng& rng) {
   auto m = value(p);
   const double limit = std::sqrt(6.0 / static_cast<double>(m.rows() + m.cols()));
-  for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<T>(rng.uniform(-limit, limit));
+  for (Eigen::Index k = 0; k < m.size(); ++k)
+    m.data()[k] = static_cast<T>(rng.uniform(-limit, limit));
 }
 
 template <class T>

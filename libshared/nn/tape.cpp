@@ -8,7 +8,8 @@ namespace df::nn {
 
 template <class T>
 void Tape<T>::profile_forward(const Node& n, double flops) {
-  profile_->add_forward(n.where, profile_->lap(), flops, static_cast<double>(n.value.size() * sizeof(T)));
+  profile_->add_forward(n.where, profile_->lap(), flops,
+                        static_cast<double>(n.value.size() * sizeof(T)));
 }
 
 template <class T>
@@ -29,8 +30,8 @@ Var<T> Tape<T>::variable(Matrix<T> value) {
 }
 
 template <class T>
-Var<T> Tape<T>::record(Matrix<T> value, bool requires_grad, std::function<void()> backward, OpCost cost,
-                       const char* where) {
+Var<T> Tape<T>::record(Matrix<T> value, bool requires_grad, std::function<void()> backward,
+                       OpCost cost, const char* where) {
   Node& n = nodes_.emplace_back();
   n.value = std::move(value);
   n.requires_grad = requires_grad;
@@ -44,7 +45,8 @@ Var<T> Tape<T>::record(Matrix<T> value, bool requires_grad, std::function<void()
 template <class T>
 Matrix<T>& Tape<T>::grad(int id) {
   Node& n = nodes_[static_cast<std::size_t>(id)];
-  if (n.grad.size() == 0 && n.value.size() > 0) n.grad = Matrix<T>::Zero(n.value.rows(), n.value.cols());
+  if (n.grad.size() == 0 && n.value.size() > 0)
+    n.grad = Matrix<T>::Zero(n.value.rows(), n.value.cols());
   return n.grad;
 }
 
@@ -58,7 +60,8 @@ Matrix<T>& Tape<T>::grad_to_update(int id, bool& add) {
 
 template <class T>
 void Tape<T>::backward(Var<T> from) {
-  if (value(from.id).size() != 1) throw Error("internal: backward() from a non-scalar node needs a seed gradient");
+  if (value(from.id).size() != 1)
+    throw Error("internal: backward() from a non-scalar node needs a seed gradient");
   backward(from, Matrix<T>::Ones(1, 1));
 }
 
@@ -85,7 +88,8 @@ void Tape<T>::run_backward(Node& n) {
   if (n.backward && n.grad.size() > 0) {
     profile_->mark();
     n.backward();
-    profile_->add_backward(n.where, profile_->lap(), n.backward_flops, static_cast<double>(n.grad.size() * sizeof(T)));
+    profile_->add_backward(n.where, profile_->lap(), n.backward_flops,
+                           static_cast<double>(n.grad.size() * sizeof(T)));
   }
 }
 

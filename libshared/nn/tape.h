@@ -52,8 +52,8 @@ class Tape {
   /// Records an op's result. `backward` runs once during backward(); it must only add into the
   /// gradients of inputs that require them. requires_grad = any input requires a gradient.
   /// `cost` and `where` (the recording op) serve only an attached OpProfile.
-  Var<T> record(Matrix<T> value, bool requires_grad, std::function<void()> backward, OpCost cost = {},
-                const char* where = __builtin_FUNCTION());
+  Var<T> record(Matrix<T> value, bool requires_grad, std::function<void()> backward,
+                OpCost cost = {}, const char* where = __builtin_FUNCTION());
 
   /// Backpropagates from a 1×1 node (seed 1) or from any node with the given seed gradient.
   void backward(Var<T> from);
@@ -95,7 +95,8 @@ class Tape {
   /// (matmul_repeated: one weight-gradient product over all the steps that used the weight).
   /// A second call before backward() reaches id keeps the first `f`.
   /// (In a profile, f's time counts as the op's that asked: `where`.)
-  void when_backward_reaches(int id, std::function<void()> f, const char* where = __builtin_FUNCTION()) {
+  void when_backward_reaches(int id, std::function<void()> f,
+                             const char* where = __builtin_FUNCTION()) {
     Node& n = nodes_[static_cast<std::size_t>(id)];
     if (n.pending) return;
     n.pending = std::move(f);

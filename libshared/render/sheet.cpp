@@ -59,7 +59,9 @@ SheetLayout layout_sheet(const SheetSpec& s) {
   }
   L.width = L.left + grid_w + right;
   if (!s.title.empty())  // a title longer than the grid widens the picture rather than being cut
-    L.width = std::max(L.width, L.left + static_cast<int>(std::ceil(scratch.text_width(s.title, kTitleSize, true))) + kPad);
+    L.width = std::max(
+        L.width,
+        L.left + static_cast<int>(std::ceil(scratch.text_width(s.title, kTitleSize, true))) + kPad);
   L.height = std::max(L.height, L.top + grid_h + kPad);
   return L;
 }

@@ -18,7 +18,9 @@ namespace {
 
 using Vec = std::array<double, 3>;  // x to the figure's left, y up, z forward
 
-Vec add(const Vec& a, const Vec& b, double s = 1) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
+Vec add(const Vec& a, const Vec& b, double s = 1) {
+  return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]};
+}
 
 // A limb's direction from hanging straight down: swung forward by `flex` in the sagittal plane
 // and out to the side (x sign `side`) by `abduct`.
@@ -48,8 +50,8 @@ void pose_joints(const Angles& a, double s, float* out) {
     const int arm = 4 + 4 * k, leg = 12 + 4 * k;
     j[arm] = add(j[2], Vec{side * 0.18 * s, -0.04 * s, 0});
     j[arm + 1] = add(j[arm], limb(a.shoulder_flex[k], a.shoulder_abduct[k], side), 0.28 * s);
-    const Vec forearm = limb(a.shoulder_flex[k] + a.elbow_flex[k],
-                             a.shoulder_abduct[k] + a.elbow_abduct[k], side);
+    const Vec forearm =
+        limb(a.shoulder_flex[k] + a.elbow_flex[k], a.shoulder_abduct[k] + a.elbow_abduct[k], side);
     j[arm + 2] = add(j[arm + 1], forearm, 0.25 * s);
     j[arm + 3] = add(j[arm + 2], forearm, 0.08 * s);
     j[leg] = add(j[0], Vec{side * 0.1 * s, -0.06 * s, 0});
@@ -61,7 +63,9 @@ void pose_joints(const Angles& a, double s, float* out) {
     for (int c = 0; c < 3; ++c) out[3 * i + c] = static_cast<float>(j[i][c]);
 }
 
-double pos(double x) { return std::max(0.0, x); }
+double pos(double x) {
+  return std::max(0.0, x);
+}
 
 // The angles of action `name` at phase psi (radians), amplitude amp, time `seconds`.
 Angles action_angles(const std::string& name, double psi, double amp, double seconds) {
@@ -126,8 +130,8 @@ void check_params(const ActionParams& p) {
         "--noise not negative");
   for (const auto& c : p.classes)
     if (std::find(action_names().begin(), action_names().end(), c) == action_names().end())
-      throw UsageError(fmt::format("unknown action '{}' (known: {})", c,
-                                   fmt::join(action_names(), ", ")));
+      throw UsageError(
+          fmt::format("unknown action '{}' (known: {})", c, fmt::join(action_names(), ", ")));
 }
 
 }  // namespace
@@ -155,16 +159,21 @@ io::SkeletonFile make_actions(const ActionParams& p) {
       const std::size_t seq = s.labels.size();
       Rng rng(p.seed, seq);
       const int subject = k % p.subjects;
-      const double body = Rng(p.seed, 1'000'000 + static_cast<std::uint64_t>(subject)).uniform(0.9, 1.1);
+      const double body =
+          Rng(p.seed, 1'000'000 + static_cast<std::uint64_t>(subject)).uniform(0.9, 1.1);
       const double speed = rng.uniform(0.8, 1.25), amp = rng.uniform(0.8, 1.2);
       const double phase = rng.uniform(0, 2 * std::numbers::pi);
       const double omega = 2 * std::numbers::pi * base_frequency(s.class_names[c]) * speed;
       for (int t = 0; t < p.frames; ++t) {
         const double seconds = t / p.frame_rate;
-        float* out = s.poses.data() + (seq * static_cast<std::size_t>(p.frames) + static_cast<std::size_t>(t)) * s.frame_size();
-        pose_joints(action_angles(s.class_names[c], omega * seconds + phase, amp, seconds), body, out);
+        float* out = s.poses.data() +
+                     (seq * static_cast<std::size_t>(p.frames) + static_cast<std::size_t>(t)) *
+                         s.frame_size();
+        pose_joints(action_angles(s.class_names[c], omega * seconds + phase, amp, seconds), body,
+                    out);
         if (p.noise > 0)
-          for (std::size_t i = 0; i < s.frame_size(); ++i) out[i] += static_cast<float>(rng.normal(0, p.noise));
+          for (std::size_t i = 0; i < s.frame_size(); ++i)
+            out[i] += static_cast<float>(rng.normal(0, p.noise));
       }
       s.labels.push_back(static_cast<std::int32_t>(c));
       s.subjects.push_back(subject + 1);

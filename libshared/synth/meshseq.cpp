@@ -49,9 +49,12 @@ MeshSeqKind mesh_seq_kind_from_name(const std::string& name) {
 
 const char* mesh_seq_kind_name(MeshSeqKind k) {
   switch (k) {
-    case MeshSeqKind::finger: return "finger";
-    case MeshSeqKind::flag: return "flag";
-    default: return "bumps";
+    case MeshSeqKind::finger:
+      return "finger";
+    case MeshSeqKind::flag:
+      return "flag";
+    default:
+      return "bumps";
   }
 }
 
@@ -60,8 +63,9 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
   if (p.sequences < 1) throw UsageError("--sequences must be at least 1");
   if (p.resolution < 3) throw UsageError("--resolution must be at least 3");
   if (p.fine_regions < 0 || p.fine_regions > kMaxFineRegions)
-    throw UsageError(fmt::format("--fine-regions must be from 0 to {} (more do not fit the surface apart)",
-                                 kMaxFineRegions));
+    throw UsageError(
+        fmt::format("--fine-regions must be from 0 to {} (more do not fit the surface apart)",
+                    kMaxFineRegions));
   if (!std::isfinite(p.amplitude) || !std::isfinite(p.twist_degrees) || !std::isfinite(p.periods))
     throw UsageError("--amplitude, --twist and --periods must be finite numbers");
   for (int k = 0; k < p.sequences; ++k) {
@@ -111,19 +115,26 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
     // Each region's draws follow the previous ones', so adding fine regions leaves the first
     // ones (and their weights in every frame) as they were.
     Rng rng(p.seed, 1000003);
-    struct C { double x, y, r; int scale; };
+    struct C {
+      double x, y, r;
+      int scale;
+    };
     std::vector<C> centers;
-    for (auto [count, radius, scale] : {std::tuple{2, 0.45, 0}, std::tuple{p.fine_regions, 0.15, 1}}) {
+    for (auto [count, radius, scale] :
+         {std::tuple{2, 0.45, 0}, std::tuple{p.fine_regions, 0.15, 1}}) {
       for (int n = 0; n < count; ++n) {
         for (int attempt = 0;; ++attempt) {
           if (attempt == 100000)
-            throw UsageError(fmt::format("--fine-regions {}: no room for region {} of {} apart from the "
-                                         "others (seed {}); ask for fewer or try another seed",
-                                         p.fine_regions, centers.size() + 1, 2 + p.fine_regions, p.seed));
-          C c{rng.uniform(-1 + radius, 1 - radius), rng.uniform(-1 + radius, 1 - radius), radius, scale};
+            throw UsageError(
+                fmt::format("--fine-regions {}: no room for region {} of {} apart from the "
+                            "others (seed {}); ask for fewer or try another seed",
+                            p.fine_regions, centers.size() + 1, 2 + p.fine_regions, p.seed));
+          C c{rng.uniform(-1 + radius, 1 - radius), rng.uniform(-1 + radius, 1 - radius), radius,
+              scale};
           bool ok = true;
           for (const auto& o : centers)  // a little apart first, then touching at most
-            ok = ok && std::hypot(c.x - o.x, c.y - o.y) > (c.r + o.r) * (attempt < 1000 ? 1.05 : 1.0);
+            ok = ok &&
+                 std::hypot(c.x - o.x, c.y - o.y) > (c.r + o.r) * (attempt < 1000 ? 1.05 : 1.0);
           if (ok) {
             centers.push_back(c);
             break;
@@ -220,9 +231,12 @@ io::Vertices MeshSequenceGenerator::frame(int t) const {
   int seq = t / params_.frames, local = t % params_.frames;
   double phase = 2 * kPi * params_.periods * local / std::max(params_.frames, 1);
   switch (params_.kind) {
-    case MeshSeqKind::finger: return finger(seq, phase);
-    case MeshSeqKind::flag: return flag(seq, phase);
-    default: return bumps(t);
+    case MeshSeqKind::finger:
+      return finger(seq, phase);
+    case MeshSeqKind::flag:
+      return flag(seq, phase);
+    default:
+      return bumps(t);
   }
 }
 
@@ -241,7 +255,8 @@ void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
     seq_names.push_back(p.sequences == 1 ? mesh_seq_kind_name(p.kind)
                                          : fmt::format("{}-{}", mesh_seq_kind_name(p.kind), k));
     offsets.push_back(static_cast<std::int64_t>(k + 1) * p.frames);
-    for (int t = 0; t < p.frames; ++t) names.push_back(fmt::format("{}-{:04d}", seq_names.back(), t));
+    for (int t = 0; t < p.frames; ++t)
+      names.push_back(fmt::format("{}-{:04d}", seq_names.back(), t));
   }
   f.write_frame_names(names);
   f.write_sequences(offsets, seq_names);
@@ -260,7 +275,8 @@ void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
       for (std::size_t k = 0; k < nv * 3; ++k) dst[k] = static_cast<float>(V.data()[k]);
       progress.advance();
     });
-    f.write_positions_rows(static_cast<std::size_t>(first), static_cast<std::size_t>(count), buf.data());
+    f.write_positions_rows(static_cast<std::size_t>(first), static_cast<std::size_t>(count),
+                           buf.data());
   }
   progress.finish();
 
@@ -283,7 +299,8 @@ void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
   f.close();
 }
 
-void write_meshes(const MeshSequenceGenerator& gen, const AtomicOutput& out, const std::string& format) {
+void write_meshes(const MeshSequenceGenerator& gen, const AtomicOutput& out,
+                  const std::string& format) {
   if (format != "obj" && format != "ply" && format != "off")
     throw UsageError("unknown mesh format '" + format + "' (obj, ply, off)");
   const int n = gen.total_frames();
@@ -302,11 +319,12 @@ void write_meshes(const MeshSequenceGenerator& gen, const AtomicOutput& out, con
 
 }  // namespace
 
-void synth_meshseq(const MeshSeqParams& p, const std::string& output, const std::string& mesh_format,
-                   const CommonOptions& common) {
+void synth_meshseq(const MeshSeqParams& p, const std::string& output,
+                   const std::string& mesh_format, const CommonOptions& common) {
   MeshSequenceGenerator gen(p);
   const bool h5out = io::is_hdf5_path(output);
-  AtomicOutput out(output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory, common.force);
+  AtomicOutput out(output, h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory,
+                   common.force);
   log::info("{} sequence: {} x {} frames, {} vertices, {} triangles", mesh_seq_kind_name(p.kind),
             p.sequences, p.frames, gen.rest().vertices.rows(), gen.rest().faces.rows());
   if (h5out)

@@ -27,22 +27,22 @@ constexpr int kMaxFineRegions = 16;
 
 struct MeshSeqParams {
   MeshSeqKind kind = MeshSeqKind::finger;
-  int frames = 100;          ///< frames per sequence
-  int sequences = 1;         ///< independent variations, stored one after another
-  int resolution = 16;       ///< finger: segments around (4x rings along); grids: quads per side
-  double amplitude = 1.0;    ///< deformation scale (finger bend: amplitude x 90 deg)
-  double twist_degrees = 90; ///< finger: twist of the tip at the peak of each period
-  double periods = 2;        ///< motion periods per sequence
-  int fine_regions = 4;      ///< bumps: planted fine regions (beside the 2 coarse ones)
+  int frames = 100;           ///< frames per sequence
+  int sequences = 1;          ///< independent variations, stored one after another
+  int resolution = 16;        ///< finger: segments around (4x rings along); grids: quads per side
+  double amplitude = 1.0;     ///< deformation scale (finger bend: amplitude x 90 deg)
+  double twist_degrees = 90;  ///< finger: twist of the tip at the peak of each period
+  double periods = 2;         ///< motion periods per sequence
+  int fine_regions = 4;       ///< bumps: planted fine regions (beside the 2 coarse ones)
   std::uint64_t seed = 0;
 };
 
 /// One planted deformation region of the `bumps` surface.
 struct Region {
-  int center = 0;      ///< vertex index nearest to the centre
-  int scale = 0;       ///< 0 coarse, 1 fine
-  double radius = 0;   ///< in mesh units
-  double height = 0;   ///< peak displacement at weight 1
+  int center = 0;                  ///< vertex index nearest to the centre
+  int scale = 0;                   ///< 0 coarse, 1 fine
+  double radius = 0;               ///< in mesh units
+  double height = 0;               ///< peak displacement at weight 1
   std::vector<std::uint8_t> mask;  ///< per vertex: 1 inside the region
 };
 
@@ -78,7 +78,7 @@ class MeshSequenceGenerator {
 /// Writes the sequence to `output`: an .h5/.hdf5 path gets the acap file kind with
 /// /frames/positions (and /synthetic ground truth), any other path a directory of mesh files
 /// in `mesh_format` (obj, ply, off).
-void synth_meshseq(const MeshSeqParams& p, const std::string& output, const std::string& mesh_format,
-                   const CommonOptions& common);
+void synth_meshseq(const MeshSeqParams& p, const std::string& output,
+                   const std::string& mesh_format, const CommonOptions& common);
 
 }  // namespace df::synth

@@ -4,9 +4,9 @@
 // takes in the Kinect order under MSR names, read in MSR's order (a wrong order, as the import's
 // reading MSR's files in the Kinect order was) fail the bone-length check at the default
 // tolerance, and the right order passes it.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -23,7 +23,8 @@ using namespace df;
 namespace {
 
 // MSR-Action3D's file order: the Kinect joint at each of its 20 lines.
-constexpr int kMsrFromKinect[20] = {4, 8, 2, 1, 12, 16, 0, 5, 9, 6, 10, 7, 11, 13, 17, 14, 18, 15, 19, 3};
+constexpr int kMsrFromKinect[20] = {4,  8, 2,  1,  12, 16, 0,  5,  9,  6,
+                                    10, 7, 11, 13, 17, 14, 18, 15, 19, 3};
 const double kDefaultTolerance = convert::Skel2h5Options{}.bone_tolerance;
 
 // Every UTKinect take: its frames' 20 joints (x y z), Kinect order, as the file prints them.
@@ -67,7 +68,8 @@ std::string msr_file(const std::vector<std::string>& frames, bool msr_order) {
 
 }  // namespace
 
-TEST_CASE("real data: UTKinect's takes as MSR-Action3D files import to the Kinect joints", "[shared-data]") {
+TEST_CASE("real data: UTKinect's takes as MSR-Action3D files import to the Kinect joints",
+          "[shared-data]") {
   const auto takes = utkinect_takes();
   REQUIRE(takes.size() == 20);
   test::TempDir dir;

@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
     Adam<float> adam(store.size(), {});
     df::Rng rng(tool.common().seed, 1);  // minibatches
     std::int64_t it = 0;
-    if (resume && std::filesystem::exists(checkpoint)) it = load_checkpoint(checkpoint, store, adam, rng);
+    if (resume && std::filesystem::exists(checkpoint))
+      it = load_checkpoint(checkpoint, store, adam, rng);
     Tape<float> tape;
     for (; it < iterations; ++it) {
       Matrix<float> x(32, 4), y(32, 1);

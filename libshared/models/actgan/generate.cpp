@@ -23,7 +23,8 @@ constexpr Eigen::Index kBatch = 64;  // sequences per forward pass
 int class_index(const ActganModel& m, const std::string& name) {
   const auto it = std::find(m.class_names.begin(), m.class_names.end(), name);
   if (it == m.class_names.end())
-    throw UsageError(fmt::format("unknown class '{}' (the model knows: {})", name, fmt::join(m.class_names, ", ")));
+    throw UsageError(fmt::format("unknown class '{}' (the model knows: {})", name,
+                                 fmt::join(m.class_names, ", ")));
   return static_cast<int>(it - m.class_names.begin());
 }
 
@@ -33,7 +34,8 @@ std::vector<float> parse_mix(const ActganModel& m, const std::string& mix, std::
   std::stringstream in(mix);
   for (std::string part; std::getline(in, part, ',');) {
     const auto colon = part.find(':');
-    if (colon == std::string::npos) throw UsageError(fmt::format("--mix part '{}' is not CLASS:WEIGHT", part));
+    if (colon == std::string::npos)
+      throw UsageError(fmt::format("--mix part '{}' is not CLASS:WEIGHT", part));
     const std::string cls = part.substr(0, colon);
     double weight = 0;
     try {
@@ -41,7 +43,8 @@ std::vector<float> parse_mix(const ActganModel& m, const std::string& mix, std::
     } catch (const std::exception&) {
       throw UsageError(fmt::format("--mix part '{}': the weight is not a number", part));
     }
-    if (!(weight >= 0)) throw UsageError(fmt::format("--mix part '{}': weights must not be negative", part));
+    if (!(weight >= 0))
+      throw UsageError(fmt::format("--mix part '{}': weights must not be negative", part));
     w[static_cast<std::size_t>(class_index(m, cls))] += static_cast<float>(weight);
     name += (name.empty() ? "" : "+") + cls;
   }
@@ -52,8 +55,9 @@ std::vector<float> parse_mix(const ActganModel& m, const std::string& mix, std::
   return w;
 }
 
-void write_latents(const std::string& path, const std::vector<std::string>& names, const std::vector<float>& latents,
-                   int length, int z, bool force, const std::string& model) {
+void write_latents(const std::string& path, const std::vector<std::string>& names,
+                   const std::vector<float>& latents, int length, int z, bool force,
+                   const std::string& model) {
   std::ostringstream f;
   f << "# sequence\tframe";
   for (int k = 0; k < z; ++k) f << "\th" << k + 1;
@@ -62,7 +66,10 @@ void write_latents(const std::string& path, const std::vector<std::string>& name
     for (int t = 0; t < length; ++t) {
       f << names[s] << '\t' << t;
       for (int k = 0; k < z; ++k)
-        f << '\t' << latents[(s * static_cast<std::size_t>(length) + static_cast<std::size_t>(t)) * static_cast<std::size_t>(z) + static_cast<std::size_t>(k)];
+        f << '\t'
+          << latents[(s * static_cast<std::size_t>(length) + static_cast<std::size_t>(t)) *
+                         static_cast<std::size_t>(z) +
+                     static_cast<std::size_t>(k)];
       f << "\n";
     }
     f << "\n";  // a blank line between sequences (gnuplot: separate curves)
@@ -80,7 +87,8 @@ Eigen::Index most_probable(const nn::Matrix<float>& p, Eigen::Index r) {
 
 }  // namespace
 
-nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& opt, std::vector<std::string>& names) {
+nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& opt,
+                             std::vector<std::string>& names) {
   if (opt.count < 1) throw UsageError("--count must be positive");
   std::vector<std::vector<float>> rows;
   if (!opt.mix.empty()) {
@@ -103,15 +111,18 @@ nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& 
       }
     }
   }
-  nn::Matrix<float> y(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(m.class_names.size()));
+  nn::Matrix<float> y(static_cast<Eigen::Index>(rows.size()),
+                      static_cast<Eigen::Index>(m.class_names.size()));
   for (std::size_t r = 0; r < rows.size(); ++r)
-    y.row(static_cast<Eigen::Index>(r)) = Eigen::Map<const Eigen::RowVectorXf>(rows[r].data(), y.cols());
+    y.row(static_cast<Eigen::Index>(r)) =
+        Eigen::Map<const Eigen::RowVectorXf>(rows[r].data(), y.cols());
   return y;
 }
 
 void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int length, Rng& rng,
                       std::vector<float>& poses, std::vector<float>& latents) {
-  const auto P = static_cast<std::size_t>(m.config.pose), Z = static_cast<std::size_t>(m.config.latent);
+  const auto P = static_cast<std::size_t>(m.config.pose),
+             Z = static_cast<std::size_t>(m.config.latent);
   const auto L = static_cast<std::size_t>(length);
   poses.assign(static_cast<std::size_t>(y.rows()) * L * P, 0.0f);
   latents.assign(static_cast<std::size_t>(y.rows()) * L * Z, 0.0f);
@@ -120,13 +131,16 @@ void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int leng
     const Eigen::Index n = std::min(kBatch, y.rows() - r0);
     const auto noise = draw_generator_noise<float>(m.config, n, length, rng);
     tape.clear();
-    const auto g = generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, nn::Matrix<float>(y.middleRows(r0, n)), noise);
+    const auto g = generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape,
+                                       nn::Matrix<float>(y.middleRows(r0, n)), noise);
     for (Eigen::Index i = 0; i < n; ++i)
       for (std::size_t t = 0; t < L; ++t) {
         const auto s = static_cast<std::size_t>(r0 + i);
-        for (std::size_t k = 0; k < P; ++k) poses[(s * L + t) * P + k] = g.frames[t].value()(i, static_cast<Eigen::Index>(k));
+        for (std::size_t k = 0; k < P; ++k)
+          poses[(s * L + t) * P + k] = g.frames[t].value()(i, static_cast<Eigen::Index>(k));
         if (!g.latents.empty())
-          for (std::size_t k = 0; k < Z; ++k) latents[(s * L + t) * Z + k] = g.latents[t].value()(i, static_cast<Eigen::Index>(k));
+          for (std::size_t k = 0; k < Z; ++k)
+            latents[(s * L + t) * Z + k] = g.latents[t].value()(i, static_cast<Eigen::Index>(k));
       }
   }
 }
@@ -148,8 +162,10 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
   s.joints = m.joint_names.size();
   s.dims = 3;
   s.frames = names.size() * static_cast<std::size_t>(length);
-  for (std::size_t k = 0; k <= names.size(); ++k) s.offsets.push_back(static_cast<std::int64_t>(k) * length);
-  for (Eigen::Index r = 0; r < y.rows(); ++r) s.labels.push_back(static_cast<std::int32_t>(most_probable(y, r)));
+  for (std::size_t k = 0; k <= names.size(); ++k)
+    s.offsets.push_back(static_cast<std::int64_t>(k) * length);
+  for (Eigen::Index r = 0; r < y.rows(); ++r)
+    s.labels.push_back(static_cast<std::int32_t>(most_probable(y, r)));
   if (!opt.mix.empty()) {  // stored, so that pictures and the classifier say what was asked for
     const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> w = y;
     s.label_weights.assign(w.data(), w.data() + w.size());
@@ -171,10 +187,11 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
   log::info("wrote {}: {} sequences of {} frames", opt.output, names.size(), length);
 }
 
-nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s, const std::vector<std::size_t>& seqs) {
+nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s,
+                           const std::vector<std::size_t>& seqs) {
   if (s.joints * 3 != static_cast<std::size_t>(m.config.pose) || s.dims != 3)
-    throw InvalidInput(fmt::format("{} joints x {}: the model was trained on {} values per pose", s.joints, s.dims,
-                                   m.config.pose));
+    throw InvalidInput(fmt::format("{} joints x {}: the model was trained on {} values per pose",
+                                   s.joints, s.dims, m.config.pose));
   const std::vector<float> poses = io::poses_normalized_as(s, m.normalization);
   const std::size_t P = s.frame_size();
   nn::Matrix<float> prob(static_cast<Eigen::Index>(seqs.size()), m.config.classes);
@@ -189,7 +206,8 @@ nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s, cons
       nn::Matrix<float> x(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(P));
       for (std::size_t i = 0; i < n; ++i)
         x.row(static_cast<Eigen::Index>(i)) = Eigen::Map<const Eigen::RowVectorXf>(
-            poses.data() + (static_cast<std::size_t>(s.offsets[seqs[r0 + i]]) + t) * P, static_cast<Eigen::Index>(P));
+            poses.data() + (static_cast<std::size_t>(s.offsets[seqs[r0 + i]]) + t) * P,
+            static_cast<Eigen::Index>(P));
       frames.push_back(tape.constant(x));
     }
     prob.middleRows(static_cast<Eigen::Index>(r0), static_cast<Eigen::Index>(n)) =
@@ -210,8 +228,8 @@ struct ClassScores {
   std::vector<std::string> mixture_texts;  ///< the distinct mixtures, in order of appearance
 };
 
-ClassScores score_sequences(const ActganModel& m, const io::SkeletonFile& s, const std::vector<std::size_t>& seqs,
-                            const nn::Matrix<float>& prob) {
+ClassScores score_sequences(const ActganModel& m, const io::SkeletonFile& s,
+                            const std::vector<std::size_t>& seqs, const nn::Matrix<float>& prob) {
   ClassScores sc;
   sc.total.assign(m.class_names.size(), 0);
   sc.correct.assign(m.class_names.size(), 0);
@@ -219,7 +237,8 @@ ClassScores score_sequences(const ActganModel& m, const io::SkeletonFile& s, con
     if (s.is_mixture(seqs[r])) {
       ++sc.mixtures;
       const std::string text = s.label_text(seqs[r]);
-      if (std::find(sc.mixture_texts.begin(), sc.mixture_texts.end(), text) == sc.mixture_texts.end())
+      if (std::find(sc.mixture_texts.begin(), sc.mixture_texts.end(), text) ==
+          sc.mixture_texts.end())
         sc.mixture_texts.push_back(text);
       continue;
     }
@@ -228,9 +247,11 @@ ClassScores score_sequences(const ActganModel& m, const io::SkeletonFile& s, con
     if (it == m.class_names.end()) continue;
     const auto c = static_cast<std::size_t>(it - m.class_names.begin());
     ++sc.total[c];
-    sc.correct[c] += most_probable(prob, static_cast<Eigen::Index>(r)) == static_cast<Eigen::Index>(c);
+    sc.correct[c] +=
+        most_probable(prob, static_cast<Eigen::Index>(r)) == static_cast<Eigen::Index>(c);
   }
-  for (std::size_t c = 0; c < m.class_names.size(); ++c) sc.all_total += sc.total[c], sc.all_correct += sc.correct[c];
+  for (std::size_t c = 0; c < m.class_names.size(); ++c)
+    sc.all_total += sc.total[c], sc.all_correct += sc.correct[c];
   return sc;
 }
 
@@ -238,9 +259,10 @@ std::string sequence_key(const io::SkeletonFile& s, std::size_t q) {
   return s.sequence_names[q].empty() ? std::to_string(q) : s.sequence_names[q];
 }
 
-nlohmann::ordered_json classification_json(const ClassifyOptions& opt, const ActganModel& m, const io::SkeletonFile& s,
-                                           const std::vector<std::size_t>& seqs, const nn::Matrix<float>& prob,
-                                           const ClassScores& sc) {
+nlohmann::ordered_json classification_json(const ClassifyOptions& opt, const ActganModel& m,
+                                           const io::SkeletonFile& s,
+                                           const std::vector<std::size_t>& seqs,
+                                           const nn::Matrix<float>& prob, const ClassScores& sc) {
   nlohmann::ordered_json js;
   js["model"] = opt.model;
   js["input"] = opt.input;
@@ -254,29 +276,34 @@ nlohmann::ordered_json classification_json(const ClassifyOptions& opt, const Act
   }
   for (std::size_t c = 0; c < m.class_names.size(); ++c)
     if (sc.total[c])
-      js["accuracy"][m.class_names[c]] = {
-          {"sequences", sc.total[c]}, {"correct", sc.correct[c]}, {"accuracy", double(sc.correct[c]) / sc.total[c]}};
+      js["accuracy"][m.class_names[c]] = {{"sequences", sc.total[c]},
+                                          {"correct", sc.correct[c]},
+                                          {"accuracy", double(sc.correct[c]) / sc.total[c]}};
   if (sc.all_total) js["overall"] = double(sc.all_correct) / sc.all_total;
   return js;
 }
 
 // The table on stdout: accuracies of the scored sequences, then the class probabilities of every
 // sequence (--probabilities) or of the mixtures, each with its most probable class.
-void print_classification(const ClassifyOptions& opt, const ActganModel& m, const io::SkeletonFile& s,
-                          const std::vector<std::size_t>& seqs, const nn::Matrix<float>& prob, const ClassScores& sc,
-                          bool test_only) {
-  fmt::print("{} classified by {} ({} sequences{})\n", opt.input, opt.model, seqs.size(), test_only ? ", the test part" : "");
+void print_classification(const ClassifyOptions& opt, const ActganModel& m,
+                          const io::SkeletonFile& s, const std::vector<std::size_t>& seqs,
+                          const nn::Matrix<float>& prob, const ClassScores& sc, bool test_only) {
+  fmt::print("{} classified by {} ({} sequences{})\n", opt.input, opt.model, seqs.size(),
+             test_only ? ", the test part" : "");
   if (sc.all_total) {
     fmt::print("{:<16} {:>9} {:>8} {:>9}\n", "class", "sequences", "correct", "accuracy");
     for (std::size_t c = 0; c < m.class_names.size(); ++c)
       if (sc.total[c])
         fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", m.class_names[c], sc.total[c], sc.correct[c],
                    double(sc.correct[c]) / sc.total[c]);
-    fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", "all", sc.all_total, sc.all_correct, double(sc.all_correct) / sc.all_total);
+    fmt::print("{:<16} {:>9} {:>8} {:>9.3f}\n", "all", sc.all_total, sc.all_correct,
+               double(sc.all_correct) / sc.all_total);
   }
   if (sc.mixtures)
-    fmt::print("{} sequence{} generated for a mixture of classes ({}): not scored; class probabilities below\n",
-               sc.mixtures, sc.mixtures == 1 ? "" : "s", fmt::join(sc.mixture_texts, "; "));
+    fmt::print(
+        "{} sequence{} generated for a mixture of classes ({}): not scored; class probabilities "
+        "below\n",
+        sc.mixtures, sc.mixtures == 1 ? "" : "s", fmt::join(sc.mixture_texts, "; "));
   if (!opt.probabilities && !sc.mixtures) return;
   fmt::print("\n{:<24}", "sequence");
   for (const auto& c : m.class_names) fmt::print(" {:>9.9}", c);
@@ -284,8 +311,11 @@ void print_classification(const ClassifyOptions& opt, const ActganModel& m, cons
   for (std::size_t r = 0; r < seqs.size(); ++r) {
     if (!opt.probabilities && !s.is_mixture(seqs[r])) continue;
     fmt::print("{:<24}", sequence_key(s, seqs[r]));
-    for (Eigen::Index c = 0; c < prob.cols(); ++c) fmt::print(" {:>9.3f}", prob(static_cast<Eigen::Index>(r), c));
-    fmt::print("  {}\n", m.class_names[static_cast<std::size_t>(most_probable(prob, static_cast<Eigen::Index>(r)))]);
+    for (Eigen::Index c = 0; c < prob.cols(); ++c)
+      fmt::print(" {:>9.3f}", prob(static_cast<Eigen::Index>(r), c));
+    fmt::print(
+        "  {}\n",
+        m.class_names[static_cast<std::size_t>(most_probable(prob, static_cast<Eigen::Index>(r)))]);
   }
 }
 
@@ -294,7 +324,8 @@ void print_classification(const ClassifyOptions& opt, const ActganModel& m, cons
 void classify_actions(const ClassifyOptions& opt, const CommonOptions& common) {
   const auto claims = claim_outputs({opt.json}, common.force, {opt.model, opt.input});
   const ActganModel m = load_actgan_model(opt.model);
-  if (!m.config.classifier) throw InvalidInput("the model was trained without a classifier (--no-classifier)", opt.model);
+  if (!m.config.classifier)
+    throw InvalidInput("the model was trained without a classifier (--no-classifier)", opt.model);
   const io::SkeletonFile s = io::read_skeleton_file(opt.input);
   const bool test_only = !opt.all && std::count(s.test.begin(), s.test.end(), 1) > 0;
   std::vector<std::size_t> seqs;

@@ -35,13 +35,14 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common);
 
 struct ClassifyOptions {
   std::string model, input;
-  bool all = false;          ///< every sequence, not only the test part
-  std::string json;          ///< "" or a file (or "-") with per-class accuracy and probabilities
+  bool all = false;            ///< every sequence, not only the test part
+  std::string json;            ///< "" or a file (or "-") with per-class accuracy and probabilities
   bool probabilities = false;  ///< print each sequence's class probabilities
 };
 
 /// Class probabilities [sequences, C] of the sequences of `s` (equal length, same skeleton).
-nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s, const std::vector<std::size_t>& seqs);
+nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s,
+                           const std::vector<std::size_t>& seqs);
 
 void classify_actions(const ClassifyOptions& opt, const CommonOptions& common);
 

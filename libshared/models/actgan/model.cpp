@@ -1,7 +1,5 @@
 #include "models/actgan/model.h"
 
-#include "models/actgan/settings.h"
-
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -11,8 +9,9 @@
 #include "core/provenance.h"
 #include "io/file_header.h"
 #include "io/model_file.h"
-#include "io/skeleton_file.h"
 #include "io/schema.h"
+#include "io/skeleton_file.h"
+#include "models/actgan/settings.h"
 #include "nn/checkpoint.h"
 
 namespace df::models {
@@ -37,8 +36,11 @@ struct NamedAdam {
 };
 
 std::vector<NamedAdam> optimizers(const ActganModel& m) {
-  return {{"decoder", m.adam.decoder.get()}, {"critic", m.adam.critic.get()}, {"gen", m.adam.gen.get()},
-          {"disc", m.adam.disc.get()},       {"cls", m.adam.cls.get()}};
+  return {{"decoder", m.adam.decoder.get()},
+          {"critic", m.adam.critic.get()},
+          {"gen", m.adam.gen.get()},
+          {"disc", m.adam.disc.get()},
+          {"cls", m.adam.cls.get()}};
 }
 
 void write_config(h5::File& f, const ActganModel& m) {
@@ -56,7 +58,8 @@ void read_config(const h5::File& f, ActganModel& m) {
   // Files written before a setting existed read as its default, the model they describe.
   read_settings(f, io::model_layout::config, actgan_settings(m.config, m.training));
   if (f.exists(io::model_layout::validation_subjects))  // absent: none (and in files older than it)
-    m.training.validation_subjects = f.read<std::int32_t>(io::model_layout::validation_subjects).data;
+    m.training.validation_subjects =
+        f.read<std::int32_t>(io::model_layout::validation_subjects).data;
   m.frame_rate = f.attr_double(io::model_layout::config, "frame_rate");
   m.length = static_cast<int>(f.attr_int(io::model_layout::config, "length"));
   m.data = f.attr_string(io::model_layout::config, "data");
@@ -64,13 +67,19 @@ void read_config(const h5::File& f, ActganModel& m) {
 
 }  // namespace
 
-std::vector<std::string> ActganModel::loss_columns() { return {"loss", "disc", "adv", "smooth", "cycle", "gp"}; }
+std::vector<std::string> ActganModel::loss_columns() {
+  return {"loss", "disc", "adv", "smooth", "cycle", "gp"};
+}
 
-std::vector<std::string> ActganModel::validation_columns() { return {"val_mmd_avg", "val_mmd_seq", "val_mmd_motion_avg", "val_mmd_motion_seq"}; }
+std::vector<std::string> ActganModel::validation_columns() {
+  return {"val_mmd_avg", "val_mmd_seq", "val_mmd_motion_avg", "val_mmd_motion_seq"};
+}
 
 std::vector<std::string> ActganModel::log_columns() const {
   std::vector<std::string> c{"iteration"};
-  for (auto&& part : {loss_columns(), training.validation_subjects.empty() ? std::vector<std::string>{} : validation_columns()})
+  for (auto&& part :
+       {loss_columns(),
+        training.validation_subjects.empty() ? std::vector<std::string>{} : validation_columns()})
     c.insert(c.end(), part.begin(), part.end());
   return c;
 }
@@ -87,7 +96,8 @@ void ActganModel::initialize() {
   disc.reset();
   clip_critic.reset();
   if (config.discriminator == "critic")
-    clip_critic = std::make_unique<Critic<float>>(config, Eigen::Index{length} * config.pose, "disc", init);
+    clip_critic =
+        std::make_unique<Critic<float>>(config, Eigen::Index{length} * config.pose, "disc", init);
   else
     disc = make_discriminator<float>(config, length, init);
   cls = std::make_unique<SequenceNet<float>>(config, config.pose, config.classes, "cls", init);
@@ -123,7 +133,8 @@ void save_actgan_model(const std::string& path, const ActganModel& m,
     io::write_param_order(f, order);
     for (const auto& [name, a] : optimizers(m)) {
       const auto n = static_cast<std::size_t>(a->first_moment().size());
-      io::write_adam_state(f, io::model_layout::optimizer(name), std::span<const float>(a->first_moment().data(), n),
+      io::write_adam_state(f, io::model_layout::optimizer(name),
+                           std::span<const float>(a->first_moment().data(), n),
                            std::span<const float>(a->second_moment().data(), n), a->steps());
     }
     io::write_rng_state(f, {m.rng.state(), m.rng.has_spare_normal(), m.rng.spare_normal()});
@@ -145,7 +156,9 @@ ActganModel load_actgan_model(const std::string& path) {
     for (std::size_t i = 0; i < s->views().size(); ++i, ++k) {
       const auto& v = s->views()[i];
       if (k >= names.size() || names[k] != v.name)
-        throw InvalidInput(fmt::format("parameter {} is not '{}' (another network configuration?)", k, v.name), path);
+        throw InvalidInput(
+            fmt::format("parameter {} is not '{}' (another network configuration?)", k, v.name),
+            path);
       s->value(static_cast<int>(i)) = io::read_param(f, v.name, v.rows, v.cols);
     }
   }

@@ -62,12 +62,13 @@ struct ActganModel {
   std::vector<std::string> joint_names;
   io::SkeletonNormalization normalization;
   double frame_rate = 30;
-  int length = 0;           ///< frames of the training sequences (the default generation length)
-  std::string data;         ///< the training file's name
+  int length = 0;    ///< frames of the training sequences (the default generation length)
+  std::string data;  ///< the training file's name
   std::unique_ptr<ActganGenerator<float>> gen;
   std::unique_ptr<SequenceNet<float>> disc, cls;  ///< disc: with config.discriminator "bilstm"
-  std::unique_ptr<Critic<float>> clip_critic;      ///< the GAN's critic with config.discriminator "critic"
-  std::unique_ptr<Critic<float>> critic;           ///< the pre-training's critic of single poses
+  std::unique_ptr<Critic<float>>
+      clip_critic;                        ///< the GAN's critic with config.discriminator "critic"
+  std::unique_ptr<Critic<float>> critic;  ///< the pre-training's critic of single poses
   ActganOptimizers adam;
   Rng rng;  ///< batches and noise
   std::int64_t iteration = 0;

@@ -15,16 +15,19 @@ template <class T>
 ActganGenerator<T>::ActganGenerator(const ActganConfig& c, Rng& rng) : config_(c) {
   if (c.generator != "latent" && c.generator != "pose")
     throw UsageError("the generator must be 'latent' or 'pose'");
-  if (c.start != "uniform" && c.start != "normal") throw UsageError("--start must be uniform or normal");
+  if (c.start != "uniform" && c.start != "normal")
+    throw UsageError("--start must be uniform or normal");
   lstm_ = nn::LstmCell<T>(store_, "gen.lstm", c.noise + c.classes, c.hidden, rng);
   if (c.generator == "pose") {
     to_latent_ = nn::Linear<T>(store_, "gen.to_pose", c.hidden, c.pose, rng);
     return;
   }
   to_latent_ = nn::Linear<T>(store_, "gen.to_latent", c.hidden, c.latent, rng);
-  if (c.step_init != "glorot" && c.step_init != "small") throw UsageError("--step-init must be glorot or small");
+  if (c.step_init != "glorot" && c.step_init != "small")
+    throw UsageError("--step-init must be glorot or small");
   if (c.step_init == "small") store_.value(to_latent_.w) *= T(0.01);
-  decoder_ = nn::Mlp<T>(store_, "gen.decoder", {c.latent + c.classes, c.fc, c.pose}, Activation::relu, rng);
+  decoder_ = nn::Mlp<T>(store_, "gen.decoder", {c.latent + c.classes, c.fc, c.pose},
+                        Activation::relu, rng);
 }
 
 template <class T>
@@ -41,9 +44,13 @@ GeneratedSequences<T> ActganGenerator<T>::generate(const nn::Bound<T>& p, Var y,
   // The LSTM over every step's (xi_t, y) as one node; its outputs [steps·B, H] time-major.
   const nn::LstmState<T> zero{tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden)),
                               tape.constant(nn::Matrix<T>::Zero(batch, config_.hidden))};
-  const Var out = noise.empty() ? Var{}
-                                : to_latent_(p, lstm_.sequence(p, nn::concat_rows<T>(with_label(noise, y)), zero));
-  auto step = [&](std::size_t t) { return nn::slice_rows(out, static_cast<Eigen::Index>(t) * batch, batch); };
+  const Var out =
+      noise.empty()
+          ? Var{}
+          : to_latent_(p, lstm_.sequence(p, nn::concat_rows<T>(with_label(noise, y)), zero));
+  auto step = [&](std::size_t t) {
+    return nn::slice_rows(out, static_cast<Eigen::Index>(t) * batch, batch);
+  };
   GeneratedSequences<T> g;
   if (config_.generator == "pose") {
     for (std::size_t t = 0; t < noise.size(); ++t) g.frames.push_back(step(t));
@@ -74,7 +81,8 @@ nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<V
   if (x.empty()) throw Error("internal: a sequence network on an empty sequence");
   const Eigen::Index batch = x.front().rows(), steps = static_cast<Eigen::Index>(x.size());
   if (pool_steps_ > 0 && steps != pool_steps_)
-    throw Error(fmt::format("internal: a network of {}-frame sequences on {} frames", pool_steps_, steps));
+    throw Error(
+        fmt::format("internal: a network of {}-frame sequences on {} frames", pool_steps_, steps));
   const auto h = lstm_.run(p, nn::concat_rows<T>(x), batch);
   if (pool_steps_ == 0)
     return head_(p, nn::concat_cols<T>({nn::slice_rows(h.forward, (steps - 1) * batch, batch),
@@ -89,13 +97,17 @@ nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<V
 
 template <class T>
 std::unique_ptr<SequenceNet<T>> make_discriminator(const ActganConfig& c, int length, Rng& rng) {
-  if (c.disc_pool != "last" && c.disc_pool != "all") throw UsageError("--disc-pool must be last or all");
-  if (c.disc_pool == "all" && length < 1) throw Error("internal: a discriminator over all steps needs the length");
-  return std::make_unique<SequenceNet<T>>(c, discriminator_width(c), 1, "disc", rng, c.disc_pool == "all" ? length : 0);
+  if (c.disc_pool != "last" && c.disc_pool != "all")
+    throw UsageError("--disc-pool must be last or all");
+  if (c.disc_pool == "all" && length < 1)
+    throw Error("internal: a discriminator over all steps needs the length");
+  return std::make_unique<SequenceNet<T>>(c, discriminator_width(c), 1, "disc", rng,
+                                          c.disc_pool == "all" ? length : 0);
 }
 
 template <class T>
-Critic<T>::Critic(const ActganConfig& c, Eigen::Index width, const std::string& name, Rng& rng) : width_(width) {
+Critic<T>::Critic(const ActganConfig& c, Eigen::Index width, const std::string& name, Rng& rng)
+    : width_(width) {
   mlp_ = nn::Mlp<T>(store_, name, {width + c.classes, c.fc, 1}, Activation::relu, rng);
 }
 
@@ -108,7 +120,8 @@ template <class T>
 typename Critic<T>::Loss Critic<T>::wgan_gp_loss(const nn::Bound<T>& p, Var real, Var fake, Var y,
                                                  const nn::Matrix<T>& eps, T lambda) const {
   const nn::Matrix<T> e = eps.replicate(1, real.cols());
-  const nn::Matrix<T> mixed = (e.array() * real.value().array() + (1 - e.array()) * fake.value().array()).matrix();
+  const nn::Matrix<T> mixed =
+      (e.array() * real.value().array() + (1 - e.array()) * fake.value().array()).matrix();
   Loss l;
   l.real_score = nn::mean((*this)(p, real, y));
   l.fake_score = nn::mean((*this)(p, fake, y));
@@ -125,7 +138,8 @@ nn::Var<T> Critic<T>::gradient_penalty(const nn::Bound<T>& p, Var x, Var y) cons
 }
 
 template <class T>
-GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, int length, Rng& rng) {
+GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, int length,
+                                       Rng& rng) {
   GeneratorNoise<T> g{nn::Matrix<T>(n, c.latent), {}};
   const bool normal = c.start == "normal";
   for (Eigen::Index k = 0; k < g.h1.size(); ++k)
@@ -139,8 +153,9 @@ GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, in
 }
 
 template <class T>
-GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>& g, const nn::Bound<T>& p, nn::Tape<T>& tape,
-                                          const nn::Matrix<T>& y, const GeneratorNoise<T>& noise) {
+GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>& g, const nn::Bound<T>& p,
+                                          nn::Tape<T>& tape, const nn::Matrix<T>& y,
+                                          const GeneratorNoise<T>& noise) {
   std::vector<nn::Var<T>> xi;
   for (const auto& m : noise.xi) xi.push_back(tape.constant(m));
   return g.generate(p, tape.constant(y), tape.constant(noise.h1), xi);
@@ -154,13 +169,16 @@ std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> 
 }
 
 Eigen::Index discriminator_width(const ActganConfig& c) {
-  if (c.disc_input != "frames" && c.disc_input != "motion") throw UsageError("--disc-input must be frames or motion");
+  if (c.disc_input != "frames" && c.disc_input != "motion")
+    throw UsageError("--disc-input must be frames or motion");
   return (c.disc_input == "motion" ? 2 * c.pose : c.pose) + c.classes;
 }
 
 template <class T>
-std::vector<nn::Var<T>> discriminator_input(const ActganConfig& c, const std::vector<nn::Var<T>>& x, nn::Var<T> y) {
-  if (c.disc_input != "motion") return with_label(x, y);  // "frames" (discriminator_width refuses others)
+std::vector<nn::Var<T>> discriminator_input(const ActganConfig& c, const std::vector<nn::Var<T>>& x,
+                                            nn::Var<T> y) {
+  if (c.disc_input != "motion")
+    return with_label(x, y);  // "frames" (discriminator_width refuses others)
   std::vector<nn::Var<T>> out;
   for (std::size_t t = 0; t < x.size(); ++t)
     out.push_back(nn::concat_cols<T>({x[t], nn::sub(x[t], x[t == 0 ? 0 : t - 1]), y}));
@@ -195,18 +213,21 @@ nn::Matrix<T> one_hot(const std::vector<int>& labels, int classes) {
   return y;
 }
 
-#define DF_ACTGAN_NETWORK(T)                                                                 \
-  template class ActganGenerator<T>;                                                         \
-  template class SequenceNet<T>;                                                             \
-  template class Critic<T>;                                                                  \
-  template std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>&, nn::Var<T>);   \
-  template std::vector<nn::Var<T>> discriminator_input(const ActganConfig&, const std::vector<nn::Var<T>>&, nn::Var<T>); \
+#define DF_ACTGAN_NETWORK(T)                                                                      \
+  template class ActganGenerator<T>;                                                              \
+  template class SequenceNet<T>;                                                                  \
+  template class Critic<T>;                                                                       \
+  template std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>&, nn::Var<T>);        \
+  template std::vector<nn::Var<T>> discriminator_input(                                           \
+      const ActganConfig&, const std::vector<nn::Var<T>>&, nn::Var<T>);                           \
   template std::unique_ptr<SequenceNet<T>> make_discriminator<T>(const ActganConfig&, int, Rng&); \
-  template nn::Var<T> smoothness(const ActganConfig&, const GeneratedSequences<T>&);         \
-  template nn::Matrix<T> one_hot<T>(const std::vector<int>&, int);                          \
-  template GeneratorNoise<T> draw_generator_noise<T>(const ActganConfig&, Eigen::Index, int, Rng&); \
-  template GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>&, const nn::Bound<T>&, \
-                                                     nn::Tape<T>&, const nn::Matrix<T>&, const GeneratorNoise<T>&);
+  template nn::Var<T> smoothness(const ActganConfig&, const GeneratedSequences<T>&);              \
+  template nn::Matrix<T> one_hot<T>(const std::vector<int>&, int);                                \
+  template GeneratorNoise<T> draw_generator_noise<T>(const ActganConfig&, Eigen::Index, int,      \
+                                                     Rng&);                                       \
+  template GeneratedSequences<T> generate_from_noise(                                             \
+      const ActganGenerator<T>&, const nn::Bound<T>&, nn::Tape<T>&, const nn::Matrix<T>&,         \
+      const GeneratorNoise<T>&);
 DF_ACTGAN_NETWORK(float)
 DF_ACTGAN_NETWORK(double)
 

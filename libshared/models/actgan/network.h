@@ -27,12 +27,12 @@ namespace df::models {
 /// each is declared once, for the command line, the model file and the resume check, in
 /// models/actgan/settings.cpp.
 struct ActganConfig {
-  int pose = 60;      ///< values per frame (joints x 3)
+  int pose = 60;  ///< values per frame (joints x 3)
   int classes = 10;
-  int noise = 64;     ///< xi_t
-  int latent = 12;    ///< h_t
-  int hidden = 256;   ///< LSTM hidden size (generator, discriminator, classifier)
-  int fc = 1024;      ///< hidden layer of the decoder, the heads and the critic
+  int noise = 64;    ///< xi_t
+  int latent = 12;   ///< h_t
+  int hidden = 256;  ///< LSTM hidden size (generator, discriminator, classifier)
+  int fc = 1024;     ///< hidden layer of the decoder, the heads and the critic
   /// "latent": the paper's generator; "pose": the direct-pose RNN baseline (no decoder)
   std::string generator = "latent";
   bool residual = true;  ///< h_{t+1} = h_t + v_t; false: the direct latent of paper Table 6
@@ -104,8 +104,8 @@ class SequenceNet {
   using Var = nn::Var<T>;
   /// pool_steps 0: the head reads the last forward and backward states (any length); > 0: every
   /// step's outputs of sequences of exactly pool_steps frames.
-  SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index out, const std::string& name, Rng& rng,
-              int pool_steps = 0);
+  SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index out, const std::string& name,
+              Rng& rng, int pool_steps = 0);
   nn::ParameterStore<T>& store() { return store_; }
   const nn::ParameterStore<T>& store() const { return store_; }
   /// Logits [B, out] of the sequence x_1..x_T (rows [B, in]).
@@ -139,7 +139,8 @@ class Critic {
   struct Loss {
     Var loss, real_score, fake_score, penalty;
   };
-  Loss wgan_gp_loss(const nn::Bound<T>& p, Var real, Var fake, Var y, const nn::Matrix<T>& eps, T lambda) const;
+  Loss wgan_gp_loss(const nn::Bound<T>& p, Var real, Var fake, Var y, const nn::Matrix<T>& eps,
+                    T lambda) const;
   /// mean over rows of (|grad_x critic(x, y)| - 1)^2, differentiable w.r.t. the critic's weights.
   Var gradient_penalty(const nn::Bound<T>& p, Var x, Var y) const;
 
@@ -162,8 +163,9 @@ GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, in
 
 /// g.generate on constants y and noise.
 template <class T>
-GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>& g, const nn::Bound<T>& p, nn::Tape<T>& tape,
-                                          const nn::Matrix<T>& y, const GeneratorNoise<T>& noise);
+GeneratedSequences<T> generate_from_noise(const ActganGenerator<T>& g, const nn::Bound<T>& p,
+                                          nn::Tape<T>& tape, const nn::Matrix<T>& y,
+                                          const GeneratorNoise<T>& noise);
 
 /// [x_t, y] per frame.
 template <class T>
@@ -172,7 +174,8 @@ std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> 
 /// The discriminator's input per frame: [x_t, y], or [x_t, x_t - x_{t-1}, y] (c.disc_input
 /// "motion"), and its width.
 template <class T>
-std::vector<nn::Var<T>> discriminator_input(const ActganConfig& c, const std::vector<nn::Var<T>>& x, nn::Var<T> y);
+std::vector<nn::Var<T>> discriminator_input(const ActganConfig& c, const std::vector<nn::Var<T>>& x,
+                                            nn::Var<T> y);
 Eigen::Index discriminator_width(const ActganConfig& c);
 
 /// Omega of a generated batch (mean over sequences of the terms `c.smoothness` selects).

@@ -11,7 +11,9 @@ Settings actgan_network_settings(ActganConfig& c) {
       {.name = "hidden",
        .target = &c.hidden,
        .help = "LSTM hidden size (generator, discriminator, classifier)"},
-      {.name = "fc", .target = &c.fc, .help = "Hidden layer of the decoder, the heads and the critic"},
+      {.name = "fc",
+       .target = &c.fc,
+       .help = "Hidden layer of the decoder, the heads and the critic"},
       {.name = "step_init",
        .target = &c.step_init,
        .help = "The generator's output layer v_t = FC(o_t) at its Glorot draw or x 0.01 (small:\n"
@@ -28,9 +30,10 @@ Settings actgan_network_settings(ActganConfig& c) {
        .optional = true},
       {.name = "discriminator",
        .target = &c.discriminator,
-       .help = "The GAN's discriminator: bilstm (the paper's bidirectional LSTM, binary\n"
-               "cross-entropy) or critic (a Wasserstein critic MLP on the whole clip [x_1..x_T, y]\n"
-               "with the gradient penalty --gp-lambda, as the pre-training's; fixes the clip length)",
+       .help =
+           "The GAN's discriminator: bilstm (the paper's bidirectional LSTM, binary\n"
+           "cross-entropy) or critic (a Wasserstein critic MLP on the whole clip [x_1..x_T, y]\n"
+           "with the gradient penalty --gp-lambda, as the pre-training's; fixes the clip length)",
        .choices = {"bilstm", "critic"},
        .optional = true},
       {.name = "disc_input",
@@ -89,14 +92,20 @@ Settings actgan_training_settings(ActganTraining& t) {
        .help = "GAN iterations after the pre-training",
        .resume = false},
       {.name = "batch", .target = &t.batch, .help = "Sequences per GAN step"},
-      {.name = "pretrain_batch", .target = &t.pretrain_batch, .help = "Poses per pre-training step"},
+      {.name = "pretrain_batch",
+       .target = &t.pretrain_batch,
+       .help = "Poses per pre-training step"},
       {.name = "critic_steps",
        .target = &t.critic_steps,
        .help = "Critic updates per decoder update"},
       {.name = "d_steps", .target = &t.d_steps, .help = "Discriminator updates per iteration (k)"},
-      {.name = "g_steps", .target = &t.g_steps, .help = "Generator + classifier updates per iteration"},
+      {.name = "g_steps",
+       .target = &t.g_steps,
+       .help = "Generator + classifier updates per iteration"},
       {.name = "lr", .target = &t.lr, .help = "Adam learning rate of the GAN"},
-      {.name = "lr_pretrain", .target = &t.lr_pretrain, .help = "Adam learning rate of the pre-training"},
+      {.name = "lr_pretrain",
+       .target = &t.lr_pretrain,
+       .help = "Adam learning rate of the pre-training"},
       // The file holds the rate in use (0 resolved to --lr: model.cpp), so 0 and --lr read alike.
       {.name = "disc_lr",
        .target = &t.disc_lr,

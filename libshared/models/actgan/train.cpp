@@ -30,15 +30,25 @@ void check_options(const ActganTrainOptions& opt) {
   if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
   if (c.generator == "pose" && t.pretrain_iterations > 0)
-    throw UsageError("the direct-pose baseline (--generator pose) has no decoder to pre-train: use --pretrain-iterations 0");
+    throw UsageError(
+        "the direct-pose baseline (--generator pose) has no decoder to pre-train: use "
+        "--pretrain-iterations 0");
   if (c.generator == "pose" && c.step_init != "glorot")
-    throw UsageError("--step-init sets the latent generator's steps v_t: the direct-pose baseline (--generator pose) has none");
+    throw UsageError(
+        "--step-init sets the latent generator's steps v_t: the direct-pose baseline (--generator "
+        "pose) has none");
   if (c.generator == "pose" && !t.train_decoder)
-    throw UsageError("the direct-pose baseline (--generator pose) has no decoder to freeze: leave out --freeze-decoder");
+    throw UsageError(
+        "the direct-pose baseline (--generator pose) has no decoder to freeze: leave out "
+        "--freeze-decoder");
   if (c.discriminator == "critic" && (c.disc_input != "frames" || c.disc_pool != "last"))
-    throw UsageError("--disc-input and --disc-pool shape the BiLSTM discriminator: the critic (--discriminator critic) reads whole clips");
+    throw UsageError(
+        "--disc-input and --disc-pool shape the BiLSTM discriminator: the critic (--discriminator "
+        "critic) reads whole clips");
   if (t.classifier_only && (t.pretrain_iterations > 0 || !c.classifier))
-    throw UsageError("--classifier-only trains the classifier alone: use --pretrain-iterations 0, not --no-classifier");
+    throw UsageError(
+        "--classifier-only trains the classifier alone: use --pretrain-iterations 0, not "
+        "--no-classifier");
   opt.run.check();
 }
 
@@ -48,11 +58,14 @@ void check_resumable(const ActganModel& ck, const ActganModel& want, const std::
   t0.disc_lr = t0.discriminator_lr();  // 0 means --lr: compare the rates in use
   t1.disc_lr = t1.discriminator_lr();
   require_same_settings(actgan_settings(c0, t0), actgan_settings(c1, t1), path);
-  auto differs = [&](const char* what, const auto& a, const auto& b) { require_same_setting(what, a, b, path); };
+  auto differs = [&](const char* what, const auto& a, const auto& b) {
+    require_same_setting(what, a, b, path);
+  };
   differs("validation-subjects", fmt::format("{}", fmt::join(ck.training.validation_subjects, ",")),
           fmt::format("{}", fmt::join(want.training.validation_subjects, ",")));
   differs("length", ck.length, want.length);
-  if (ck.class_names != want.class_names) throw InvalidInput("checkpoint was trained on other classes", path);
+  if (ck.class_names != want.class_names)
+    throw InvalidInput("checkpoint was trained on other classes", path);
 }
 
 // Random training frames (pre-training): rows of x and their labels.
@@ -75,7 +88,8 @@ std::vector<int> draw_labels(const ActionClips& d, int n, Rng& rng) {
 }
 
 // Random training clips: frames[t] [n, P] and labels.
-void draw_clips(const ActionClips& d, int n, Rng& rng, std::vector<Matrix>& frames, std::vector<int>& labels) {
+void draw_clips(const ActionClips& d, int n, Rng& rng, std::vector<Matrix>& frames,
+                std::vector<int>& labels) {
   frames.assign(static_cast<std::size_t>(d.length), Matrix(n, d.pose));
   labels.resize(static_cast<std::size_t>(n));
   for (int r = 0; r < n; ++r) {
@@ -98,7 +112,9 @@ std::vector<Matrix> values(const std::vector<Var>& v) {
   return m;
 }
 
-float mean_value(Var v) { return v.value().mean(); }
+float mean_value(Var v) {
+  return v.value().mean();
+}
 
 // n draws of U(0, 1) as a column (the gradient penalty's interpolation weights).
 Matrix uniform_column(Eigen::Index n, Rng& rng) {
@@ -114,7 +130,8 @@ std::vector<Var> with_instance_noise(const std::vector<Var>& x, double sigma, Rn
   std::vector<Var> out;
   for (const auto& f : x) {
     Matrix n(f.rows(), f.cols());
-    for (Eigen::Index i = 0; i < n.size(); ++i) n.data()[i] = static_cast<float>(sigma * rng.normal());
+    for (Eigen::Index i = 0; i < n.size(); ++i)
+      n.data()[i] = static_cast<float>(sigma * rng.normal());
     out.push_back(nn::add(f, f.tape->constant(n)));
   }
   return out;
@@ -134,12 +151,15 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
     for (Eigen::Index i = 0; i < h.size(); ++i) h.data()[i] = static_cast<float>(m.rng.normal());
     const Matrix eps = uniform_column(n, m.rng);
     tape.clear();
-    const Matrix fake = m.gen->decode(m.gen->store().bind_constant(tape), tape.constant(h), tape.constant(y)).value();
+    const Matrix fake =
+        m.gen->decode(m.gen->store().bind_constant(tape), tape.constant(h), tape.constant(y))
+            .value();
     tape.clear();
     m.critic->store().zero_grad();
     const auto pc = m.critic->store().bind(tape);
     const Var yv = tape.constant(y), real = tape.constant(x), generated = tape.constant(fake);
-    const auto l = m.critic->wgan_gp_loss(pc, real, generated, yv, eps, static_cast<float>(m.config.gp_lambda));
+    const auto l = m.critic->wgan_gp_loss(pc, real, generated, yv, eps,
+                                          static_cast<float>(m.config.gp_lambda));
     tape.backward(l.loss);
     m.critic->store().collect(pc);
     m.adam.critic->step(m.critic->store().values(), m.critic->store().grads());
@@ -154,7 +174,8 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
   const auto pg = m.gen->store().bind(tape);
   const auto pc = m.critic->store().bind_constant(tape);  // not trained in this step
   const Var yv = tape.constant(y);
-  const Var loss = nn::scale(nn::mean((*m.critic)(pc, m.gen->decode(pg, tape.constant(h), yv), yv)), -1.0f);
+  const Var loss =
+      nn::scale(nn::mean((*m.critic)(pc, m.gen->decode(pg, tape.constant(h), yv), yv)), -1.0f);
   tape.backward(loss);
   m.gen->store().collect(pg);
   m.adam.decoder->step(m.gen->store().values(), m.gen->store().grads());
@@ -185,22 +206,29 @@ LossTerms classifier_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
 // The discriminator's loss on real and generated clips (frames as the discriminator sees them):
 // binary cross-entropy of the BiLSTM, or the critic's Wasserstein loss with the gradient penalty
 // at random points between the two (eps drawn from rng, one per clip).
-Var discriminator_loss(const ActganModel& m, const nn::Bound<float>& pd, const std::vector<Var>& real,
-                       const std::vector<Var>& fake, Var y, Rng& rng) {
+Var discriminator_loss(const ActganModel& m, const nn::Bound<float>& pd,
+                       const std::vector<Var>& real, const std::vector<Var>& fake, Var y,
+                       Rng& rng) {
   const auto& c = m.config;
   if (!m.clip_critic) {
     const Eigen::Index n = y.rows();
-    return nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, real, y)), Matrix(Matrix::Ones(n, 1))),
-                   nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, fake, y)), Matrix(Matrix::Zero(n, 1))));
+    return nn::add(nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, real, y)),
+                                       Matrix(Matrix::Ones(n, 1))),
+                   nn::bce_with_logits((*m.disc)(pd, discriminator_input(c, fake, y)),
+                                       Matrix(Matrix::Zero(n, 1))));
   }
   const Var x = nn::concat_cols<float>(real), g = nn::concat_cols<float>(fake);  // [B, T·P]
-  return m.clip_critic->wgan_gp_loss(pd, x, g, y, uniform_column(y.rows(), rng), static_cast<float>(c.gp_lambda)).loss;
+  return m.clip_critic
+      ->wgan_gp_loss(pd, x, g, y, uniform_column(y.rows(), rng), static_cast<float>(c.gp_lambda))
+      .loss;
 }
 
 // The generator's adversarial term for its frames: -log D (non-saturating), or -critic.
-Var adversarial_term(const ActganModel& m, const nn::Bound<float>& pd, const std::vector<Var>& frames, Var y) {
+Var adversarial_term(const ActganModel& m, const nn::Bound<float>& pd,
+                     const std::vector<Var>& frames, Var y) {
   if (!m.clip_critic)
-    return nn::bce_with_logits((*m.disc)(pd, discriminator_input(m.config, frames, y)), Matrix(Matrix::Ones(y.rows(), 1)));
+    return nn::bce_with_logits((*m.disc)(pd, discriminator_input(m.config, frames, y)),
+                               Matrix(Matrix::Ones(y.rows(), 1)));
   return nn::scale(nn::mean((*m.clip_critic)(pd, nn::concat_cols<float>(frames), y)), -1.0f);
 }
 
@@ -214,12 +242,14 @@ double discriminator_step(ActganModel& m, const ActionClips& d, nn::Tape<float>&
   const Matrix y = one_hot<float>(labels, c.classes);
   const auto noise = draw_generator_noise<float>(c, n, d.length, m.rng);
   tape.clear();
-  const std::vector<Matrix> fake = values(generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, y, noise).frames);
+  const std::vector<Matrix> fake = values(
+      generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, y, noise).frames);
   tape.clear();
   auto& store = m.discriminator_store();
   store.zero_grad();
   const auto pd = store.bind(tape);
-  const auto real_seen = with_instance_noise(constants(tape, real), m.training.disc_noise, m.rng);  // real first
+  const auto real_seen =
+      with_instance_noise(constants(tape, real), m.training.disc_noise, m.rng);  // real first
   const auto fake_seen = with_instance_noise(constants(tape, fake), m.training.disc_noise, m.rng);
   const Var loss = discriminator_loss(m, pd, real_seen, fake_seen, tape.constant(y), m.rng);
   tape.backward(loss);
@@ -248,7 +278,8 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     m.gen->store().zero_grad();
     m.cls->store().zero_grad();
     // --freeze-decoder (the authors' code): the pre-trained decoder stays as it is.
-    const auto pg = tr.train_decoder ? m.gen->store().bind(tape) : m.gen->store().bind_except(tape, "gen.decoder.");
+    const auto pg = tr.train_decoder ? m.gen->store().bind(tape)
+                                     : m.gen->store().bind_except(tape, "gen.decoder.");
     const auto pd = m.discriminator_store().bind_constant(tape);  // not trained in this step
     const auto pc = m.cls->store().bind(tape);
     const Var yv = tape.constant(y);
@@ -280,7 +311,8 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
 namespace {
 
 // The model to train: its configuration from the options and the data file.
-ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile& s, const ActionClips& clips) {
+ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile& s,
+                           const ActionClips& clips) {
   ActganModel m;
   m.config = opt.net;
   m.config.pose = clips.pose;
@@ -297,24 +329,32 @@ ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile
 }
 
 // The loss lines' validation columns: opt.validate on the held-out clips (none without them).
-std::function<LossTerms()> validation_evaluation(const ActganTrainOptions& opt, const ActganModel& m,
+std::function<LossTerms()> validation_evaluation(const ActganTrainOptions& opt,
+                                                 const ActganModel& m,
                                                  const ActionClips& validation) {
   if (validation.size() == 0) return {};
   if (!opt.validate) throw Error("train_actgan: validation subjects but no validation measure");
-  log::info("validation: {} clips of subjects {} held out of training; the log's {} columns compare generated "
-            "sequences with them",
-            validation.size(), fmt::join(m.training.validation_subjects, ","),
-            fmt::join(ActganModel::validation_columns(), " / "));
+  log::info(
+      "validation: {} clips of subjects {} held out of training; the log's {} columns compare "
+      "generated "
+      "sequences with them",
+      validation.size(), fmt::join(m.training.validation_subjects, ","),
+      fmt::join(ActganModel::validation_columns(), " / "));
   return [&opt, &m, &validation] { return opt.validate(m, validation); };
 }
 
 // Appends sequence q of `s` to `c`; every clip has `length` frames (the first sets it).
-void append_clip(const io::SkeletonFile& s, std::size_t q, const std::string& path, int& length, ActionClips& c) {
+void append_clip(const io::SkeletonFile& s, std::size_t q, const std::string& path, int& length,
+                 ActionClips& c) {
   const auto n = static_cast<int>(s.length(q));
   if (length == 0) length = n;
   if (n != length)
-    throw InvalidInput(fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length", length, n), path);
-  c.frames.insert(c.frames.end(), s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q]) * c.pose,
+    throw InvalidInput(
+        fmt::format("sequences of {} and {} frames: cut equal clips with skel2h5 --length", length,
+                    n),
+        path);
+  c.frames.insert(c.frames.end(),
+                  s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q]) * c.pose,
                   s.poses.begin() + static_cast<std::ptrdiff_t>(s.offsets[q + 1]) * c.pose);
   c.labels.push_back(s.labels[q]);
 }
@@ -324,13 +364,16 @@ void check_validation_subjects(const io::SkeletonFile& s, const std::vector<std:
                                const std::string& path) {
   if (subjects.empty()) return;
   if (s.subjects.empty())
-    throw UsageError(fmt::format("{} names no subjects: --validation-subjects needs them (skel2h5 input with subjects)", path));
+    throw UsageError(fmt::format(
+        "{} names no subjects: --validation-subjects needs them (skel2h5 input with subjects)",
+        path));
   for (const auto v : subjects) {
     bool found = false;
     for (std::size_t q = 0; q < s.sequences() && !found; ++q)
       found = s.subjects[q] == v && (s.test.empty() || !s.test[q]);
     if (!found)
-      throw UsageError(fmt::format("validation subject {} performs none of the training sequences of {}", v, path));
+      throw UsageError(fmt::format(
+          "validation subject {} performs none of the training sequences of {}", v, path));
   }
 }
 
@@ -346,21 +389,26 @@ ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
   for (std::size_t q = 0; q < s.sequences(); ++q) {
     if (!s.test.empty() && s.test[q]) continue;
     const bool held_out = !validation_subjects.empty() &&
-                          std::find(validation_subjects.begin(), validation_subjects.end(), s.subjects[q]) !=
-                              validation_subjects.end();
+                          std::find(validation_subjects.begin(), validation_subjects.end(),
+                                    s.subjects[q]) != validation_subjects.end();
     append_clip(s, q, path, length, held_out ? d.validation : d.train);
   }
   d.train.length = d.validation.length = length;
-  if (d.train.size() < 2) throw InvalidInput(fmt::format("{} training sequence(s); ActGAN needs at least 2", d.train.size()), path);
+  if (d.train.size() < 2)
+    throw InvalidInput(
+        fmt::format("{} training sequence(s); ActGAN needs at least 2", d.train.size()), path);
   if (d.train.length < 2) throw InvalidInput("sequences of 1 frame: nothing moves", path);
   if (!s.normalization.present())
-    log::warn("{} is not normalized (skel2h5 without --raw normalizes): training on raw coordinates", path);
+    log::warn(
+        "{} is not normalized (skel2h5 without --raw normalizes): training on raw coordinates",
+        path);
   return d;
 }
 
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
-  const TrainingClaims claims = claim_training_outputs(opt.output, opt.input, common.force, opt.run);
+  const TrainingClaims claims =
+      claim_training_outputs(opt.output, opt.input, common.force, opt.run);
   const io::SkeletonFile s = io::read_skeleton_file(opt.input);
   const ActionData data = training_clips(s, opt.input, opt.training.validation_subjects);
   const ActionClips& clips = data.train;
@@ -385,22 +433,26 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   }
   const std::int64_t total = m.training.pretrain_iterations + m.training.iterations;
   if (m.iteration > total)
-    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --pretrain-iterations + --iterations {}",
-                                 m.iteration, total));
-  log::info("{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} iterations", opt.input,
-            clips.size(), clips.length, m.class_names.size(), clips.pose, m.training.pretrain_iterations,
-            m.training.iterations);
+    throw UsageError(fmt::format(
+        "the checkpoint is at iteration {}, past --pretrain-iterations + --iterations {}",
+        m.iteration, total));
+  log::info(
+      "{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} iterations",
+      opt.input, clips.size(), clips.length, m.class_names.size(), clips.pose,
+      m.training.pretrain_iterations, m.training.iterations);
   const auto evaluate = validation_evaluation(opt, m, data.validation);
   nn::Tape<float> tape;
   auto step = [&](std::int64_t done) -> LossTerms {
     if (done == m.training.pretrain_iterations + 1 && m.training.pretrain_iterations > 0)
       log::info("decoder pre-trained; the GAN from iteration {}", done);
-    return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape) : actgan_gan_iteration(m, clips, tape);
+    return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape)
+                                                  : actgan_gan_iteration(m, clips, tape);
   };
   auto checkpoint = [&] { save_actgan_model(ckpt, m, {opt.input}, true); };
-  run_training_loop({total, opt.run.print_every, opt.run.checkpoint_every, ckpt}, ActganModel::loss_columns(), m.iteration,
-                    m.log, m.unprinted, step, checkpoint,
-                    evaluate ? ActganModel::validation_columns() : std::vector<std::string>{}, evaluate);
+  run_training_loop({total, opt.run.print_every, opt.run.checkpoint_every, ckpt},
+                    ActganModel::loss_columns(), m.iteration, m.log, m.unprinted, step, checkpoint,
+                    evaluate ? ActganModel::validation_columns() : std::vector<std::string>{},
+                    evaluate);
   save_actgan_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);

@@ -23,7 +23,8 @@ struct ActionClips {
   std::size_t size() const { return labels.size(); }
   /// Frame t of clip c: pose values.
   const float* frame(std::size_t c, std::size_t t) const {
-    return frames.data() + (c * static_cast<std::size_t>(length) + t) * static_cast<std::size_t>(pose);
+    return frames.data() +
+           (c * static_cast<std::size_t>(length) + t) * static_cast<std::size_t>(pose);
   }
 };
 

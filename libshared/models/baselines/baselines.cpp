@@ -181,8 +181,8 @@ Mat read_positions(const std::string& data, const std::vector<std::int64_t>& fra
 // coefficient of largest magnitude, signed, so that a linear basis and an MSAE decode alike),
 // centre (its strongest vertex), block 0, kept, and AE₀-style attention masks (eq. 5-6: each
 // vertex's share of the components' squared norms there).
-io::Components linear_components(const MsaeModel& m, const Mat& basis, const Mat& coefficients, Index g,
-                                 const std::string& source, std::vector<double>& scales) {
+io::Components linear_components(const MsaeModel& m, const Mat& basis, const Mat& coefficients,
+                                 Index g, const std::string& source, std::vector<double>& scales) {
   const Index K = basis.rows(), V = m.tmpl.vertices.rows();
   io::Components c;
   c.tmpl = m.tmpl;
@@ -208,7 +208,8 @@ io::Components linear_components(const MsaeModel& m, const Mat& basis, const Mat
     double sum = 0;
     for (Index k = 0; k < K; ++k) sum += basis.row(k).segment(g * i, g).squaredNorm();
     for (Index k = 0; k < K; ++k)
-      c.attention(k, i) = sum > 0 ? static_cast<float>(basis.row(k).segment(g * i, g).squaredNorm() / sum) : 0.0f;
+      c.attention(k, i) =
+          sum > 0 ? static_cast<float>(basis.row(k).segment(g * i, g).squaredNorm() / sum) : 0.0f;
   }
   return c;
 }
@@ -225,7 +226,8 @@ io::Components basis_components(const MsaeModel& m, const Mat& basis, const Mat&
   auto& L = c.levels[0];
   for (Index k = 0; k < basis.rows(); ++k) {
     for (Index j = 0; j < 9 * static_cast<Index>(V); ++j)
-      L.features(k, j) = static_cast<float>(ref[static_cast<std::size_t>(j % 9)] + scale[k] * basis(k, j));
+      L.features(k, j) =
+          static_cast<float>(ref[static_cast<std::size_t>(j % 9)] + scale[k] * basis(k, j));
     L.strength.push_back(component_strength(L.features.row(k).data(), V, ref, c.eps1));
   }
   c.similarity = level0_similarity(L, ref);
@@ -242,7 +244,8 @@ io::Components position_components(const MsaeModel& m, const Splocs& s, const Ma
   io::Components c = linear_components(m, s.components, coefficients, 3, source, scale);
   const Index K = s.components.rows(), V = m.tmpl.vertices.rows();
   c.space = "positions";
-  c.mean = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(s.mean.data(), V, 3);
+  c.mean = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+      s.mean.data(), V, 3);
   auto& L = c.levels[0];
   Mat unit(K, 3 * V);
   for (Index k = 0; k < K; ++k) {
@@ -254,7 +257,8 @@ io::Components position_components(const MsaeModel& m, const Splocs& s, const Ma
       if (const double n = d.segment(3 * i, 3).norm(); n > c.eps1) sum += n, ++moved;
     L.strength.push_back(moved ? sum / moved : 0.0);
     const double n = s.components.row(k).norm();
-    unit.row(k) = n > 0 ? Eigen::RowVectorXd(s.components.row(k) / n) : Eigen::RowVectorXd::Zero(3 * V);
+    unit.row(k) =
+        n > 0 ? Eigen::RowVectorXd(s.components.row(k) / n) : Eigen::RowVectorXd::Zero(3 * V);
   }
   c.similarity = (unit * unit.transpose()).cwiseAbs();
   return c;
@@ -263,7 +267,8 @@ io::Components position_components(const MsaeModel& m, const Splocs& s, const Ma
 }  // namespace
 
 void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
-  const auto claims = claim_outputs({opt.output, opt.components_out}, common.force, {opt.model, opt.data});
+  const auto claims =
+      claim_outputs({opt.output, opt.components_out}, common.force, {opt.model, opt.data});
   const MsaeModel m = load_msae_model(opt.model);
   int k = opt.components;
   if (k == 0)
@@ -307,7 +312,8 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
       SplocsOptions so = opt.splocs;
       so.components = k;
       geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
-      Splocs s = fit_splocs(x, so, [&](int i) { return geodesic.row(i); }, 9);
+      Splocs s = fit_splocs(
+          x, so, [&](int i) { return geodesic.row(i); }, 9);
       mean = std::move(s.mean), basis = std::move(s.components);
     } else {
       throw UsageError("--method must be pca, splocs or splocs-acap");

@@ -52,9 +52,9 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
   }
   nn::Var<float> previous;
   if (previous_.rows()) previous = tape_.constant(previous_);
-  const Matrix y =
-      net_.decode_step(bound_, chain_, xin, z, states, previous_.rows() ? &previous : nullptr, steps_)
-          .value();
+  const Matrix y = net_.decode_step(bound_, chain_, xin, z, states,
+                                    previous_.rows() ? &previous : nullptr, steps_)
+                       .value();
   ++steps_;
   for (std::size_t l = 0; l < states.size(); ++l)
     h_[l] = states[l].h.value(), c_[l] = states[l].c.value();

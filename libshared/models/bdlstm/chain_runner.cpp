@@ -1,7 +1,5 @@
 // ChainRunner and the completion paths of gen-bdlstm (generate.h): the model's chains run over
 // the planned cases.
-#include "models/bdlstm/generate.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,6 +7,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "models/bdlstm/generate.h"
 
 namespace df::models {
 namespace {
@@ -32,7 +31,9 @@ ChainRunner::ChainRunner(const BdlstmGenerateOptions& opt, const BdlstmModel& m,
       window_(opt.window ? opt.window : m.training.window),
       restart_(opt.restart == "window"),
       latent_(opt.latent == "sample" ? LatentInput::sample : LatentInput::mean),
-      threshold_(opt.threshold > 0 ? opt.threshold : opt.merge_scale == "motion" ? 1.0 : 0.05),
+      threshold_(opt.threshold > 0             ? opt.threshold
+                 : opt.merge_scale == "motion" ? 1.0
+                                               : 0.05),
       rng_(seed, 2),
       forward_(std::make_unique<ChainStepper>(*m.net, 0)) {
   if (window_ < 2) throw UsageError("--window must be at least 2");
@@ -69,8 +70,8 @@ namespace {
 
 // Steps 1..L of a gap: (1 − w_t) F_t + w_t B_{L−t} for row `row`, w_t = backward(t).
 template <class W>
-std::vector<Matrix> mixed_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B, Index row,
-                               W backward) {
+std::vector<Matrix> mixed_path(const std::vector<Matrix>& F, const std::vector<Matrix>& B,
+                               Index row, W backward) {
   const auto L = static_cast<std::int64_t>(F.size()) - 1;
   std::vector<Matrix> p;
   for (std::int64_t t = 1; t <= L; ++t) {
@@ -180,8 +181,11 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
       float motion = 0;
       if (opt_.merge_scale == "motion") {
         for (std::int64_t t = 0; t < L; ++t)
-          motion += (F[static_cast<std::size_t>(t + 1)].row(k) - F[static_cast<std::size_t>(t)].row(k)).norm() +
-                    (B[static_cast<std::size_t>(t + 1)].row(k) - B[static_cast<std::size_t>(t)].row(k)).norm();
+          motion +=
+              (F[static_cast<std::size_t>(t + 1)].row(k) - F[static_cast<std::size_t>(t)].row(k))
+                  .norm() +
+              (B[static_cast<std::size_t>(t + 1)].row(k) - B[static_cast<std::size_t>(t)].row(k))
+                  .norm();
         motion = std::max(motion / static_cast<float>(2 * L), 1e-12f);
       }
       // F_i is i steps after a, B_j j steps before b: same time i+j = L, adjacent i+j = L−1.
@@ -192,8 +196,8 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
           if (j < 0) continue;
           const auto& fi = F[static_cast<std::size_t>(i)];
           const auto& bj = B[static_cast<std::size_t>(j)];
-          const float e = motion > 0 ? (fi.row(k) - bj.row(k)).norm() / motion
-                                     : relative_difference(fi, bj, k);
+          const float e =
+              motion > 0 ? (fi.row(k) - bj.row(k)).norm() / motion : relative_difference(fi, bj, k);
           if (e < diff) diff = e, bi = i;
         }
       if (diff < bk) {

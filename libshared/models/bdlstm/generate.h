@@ -41,10 +41,10 @@ struct BdlstmGenerateOptions {
   /// into the held-out part (0 = --initial), so runs with different --initial predict the same
   /// frames
   int test_context = 0;
-  int initial = 1;           ///< u: given frames per prediction
-  int length = 15;           ///< predict: future frames
-  int gap = 9;               ///< complete with --test-every: frames between the two keyframes
-  int samples = 1;           ///< per case; > 1 draws random initial states
+  int initial = 1;  ///< u: given frames per prediction
+  int length = 15;  ///< predict: future frames
+  int gap = 9;      ///< complete with --test-every: frames between the two keyframes
+  int samples = 1;  ///< per case; > 1 draws random initial states
   /// std-dev of random initial states around ±init_state (the paper's 0.1, as large as the ±0.1
   /// that tells the shared network its direction; 0.05 with cross-fading did not win on
   /// issue 18's validation parts)
@@ -52,8 +52,8 @@ struct BdlstmGenerateOptions {
   /// complete: merge when the chains' difference, relative as --merge-scale says, is below this
   /// (0 = 1 for "motion", 0.05 for "features", the paper's 5%)
   double threshold = 0;
-  int retries = 20;          ///< complete: attempts with random states before giving up
-  int window = 0;            ///< predict: restart the chain every WINDOW frames (0 = the model's)
+  int retries = 20;  ///< complete: attempts with random states before giving up
+  int window = 0;    ///< predict: restart the chain every WINDOW frames (0 = the model's)
   /// predict: "window" restarts the chain every window from the last u frames with fresh
   /// states (the paper's chaining of fixed-length networks); "never" carries one chain's LSTM
   /// state over the whole length

@@ -141,8 +141,10 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
   const char* names[] = {"z = encoder mean", "z ~ prior N(0, I)", "z = 0", "zero motion"};
   std::vector<std::vector<double>> errors;
   for (const auto& mode : modes)
-    errors.push_back(probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, &mode, rng));
-  errors.push_back(probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, nullptr, rng));
+    errors.push_back(
+        probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, &mode, rng));
+  errors.push_back(
+      probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, nullptr, rng));
   std::vector<int> shown{1};  // steps in the table: 1, 5, 10 (those that exist) and the last
   for (int k : {5, 10, opt.length})
     if (k <= opt.length && k > shown.back()) shown.push_back(k);
@@ -168,8 +170,7 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
       for (const auto& e : errors) out << "\t" << e[static_cast<std::size_t>(k)];
       out << "\n";
     }
-    out << "\n\n# training_log: " << fmt::format("{}", fmt::join(columns, ", "))
-        << "\n";
+    out << "\n\n# training_log: " << fmt::format("{}", fmt::join(columns, ", ")) << "\n";
     for (std::size_t r = 0; r + cols <= m.log.size(); r += cols) {
       for (std::size_t k = 0; k < cols; ++k) out << (k ? "\t" : "") << m.log[r + k];
       out << "\n";

@@ -43,11 +43,11 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     BdlstmConfig c = m.config;
     BdlstmTraining t = m.training;
     write_settings(f, io::model_layout::config, bdlstm_settings(c, t));
-    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(),
-                            m.unprinted);
+    write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
     if (!m.log.empty() && m.kl_per_frame >= 0) {
       f.set_attr(io::model_layout::training_log, "kl_per_frame", m.kl_per_frame);
-      f.set_attr(io::model_layout::training_log, "latent_collapsed", static_cast<int>(m.latent_collapsed));
+      f.set_attr(io::model_layout::training_log, "latent_collapsed",
+                 static_cast<int>(m.latent_collapsed));
     }
     const std::size_t s = m.split.sequences.size();
     f.create_groups(io::model_layout::split);
@@ -79,7 +79,8 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   read_settings(f, io::model_layout::config, bdlstm_settings(m.config, m.training));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
-  if (f.exists(io::model_layout::training_log) && f.has_attr(io::model_layout::training_log, "kl_per_frame")) {
+  if (f.exists(io::model_layout::training_log) &&
+      f.has_attr(io::model_layout::training_log, "kl_per_frame")) {
     m.kl_per_frame = f.attr_double(io::model_layout::training_log, "kl_per_frame");
     m.latent_collapsed = f.attr_int(io::model_layout::training_log, "latent_collapsed") != 0;
   }
@@ -94,9 +95,10 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
     m.split.test_end.push_back(test[2 * k + 1]);
   }
   // Added later: absent means no validation part (an empty range per sequence).
-  const auto validation = f.exists(io::model_layout::split_part("validation"))
-                              ? f.read<std::int64_t>(io::model_layout::split_part("validation")).data
-                              : std::vector<std::int64_t>{};
+  const auto validation =
+      f.exists(io::model_layout::split_part("validation"))
+          ? f.read<std::int64_t>(io::model_layout::split_part("validation")).data
+          : std::vector<std::int64_t>{};
   for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
     m.split.validation_begin.push_back(validation.empty() ? m.split.train_begin[k]
                                                           : validation[2 * k]);

@@ -65,7 +65,7 @@ struct BdlstmModel {
   /// The training log's columns: iteration total recon bidir kl l2, and validation (the error on
   /// the validation windows relative to zero motion's) when the split has a validation part.
   std::vector<std::string> log_columns() const;
-  std::vector<double> log;  ///< rows of log_columns(), flat
+  std::vector<double> log;        ///< rows of log_columns(), flat
   std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   /// The latent's KL in nats per encoded frame over the last printing interval (−1: not
   /// measured) and whether the latent had collapsed then (train-bdlstm's warning).

@@ -113,23 +113,22 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::decode_step(const nn::Bound<T>& p, int 
     d = ch.dec[l](p, d);
     if (l + 1 < ch.dec.size()) d = nn::tanh(d);
   }
-  if (const double carry = config_.carry_at(t); carry != 0 && previous)  // the motion of the
+  if (const double carry = config_.carry_at(t); carry != 0 && previous)       // the motion of the
     d = nn::add(d, nn::scale(nn::sub(x, *previous), static_cast<T>(carry)));  // step before
   return nn::add(x, d);
 }
 
 template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x,
-                                              States& states, const Matrix* eps,
-                                              KlSum<T>* kl_sum, const Var* previous,
-                                              int t) const {
+                                              States& states, const Matrix* eps, KlSum<T>* kl_sum,
+                                              const Var* previous, int t) const {
   auto [mu, logvar] = encode(p, chain, x);
   Var z = mu;
   if (config_.kl && eps) {
     z = nn::reparameterize(mu, logvar, *eps);
     if (kl_sum) {
       const T rows = static_cast<T>(x.rows());
-      Var kl;  // Σ over rows
+      Var kl;                       // Σ over rows
       if (config_.free_bits > 0) {  // Σ_d max(λ, mean_rows KL_d), times the rows
         Var elements = nn::gaussian_kl_elements(mu, logvar);
         kl_sum->nats += static_cast<double>(elements.value().sum());
@@ -160,8 +159,8 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
       for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<T>(rng.normal());
     Var in = static_cast<std::size_t>(t) < given.size() ? given[static_cast<std::size_t>(t)]
                                                         : frames.back();
-    frames.push_back(
-        step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum, t ? &previous : nullptr, t));
+    frames.push_back(step(p, chain, in, states, config_.kl ? &eps : nullptr, kl_sum,
+                          t ? &previous : nullptr, t));
     previous = in;
   }
   return frames;
@@ -267,9 +266,8 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
       if (std::find(lstm_biases.begin(), lstm_biases.end(), static_cast<int>(k)) !=
           lstm_biases.end()) {
         const Index h = config_.hidden;
-        sq = nn::add_scalar(
-            nn::add(sq, nn::scale(nn::sum(nn::slice_cols(p.vars[k], h, h)), T(-2))),
-            static_cast<T>(h));
+        sq = nn::add_scalar(nn::add(sq, nn::scale(nn::sum(nn::slice_cols(p.vars[k], h, h)), T(-2))),
+                            static_cast<T>(h));
       }
       squares.push_back(sq);
     }
@@ -286,7 +284,8 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
     terms->bidir = value(l_bidir);
     terms->kl = value(l_kl);
     terms->l2 = value(l_2);
-    terms->kl_per_frame = kl_sum.encodings ? kl_sum.nats / static_cast<double>(kl_sum.encodings) : 0.0;
+    terms->kl_per_frame =
+        kl_sum.encodings ? kl_sum.nats / static_cast<double>(kl_sum.encodings) : 0.0;
   }
   return total;
 }

@@ -58,8 +58,9 @@ struct BdlstmConfig {
   /// the encoder at first) or "small" (Glorot × 0.01)
   std::string decoder_init = "zero";
   /// Free bits (Kingma et al. 2016): nats per latent dimension and frame that the KL term does not
-  /// penalise — per step, each dimension's KL averaged over the rows counts as max(free_bits, KL_d).
-  /// Below it the encoder may carry information at no cost (0 = the paper: every nat counts).
+  /// penalise — per step, each dimension's KL averaged over the rows counts as max(free_bits,
+  /// KL_d). Below it the encoder may carry information at no cost (0 = the paper: every nat
+  /// counts).
   double free_bits = 0;
   /// The motion a step carries over (issue 67: the model moved at a pace of its own, not the
   /// given frames'): X_{t+1} = X_t + carry (X_t − X_{t−1}) + δX, X_{t−1} the chain's previous

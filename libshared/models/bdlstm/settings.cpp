@@ -5,8 +5,9 @@ namespace df::models {
 Settings bdlstm_network_settings(BdlstmConfig& c) {
   return {
       {.name = "directions",
-       .target = Setting::Text{[&c] { return std::string(directions_name(c.directions)); },
-                               [&c](const std::string& v) { c.directions = directions_from_name(v); }},
+       .target =
+           Setting::Text{[&c] { return std::string(directions_name(c.directions)); },
+                         [&c](const std::string& v) { c.directions = directions_from_name(v); }},
        .help = "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"
                "direction has its own weights; unidirectional: forward chain only",
        .choices = {"shared", "standard", "unidirectional"}},
@@ -25,9 +26,10 @@ Settings bdlstm_network_settings(BdlstmConfig& c) {
       {.name = "alpha_reg", .target = &c.alpha_reg, .help = "Weight of L_KL + L_2"},
       {.name = "l2_scope",
        .target = &c.l2_scope,
-       .help = "L_2 over all trainable values (the paper's sum w^2), the weights only (no biases,\n"
-               "so the forget-gate bias keeps its 1), or tf: all values, the LSTM forget-gate\n"
-               "biases measured from 1 (TensorFlow's forget_bias is a constant outside the weights)",
+       .help =
+           "L_2 over all trainable values (the paper's sum w^2), the weights only (no biases,\n"
+           "so the forget-gate bias keeps its 1), or tf: all values, the LSTM forget-gate\n"
+           "biases measured from 1 (TensorFlow's forget_bias is a constant outside the weights)",
        .choices = {"all", "weights", "tf"},
        .optional = true},
       {.name = "l2_weight",
@@ -66,16 +68,19 @@ Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
        .resume = false},
       {.name = "window", .target = &t.window, .help = "Frames per training window"},
       {.name = "batch", .target = &t.batch, .help = "Windows per iteration"},
-      {.name = "stride", .target = &t.stride, .help = "Use every STRIDE-th frame (2 for slow motion)"},
+      {.name = "stride",
+       .target = &t.stride,
+       .help = "Use every STRIDE-th frame (2 for slow motion)"},
       {.name = "lr", .target = &t.lr, .help = "Adam learning rate (betas 0.9/0.999)"},
       {.name = "test_fraction",
        .target = &t.test_fraction,
        .help = "Fraction of every sequence held out as a contiguous test part"},
       {.name = "validation_fraction",
        .target = &t.validation_fraction,
-       .help = "A validation part of each sequence, this fraction of its frames, carved out of the\n"
-               "training frames at a place drawn from --seed; no window crosses it. Choose options\n"
-               "and iteration counts on it (gen-bdlstm --part validation), never on the test part",
+       .help =
+           "A validation part of each sequence, this fraction of its frames, carved out of the\n"
+           "training frames at a place drawn from --seed; no window crosses it. Choose options\n"
+           "and iteration counts on it (gen-bdlstm --part validation), never on the test part",
        .optional = true},
       {.name = "test_part",
        .target = &t.test_part,
@@ -94,8 +99,9 @@ Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
        .optional = true},
       {.name = "kl_free_bits",
        .target = &c.free_bits,
-       .help = "Free bits: per step, a latent dimension's KL (mean over the batch) below this many\n"
-               "nats is not penalised (0 = the paper); the log's kl column is the penalised value",
+       .help =
+           "Free bits: per step, a latent dimension's KL (mean over the batch) below this many\n"
+           "nats is not penalised (0 = the paper); the log's kl column is the penalised value",
        .optional = true},
       {.name = "seed", .target = &t.seed},  // the tool's --seed
   };

@@ -43,8 +43,8 @@ std::function<LossTerms()> validation_evaluation(const BdlstmModel& m,
   std::vector<std::int64_t> starts;
   int length = kValidationSteps;
   for (; length >= 1 && starts.empty(); --length)
-    starts = part_starts(m.split, "validation",
-                         static_cast<std::int64_t>(given + length - 1) * q + 1);
+    starts =
+        part_starts(m.split, "validation", static_cast<std::int64_t>(given + length - 1) * q + 1);
   ++length;
   if (starts.empty())
     throw InvalidInput(fmt::format("the validation parts are too short for {} given frames and one "
@@ -154,9 +154,12 @@ namespace {
 void warn_collapse(const BdlstmModel& m, double first_recon, double recon) {
   log::warn(
       "the latent has collapsed: {:.3g} nats per frame (below --collapse-threshold {}) and the "
-      "reconstruction has not improved ({:.4g} -> {:.4g}), so the model predicts what the prior does "
-      "(little or no motion). Train with the remedies (the defaults: --kl-warmup 500 --kl-free-bits "
-      "0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small; not --paper-form) and see what "
+      "reconstruction has not improved ({:.4g} -> {:.4g}), so the model predicts what the prior "
+      "does "
+      "(little or no motion). Train with the remedies (the defaults: --kl-warmup 500 "
+      "--kl-free-bits "
+      "0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small; not --paper-form) and see "
+      "what "
       "z carries with inspect-bdlstm MODEL DATA",
       m.kl_per_frame, m.training.collapse_threshold, first_recon, recon);
 }
@@ -209,8 +212,8 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
   m.normalization = in.normalization();
   m.split.data = opt.input;
   m.split.sequences = in.sequence_names();
-  split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed, m.split,
-                  m.training.validation_fraction);
+  split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed,
+                  m.split, m.training.validation_fraction);
   return m;
 }
 
@@ -268,7 +271,8 @@ void restore_or_initialize(BdlstmModel& m, bool resume, const std::string& ckpt)
 
 void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
-  const TrainingClaims claims = claim_training_outputs(opt.output, opt.input, common.force, opt.run);
+  const TrainingClaims claims =
+      claim_training_outputs(opt.output, opt.input, common.force, opt.run);
   const io::AcapReader in(opt.input);
   if (!in.has_normalized())
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
@@ -330,20 +334,19 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     m.kl_per_frame = kl_nats / static_cast<double>(kl_steps);
     kl_nats = 0, kl_steps = 0;
     const bool after_warmup = static_cast<std::int64_t>(row[0]) > m.training.kl_warmup;
-    m.latent_collapsed = after_warmup && m.log.size() > width &&
-                         latent_collapsed(m.kl_per_frame, row[2], m.log[2], m.training.collapse_threshold);
+    m.latent_collapsed =
+        after_warmup && m.log.size() > width &&
+        latent_collapsed(m.kl_per_frame, row[2], m.log[2], m.training.collapse_threshold);
     if (m.latent_collapsed) warn_collapse(m, m.log[2], row[2]);
   };
   auto checkpoint = [&] {
     save_bdlstm_model(ckpt, m, {opt.input}, true);
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
-  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt,
-                     check_collapse},
-                    {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, m.unprinted, step,
-                    checkpoint, evaluate ? std::vector<std::string>{"validation"}
-                                         : std::vector<std::string>{},
-                    evaluate);
+  run_training_loop(
+      {m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt, check_collapse},
+      {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, m.unprinted, step, checkpoint,
+      evaluate ? std::vector<std::string>{"validation"} : std::vector<std::string>{}, evaluate);
   save_bdlstm_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);
   log::info("wrote {} ({} iterations)", opt.output, m.iteration);

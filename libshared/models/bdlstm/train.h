@@ -50,9 +50,10 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common);
 /// predict without it — a model that predicts what the prior does.
 bool latent_collapsed(double kl_per_frame, double recon, double first_recon, double threshold);
 
-/// The remedies that train-bdlstm uses unless --paper-form (chosen on validation parts, docs/bdlstm.md):
-/// KL warm-up over 500 iterations, 0.1 free nats per latent dimension, L_2 on the weights only at
-/// 1/8 of the paper's weight, the last decoder convolution started small instead of at zero.
+/// The remedies that train-bdlstm uses unless --paper-form (chosen on validation parts,
+/// docs/bdlstm.md): KL warm-up over 500 iterations, 0.1 free nats per latent dimension, L_2 on the
+/// weights only at 1/8 of the paper's weight, the last decoder convolution started small instead of
+/// at zero.
 void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training);
 /// The paper's exact form of the same settings (eq. 3-5 as written).
 void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training);

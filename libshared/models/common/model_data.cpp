@@ -22,23 +22,26 @@ nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
   const bool normalized = file_.has_normalized();
   const io::FeatureNormalization own = file_.has_normalization() ? file_.normalization() : nz;
   const From from = normalized && file_.has_normalization() && own.same_numbers(nz) ? From::stored
-                    : file_.has_raw()                                                                 ? From::raw
+                    : file_.has_raw()                                               ? From::raw
                     : normalized ? From::renormalized
-                                 : throw InvalidInput("has no features (/features/raw or /features/normalized); "
-                                                      "run obj2acap on the meshes first",
-                                                      file_.path());
+                                 : throw InvalidInput(
+                                       "has no features (/features/raw or /features/normalized); "
+                                       "run obj2acap on the meshes first",
+                                       file_.path());
   std::vector<double> raw;
   // Runs of consecutive frames are read in one call (a chunk is decompressed once per run).
   for (std::size_t k = 0; k < frames.size();) {
     std::size_t run = 1;
-    while (k + run < frames.size() && frames[k + run] == frames[k] + static_cast<std::int64_t>(run)) ++run;
+    while (k + run < frames.size() && frames[k + run] == frames[k] + static_cast<std::int64_t>(run))
+      ++run;
     const auto first = static_cast<std::size_t>(frames[k]);
     float* out = x.row(static_cast<Eigen::Index>(k)).data();
     if (from == From::raw) {
       raw.resize(run * row);
       file_.read_raw(first, run, raw.data());
       for (std::size_t j = 0; j < run * row; ++j)
-        out[j] = static_cast<float>(nz.normalize(static_cast<int>(j % io::kAcapFeatureDims), raw[j]));
+        out[j] =
+            static_cast<float>(nz.normalize(static_cast<int>(j % io::kAcapFeatureDims), raw[j]));
     } else {
       file_.read_normalized(first, run, out);
       if (from == From::renormalized)

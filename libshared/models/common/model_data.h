@@ -25,7 +25,8 @@ class ModelData {
   /// stored normalized ones when the file's numbers are nz's, else the raw ones normalized,
   /// else the stored normalized ones renormalized; every value checked finite. InvalidInput
   /// when the file has no features.
-  nn::Matrix<float> features(const std::vector<std::int64_t>& frames, const io::FeatureNormalization& nz) const;
+  nn::Matrix<float> features(const std::vector<std::int64_t>& frames,
+                             const io::FeatureNormalization& nz) const;
   /// The same of every frame.
   nn::Matrix<float> all_features(const io::FeatureNormalization& nz) const;
 

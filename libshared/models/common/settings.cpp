@@ -1,8 +1,8 @@
 #include "models/common/settings.h"
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <span>
 #include <stdexcept>
@@ -20,7 +20,9 @@ struct Overloaded : F... {
 template <class... F>
 Overloaded(F...) -> Overloaded<F...>;
 
-std::string number_list(const auto& v) { return fmt::format("{}", fmt::join(v, ",")); }
+std::string number_list(const auto& v) {
+  return fmt::format("{}", fmt::join(v, ","));
+}
 
 }  // namespace
 
@@ -34,8 +36,7 @@ std::string Setting::option_name() const {
 std::string Setting::value_text() const {
   return std::visit(
       Overloaded{[](bool* p) { return std::string(*p ? "true" : "false"); },
-                 [](std::string* p) { return *p; },
-                 [](const Setting::Text& t) { return t.get(); },
+                 [](std::string* p) { return *p; }, [](const Setting::Text& t) { return t.get(); },
                  [](std::vector<int>* p) { return number_list(*p); },
                  [](std::vector<double>* p) { return number_list(*p); },
                  [](auto* p) { return fmt::format("{}", *p); }},
@@ -50,7 +51,8 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
         Overloaded{
             [&](bool* p) {
               const bool given = !*s.option;  // --name sets it, a named option clears it
-              group.add_flag_callback(flag, [p, given] { *p = given; }, s.help);
+              group.add_flag_callback(
+                  flag, [p, given] { *p = given; }, s.help);
             },
             [&](std::vector<int>* p) {
               group.add_option(flag, *p, s.help)
@@ -69,8 +71,8 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
               if (!s.choices.empty()) o->check(CLI::IsMember(s.choices));
             },
             [&](const Setting::Text& t) {
-              auto* o = group.add_option_function<std::string>(flag, t.set, s.help)
-                            ->default_str(t.get());
+              auto* o =
+                  group.add_option_function<std::string>(flag, t.set, s.help)->default_str(t.get());
               if (!s.choices.empty()) o->check(CLI::IsMember(s.choices));
             },
             [&](auto* p) { group.add_option(flag, *p, s.help)->default_val(*p); }},
@@ -80,21 +82,22 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
 
 void write_settings(h5::File& f, const std::string& object, const Settings& settings) {
   for (const Setting& s : settings)
-    std::visit(Overloaded{[&](bool* p) { f.set_attr(object, s.name, static_cast<int>(*p)); },
-                          [&](int* p) { f.set_attr(object, s.name, *p); },
-                          [&](std::int64_t* p) { f.set_attr(object, s.name, *p); },
-                          [&](std::uint64_t* p) { f.set_attr(object, s.name, fmt::format("{}", *p)); },
-                          [&](double* p) { f.set_attr(object, s.name, *p); },
-                          [&](std::string* p) { f.set_attr(object, s.name, *p); },
-                          [&](const Setting::Text& t) { f.set_attr(object, s.name, t.get()); },
-                          [&](std::vector<int>* p) {
-                            const std::vector<double> v(p->begin(), p->end());
-                            f.set_attr(object, s.name, std::span<const double>(v));
-                          },
-                          [&](std::vector<double>* p) {
-                            f.set_attr(object, s.name, std::span<const double>(*p));
-                          }},
-               s.target);
+    std::visit(
+        Overloaded{[&](bool* p) { f.set_attr(object, s.name, static_cast<int>(*p)); },
+                   [&](int* p) { f.set_attr(object, s.name, *p); },
+                   [&](std::int64_t* p) { f.set_attr(object, s.name, *p); },
+                   [&](std::uint64_t* p) { f.set_attr(object, s.name, fmt::format("{}", *p)); },
+                   [&](double* p) { f.set_attr(object, s.name, *p); },
+                   [&](std::string* p) { f.set_attr(object, s.name, *p); },
+                   [&](const Setting::Text& t) { f.set_attr(object, s.name, t.get()); },
+                   [&](std::vector<int>* p) {
+                     const std::vector<double> v(p->begin(), p->end());
+                     f.set_attr(object, s.name, std::span<const double>(v));
+                   },
+                   [&](std::vector<double>* p) {
+                     f.set_attr(object, s.name, std::span<const double>(*p));
+                   }},
+        s.target);
 }
 
 void read_settings(const h5::File& f, const std::string& object, const Settings& settings) {

@@ -65,6 +65,7 @@ void read_settings(const h5::File& f, const std::string& object, const Settings&
 
 /// Refuses (InvalidInput naming `path`) to resume a checkpoint whose `resume` settings differ from
 /// this run's: the two tables must be the same model's, row by row.
-void require_same_settings(const Settings& checkpoint, const Settings& now, const std::string& path);
+void require_same_settings(const Settings& checkpoint, const Settings& now,
+                           const std::string& path);
 
 }  // namespace df::models

@@ -1,13 +1,12 @@
 #include "models/common/training.h"
 
-#include <CLI/CLI.hpp>
-
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 #include "core/atomic_output.h"
@@ -85,8 +84,8 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
   const auto run_start = interval_start;
   bool spoken = false;
   if (iteration < loop.iterations)
-    log::info("training iterations {}-{}: a loss line every {}; a line of pace before the first", iteration + 1,
-              loop.iterations, loop.print_every);
+    log::info("training iterations {}-{}: a loss line every {}; a line of pace before the first",
+              iteration + 1, loop.iterations, loop.print_every);
   while (iteration < loop.iterations) {
     const std::int64_t done = iteration + 1;  // counting this one
     const LossTerms terms = step(done);
@@ -99,15 +98,19 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
     iteration = done;  // before any checkpoint: the file must say how many iterations it holds
     const bool row_due = done % loop.print_every == 0 || done == loop.iterations;
     if (!row_due && !spoken) {
-      const double so_far = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
+      const double so_far =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
       if (so_far >= kFirstWord) {
         spoken = true;
         const double per = so_far / static_cast<double>(timed);
-        const std::int64_t next_row = std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
-        log::info("iteration {}/{}: {:.3g} s/iteration so far; the next loss line at iteration {} (in ~{:.0f} s), "
-                  "{:.0f} s left in all",
-                  done, loop.iterations, per, next_row, per * static_cast<double>(next_row - done),
-                  per * static_cast<double>(loop.iterations - done));
+        const std::int64_t next_row =
+            std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
+        log::info(
+            "iteration {}/{}: {:.3g} s/iteration so far; the next loss line at iteration {} (in "
+            "~{:.0f} s), "
+            "{:.0f} s left in all",
+            done, loop.iterations, per, next_row, per * static_cast<double>(next_row - done),
+            per * static_cast<double>(loop.iterations - done));
       }
     }
     if (row_due) {
@@ -120,12 +123,14 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
       interval_start = now;
       timed = 0;
       log::info("iteration {}/{}: {} {:.4g} ({}); {:.3f} s/iteration, {:.0f} s left", done,
-                loop.iterations, names[0], interval.sum[0] / static_cast<double>(interval.iterations),
-                detail, per, per * static_cast<double>(loop.iterations - done));
+                loop.iterations, names[0],
+                interval.sum[0] / static_cast<double>(interval.iterations), detail, per,
+                per * static_cast<double>(loop.iterations - done));
       interval = Interval(names.size(), {});
       if (loop.after_row) {
         const std::size_t width = names.size() + 1 + evaluate_names.size();
-        loop.after_row(std::vector<double>(log.end() - static_cast<std::ptrdiff_t>(width), log.end()));
+        loop.after_row(
+            std::vector<double>(log.end() - static_cast<std::ptrdiff_t>(width), log.end()));
       }
       if (loop.checkpoint_every &&
           done / loop.checkpoint_every > last_checkpoint / loop.checkpoint_every &&
@@ -137,9 +142,10 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
     if (const int sig = stop_requested(); sig && done < loop.iterations) {
       unprinted = interval.saved();
       checkpoint();
-      throw Stopped(fmt::format("stopped by SIG{} after iteration {} of {}; checkpoint {} holds "
-                                "it: run the same command with --resume to continue",
-                                sigabbrev_np(sig), done, loop.iterations, loop.checkpoint_path));
+      throw Stopped(
+          fmt::format("stopped by SIG{} after iteration {} of {}; checkpoint {} holds "
+                      "it: run the same command with --resume to continue",
+                      sigabbrev_np(sig), done, loop.iterations, loop.checkpoint_path));
     }
   }
 }
@@ -189,19 +195,20 @@ std::string checkpoint_iteration(const std::string& path) {
 
 }  // namespace
 
-TrainingClaims claim_training_outputs(const std::string& output, const std::string& input, bool force,
-                                      const TrainingRun& run) {
+TrainingClaims claim_training_outputs(const std::string& output, const std::string& input,
+                                      bool force, const TrainingRun& run) {
   const std::string ckpt = run.checkpoint_path(output);
   TrainingClaims claims{claim_output(output, force, {input}), OutputClaim(ckpt)};
   std::error_code ec;
   if (!run.resume && std::filesystem::exists(ckpt, ec)) {
     if (!force)
-      throw IOError(fmt::format("a checkpoint of an earlier run is here{}: --resume continues it, --force "
-                                "starts over and replaces it",
-                                checkpoint_iteration(ckpt)),
-                    ckpt);
-    log::warn("starting over (--force without --resume): the checkpoint {}{} will be replaced", ckpt,
-              checkpoint_iteration(ckpt));
+      throw IOError(
+          fmt::format("a checkpoint of an earlier run is here{}: --resume continues it, --force "
+                      "starts over and replaces it",
+                      checkpoint_iteration(ckpt)),
+          ckpt);
+    log::warn("starting over (--force without --resume): the checkpoint {}{} will be replaced",
+              ckpt, checkpoint_iteration(ckpt));
   }
   return claims;
 }

@@ -94,7 +94,7 @@ struct TrainingClaims {
 /// Claims a trainer's output and checkpoint. IOError if `output` exists without `force`, or is
 /// `input`; IOError if the checkpoint of an earlier run exists and neither `run.resume`
 /// (continue it) nor `force` (start over, replacing it: said with a warning) was given.
-TrainingClaims claim_training_outputs(const std::string& output, const std::string& input, bool force,
-                                      const TrainingRun& run);
+TrainingClaims claim_training_outputs(const std::string& output, const std::string& input,
+                                      bool force, const TrainingRun& run);
 
 }  // namespace df::models

@@ -52,7 +52,8 @@ double component_strength(const float* x, int n_vertices, const std::array<doubl
   return strength_parts(deformation_per_vertex(x, n_vertices, reference), eps1).strength;
 }
 
-std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& shapes) {
+std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net,
+                                           const nn::Matrix<float>& shapes) {
   std::vector<nn::Matrix<float>> codes(net.blocks().size());
   for (Index r = 0; r < shapes.rows(); r += 64) {
     std::vector<nn::Matrix<float>> chunk;
@@ -204,7 +205,8 @@ void prune_components_tool(const PruneOptions& opt, const CommonOptions& common)
         opt.input);
   write_components(opt.output, c, {opt.input}, common.force);
   if (!opt.acap.empty()) write_components_acap(opt.acap, c, true, {opt.input}, common.force);
-  if (!opt.json.empty()) write_text_output(opt.json, report.dump(1) + "\n", common.force, {opt.input});
+  if (!opt.json.empty())
+    write_text_output(opt.json, report.dump(1) + "\n", common.force, {opt.input});
 }
 
 }  // namespace df::models

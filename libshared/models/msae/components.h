@@ -50,14 +50,17 @@ double component_strength(const float* x, int n_vertices, const std::array<doubl
                           double eps1);
 
 /// |cosine| between the X − X_r of a level's components [K, K] (paper Fig. 3).
-nn::Matrix<double> level0_similarity(const ComponentLevel& level0, const std::array<double, 9>& ref);
+nn::Matrix<double> level0_similarity(const ComponentLevel& level0,
+                                     const std::array<double, 9>& ref);
 
 /// Every block's codes of `shapes` [n, 9V] through all levels (in chunks): [n, kz] per block.
-std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& shapes);
+std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net,
+                                           const nn::Matrix<float>& shapes);
 
 /// The components of every block; `training_codes` are the training shapes' codes
 /// (block_codes), which give the scale of each one-hot code. All components start kept.
-Components extract_components(const MsaeModel& m, const std::vector<nn::Matrix<float>>& training_codes);
+Components extract_components(const MsaeModel& m,
+                              const std::vector<nn::Matrix<float>>& training_codes);
 
 /// Recomputes strengths with eps1 and keeps those with strength ≥ eps2.
 void prune_components(Components& c, double eps1, double eps2);

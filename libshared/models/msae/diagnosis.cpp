@@ -19,9 +19,11 @@ namespace {
 // Singular values of the rows of `d` (relative to the largest, largest first) and how many
 // exceed `floor` of the largest.
 std::vector<double> relative_singular_values(const nn::Matrix<double>& d, double floor, int* rank) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(d * d.transpose(), Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(d * d.transpose(),
+                                                          Eigen::EigenvaluesOnly);
   std::vector<double> s;
-  for (Index k = es.eigenvalues().size() - 1; k >= 0; --k) s.push_back(std::sqrt(std::max(0.0, es.eigenvalues()[k])));
+  for (Index k = es.eigenvalues().size() - 1; k >= 0; --k)
+    s.push_back(std::sqrt(std::max(0.0, es.eigenvalues()[k])));
   *rank = 0;
   const double top = s.empty() ? 0.0 : s[0];
   for (double& v : s) {
@@ -43,9 +45,11 @@ std::vector<double> shares(const MsaeNet<float>& net, int b, const nn::Matrix<fl
     const nn::Matrix<float> x = net.decode(b, one_hot);
     std::vector<double> norm(static_cast<std::size_t>(kz));
     double total = 0;
-    for (int k = 0; k < kz; ++k) total += norm[static_cast<std::size_t>(k)] = static_cast<double>((x.row(k) - zero).norm());
+    for (int k = 0; k < kz; ++k)
+      total += norm[static_cast<std::size_t>(k)] = static_cast<double>((x.row(k) - zero).norm());
     if (total > 0)
-      for (int k = 0; k < kz; ++k) share[static_cast<std::size_t>(k)] += norm[static_cast<std::size_t>(k)] / total;
+      for (int k = 0; k < kz; ++k)
+        share[static_cast<std::size_t>(k)] += norm[static_cast<std::size_t>(k)] / total;
   }
   for (double& s : share) s /= static_cast<double>(z.rows());
   return share;
@@ -68,12 +72,14 @@ SecondLevelDiagnosis second_level(const MsaeNet<float>& net, const nn::Matrix<fl
   const double total = r.squaredNorm();
   if (!(total > 0)) return s;  // level 0 reconstructs the training shapes: nothing to split
   std::vector<int> ranks;
-  for (int c : net.blocks()[0].children) ranks.push_back(net.blocks()[static_cast<std::size_t>(c)].kz);
+  for (int c : net.blocks()[0].children)
+    ranks.push_back(net.blocks()[static_cast<std::size_t>(c)].kz);
   s.children = static_cast<int>(ranks.size());
   for (int k : ranks) s.components += k;
   s.child_kz = *std::max_element(ranks.begin(), ranks.end());
   const bool attention = net.config().attention && ranks.size() > 1;
-  const nn::Matrix<double> masks = attention ? net.attention_masks(0).cast<double>() : nn::Matrix<double>();
+  const nn::Matrix<double> masks =
+      attention ? net.attention_masks(0).cast<double>() : nn::Matrix<double>();
   double fed = total;
   if (attention) {
     fed = 0;
@@ -98,13 +104,14 @@ ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float
   net.reconstruct(shapes, 2, &codes);
   const nn::Matrix<float> r = shapes - net.decode(0, codes[0]);  // the residual after level 0
   out.residual = r.cast<double>().squaredNorm();
-  const nn::Matrix<float> masks = net.config().attention ? net.attention_masks(0) : nn::Matrix<float>();
+  const nn::Matrix<float> masks =
+      net.config().attention ? net.attention_masks(0) : nn::Matrix<float>();
   nn::Matrix<double> sum = nn::Matrix<double>::Zero(r.rows(), r.cols());
   for (int c : net.blocks()[0].children) {
     const auto& child = net.blocks()[static_cast<std::size_t>(c)];
-    const nn::Matrix<double> e =
-        (net.child_input(child, r, masks.size() ? &masks : nullptr) - net.decode(c, codes[static_cast<std::size_t>(c)]))
-            .cast<double>();
+    const nn::Matrix<double> e = (net.child_input(child, r, masks.size() ? &masks : nullptr) -
+                                  net.decode(c, codes[static_cast<std::size_t>(c)]))
+                                     .cast<double>();
     out.own += e.squaredNorm();
     sum += e;
   }
@@ -112,7 +119,8 @@ ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float
   return out;
 }
 
-nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r, const nn::Matrix<double>& masks,
+nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r,
+                                        const nn::Matrix<double>& masks,
                                         const std::vector<int>& ranks) {
   if (masks.size() == 0) return top_projection(r, ranks.empty() ? 0 : ranks[0]);
   if (masks.cols() * 9 != r.cols() || static_cast<std::size_t>(masks.rows()) != ranks.size())
@@ -126,8 +134,10 @@ nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r, const nn::M
   return sum;
 }
 
-MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const nn::Matrix<float>& training,
-                            const std::vector<nn::Matrix<float>>& codes, const nn::Matrix<float>& heldout) {
+MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps,
+                            const nn::Matrix<float>& training,
+                            const std::vector<nn::Matrix<float>>& codes,
+                            const nn::Matrix<float>& heldout) {
   const MsaeNet<float>& net = *m.net;
   const int V = net.n_vertices();
   MsaeDiagnosis d;
@@ -162,16 +172,20 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
       c.weight_norm = static_cast<double>(C.row(k).norm());
       const auto src = std::find(m.geodesic_sources.begin(), m.geodesic_sources.end(), c.centre);
       if (src != m.geodesic_sources.end() && c.weight_norm > 0) {
-        const auto& row = m.geodesic_rows[static_cast<std::size_t>(src - m.geodesic_sources.begin())];
+        const auto& row =
+            m.geodesic_rows[static_cast<std::size_t>(src - m.geodesic_sources.begin())];
         double in = 0;
         for (int i = 0; i < V; ++i)
-          if (row[i] < radius) in += static_cast<double>(C.row(k).segment(9 * Index{i}, 9).squaredNorm());
+          if (row[i] < radius)
+            in += static_cast<double>(C.row(k).segment(9 * Index{i}, 9).squaredNorm());
         c.inside = in / (c.weight_norm * c.weight_norm);
       }
       const auto& lv = comps.levels[static_cast<std::size_t>(block.level)];
       const int row = next[static_cast<std::size_t>(block.level)]++;
-      c.eq7 = strength_parts(deformation_per_vertex(lv.features.row(row).data(), V, ref), comps.eps1);
-      if (codes[b].rows()) c.code_min = codes[b].col(k).minCoeff(), c.code_max = codes[b].col(k).maxCoeff();
+      c.eq7 =
+          strength_parts(deformation_per_vertex(lv.features.row(row).data(), V, ref), comps.eps1);
+      if (codes[b].rows())
+        c.code_min = codes[b].col(k).minCoeff(), c.code_max = codes[b].col(k).maxCoeff();
       c.share = share[static_cast<std::size_t>(k)];
       level.components.push_back(c);
     }
@@ -182,7 +196,8 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
     for (const auto& c : level.components) distinct.insert(c.centre);
     level.distinct_centres = static_cast<int>(distinct.size());
     nn::Matrix<double> dirs = comps.levels[l].features.cast<double>();
-    for (Index j = 0; j < dirs.cols(); ++j) dirs.col(j).array() -= ref[static_cast<std::size_t>(j % 9)];
+    for (Index j = 0; j < dirs.cols(); ++j)
+      dirs.col(j).array() -= ref[static_cast<std::size_t>(j % 9)];
     level.singular_values = relative_singular_values(dirs, 1e-2, &level.effective_rank);
   }
   if (!net.blocks()[0].children.empty() && training.rows() > 0) {
@@ -200,23 +215,34 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const n
 std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_part) {
   std::string t = fmt::format(
       "MSAE diagnosis: {} training shapes (PCA spans {} direction(s)), {} {} shapes\n"
-      "  |C_k|: the component's weights; inside: share of |C_k|^2 within Omega's radius of its centre;\n"
-      "  support: vertices whose decoded deformation reaches 10% of its peak; strength: eq. 7, the\n"
-      "  mean deformation over the vertices it moves by more than eps1 = {:g} ('counted', of the mesh's\n"
+      "  |C_k|: the component's weights; inside: share of |C_k|^2 within Omega's radius of its "
+      "centre;\n"
+      "  support: vertices whose decoded deformation reaches 10% of its peak; strength: eq. 7, "
+      "the\n"
+      "  mean deformation over the vertices it moves by more than eps1 = {:g} ('counted', of the "
+      "mesh's\n"
       "  {}); on support: the same mean over the support's vertices only;\n"
-      "  codes: range over the training shapes; share: mean part of its block's deformation of the\n"
+      "  codes: range over the training shapes; share: mean part of its block's deformation of "
+      "the\n"
       "  {} shapes.\n",
       d.n_training, d.pca_rank, d.n_heldout, heldout_part, d.eps1, d.n_vertices, heldout_part);
   for (const auto& level : d.levels) {
-    t += fmt::format("\nlevel {}: {} components, {} distinct centres; decoded directions' effective rank {} (singular values / largest: {:.3f})\n",
-                     level.level, level.components.size(), level.distinct_centres, level.effective_rank,
-                     fmt::join(level.singular_values, " "));
-    t += fmt::format("  {:>5} {:>3} {:>6} {:>7} {:>6} {:>7} {:>8} {:>7} {:>10} {:>19} {:>6}\n", "block", "k", "centre", "|C_k|",
-                     "inside", "support", "strength", "counted", "on support", "codes", "share");
+    t += fmt::format(
+        "\nlevel {}: {} components, {} distinct centres; decoded directions' effective rank {} "
+        "(singular values / largest: {:.3f})\n",
+        level.level, level.components.size(), level.distinct_centres, level.effective_rank,
+        fmt::join(level.singular_values, " "));
+    t += fmt::format("  {:>5} {:>3} {:>6} {:>7} {:>6} {:>7} {:>8} {:>7} {:>10} {:>19} {:>6}\n",
+                     "block", "k", "centre", "|C_k|", "inside", "support", "strength", "counted",
+                     "on support", "codes", "share");
     for (const auto& c : level.components)
-      t += fmt::format("  {:>5} {:>3} {:>6} {:>7.3f} {:>6} {:>7} {:>8.4f} {:>7} {:>10.4f} {:>9.3g}..{:<9.3g} {:>5.1f}%\n", c.block,
-                       c.k, c.centre, c.weight_norm, c.inside < 0 ? std::string("-") : fmt::format("{:.2f}", c.inside),
-                       c.eq7.support, c.eq7.strength, c.eq7.counted, c.eq7.support_strength, c.code_min, c.code_max, 100 * c.share);
+      t += fmt::format(
+          "  {:>5} {:>3} {:>6} {:>7.3f} {:>6} {:>7} {:>8.4f} {:>7} {:>10.4f} {:>9.3g}..{:<9.3g} "
+          "{:>5.1f}%\n",
+          c.block, c.k, c.centre, c.weight_norm,
+          c.inside < 0 ? std::string("-") : fmt::format("{:.2f}", c.inside), c.eq7.support,
+          c.eq7.strength, c.eq7.counted, c.eq7.support_strength, c.code_min, c.code_max,
+          100 * c.share);
     if (level.components.empty()) continue;
     std::vector<int> counted;
     int pass = 0, pass_support = 0;
@@ -225,10 +251,15 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
       pass += c.eq7.strength >= d.eps2 ? 1 : 0;
       pass_support += c.eq7.support_strength >= d.eps2 ? 1 : 0;
     }
-    std::nth_element(counted.begin(), counted.begin() + static_cast<std::ptrdiff_t>(counted.size() / 2), counted.end());
-    t += fmt::format("  eq. 7 counts a median {} of {} vertices; {} of {} reach eps2 = {:g} (the pruning threshold), {} over "
-                     "their support only\n",
-                     counted[counted.size() / 2], d.n_vertices, pass, level.components.size(), d.eps2, pass_support);
+    std::nth_element(counted.begin(),
+                     counted.begin() + static_cast<std::ptrdiff_t>(counted.size() / 2),
+                     counted.end());
+    t += fmt::format(
+        "  eq. 7 counts a median {} of {} vertices; {} of {} reach eps2 = {:g} (the pruning "
+        "threshold), {} over "
+        "their support only\n",
+        counted[counted.size() / 2], d.n_vertices, pass, level.components.size(), d.eps2,
+        pass_support);
   }
   if (d.second.children > 0) {
     const auto& s = d.second;
@@ -237,16 +268,20 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
         "  fed to its {} autoencoder(s) ({} components){}: {:.1f}%\n"
         "  left by the trained level 1: {:.1f}%\n"
         "  left by the best linear autoencoders of the same sizes on the same inputs: {:.1f}%\n"
-        "  left by one linear autoencoder on R whole: {:.1f}% with {} components, {:.1f}% with {}\n",
+        "  left by one linear autoencoder on R whole: {:.1f}% with {} components, {:.1f}% with "
+        "{}\n",
         s.children, s.components, s.children > 1 ? " through the attention masks" : "", 100 * s.fed,
-        100 * s.left_trained, 100 * s.left_linear, 100 * s.left_one, s.components, 100 * s.left_one_child,
-        s.child_kz);
+        100 * s.left_trained, 100 * s.left_linear, 100 * s.left_one, s.components,
+        100 * s.left_one_child, s.child_kz);
     if (s.heldout_whole >= 0)
       t += fmt::format(
-          "  on the {} shapes, through the encoders (shares of their residual after level 0, {:.3g} per shape):\n"
-          "    the children's own errors sum to {:.1f}% (what their losses see); the shapes are left with\n"
+          "  on the {} shapes, through the encoders (shares of their residual after level 0, "
+          "{:.3g} per shape):\n"
+          "    the children's own errors sum to {:.1f}% (what their losses see); the shapes are "
+          "left with\n"
           "    {:.1f}%, the cross terms between the children's errors adding {:+.1f}%\n",
-          heldout_part, s.heldout_residual, 100 * s.heldout_own, 100 * s.heldout_whole, 100 * (s.heldout_whole - s.heldout_own));
+          heldout_part, s.heldout_residual, 100 * s.heldout_own, 100 * s.heldout_whole,
+          100 * (s.heldout_whole - s.heldout_own));
   }
   return t;
 }

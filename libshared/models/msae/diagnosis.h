@@ -18,7 +18,8 @@ struct ComponentDiagnosis {
   /// Share of ‖C_k‖² on vertices within Ω's radius d of the centre (1 = as local as Ω asks);
   /// −1 when the model file has no distances from that centre
   double inside = -1;
-  StrengthParts eq7;  ///< eq. 7 of the decoded component at its extreme training code, and its parts
+  StrengthParts
+      eq7;  ///< eq. 7 of the decoded component at its extreme training code, and its parts
   double code_min = 0, code_max = 0;  ///< over the training shapes
   double share = 0;  ///< mean over the held-out shapes of its part of its block's deformation
 };
@@ -38,29 +39,31 @@ struct LevelDiagnosis {
 /// child k reconstructs diag(AM_k)·R; without attention one child gets R whole). Energies are
 /// shares of ‖R‖² in normalized features.
 struct SecondLevelDiagnosis {
-  int children = 0;        ///< AE₀'s children (0: not measured)
-  int components = 0;      ///< Σ K_z over the children
-  double fed = 0;          ///< Σ_k ‖AM_k ⊙ R‖² / ‖R‖²
-  double left_trained = 0; ///< ‖X − X̂ (levels 0-1)‖² / ‖R‖²
-  double left_linear = 0;  ///< best linear children: rank K_z of each masked input, outputs summed
-  double left_one = 0;     ///< best rank-`components` reconstruction of R (one linear autoencoder)
-  int child_kz = 0;        ///< the largest child's K_z
-  double left_one_child = 0;  ///< best rank-`child_kz` reconstruction of R: what spread masks tend to
+  int children = 0;         ///< AE₀'s children (0: not measured)
+  int components = 0;       ///< Σ K_z over the children
+  double fed = 0;           ///< Σ_k ‖AM_k ⊙ R‖² / ‖R‖²
+  double left_trained = 0;  ///< ‖X − X̂ (levels 0-1)‖² / ‖R‖²
+  double left_linear = 0;   ///< best linear children: rank K_z of each masked input, outputs summed
+  double left_one = 0;      ///< best rank-`components` reconstruction of R (one linear autoencoder)
+  int child_kz = 0;         ///< the largest child's K_z
+  double left_one_child =
+      0;  ///< best rank-`child_kz` reconstruction of R: what spread masks tend to
   /// The held-out shapes through the encoders, as shares of their residual's energy ‖R‖² after
   /// level 0: each child k leaves e_k = diag(AM_k)·R − X̂_k of its own input, and the shapes are
   /// left with Σ_k e_k. `heldout_own` = Σ_k ‖e_k‖² (what the children's own losses measure),
   /// `heldout_whole` = ‖Σ_k e_k‖²; the difference is the cross terms 2 Σ_{j<k} ⟨e_j, e_k⟩, which
   /// no block's loss sees. −1: not measured (no held-out shapes).
   double heldout_own = -1, heldout_whole = -1;
-  double heldout_residual = 0;  ///< ‖R‖² per held-out shape (normalized features): the shares' scale
+  double heldout_residual =
+      0;  ///< ‖R‖² per held-out shape (normalized features): the shares' scale
 };
 
 struct MsaeDiagnosis {
   std::vector<LevelDiagnosis> levels;
   int n_training = 0, n_heldout = 0;
   int n_vertices = 0;
-  double eps1 = 0, eps2 = 0;  ///< eq. 7's noise floor and the pruning threshold of the components
-  int pca_rank = 0;  ///< rank of the centred training shapes: what PCA can span
+  double eps1 = 0, eps2 = 0;    ///< eq. 7's noise floor and the pruning threshold of the components
+  int pca_rank = 0;             ///< rank of the centred training shapes: what PCA can span
   SecondLevelDiagnosis second;  ///< children == 0: one level, or level 0 leaves no residual
 };
 
@@ -69,7 +72,8 @@ struct MsaeDiagnosis {
 /// linear autoencoder of ranks[k] components on it). masks [K, V]; an empty masks matrix means
 /// one child fed r whole. With masks spread over the same vertices, children of rank K_z learn
 /// the same top directions and their sum spans little more than one of them.
-nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r, const nn::Matrix<double>& masks,
+nn::Matrix<double> best_linear_children(const nn::Matrix<double>& r,
+                                        const nn::Matrix<double>& masks,
                                         const std::vector<int>& ranks);
 
 /// The second level's errors on shapes [n, 9V] through the encoders (models of two or more
@@ -86,7 +90,8 @@ ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float
 /// @param training        the training shapes [n, 9V] (normalized): PCA's rank
 /// @param training_codes  every block's codes of them (block_codes): the code ranges
 /// @param heldout         shapes not trained on (validation or test part): each component's share
-MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps, const nn::Matrix<float>& training,
+MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps,
+                            const nn::Matrix<float>& training,
                             const std::vector<nn::Matrix<float>>& training_codes,
                             const nn::Matrix<float>& heldout);
 

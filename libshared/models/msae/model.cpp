@@ -94,8 +94,10 @@ MsaeModel load_msae_model(const std::string& path) {
     throw InvalidInput("kz and d must have one value per level", f.where(io::model_layout::config));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
-  m.log_validation_erms = f.exists(io::model_layout::training_log) &&
-                          f.attr_string(io::model_layout::training_log, "columns").find("validation_erms") != std::string::npos;
+  m.log_validation_erms =
+      f.exists(io::model_layout::training_log) &&
+      f.attr_string(io::model_layout::training_log, "columns").find("validation_erms") !=
+          std::string::npos;
   m.split.data = f.attr_string(io::model_layout::split, "data");
   m.split.train = f.read<std::int64_t>(io::model_layout::split_part("train")).data;
   m.split.validation = f.read<std::int64_t>(io::model_layout::split_part("validation")).data;

@@ -70,7 +70,7 @@ struct MsaeModel {
   std::vector<Eigen::VectorXf> geodesic_rows;
   /// The log has a validation_erms column (E_rms × 1000 of the validation shapes' positions).
   bool log_validation_erms = false;
-  std::vector<double> log;  ///< rows of log_columns(), flat
+  std::vector<double> log;        ///< rows of log_columns(), flat
   std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   std::unique_ptr<MsaeNet<float>> net;
   std::unique_ptr<nn::Adam<float>> adam;

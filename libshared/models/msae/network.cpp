@@ -34,8 +34,10 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--centres must be random or spread");
   if (config_.support != "soft" && config_.support != "hard" && config_.support != "proximal")
     throw UsageError("--support must be soft, hard or proximal");
-  if (config_.attention_sharpness != 1 && config_.attention_sharpness != 2 && config_.attention_sharpness != 4)
-    throw UsageError(fmt::format("--attention-sharpness must be 1, 2 or 4 (got {})", config_.attention_sharpness));
+  if (config_.attention_sharpness != 1 && config_.attention_sharpness != 2 &&
+      config_.attention_sharpness != 4)
+    throw UsageError(fmt::format("--attention-sharpness must be 1, 2 or 4 (got {})",
+                                 config_.attention_sharpness));
   if (!(config_.centre_separation >= 0 && config_.centre_separation <= 4))
     throw UsageError("--centre-separation must be between 0 and 4 (a fraction of d)");
   if (!(config_.lambda_whole >= 0)) throw UsageError("--lambda-whole must not be negative");
@@ -81,7 +83,8 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
 template <class T>
 void MsaeNet<T>::set_offset(const Matrix& mean) {
   if (offset_ < 0) throw Error("internal: set_offset needs centre_features");
-  if (mean.rows() != 1 || mean.cols() != frame_size()) throw Error("internal: set_offset needs [1, 9V]");
+  if (mean.rows() != 1 || mean.cols() != frame_size())
+    throw Error("internal: set_offset needs [1, 9V]");
   store_.value(offset_) = mean;
 }
 
@@ -111,9 +114,10 @@ nn::Var<T> MsaeNet<T>::decoder(const nn::Bound<T>& p, int b, Var z) const {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   Var y = nn::matmul(z, p[bl.c]);
   if (config_.decoder_fc == "tanh") y = nn::tanh(y);
-  Var out = nn::tanh(config_.decoder_conv == "shared" ? nn::mesh_conv(y, p[bl.conv.w_point], p[bl.conv.w_nb],
-                                                                      p[bl.b_dec], bl.conv.adjacency)
-                                                      : bl.conv.tied_transpose(p, y, p[bl.b_dec]));
+  Var out = nn::tanh(
+      config_.decoder_conv == "shared"
+          ? nn::mesh_conv(y, p[bl.conv.w_point], p[bl.conv.w_nb], p[bl.b_dec], bl.conv.adjacency)
+          : bl.conv.tied_transpose(p, y, p[bl.b_dec]));
   // The offset is a constant of the tape: it never receives a gradient, so Adam leaves it.
   if (b == 0 && offset_ >= 0) out = nn::add(out, z.tape->constant(store_.value(offset_)));
   return out;
@@ -139,7 +143,8 @@ std::vector<std::vector<int>> MsaeNet<T>::centres() const {
 
 template <class T>
 void MsaeNet<T>::project_onto_support(const std::vector<Matrix>& lambda) {
-  if (lambda.size() != blocks_.size()) throw Error("internal: project_onto_support needs every block");
+  if (lambda.size() != blocks_.size())
+    throw Error("internal: project_onto_support needs every block");
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     auto C = store_.value(blocks_[b].c);
     for (int k = 0; k < blocks_[b].kz; ++k)
@@ -157,7 +162,8 @@ void MsaeNet<T>::proximal_sparsity(const std::vector<Matrix>& lambda,
     throw Error("internal: proximal_sparsity needs the optimizer of this model");
   for (std::size_t b = 0; b < blocks_.size(); ++b) {
     const Block& bl = blocks_[b];
-    if (!levels.empty() && std::find(levels.begin(), levels.end(), bl.level) == levels.end()) continue;
+    if (!levels.empty() && std::find(levels.begin(), levels.end(), bl.level) == levels.end())
+      continue;
     auto C = store_.value(bl.c);
     const Index base = store_.views()[static_cast<std::size_t>(bl.c)].offset;
     const T weight = static_cast<T>(config_.lambda_sparse) / static_cast<T>(bl.kz);
@@ -170,8 +176,10 @@ void MsaeNet<T>::proximal_sparsity(const std::vector<Matrix>& lambda,
         T mean_step = 0;
         for (Index j = 0; j < 9; ++j) mean_step += eta(first + j);
         const T tau = mean_step / T(9) * weight * mask, norm = group.norm();
-        if (norm <= tau) group.setZero();
-        else group *= (norm - tau) / norm;
+        if (norm <= tau)
+          group.setZero();
+        else
+          group *= (norm - tau) / norm;
       }
     });
   }
@@ -184,11 +192,14 @@ void MsaeNet<T>::place_centres(const std::vector<std::vector<int>>& vertices) {
     auto C = store_.value(blocks_[b].c);
     for (int k = 0; k < blocks_[b].kz; ++k) {
       T top = 0;
-      for (int i = 0; i < n_vertices_; ++i) top = std::max(top, C.row(k).segment(9 * Index{i}, 9).norm());
+      for (int i = 0; i < n_vertices_; ++i)
+        top = std::max(top, C.row(k).segment(9 * Index{i}, 9).norm());
       auto group = C.row(k).segment(9 * Index{vertices[b].at(static_cast<std::size_t>(k))}, 9);
       const T norm = group.norm();
-      if (norm > 0) group *= 2 * top / norm;
-      else group.setConstant(2 * top / 3);
+      if (norm > 0)
+        group *= 2 * top / norm;
+      else
+        group.setConstant(2 * top / 3);
     }
   }
 }
@@ -236,12 +247,15 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
     // optimizer's (proximal_sparsity). The reported total includes it either way.
     const bool proximal = config_.support == "proximal";
     Var fit = nn::scale(recon, static_cast<T>(config_.lambda_recon));
-    Var l = proximal ? nn::add(fit, vz)
-                     : nn::add(nn::add(fit, nn::scale(omega, static_cast<T>(config_.lambda_sparse))), vz);
+    Var l =
+        proximal
+            ? nn::add(fit, vz)
+            : nn::add(nn::add(fit, nn::scale(omega, static_cast<T>(config_.lambda_sparse))), vz);
     *loss = loss->id < 0 ? l : nn::add(*loss, l);
     if (terms) {
-      terms->total += static_cast<double>(l.value()(0, 0)) +
-                      (proximal ? config_.lambda_sparse * static_cast<double>(omega.value()(0, 0)) : 0.0);
+      terms->total +=
+          static_cast<double>(l.value()(0, 0)) +
+          (proximal ? config_.lambda_sparse * static_cast<double>(omega.value()(0, 0)) : 0.0);
       terms->recon += static_cast<double>(recon.value()(0, 0));
       terms->sparsity += static_cast<double>(omega.value()(0, 0));
       terms->latent += static_cast<double>(vz.value()(0, 0));
@@ -305,7 +319,8 @@ nn::Var<T> MsaeNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p, const Matr
                                     terms, weights);
     residual[b] = out.residual;
     masks[b] = out.masks;
-    if (config_.lambda_whole > 0) whole_xhat = whole_xhat.id < 0 ? out.xhat : nn::add(whole_xhat, out.xhat);
+    if (config_.lambda_whole > 0)
+      whole_xhat = whole_xhat.id < 0 ? out.xhat : nn::add(whole_xhat, out.xhat);
   }
   if (config_.lambda_whole > 0) {
     const Var e = nn::sub(input[0], whole_xhat);
@@ -352,8 +367,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::subtree(int b, const Matrix& x,
     Matrix g_am = am ? Matrix::Zero(am->rows(), am->cols()) : Matrix();
     for (int child : bl.children) {
       const Block& cb = blocks_[static_cast<std::size_t>(child)];
-      const Matrix g = subtree(child, child_input(cb, r, am), lambda, trains, true, terms, weights,
-                                 g_whole);
+      const Matrix g =
+          subtree(child, child_input(cb, r, am), lambda, trains, true, terms, weights, g_whole);
       if (!am) {
         g_r += g;
         continue;
@@ -446,7 +461,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::decode(int block, const Matrix& z) const
 }
 
 template <class T>
-typename MsaeNet<T>::Matrix MsaeNet<T>::recombined_shapes(const Matrix& x, int count, Rng& rng) const {
+typename MsaeNet<T>::Matrix MsaeNet<T>::recombined_shapes(const Matrix& x, int count,
+                                                          Rng& rng) const {
   std::vector<Matrix> codes;
   reconstruct(x, config_.levels(), &codes);
   Matrix shapes = Matrix::Zero(count, x.cols());
@@ -454,7 +470,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::recombined_shapes(const Matrix& x, int c
     Matrix mixed(count, codes[b].cols());
     for (Eigen::Index j = 0; j < mixed.cols(); ++j)
       for (Eigen::Index r = 0; r < count; ++r)
-        mixed(r, j) = codes[b](static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(x.rows()))), j);
+        mixed(r, j) =
+            codes[b](static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(x.rows()))), j);
     shapes += decode(static_cast<int>(b), mixed);
   }
   return shapes;
@@ -467,7 +484,8 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::fit_codes(const Matrix& x, int levels,
   if (levels < 1 || levels > config_.levels())
     throw UsageError(fmt::format("the model has levels 1..{}, not {}", config_.levels(), levels));
   const int n_blocks = level_begin_[static_cast<std::size_t>(levels)];
-  if (static_cast<int>(codes.size()) < n_blocks) throw Error("internal: fit_codes needs every block's codes");
+  if (static_cast<int>(codes.size()) < n_blocks)
+    throw Error("internal: fit_codes needs every block's codes");
   // The codes of all blocks as one flat vector for Adam.
   Eigen::Index n_codes = 0;
   for (int b = 0; b < n_blocks; ++b) n_codes += codes[static_cast<std::size_t>(b)].size();

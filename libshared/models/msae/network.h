@@ -8,7 +8,8 @@
 // --decoder-fc linear, as the convMesh code of Tan et al.)
 // C [K_z, 9V] has no bias and is shared by encoder and decoder; conv' is the mesh convolution
 // with the encoder's weights transposed (--decoder-conv transposed) or as they are (shared, as the
-// convMesh code the paper builds on reuses them) and its own bias. Loss of a block: λ₁ L_recon + λ₂ Ω(C) + V(Z), with
+// convMesh code the paper builds on reuses them) and its own bias. Loss of a block: λ₁ L_recon + λ₂
+// Ω(C) + V(Z), with
 //   L_recon = mean over the batch of ‖x − x̂‖²,
 //   Ω(C) = (1/K_z) Σ_k Σ_i Λ_ik ‖C_{k,i}‖ (Λ_ik = 1 where d(i, c_k) ≥ d, c_k = argmax_i ‖C_{k,i}‖),
 //   V(Z) = (1/K_z) Σ_j max(max_batch |z_j| − θ, 0).
@@ -100,7 +101,8 @@ struct MsaeConfig {
 /// Loss terms summed over the blocks of a batch (the first is what is minimised).
 struct MsaeLossTerms {
   double total = 0, recon = 0, sparsity = 0, latent = 0;
-  double whole = 0;  ///< mean ‖x − Σ_b x̂_b‖² over the batch, rows weighted as in L_recon (lambda_whole > 0)
+  double whole =
+      0;  ///< mean ‖x − Σ_b x̂_b‖² over the batch, rows weighted as in L_recon (lambda_whole > 0)
 };
 
 template <class T>
@@ -160,14 +162,16 @@ class MsaeNet {
         order[static_cast<std::size_t>(k)] = k;
       }
       std::stable_sort(order.begin(), order.end(), [&](int p, int q) {
-        return norms(p, peak[static_cast<std::size_t>(p)]) > norms(q, peak[static_cast<std::size_t>(q)]);
+        return norms(p, peak[static_cast<std::size_t>(p)]) >
+               norms(q, peak[static_cast<std::size_t>(q)]);
       });
       std::vector<int> c(peak.size());
       std::vector<char> open(static_cast<std::size_t>(n_vertices_), 1);
       for (int k : order) {
         int best = -1;
         for (int i = 0; i < n_vertices_; ++i)
-          if (open[static_cast<std::size_t>(i)] && (best < 0 || norms(k, i) > norms(k, best))) best = i;
+          if (open[static_cast<std::size_t>(i)] && (best < 0 || norms(k, i) > norms(k, best)))
+            best = i;
         c[static_cast<std::size_t>(k)] = best >= 0 ? best : peak[static_cast<std::size_t>(k)];
         const auto& row = distance(c[static_cast<std::size_t>(k)]);
         for (int i = 0; i < n_vertices_; ++i)
@@ -203,7 +207,8 @@ class MsaeNet {
   /// never zeroes a group: it leaves weights of the order of the step size all over the mesh,
   /// which eq. 7 counts (docs/msae.md). Only blocks of `levels` (empty: all) — a level frozen
   /// in separate training keeps its weights.
-  void proximal_sparsity(const std::vector<Matrix>& lambda, const typename nn::Adam<T>::StepSizes& eta,
+  void proximal_sparsity(const std::vector<Matrix>& lambda,
+                         const typename nn::Adam<T>::StepSizes& eta,
                          const std::vector<int>& levels);
   /// Makes vertex `vertices[b][k]` the centre of component k of block b (its group of C becomes
   /// twice the row's largest group norm): where the centres start with --centres spread.

@@ -41,13 +41,15 @@ void recon_msae(const MsaeReconOptions& opt, const CommonOptions& common) {
   }
   progress.finish();
   if (opt.fit_codes > 0)
-    log::info("mean |X - X^|^2 per shape: encoder's codes {:.6g}, fitted codes {:.6g}",
-              encoder_error / static_cast<double>(recon.rows()),
-              static_cast<double>((shapes.x - recon).squaredNorm()) / static_cast<double>(recon.rows()));
+    log::info(
+        "mean |X - X^|^2 per shape: encoder's codes {:.6g}, fitted codes {:.6g}",
+        encoder_error / static_cast<double>(recon.rows()),
+        static_cast<double>((shapes.x - recon).squaredNorm()) / static_cast<double>(recon.rows()));
 
-  write_shapes(opt.output, m, shapes, &recon, nullptr, opt.data, {opt.model, opt.data},
-               common.force, fmt::format("recon-msae: {} of {} levels{}", levels, m.config.levels(),
-                           opt.fit_codes ? fmt::format(", codes fitted ({} steps)", opt.fit_codes) : ""));
+  write_shapes(
+      opt.output, m, shapes, &recon, nullptr, opt.data, {opt.model, opt.data}, common.force,
+      fmt::format("recon-msae: {} of {} levels{}", levels, m.config.levels(),
+                  opt.fit_codes ? fmt::format(", codes fitted ({} steps)", opt.fit_codes) : ""));
   log::info("wrote {} shapes ({} part, {} of {} levels) to {}", recon.rows(), opt.part, levels,
             m.config.levels(), opt.output);
 }

@@ -12,15 +12,17 @@ Settings msae_network_settings(MsaeConfig& c) {
        .help = "Omega's normalized geodesic radius per level (comma-separated)"},
       {.name = "attention",
        .target = &c.attention,
-       .help = "One autoencoder per level on the whole residual, with as many components as the\n"
-               "attention tree has there (paper Table 4; --levels 1 --no-attention is the one-level\n"
-               "sparse autoencoder of Tan et al.)",
+       .help =
+           "One autoencoder per level on the whole residual, with as many components as the\n"
+           "attention tree has there (paper Table 4; --levels 1 --no-attention is the one-level\n"
+           "sparse autoencoder of Tan et al.)",
        .option = "--no-attention"},
       {.name = "latent",
        .target = &c.latent,
-       .help = "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: the\n"
-               "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real meshes\n"
-               "and V(Z) never acts; see docs/msae.md)",
+       .help =
+           "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: the\n"
+           "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real meshes\n"
+           "and V(Z) never acts; see docs/msae.md)",
        .choices = {"tanh", "linear"}},
       {.name = "decoder_fc",
        .target = &c.decoder_fc,
@@ -30,8 +32,9 @@ Settings msae_network_settings(MsaeConfig& c) {
        .optional = true},
       {.name = "decoder_conv",
        .target = &c.decoder_conv,
-       .help = "The decoder's mesh convolution uses the encoder's weights transposed, or shared as\n"
-               "they are (as the convMesh code)",
+       .help =
+           "The decoder's mesh convolution uses the encoder's weights transposed, or shared as\n"
+           "they are (as the convMesh code)",
        .choices = {"transposed", "shared"},
        .optional = true},
       {.name = "init",
@@ -43,17 +46,19 @@ Settings msae_network_settings(MsaeConfig& c) {
        .optional = true},
       {.name = "centres",
        .target = &c.centres,
-       .help = "Where the components' centres start: random (where the initial weights peak; the\n"
-               "reconstruction gradient then draws most to the same vertices) or spread (farthest-\n"
-               "point sampling: level 0 over the mesh, a child within its parent's radius)",
+       .help =
+           "Where the components' centres start: random (where the initial weights peak; the\n"
+           "reconstruction gradient then draws most to the same vertices) or spread (farthest-\n"
+           "point sampling: level 0 over the mesh, a child within its parent's radius)",
        .choices = {"random", "spread"},
        .optional = true},
       {.name = "centre_separation",
        .target = &c.centre_separation,
-       .help = "0: c_k = argmax_i |C_k,i| every iteration (the paper). s > 0: a block's components,\n"
-               "strongest first, each take their strongest vertex at least s x d (geodesic) from\n"
-               "the centres already given out in the block, so that no two share a centre and\n"
-               "Omega pushes them apart (the plain argmax where no vertex is that far)",
+       .help =
+           "0: c_k = argmax_i |C_k,i| every iteration (the paper). s > 0: a block's components,\n"
+           "strongest first, each take their strongest vertex at least s x d (geodesic) from\n"
+           "the centres already given out in the block, so that no two share a centre and\n"
+           "Omega pushes them apart (the plain argmax where no vertex is that far)",
        .optional = true},
       {.name = "support",
        .target = &c.support,
@@ -74,19 +79,23 @@ Settings msae_network_settings(MsaeConfig& c) {
        .optional = true},
       {.name = "attention_sharpness",
        .target = &c.attention_sharpness,
-       .help = "Attention masks from am^p instead of am (eq. 5-6): 1 (the paper), 2 or 4. Where\n"
-               "level-0 components overlap, the masks spread each vertex's residual thin over them\n"
-               "and the second level starves; p > 1 gives more of it to the component that owns the\n"
-               "vertex most (the masks still sum to 1; see docs/msae.md)",
+       .help =
+           "Attention masks from am^p instead of am (eq. 5-6): 1 (the paper), 2 or 4. Where\n"
+           "level-0 components overlap, the masks spread each vertex's residual thin over them\n"
+           "and the second level starves; p > 1 gives more of it to the component that owns the\n"
+           "vertex most (the masks still sum to 1; see docs/msae.md)",
        .optional = true},
-      {.name = "lambda_recon", .target = &c.lambda_recon, .help = "Weight of the reconstruction MSE"},
+      {.name = "lambda_recon",
+       .target = &c.lambda_recon,
+       .help = "Weight of the reconstruction MSE"},
       {.name = "lambda_sparse", .target = &c.lambda_sparse, .help = "Weight of Omega(C)"},
       {.name = "lambda_whole",
        .target = &c.lambda_whole,
-       .help = "Weight of the whole reconstruction's MSE |X - sum of every block's X^|^2, added to\n"
-               "the blocks' own losses: each second-level autoencoder reconstructs only its masked\n"
-               "share of the residual, and this term makes them fit it together (as the codes\n"
-               "recon-msae --fit-codes finds do; docs/msae.md). 0 = none (the paper)",
+       .help =
+           "Weight of the whole reconstruction's MSE |X - sum of every block's X^|^2, added to\n"
+           "the blocks' own losses: each second-level autoencoder reconstructs only its masked\n"
+           "share of the residual, and this term makes them fit it together (as the codes\n"
+           "recon-msae --fit-codes finds do; docs/msae.md). 0 = none (the paper)",
        .optional = true},
       {.name = "theta",
        .target = &c.theta,
@@ -112,21 +121,24 @@ Settings msae_training_settings(MsaeTraining& t) {
        .help = "Iterations per factor --lr-decay"},
       {.name = "separate",
        .target = &t.separate,
-       .help = "Train level by level (iterations divided equally; earlier levels frozen) instead of\n"
-               "jointly (paper Table 4)"},
+       .help =
+           "Train level by level (iterations divided equally; earlier levels frozen) instead of\n"
+           "jointly (paper Table 4)"},
       {.name = "separate_rate",
        .target = &t.separate_rate,
-       .help = "With --separate: each level's new Adam starts at --lr (restart) or at the rate the\n"
-               "schedule has reached when the level starts (continue: the rate joint training has\n"
-               "there, so that joint and separate differ in strategy only)",
+       .help =
+           "With --separate: each level's new Adam starts at --lr (restart) or at the rate the\n"
+           "schedule has reached when the level starts (continue: the rate joint training has\n"
+           "there, so that joint and separate differ in strategy only)",
        .choices = {"restart", "continue"},
        .optional = true},
       {.name = "synthetic",
        .target = &t.synthetic,
-       .help = "Add N shapes the decoders make to every batch, each code the same code of one of\n"
-               "the batch's training shapes drawn at random (independently per code): the encoder\n"
-               "learns to invert the decoders beyond the training shapes' code combinations, where\n"
-               "unseen shapes lie (docs/msae.md). 0 = none (the paper)",
+       .help =
+           "Add N shapes the decoders make to every batch, each code the same code of one of\n"
+           "the batch's training shapes drawn at random (independently per code): the encoder\n"
+           "learns to invert the decoders beyond the training shapes' code combinations, where\n"
+           "unseen shapes lie (docs/msae.md). 0 = none (the paper)",
        .optional = true},
       {.name = "synthetic_weight",
        .target = &t.synthetic_weight,
@@ -149,10 +161,11 @@ Settings msae_training_settings(MsaeTraining& t) {
        .resume = false},
       {.name = "validation_fraction",
        .target = &t.validation_fraction,
-       .help = "This fraction of the held-out shapes (drawn by --seed) validates instead of testing;\n"
-               "its error is logged at every loss line (features, and E_rms x 1000 of positions as\n"
-               "eval-metrics measures it). Choose iteration counts and options on it, never on\n"
-               "the test shapes",
+       .help =
+           "This fraction of the held-out shapes (drawn by --seed) validates instead of testing;\n"
+           "its error is logged at every loss line (features, and E_rms x 1000 of positions as\n"
+           "eval-metrics measures it). Choose iteration counts and options on it, never on\n"
+           "the test shapes",
        .resume = false},
       {.name = "seed", .target = &t.seed},  // the tool's --seed
   };

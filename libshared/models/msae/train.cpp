@@ -14,9 +14,9 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
-#include "models/msae/settings.h"
 #include "io/acap_file.h"
 #include "models/common/training.h"
+#include "models/msae/settings.h"
 
 namespace df::models {
 namespace {
@@ -242,8 +242,9 @@ MsaeModel describe_model(const MsaeTrainOptions& opt, const CommonOptions& commo
   m.history = in.history();
   m.tmpl = in.read_template();
   m.normalization = in.normalization();
-  m.split = opt.train_list.empty() ? split_shapes(in.offsets(), m.training)
-                                   : split_from_lists(in.frame_names(), opt.train_list, opt.test_list);
+  m.split = opt.train_list.empty()
+                ? split_shapes(in.offsets(), m.training)
+                : split_from_lists(in.frame_names(), opt.train_list, opt.test_list);
   if (!opt.train_list.empty())
     carve_validation(m.split, m.training.validation_fraction, m.training.seed);
   m.split.data = opt.input;
@@ -277,7 +278,8 @@ std::vector<int> farthest_points(geometry::GeodesicRows& geodesic, const std::ve
 // --centres spread: level-0 blocks' centres by farthest-point sampling over the mesh (from the
 // vertex farthest from vertex 0); an attention child's within its parent component's radius
 // (from the parent's centre); a level block without attention over the whole mesh.
-std::vector<std::vector<int>> spread_centres(const MsaeNet<float>& net, geometry::GeodesicRows& geodesic) {
+std::vector<std::vector<int>> spread_centres(const MsaeNet<float>& net,
+                                             geometry::GeodesicRows& geodesic) {
   const int V = net.n_vertices();
   std::vector<int> all(static_cast<std::size_t>(V));
   std::iota(all.begin(), all.end(), 0);
@@ -315,7 +317,8 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
     m.rng = ck.rng;
     m.iteration = ck.iteration;
     m.log = std::move(ck.log);
-    m.log_validation_erms = ck.log_validation_erms;  // its log's columns go on as they began (if any)
+    m.log_validation_erms =
+        ck.log_validation_erms;  // its log's columns go on as they began (if any)
     m.unprinted = std::move(ck.unprinted);
     m.geodesic_diameter = ck.geodesic_diameter;
     auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
@@ -341,10 +344,10 @@ std::vector<nn::Matrix<float>> current_sparsity_masks(const MsaeModel& m,
   std::vector<int> sources;
   for (const auto& c : peaks) sources.insert(sources.end(), c.begin(), c.end());
   geodesic.prepare(sources);
-  const auto centres =
-      m.config.centre_separation > 0
-          ? m.net->separated_centres([&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); })
-          : peaks;
+  const auto centres = m.config.centre_separation > 0
+                           ? m.net->separated_centres(
+                                 [&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); })
+                           : peaks;
   return m.net->sparsity_masks(centres,
                                [&](int c) -> const Eigen::VectorXf& { return geodesic.row(c); });
 }
@@ -366,7 +369,8 @@ void remember_geodesics(MsaeModel& m, geometry::GeodesicRows& geodesic) {
 
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
-  const TrainingClaims claims = claim_training_outputs(opt.output, opt.input, common.force, opt.run);
+  const TrainingClaims claims =
+      claim_training_outputs(opt.output, opt.input, common.force, opt.run);
   const io::AcapReader in(opt.input);
   if (!in.has_normalized())
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
@@ -405,8 +409,9 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     const int stage = stage_of(m, done);
     if (stage > 0 && stage_of(m, done - 1) != stage) {
       m.adam = m.make_adam(done - 1);
-      log::info("separate training: level {} from iteration {} (levels below it frozen; rate {:.3g})",
-                stage, done, m.adam->learning_rate());
+      log::info(
+          "separate training: level {} from iteration {} (levels below it frozen; rate {:.3g})",
+          stage, done, m.adam->learning_rate());
     }
     m.net->store().zero_grad();
     const MsaeLossTerms terms = m.net->loss_and_gradient(
@@ -445,8 +450,7 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     };
   run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt},
                     {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, m.unprinted, step,
-                    checkpoint,
-                    evaluate_names, evaluate);
+                    checkpoint, evaluate_names, evaluate);
   remember_geodesics(m, *geodesic);
   save_msae_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "core/common_options.h"
-#include "models/msae/model.h"
 #include "models/common/training.h"
+#include "models/msae/model.h"
 
 namespace df::models {
 
@@ -26,7 +26,7 @@ using MsaeShapeMeasureFactory =
 struct MsaeTrainOptions {
   std::string input, output;
   std::string train_list, test_list;  ///< explicit split: files of frame names or indices
-  TrainingRun run;  ///< checkpoints, --resume, loss lines
+  TrainingRun run;                    ///< checkpoints, --resume, loss lines
   MsaeConfig net;
   MsaeTraining training;
   /// When set and there are validation shapes, every loss line also logs their E_rms.

@@ -32,7 +32,8 @@ void write_finger(const std::string& dir, int frames, int resolution = 6) {
   p.resolution = resolution;
   p.twist_degrees = 120;
   df::synth::MeshSequenceGenerator g(p);
-  for (int t = 0; t < frames; ++t) df::io::write_mesh(dir + "/" + std::to_string(t) + ".obj", {g.frame(t), g.rest().faces});
+  for (int t = 0; t < frames; ++t)
+    df::io::write_mesh(dir + "/" + std::to_string(t) + ".obj", {g.frame(t), g.rest().faces});
 }
 
 // A tiny MD2 file: 3 vertices, 1 triangle, frames "walk1" "walk2" "jump1".
@@ -58,7 +59,8 @@ void write_md2(const std::string& path) {
 }
 }  // namespace
 
-TEST_CASE("read_md2: frames decoded with scale/translate, winding flipped, animations", "[convert]") {
+TEST_CASE("read_md2: frames decoded with scale/translate, winding flipped, animations",
+          "[convert]") {
   df::test::TempDir tmp;
   write_md2(tmp / "m.md2");
   auto m = df::io::read_md2(tmp / "m.md2");
@@ -69,7 +71,9 @@ TEST_CASE("read_md2: frames decoded with scale/translate, winding flipped, anima
   CHECK(m.animations[0].name == "walk");
   CHECK(m.animations[0].count == 2);
   CHECK(m.animations[1].name == "jump");
-  df::test::write_text(tmp / "bad.md2", "IDPX and more bytes to pass the header size check........................................");
+  df::test::write_text(
+      tmp / "bad.md2",
+      "IDPX and more bytes to pass the header size check........................................");
   CHECK_THROWS_WITH(df::io::read_md2(tmp / "bad.md2"), Catch::Contains("not an MD2 file"));
 }
 
@@ -78,7 +82,8 @@ TEST_CASE("FrameReader: directories, @lists and runs of files become sequences",
   write_finger(tmp / "walk", 3);
   write_finger(tmp / "run", 2);
   df::test::write_text(tmp / "list.txt", "walk/2.obj\nwalk/0.obj\n");
-  df::convert::FrameReader r({tmp / "walk", "@" + (tmp / "list.txt"), tmp / "run/0.obj", tmp / "run/1.obj"});
+  df::convert::FrameReader r(
+      {tmp / "walk", "@" + (tmp / "list.txt"), tmp / "run/0.obj", tmp / "run/1.obj"});
   REQUIRE(r.sequences().size() == 3);
   CHECK(r.sequences()[0].name == "walk");
   CHECK(r.sequences()[0].count == 3);
@@ -132,7 +137,8 @@ TEST_CASE("obj2acap + acap2obj: round trip on a small bending, twisting finger",
   File in(tmp / "f.h5", File::Mode::read);
   auto Q = in.read<float>("/frames/positions").data;
   double worst = 0;
-  for (std::size_t k = 0; k < P.size(); ++k) worst = std::max(worst, static_cast<double>(std::abs(P[k] - Q[k])));
+  for (std::size_t k = 0; k < P.size(); ++k)
+    worst = std::max(worst, static_cast<double>(std::abs(P[k] - Q[k])));
   CHECK(worst < 1e-5);  // exact solver; positions stored as float32
   // Provenance: this run first, then the input's history.
   auto history = df::provenance::history_lines(df::io::read_history(b));
@@ -170,12 +176,14 @@ TEST_CASE("obj2acap: bad input is one clear error and leaves no output", "[conve
   df::test::write_text(tmp / "f/2.obj", "this is not a mesh\n");
   CHECK_THAT(run({tmp / "f"}), Catch::Contains("has 0 vertices but the reference"));
   CHECK_THAT(run({tmp / "missing"}), Catch::Contains("no such file"));
-  CHECK(std::distance(fs::directory_iterator(tmp.path()), fs::directory_iterator()) == 1);  // only f/
+  CHECK(std::distance(fs::directory_iterator(tmp.path()), fs::directory_iterator()) ==
+        1);  // only f/
   df::convert::Obj2AcapOptions o;
   o.inputs = {tmp / "f/0.obj"};
   o.output = tmp / "f/0.obj";
   o.reference = "";
-  CHECK_THAT(df::test::error_message([&] { df::convert::obj2acap(o, quiet()); }), Catch::Contains("overwrite an input"));
+  CHECK_THAT(df::test::error_message([&] { df::convert::obj2acap(o, quiet()); }),
+             Catch::Contains("overwrite an input"));
 }
 
 TEST_CASE("acap2obj: wrong kind, no features, NaN features, mismatched V", "[convert]") {

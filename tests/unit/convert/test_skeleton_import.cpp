@@ -1,8 +1,8 @@
 // The skeleton importers on small hand-written fixtures (UTKinect, MSR-Action3D), BVH through
 // assimp on a two-joint file with known positions, and skel2h5's processing steps.
-#include <catch2/catch.hpp>
 #include <fmt/format.h>
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 
@@ -22,12 +22,14 @@ namespace {
 // A UTKinect joints line: frame id, then joint j at (id + j, 2j, -j) / 100.
 std::string utk_line(int id) {
   std::string s = std::to_string(id);
-  for (int j = 0; j < 20; ++j) s += fmt::format(" {} {} {}", (id + j) / 100.0, 2 * j / 100.0, -j / 100.0);
+  for (int j = 0; j < 20; ++j)
+    s += fmt::format(" {} {} {}", (id + j) / 100.0, 2 * j / 100.0, -j / 100.0);
   return s + "\n";
 }
 
 // MSR-Action3D's file order: the Kinect joint (io::kinect_joint_names) at each of its 20 lines.
-constexpr int kMsrFromKinect[20] = {4, 8, 2, 1, 12, 16, 0, 5, 9, 6, 10, 7, 11, 13, 17, 14, 18, 15, 19, 3};
+constexpr int kMsrFromKinect[20] = {4,  8, 2,  1,  12, 16, 0,  5,  9,  6,
+                                    10, 7, 11, 13, 17, 14, 18, 15, 19, 3};
 
 // synth-actions' walkers (Kinect order; x to the figure's left, y up, facing +z) seen by a camera
 // at the origin looking along +z, the figure 3 m away facing it: (x, y, z) -> (-x, y, 3 - z), a
@@ -42,7 +44,8 @@ std::vector<std::vector<float>> camera_walkers(bool image) {
   const io::SkeletonFile made = synth::make_actions(p);
   std::vector<std::vector<float>> out;
   for (std::size_t s = 0; s < made.sequences(); ++s) {
-    std::vector<float> q(made.poses.begin() + made.offsets[s] * 60, made.poses.begin() + made.offsets[s + 1] * 60);
+    std::vector<float> q(made.poses.begin() + made.offsets[s] * 60,
+                         made.poses.begin() + made.offsets[s + 1] * 60);
     for (std::size_t k = 0; k < q.size(); k += 3) {
       const float x = -q[k], y = q[k + 1], z = 3 - q[k + 2];
       q[k] = image ? -x : x;
@@ -60,7 +63,8 @@ std::string msr_text(const std::vector<float>& kinect, bool as_is = false) {
   std::string text;
   for (std::size_t t = 0; t * 60 < kinect.size(); ++t)
     for (int line = 0; line < 20; ++line) {
-      const std::size_t j = as_is ? static_cast<std::size_t>(line) : static_cast<std::size_t>(kMsrFromKinect[line]);
+      const std::size_t j =
+          as_is ? static_cast<std::size_t>(line) : static_cast<std::size_t>(kMsrFromKinect[line]);
       const float* p = kinect.data() + t * 60 + j * 3;
       text += fmt::format("{} {} {} 1\n", p[0], p[1], p[2]);
     }
@@ -69,7 +73,8 @@ std::string msr_text(const std::vector<float>& kinect, bool as_is = false) {
 
 }  // namespace
 
-TEST_CASE("skeleton import: UTKinect segments by frame id, warnings for what can be skipped", "[convert]") {
+TEST_CASE("skeleton import: UTKinect segments by frame id, warnings for what can be skipped",
+          "[convert]") {
   TempDir dir;
   std::string take;
   for (int id : {10, 12, 12, 14, 16, 18, 20}) take += utk_line(id);  // a repeated id is dropped
@@ -77,7 +82,8 @@ TEST_CASE("skeleton import: UTKinect segments by frame id, warnings for what can
   write_text(dir / "actionLabel.txt",
              "s03_e01\nwalk: 12 16 \nwave: NaN NaN\nkick: 18 14\ns04_e01\nwalk: 1 5\n");
   const auto c = convert::read_utkinect(dir / "actionLabel.txt");
-  REQUIRE(c.sequences.size() == 1);  // wave has no range, kick ends before it starts, s04 is missing
+  REQUIRE(c.sequences.size() ==
+          1);  // wave has no range, kick ends before it starts, s04 is missing
   const auto& s = c.sequences[0];
   CHECK(s.name == "s03_e01_walk");
   CHECK(s.label == "walk");
@@ -89,16 +95,20 @@ TEST_CASE("skeleton import: UTKinect segments by frame id, warnings for what can
   write_text(dir / "joints_s05_e01.txt", utk_line(1) + "2 0.1 0.2\n");
   write_text(dir / "bad.txt", "s05_e01\nwalk: 1 2\n");
   CHECK(error_message([&] { convert::read_utkinect(dir / "bad.txt"); }) ==
-        "expected a frame id and 20 joints x (x y z) = 61 numbers, found 3 (" + (dir / "joints_s05_e01.txt") + ":2)");
+        "expected a frame id and 20 joints x (x y z) = 61 numbers, found 3 (" +
+            (dir / "joints_s05_e01.txt") + ":2)");
   write_text(dir / "joints_s05_e01.txt", utk_line(1) + "2 0.1 x" + utk_line(3).substr(1));
-  CHECK(error_message([&] { convert::read_utkinect(dir / "bad.txt"); }).find("field 3 is not a finite number: 'x'") != std::string::npos);
+  CHECK(error_message([&] {
+          convert::read_utkinect(dir / "bad.txt");
+        }).find("field 3 is not a finite number: 'x'") != std::string::npos);
   write_text(dir / "joints_s05_e01.txt", utk_line(1) + utk_line(2));
   write_text(dir / "bad.txt", "s05_e01\nwalk 1 2\n");
   CHECK(error_message([&] { convert::read_utkinect(dir / "bad.txt"); }) ==
         "expected a take 'sXX_eYY' or a segment 'class: start end' (" + (dir / "bad.txt") + ":2)");
 }
 
-TEST_CASE("skeleton import: MSR-Action3D files, 20 lines per frame, names give action and subject", "[convert]") {
+TEST_CASE("skeleton import: MSR-Action3D files, 20 lines per frame, names give action and subject",
+          "[convert]") {
   TempDir dir;
   std::string text;
   for (int f = 0; f < 3; ++f)
@@ -118,12 +128,17 @@ TEST_CASE("skeleton import: MSR-Action3D files, 20 lines per frame, names give a
         "the last frame has 1 of 20 joint lines (" + (dir / "a01_s01_e01_skeleton3D.txt") + ":61)");
   write_text(dir / "a01_s01_e01_skeleton3D.txt", "1 2 3\n");
   CHECK(error_message([&] { convert::read_msr_action3d({dir / "a01_s01_e01_skeleton3D.txt"}); }) ==
-        "expected 'x y z confidence', found 3 numbers (" + (dir / "a01_s01_e01_skeleton3D.txt") + ":1)");
+        "expected 'x y z confidence', found 3 numbers (" + (dir / "a01_s01_e01_skeleton3D.txt") +
+            ":1)");
   write_text(dir / "walk.txt", text);
-  CHECK(error_message([&] { convert::read_msr_action3d({dir / "walk.txt"}); }).find("not an MSR-Action3D skeleton file name") == 0);
+  CHECK(error_message([&] {
+          convert::read_msr_action3d({dir / "walk.txt"});
+        }).find("not an MSR-Action3D skeleton file name") == 0);
 }
 
-TEST_CASE("skeleton import: MSR-Action3D's joint order becomes the Kinect order, sides from the geometry", "[convert]") {
+TEST_CASE(
+    "skeleton import: MSR-Action3D's joint order becomes the Kinect order, sides from the geometry",
+    "[convert]") {
   for (const bool image : {false, true}) {
     TempDir dir;
     const auto walkers = camera_walkers(image);
@@ -153,7 +168,8 @@ TEST_CASE("bone-length check: a shuffled joint order fails it, a right one passe
   c.joint_names = io::kinect_joint_names();
   c.parents = io::kinect_joint_parents();
   for (std::size_t s = 0; s < walkers.size(); ++s)
-    c.sequences.push_back({fmt::format("walker{}", s), "walk", 1, std::vector<double>(30), walkers[s]});
+    c.sequences.push_back(
+        {fmt::format("walker{}", s), "walk", 1, std::vector<double>(30), walkers[s]});
   CHECK_NOTHROW(convert::check_bone_lengths(c, 0.3, true, "walkers"));
   // the file read in the wrong order: MSR-Action3D's lines taken as Kinect joints
   convert::RawSkeletonCollection shuffled = c;
@@ -161,22 +177,28 @@ TEST_CASE("bone-length check: a shuffled joint order fails it, a right one passe
     for (std::size_t t = 0; t * 60 < s.poses.size(); ++t)
       for (std::size_t j = 0; j < 20; ++j)
         for (std::size_t d = 0; d < 3; ++d)
-          s.poses[t * 60 + j * 3 + d] = c.sequences[&s - shuffled.sequences.data()].poses[t * 60 + static_cast<std::size_t>(kMsrFromKinect[j]) * 3 + d];
+          s.poses[t * 60 + j * 3 + d] =
+              c.sequences[&s - shuffled.sequences.data()]
+                  .poses[t * 60 + static_cast<std::size_t>(kMsrFromKinect[j]) * 3 + d];
   const auto bones = convert::bone_length_spread(shuffled);
   CHECK(bones.front().typical > 0.3);
-  const std::string e = error_message([&] { convert::check_bone_lengths(shuffled, 0.3, true, "walkers"); });
-  CHECK(e.find("bones change length within a recording by more than --bone-tolerance 0.3") != std::string::npos);
+  const std::string e =
+      error_message([&] { convert::check_bone_lengths(shuffled, 0.3, true, "walkers"); });
+  CHECK(e.find("bones change length within a recording by more than --bone-tolerance 0.3") !=
+        std::string::npos);
   CHECK(e.find(bones.front().name) != std::string::npos);
   CHECK(e.find("is the joint order right") != std::string::npos);
   CHECK_NOTHROW(convert::check_bone_lengths(shuffled, 0.3, false, "walkers"));  // a warning only
 }
 
-TEST_CASE("skel2h5: a directory of MSR-Action3D files imports as it is, other files left out", "[convert]") {
+TEST_CASE("skel2h5: a directory of MSR-Action3D files imports as it is, other files left out",
+          "[convert]") {
   TempDir dir;
   const auto walkers = camera_walkers(false);
   std::filesystem::create_directory(dir / "msr");
   for (std::size_t s = 0; s < walkers.size(); ++s)
-    write_text(dir / fmt::format("msr/a{:02}_s{:02}_e01_skeleton3D.txt", s % 2 + 1, s + 1), msr_text(walkers[s]));
+    write_text(dir / fmt::format("msr/a{:02}_s{:02}_e01_skeleton3D.txt", s % 2 + 1, s + 1),
+               msr_text(walkers[s]));
   write_text(dir / "msr/readme.txt", "the dataset's notes\n");
   convert::Skel2h5Options opt;
   opt.inputs = {dir / "msr"};
@@ -192,10 +214,12 @@ TEST_CASE("skel2h5: a directory of MSR-Action3D files imports as it is, other fi
 
   // the same files in Kinect order under MSR names: --strict stops the import
   for (std::size_t s = 0; s < walkers.size(); ++s)
-    write_text(dir / fmt::format("msr/a{:02}_s{:02}_e01_skeleton3D.txt", s % 2 + 1, s + 1), msr_text(walkers[s], true));
+    write_text(dir / fmt::format("msr/a{:02}_s{:02}_e01_skeleton3D.txt", s % 2 + 1, s + 1),
+               msr_text(walkers[s], true));
   opt.strict = true;
   opt.output = dir / "bad.h5";
-  CHECK(error_message([&] { convert::skel2h5(opt, common); }).find("is the joint order right") != std::string::npos);
+  CHECK(error_message([&] { convert::skel2h5(opt, common); }).find("is the joint order right") !=
+        std::string::npos);
   CHECK(!std::filesystem::exists(dir / "bad.h5"));
   std::filesystem::remove_all(dir / "msr");
   std::filesystem::create_directory(dir / "msr");
@@ -207,7 +231,8 @@ TEST_CASE("skeleton import: BVH forward kinematics through assimp", "[convert]")
   TempDir dir;
   // Root at (1, 2, 3) then (1, 2, 4); a child 1 along x, rotated 90 deg about z in frame 2.
   write_text(dir / "two.bvh",
-             "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+             "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition "
+             "Zrotation Xrotation Yrotation\n"
              "  JOINT Arm\n  {\n    OFFSET 1 0 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n"
              "    End Site\n    {\n      OFFSET 1 0 0\n    }\n  }\n}\n"
              "MOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3 0 0 0 0 0 0\n1 2 4 90 0 0 0 0 0\n");
@@ -220,9 +245,11 @@ TEST_CASE("skeleton import: BVH forward kinematics through assimp", "[convert]")
   const std::size_t J = c.joints();
   REQUIRE(J >= 3);
   auto joint = [&](std::size_t f, const std::string& name) {
-    const auto j = static_cast<std::size_t>(std::find(c.joint_names.begin(), c.joint_names.end(), name) - c.joint_names.begin());
+    const auto j = static_cast<std::size_t>(
+        std::find(c.joint_names.begin(), c.joint_names.end(), name) - c.joint_names.begin());
     REQUIRE(j < J);
-    return std::array<double, 3>{s.poses[(f * J + j) * 3], s.poses[(f * J + j) * 3 + 1], s.poses[(f * J + j) * 3 + 2]};
+    return std::array<double, 3>{s.poses[(f * J + j) * 3], s.poses[(f * J + j) * 3 + 1],
+                                 s.poses[(f * J + j) * 3 + 2]};
   };
   CHECK(joint(0, "Hips")[2] == Approx(3));
   CHECK(joint(1, "Hips")[2] == Approx(4));
@@ -231,10 +258,13 @@ TEST_CASE("skeleton import: BVH forward kinematics through assimp", "[convert]")
   CHECK(joint(1, "Arm")[0] == Approx(1).margin(1e-5));
   CHECK(joint(1, "Arm")[1] == Approx(3));
   write_text(dir / "junk.bvh", "HIERARCHY\nROOT\n");
-  CHECK(error_message([&] { convert::read_bvh({dir / "junk.bvh"}, ""); }).find("not a readable BVH file") == 0);
+  CHECK(error_message([&] {
+          convert::read_bvh({dir / "junk.bvh"}, "");
+        }).find("not a readable BVH file") == 0);
 }
 
-TEST_CASE("skel2h5: resampling, per-class split, clips, normalization from the training part", "[convert]") {
+TEST_CASE("skel2h5: resampling, per-class split, clips, normalization from the training part",
+          "[convert]") {
   synth::ActionParams p;
   p.classes = {"walk", "wave"};
   p.per_class = 10;
@@ -251,7 +281,8 @@ TEST_CASE("skel2h5: resampling, per-class split, clips, normalization from the t
     q.subject = made.subjects[s];
     q.name = made.sequence_names[s];
     for (int t = 0; t < 40; ++t) q.times.push_back(t / 30.0);
-    q.poses.assign(made.poses.begin() + made.offsets[s] * 60, made.poses.begin() + made.offsets[s + 1] * 60);
+    q.poses.assign(made.poses.begin() + made.offsets[s] * 60,
+                   made.poses.begin() + made.offsets[s + 1] * 60);
     c.sequences.push_back(q);
   }
   // 30 -> 15 fps keeps every other frame exactly; 40 frames span 39/30 s -> 20 frames
@@ -273,7 +304,8 @@ TEST_CASE("skel2h5: resampling, per-class split, clips, normalization from the t
   opt.test_fraction = 0;
   opt.test_subjects = {2};
   const auto by_subject = convert::assign_test_split(c, opt, 7);
-  for (std::size_t s = 0; s < c.sequences.size(); ++s) CHECK(by_subject[s] == (c.sequences[s].subject == 2));
+  for (std::size_t s = 0; s < c.sequences.size(); ++s)
+    CHECK(by_subject[s] == (c.sequences[s].subject == 2));
 
   opt.length = 16;
   opt.clip_stride = 8;

@@ -1,9 +1,9 @@
-#include <catch2/catch.hpp>
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <catch2/catch.hpp>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -16,7 +16,8 @@ namespace fs = std::filesystem;
 using df::AtomicOutput;
 
 static std::size_t count_entries(const fs::path& dir) {
-  return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+  return static_cast<std::size_t>(
+      std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
 }
 
 TEST_CASE("AtomicOutput: file appears only on commit", "[core]") {
@@ -85,12 +86,14 @@ TEST_CASE("AtomicOutput: forced directory replacement keeps no old files", "[cor
   CHECK_FALSE(fs::exists(tmp / "frames/old.obj"));
   CHECK(count_entries(tmp.path()) == 1);
   // A directory that holds an input is never replaced.
-  CHECK_THROWS_WITH(AtomicOutput(tmp / "frames", AtomicOutput::Kind::directory, true, {tmp / "frames/0000.obj"}),
-                    Catch::Contains("holds an input"));
+  CHECK_THROWS_WITH(
+      AtomicOutput(tmp / "frames", AtomicOutput::Kind::directory, true, {tmp / "frames/0000.obj"}),
+      Catch::Contains("holds an input"));
 }
 
-TEST_CASE("OutputClaim: nests within a process, leaves no lock file, refuses another process's output",
-          "[core]") {
+TEST_CASE(
+    "OutputClaim: nests within a process, leaves no lock file, refuses another process's output",
+    "[core]") {
   df::test::TempDir tmp;
   const fs::path out = tmp / "out.h5";
   const fs::path lock = df::OutputClaim::lock_path(out);
@@ -125,7 +128,8 @@ TEST_CASE("OutputClaim: nests within a process, leaves no lock file, refuses ano
   char c = 0;
   REQUIRE(read(ready[0], &c, 1) == 1);
   CHECK_THROWS_WITH(df::OutputClaim(out),
-                    Catch::Contains("another process (PID " + std::to_string(child) + ") is writing this output"));
+                    Catch::Contains("another process (PID " + std::to_string(child) +
+                                    ") is writing this output"));
   CHECK_THROWS_AS(AtomicOutput(out, AtomicOutput::Kind::file, true), df::IOError);
   kill(child, SIGKILL);
   waitpid(child, nullptr, 0);
@@ -144,10 +148,12 @@ TEST_CASE("OutputClaim: the temporaries of processes that no longer run are remo
   waitpid(gone, nullptr, 0);
   const fs::path out = tmp / "out.h5";
   const std::string stale = ".out.h5.tmp-" + std::to_string(gone) + "-0";
-  const std::string live = ".out.h5.tmp-" + std::to_string(getppid()) + "-0";  // a running process's
-  const std::string other = ".other.h5.tmp-" + std::to_string(gone) + "-0";   // another output's
+  const std::string live =
+      ".out.h5.tmp-" + std::to_string(getppid()) + "-0";                     // a running process's
+  const std::string other = ".other.h5.tmp-" + std::to_string(gone) + "-0";  // another output's
   for (const auto& name : {stale, live, other}) df::test::write_text(tmp / name, "partial");
-  fs::create_directory(tmp / (".out.h5.tmp-" + std::to_string(gone) + "-1"));  // a directory output's
+  fs::create_directory(tmp /
+                       (".out.h5.tmp-" + std::to_string(gone) + "-1"));  // a directory output's
   df::test::write_text(tmp / (".out.h5.tmp-" + std::to_string(gone) + "-1/0.obj"), "v 0 0 0");
   { df::OutputClaim claim(out); }
   CHECK_FALSE(fs::exists(tmp / stale));
@@ -156,13 +162,16 @@ TEST_CASE("OutputClaim: the temporaries of processes that no longer run are remo
   CHECK(fs::exists(tmp / other));
 }
 
-TEST_CASE("claim_output: refuses an existing output before any work, a missing directory too", "[core]") {
+TEST_CASE("claim_output: refuses an existing output before any work, a missing directory too",
+          "[core]") {
   df::test::TempDir tmp;
   df::test::write_text(tmp / "old.h5", "old");
   CHECK_THROWS_WITH(df::claim_output(tmp / "old.h5", false), Catch::Contains("output exists"));
   CHECK_NOTHROW(df::claim_output(tmp / "old.h5", true));
-  CHECK_THROWS_WITH(df::claim_output(tmp / "old.h5", true, {tmp / "old.h5"}), Catch::Contains("overwrite an input"));
-  CHECK_THROWS_WITH(df::claim_output(tmp / "no/x.h5", false), Catch::Contains("directory does not exist"));
+  CHECK_THROWS_WITH(df::claim_output(tmp / "old.h5", true, {tmp / "old.h5"}),
+                    Catch::Contains("overwrite an input"));
+  CHECK_THROWS_WITH(df::claim_output(tmp / "no/x.h5", false),
+                    Catch::Contains("directory does not exist"));
   CHECK(df::claim_outputs({"", "-", tmp / "new.h5"}, false).size() == 1);
   CHECK(count_entries(tmp.path()) == 1);  // no lock file left
 }

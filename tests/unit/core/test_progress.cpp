@@ -1,8 +1,9 @@
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <unistd.h>
 
 #include "core/log.h"
 #include "core/progress.h"
@@ -48,7 +49,10 @@ TEST_CASE("Progress: plain lines when redirected, nothing when silent", "[core]"
   CHECK_THAT(tty, Catch::StartsWith("\rt: x: 3/3") && Catch::EndsWith("done\033[K\n"));
 
   df::Progress::force_mode(df::Progress::Mode::silent);
-  CHECK(capture_stderr([] { df::Progress p("x", 3); p.advance(3); }).empty());
+  CHECK(capture_stderr([] {
+          df::Progress p("x", 3);
+          p.advance(3);
+        }).empty());
 }
 
 TEST_CASE("log: levels filter and prefix with the program", "[core]") {

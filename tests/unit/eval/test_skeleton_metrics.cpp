@@ -1,7 +1,7 @@
-#include <catch2/catch.hpp>
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "core/error.h"
@@ -16,14 +16,15 @@ namespace {
 RowMatrixF gaussian(int rows, int cols, double mean, double sd, std::uint64_t seed) {
   RowMatrixF M(rows, cols);
   Rng rng(seed);
-  for (Eigen::Index i = 0; i < M.size(); ++i) M.data()[i] = static_cast<float>(rng.normal(mean, sd));
+  for (Eigen::Index i = 0; i < M.size(); ++i)
+    M.data()[i] = static_cast<float>(rng.normal(mean, sd));
   return M;
 }
 
 // Synthetic actions of `classes`, per_class sequences of `frames` frames each, by `subjects`
 // performers; every sequence marked as test (callers change the marks).
-io::SkeletonFile actions(std::vector<std::string> classes, int per_class, int frames, std::uint64_t seed,
-                         int subjects = 5) {
+io::SkeletonFile actions(std::vector<std::string> classes, int per_class, int frames,
+                         std::uint64_t seed, int subjects = 5) {
   synth::ActionParams p;
   p.classes = std::move(classes);
   p.per_class = per_class;
@@ -48,7 +49,8 @@ TEST_CASE("MMD: equal to a brute-force double-precision sum over every pair", "[
   }
 }
 
-TEST_CASE("MMD: about 0 for two samples of one distribution, larger the further they differ", "[eval]") {
+TEST_CASE("MMD: about 0 for two samples of one distribution, larger the further they differ",
+          "[eval]") {
   const RowMatrixF X = gaussian(300, 20, 0, 1, 3);
   const double same = eval::mmd2_max(X, gaussian(300, 20, 0, 1, 4)).mmd2;
   const double near = eval::mmd2_max(X, gaussian(300, 20, 0.3, 1, 5)).mmd2;
@@ -76,10 +78,12 @@ TEST_CASE("MMD: the same bits at 1 and 2 threads", "[eval]") {
   CHECK(one == two);
 }
 
-TEST_CASE("skeleton metrics: per class against the real test part, in the real file's coordinates", "[eval]") {
+TEST_CASE("skeleton metrics: per class against the real test part, in the real file's coordinates",
+          "[eval]") {
   io::SkeletonFile real = actions({"walk", "wave"}, 12, 20, 1);
   for (std::size_t s = 0; s < real.sequences(); ++s) real.test[s] = s % 2 == 0;
-  const io::SkeletonFile gen = actions({"walk", "wave"}, 12, 25, 2);  // longer: compared over the first 20
+  const io::SkeletonFile gen =
+      actions({"walk", "wave"}, 12, 25, 2);  // longer: compared over the first 20
   const auto r = eval::skeleton_metrics(gen, real);
   CHECK(r.frames == 20);
   REQUIRE(r.classes.size() == 2);
@@ -99,7 +103,8 @@ TEST_CASE("skeleton metrics: sequences picked by subject, a file against itself"
   for (std::size_t s = 0; s < data.sequences(); ++s) data.test[s] = data.subjects[s] == 4;
   eval::SkeletonSelection select;
   select.pred_subjects = {1, 2, 3};
-  // against the test part (subject 4) by default: every subject-4 clip of a class, 3 subjects' of PRED
+  // against the test part (subject 4) by default: every subject-4 clip of a class, 3 subjects' of
+  // PRED
   const auto r = eval::skeleton_metrics(data, data, select);
   REQUIRE(r.classes.size() == 2);
   CHECK(r.classes[0].generated == 9);
@@ -125,11 +130,13 @@ TEST_CASE("skeleton metrics: sequences picked by subject, a file against itself"
     select.all_truth = false;
     io::SkeletonFile anonymous = data;
     anonymous.subjects.clear();
-    CHECK_THROWS_WITH(eval::skeleton_metrics(anonymous, data, select), Catch::Contains("names no subjects"));
+    CHECK_THROWS_WITH(eval::skeleton_metrics(anonymous, data, select),
+                      Catch::Contains("names no subjects"));
   }
 }
 
-TEST_CASE("skeleton metrics: the motion MMD tells sequences held still from moving ones", "[eval]") {
+TEST_CASE("skeleton metrics: the motion MMD tells sequences held still from moving ones",
+          "[eval]") {
   const io::SkeletonFile real = actions({"walk", "kick"}, 30, 20, 1);
   const io::SkeletonFile gen = actions({"walk", "kick"}, 30, 20, 2);
   io::SkeletonFile still = gen;  // every sequence holds its first pose
@@ -175,7 +182,8 @@ TEST_CASE("variety: mean distance between two sequences and MMD of a set's halve
   for (std::size_t s = 0; s < gen.sequences(); ++s) {  // every sequence a copy of its class's first
     const auto first = static_cast<std::size_t>(
         std::find(gen.labels.begin(), gen.labels.end(), gen.labels[s]) - gen.labels.begin());
-    std::copy_n(gen.poses.begin() + gen.offsets[first] * 60, 20 * 60, gen.poses.begin() + gen.offsets[s] * 60);
+    std::copy_n(gen.poses.begin() + gen.offsets[first] * 60, 20 * 60,
+                gen.poses.begin() + gen.offsets[s] * 60);
   }
   const auto copies = eval::skeleton_metrics(gen, real);
   CHECK(copies.classes[0].pairwise_generated == Approx(0).margin(1e-6));

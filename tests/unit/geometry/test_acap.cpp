@@ -48,7 +48,8 @@ TEST_CASE("ACAP features: rigid rotation gives s = identity and r = the rotation
   Vertices rotated = (m.vertices * R.transpose()).rowwise() + Eigen::RowVector3d(5, -2, 1);
   auto f = features_of(ex, rotated);
   // L = θ[ω]x: L01 = −θω_z, L02 = θω_y, L12 = −θω_x.
-  const double expected[9] = {-theta * axis.z(), theta * axis.y(), -theta * axis.x(), 1, 0, 0, 1, 0, 1};
+  const double expected[9] = {
+      -theta * axis.z(), theta * axis.y(), -theta * axis.x(), 1, 0, 0, 1, 0, 1};
   for (std::size_t k = 0; k < f.size(); ++k) REQUIRE(f[k] == Approx(expected[k % 9]).margin(1e-9));
 }
 
@@ -83,7 +84,9 @@ TEST_CASE("ACAP features: a known bend reproduces its rotation angles", "[geomet
   }
 }
 
-TEST_CASE("ACAP consistency: a bending finger twisting past 180 deg stays continuous in space and time", "[geometry]") {
+TEST_CASE(
+    "ACAP consistency: a bending finger twisting past 180 deg stays continuous in space and time",
+    "[geometry]") {
   // (Past 360 deg, a twisted tube's per-vertex rotations R_z(τ)·R_radial(shear) approach the
   // shear rotation alone, about radial axes that differ around the ring: every rotation-vector
   // lift must then jump by ~2π·(angle between neighbouring radial axes). See the README.)
@@ -120,8 +123,8 @@ TEST_CASE("ACAP consistency: a bending finger twisting past 180 deg stays contin
   // The tip ring is twisted by 300 deg = 5.24 rad at the last frame: |r| keeps growing past π.
   const int tip = 12 * 48 + 3;
   CHECK(prev[tip].norm() == Approx(300 * std::numbers::pi / 180).epsilon(0.03));
-  CHECK(max_space < 1.6);   // neighbours (measured 1.36: shear-tilted axes times |r| ≈ 5)
-  CHECK(max_time < 0.3);    // frames: ≤ 7.5 deg twist steps (measured 0.22)
+  CHECK(max_space < 1.6);    // neighbours (measured 1.36: shear-tilted axes times |r| ≈ 5)
+  CHECK(max_time < 0.3);     // frames: ≤ 7.5 deg twist steps (measured 0.22)
   CHECK(naive_space > 4.0);  // a per-vertex log jumps by ~2π where the twist passes 180 deg
   CHECK(naive_time > 4.0);
 }
@@ -158,8 +161,8 @@ TEST_CASE("ACAP consistency: never worse than its initialisation, deterministic"
 }
 
 TEST_CASE("Normalization: group and per-dim ranges, widened, invertible", "[geometry]") {
-  std::vector<double> f = {-1, 0.5, 0.2, 1, 0, 0, 1, 0, 1,   // vertex 0
-                           0.3, -2, 0.1, 2, 0.1, -0.3, 0.9, 0, 1.2};  // vertex 1
+  std::vector<double> f = {-1,  0.5, 0.2, 1, 0,   0,    1,   0, 1,     // vertex 0
+                           0.3, -2,  0.1, 2, 0.1, -0.3, 0.9, 0, 1.2};  // vertex 1
   NormalizationBuilder gb(NormalizationMode::group), pb(NormalizationMode::per_dim);
   gb.add(f.data(), 2);
   pb.add(f.data(), 2);
@@ -190,7 +193,8 @@ TEST_CASE("Reconstructor: identity and rigid motions are reproduced exactly", "[
   Reconstructor rec(m.vertices, m.faces);
   auto P = rec.solve(features_of(ex, m.vertices).data());
   CHECK((P - m.vertices).cwiseAbs().maxCoeff() < 1e-10);
-  Eigen::Matrix3d R = Eigen::AngleAxisd(2.5, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  Eigen::Matrix3d R =
+      Eigen::AngleAxisd(2.5, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
   Vertices moved = (m.vertices * R.transpose() * 1.3).rowwise() + Eigen::RowVector3d(1, 2, 3);
   auto Q = rec.solve(features_of(ex, moved).data());
   Eigen::RowVector3d shift = moved.row(0) - Q.row(0);
@@ -214,11 +218,14 @@ TEST_CASE("Reconstructor: one pinned vertex per connected component", "[geometry
   auto P = rec.solve(features_of(ex, 0.5 * two.vertices).data());
   CHECK(P.allFinite());
   CHECK((P.row(5) - two.vertices.row(5)).norm() == 0.0);  // the anchor stays put
-  CHECK((P.row(0) - P.row(1)).norm() == Approx(0.5 * (two.vertices.row(0) - two.vertices.row(1)).norm()));
-  CHECK_THROWS_WITH(Reconstructor(two.vertices, two.faces, 100000), Catch::Contains("does not exist"));
+  CHECK((P.row(0) - P.row(1)).norm() ==
+        Approx(0.5 * (two.vertices.row(0) - two.vertices.row(1)).norm()));
+  CHECK_THROWS_WITH(Reconstructor(two.vertices, two.faces, 100000),
+                    Catch::Contains("does not exist"));
 }
 
-TEST_CASE("Reconstructor: the gradient system reproduces a non-affine deformation exactly", "[geometry]") {
+TEST_CASE("Reconstructor: the gradient system reproduces a non-affine deformation exactly",
+          "[geometry]") {
   // The bumps surface: localized, strongly non-affine deformations of a grid.
   df::synth::MeshSeqParams p;
   p.kind = df::synth::MeshSeqKind::bumps;
@@ -228,12 +235,15 @@ TEST_CASE("Reconstructor: the gradient system reproduces a non-affine deformatio
   df::synth::MeshSequenceGenerator g(p);
   const auto& m = g.rest();
   AcapFeatureExtractor ex(m.vertices, m.faces);
-  Reconstructor edges(m.vertices, m.faces), grads(m.vertices, m.faces, 0, ReconstructionSolver::gradients);
+  Reconstructor edges(m.vertices, m.faces),
+      grads(m.vertices, m.faces, 0, ReconstructionSolver::gradients);
   CHECK(grads.solver() == ReconstructionSolver::gradients);
   const double diag = (m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff()).norm();
   for (int t = 1; t < 4; ++t) {
     Vertices frame = g.frame(t);
-    frame = (frame * Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitY()).toRotationMatrix().transpose()).eval();
+    frame =
+        (frame * Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitY()).toRotationMatrix().transpose())
+            .eval();
     auto f = features_of(ex, frame);
     auto align = [&](const Vertices& P) {
       Eigen::RowVector3d shift = frame.row(0) - P.row(0);

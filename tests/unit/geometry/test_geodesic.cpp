@@ -155,7 +155,8 @@ TEST_CASE("geodesics: normalized rows lie in [0, 1], nearly symmetric; other par
   CHECK_THROWS_AS(HeatMethodDistance(two.vertices, df::io::Faces(0, 3)), df::InvalidInput);
 }
 
-TEST_CASE("geodesics: rows on demand are normalized by the swept diameter", "[geometry][geodesic]") {
+TEST_CASE("geodesics: rows on demand are normalized by the swept diameter",
+          "[geometry][geodesic]") {
   const auto m = grid(41);
   df::geometry::GeodesicRows rows(m.vertices, m.faces);
   // The plane [−1, 1]²: the diameter is the diagonal 2√2 (up to the heat method's error).

@@ -28,7 +28,8 @@ TEST_CASE("mesh_topology: edges and sorted one-rings of a tetrahedron", "[geomet
   auto t = mesh_topology(m.faces, 4);
   CHECK(t.edges.size() == 6);
   for (int i = 0; i < 4; ++i) CHECK(t.degree(i) == 3);
-  CHECK(std::vector<int>(t.ring_vertices.begin(), t.ring_vertices.begin() + 3) == std::vector<int>{1, 2, 3});
+  CHECK(std::vector<int>(t.ring_vertices.begin(), t.ring_vertices.begin() + 3) ==
+        std::vector<int>{1, 2, 3});
   for (std::size_t k = 0; k < t.ring_vertices.size(); ++k) {
     auto e = t.edges[static_cast<std::size_t>(t.ring_edges[k])];
     CHECK((e[0] == t.ring_vertices[k] || e[1] == t.ring_vertices[k]));
@@ -74,7 +75,8 @@ TEST_CASE("vertex_normals: unit, outward on a closed mesh", "[geometry]") {
   }
 }
 
-TEST_CASE("polar_decompose: T = RS with R a rotation and S symmetric, also for det T < 0", "[geometry]") {
+TEST_CASE("polar_decompose: T = RS with R a rotation and S symmetric, also for det T < 0",
+          "[geometry]") {
   std::mt19937 rng(0);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int trial = 0; trial < 200; ++trial) {
@@ -94,7 +96,9 @@ TEST_CASE("polar_decompose: T = RS with R a rotation and S symmetric, also for d
   CHECK(p.S.isApprox(M));
 }
 
-TEST_CASE("polar_decompose: a batch gives each matrix's result alone, bit for bit, whatever its lane", "[geometry]") {
+TEST_CASE(
+    "polar_decompose: a batch gives each matrix's result alone, bit for bit, whatever its lane",
+    "[geometry]") {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<Eigen::Matrix3d> T(21);  // two full batches of eight and a partial one
@@ -103,7 +107,7 @@ TEST_CASE("polar_decompose: a batch gives each matrix's result alone, bit for bi
     if (i % 3 == 0) T[i] = random_rotation(rng) * (Eigen::Matrix3d::Identity() + 0.05 * T[i]);
   }
   T[5] = Eigen::Vector3d(2, 1.5, -0.5).asDiagonal();  // det < 0: the SVD fallback inside a batch
-  T[9].setZero();                                       // singular: the fallback too
+  T[9].setZero();                                     // singular: the fallback too
   for (std::size_t offset : {std::size_t{0}, std::size_t{3}}) {  // each matrix in another lane
     std::span<const Eigen::Matrix3d> in(T.data() + offset, T.size() - offset);
     std::vector<PolarDecomposition> out(in.size());
@@ -135,7 +139,8 @@ TEST_CASE("rotation_log / rotation_exp: round trip, near 0 and near pi", "[geome
     AxisAngle a = rotation_log(R);
     CHECK(a.angle == Approx(theta).margin(1e-12));
     if (theta > 1e-6 && theta < std::numbers::pi - 1e-6) CHECK((a.axis - axis).norm() < 1e-9);
-    if (theta == std::numbers::pi) CHECK(std::abs(std::abs(a.axis.dot(axis)) - 1) < 1e-12);  // ±ω both right
+    if (theta == std::numbers::pi)
+      CHECK(std::abs(std::abs(a.axis.dot(axis)) - 1) < 1e-12);  // ±ω both right
     CHECK((rotation_exp(a.axis * a.angle) - R).norm() < 1e-12);
   }
   CHECK(skew(Eigen::Vector3d(1, 2, 3)) * Eigen::Vector3d(4, 5, 6) ==

@@ -41,7 +41,8 @@ TEST_CASE("SparseCholesky solves an SPD system like a dense solver, from many th
   // What the factorisation reports (acap2obj -v): the factor holds at least A's lower triangle,
   // and a dense factor's n³/3 operations bound CHOLMOD's count.
   const auto& st = chol.stats();
-  CHECK(st.factor_nonzeros >= double(Eigen::SparseMatrix<double>(a.triangularView<Eigen::Lower>()).nonZeros()));
+  CHECK(st.factor_nonzeros >=
+        double(Eigen::SparseMatrix<double>(a.triangularView<Eigen::Lower>()).nonZeros()));
   CHECK(st.flops > 0);
   CHECK(st.flops <= double(n) * n * n / 3 + 10.0 * n * n);
   CHECK(st.analyse_seconds > 0);  // measured, not left at zero

@@ -31,7 +31,8 @@ std::vector<double> uniform(int V, const Eigen::Vector3d& r, const Eigen::Matrix
 Eigen::MatrixXd rows_of(const std::vector<std::vector<double>>& d) {
   Eigen::MatrixXd m(static_cast<Eigen::Index>(d.size()), static_cast<Eigen::Index>(d[0].size()));
   for (std::size_t k = 0; k < d.size(); ++k)
-    m.row(static_cast<Eigen::Index>(k)) = Eigen::Map<const Eigen::RowVectorXd>(d[k].data(), m.cols());
+    m.row(static_cast<Eigen::Index>(k)) =
+        Eigen::Map<const Eigen::RowVectorXd>(d[k].data(), m.cols());
   return m;
 }
 
@@ -61,7 +62,8 @@ TEST_CASE("subspace edit: dT/dw and the energy's gradient match finite differenc
   std::mt19937 rng(5);
   const Eigen::MatrixXd D = random_directions(4, V, rng);
   const std::vector<int> handles{0, V / 2, V - 1};
-  SubspaceEditor ed(m.vertices, m.faces, handles, D, uniform(V, {0.2, -0.1, 0.4}, Eigen::Matrix3d::Identity()));
+  SubspaceEditor ed(m.vertices, m.faces, handles, D,
+                    uniform(V, {0.2, -0.1, 0.4}, Eigen::Matrix3d::Identity()));
   Vertices pinned = m.vertices;
   pinned.row(V - 1) += Eigen::RowVector3d(0.3, 0.1, -0.2);
   const Eigen::Vector4d w(0.7, -0.4, 0.3, 1.1);
@@ -85,12 +87,14 @@ TEST_CASE("subspace edit: dT/dw and the energy's gradient match finite differenc
     Eigen::VectorXd a = w, b = w;
     a[k] += h, b[k] -= h;
     const double fd = (ed.energy(a, pinned, reg, SubspaceEditor::EnergyParts::value).value -
-                       ed.energy(b, pinned, reg, SubspaceEditor::EnergyParts::value).value) / (2 * h);
+                       ed.energy(b, pinned, reg, SubspaceEditor::EnergyParts::value).value) /
+                      (2 * h);
     CHECK(e.gradient[k] == Approx(fd).epsilon(1e-6).margin(1e-9));
   }
   // The Gauss-Newton matrix is symmetric and positive semi-definite, λ added on its diagonal.
   CHECK((e.gauss_newton - e.gauss_newton.transpose()).cwiseAbs().maxCoeff() < 1e-12);
-  CHECK(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(e.gauss_newton).eigenvalues().minCoeff() >= 2 * 0.01 - 1e-9);
+  CHECK(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(e.gauss_newton).eigenvalues().minCoeff() >=
+        2 * 0.01 - 1e-9);
   // μ: the sparsity term's share of the energy
   SubspaceEditOptions none;
   none.l2 = 0.01;
@@ -106,8 +110,8 @@ TEST_CASE("subspace edit: a shape inside the span is recovered from a few handle
   sx(0, 0) = 1, sy(1, 1) = 1;
   // Global rotations about x and z, stretches along x and y: every shape in the span is an
   // affine image of the reference, which the edge system represents exactly.
-  const Eigen::MatrixXd D = rows_of({uniform(V, {1, 0, 0}, Z), uniform(V, {0, 0, 1}, Z), uniform(V, {0, 0, 0}, sx),
-                                     uniform(V, {0, 0, 0}, sy)});
+  const Eigen::MatrixXd D = rows_of({uniform(V, {1, 0, 0}, Z), uniform(V, {0, 0, 1}, Z),
+                                     uniform(V, {0, 0, 0}, sx), uniform(V, {0, 0, 0}, sy)});
   const Eigen::Vector4d truth(0.6, -0.9, 0.25, -0.15);
   const Eigen::Matrix3d A = rotation_exp(Eigen::Vector3d(0.6, 0, -0.9)) *
                             Eigen::DiagonalMatrix<double, 3>(1.25, 0.85, 1).toDenseMatrix();
@@ -115,13 +119,15 @@ TEST_CASE("subspace edit: a shape inside the span is recovered from a few handle
   const std::vector<int> handles{0, V / 5, V / 2, (3 * V) / 4, V - 1};
   Vertices pinned = m.vertices;
   for (int v : handles) pinned.row(v) = shape.row(v);
-  SubspaceEditor ed(m.vertices, m.faces, handles, D, uniform(V, {0, 0, 0}, Eigen::Matrix3d::Identity()));
+  SubspaceEditor ed(m.vertices, m.faces, handles, D,
+                    uniform(V, {0, 0, 0}, Eigen::Matrix3d::Identity()));
   SubspaceEditOptions opt;
   opt.l2 = 0;
   const auto r = ed.edit(Eigen::VectorXd::Zero(4), pinned, opt);
   CHECK(r.converged);
   CHECK(r.iterations < 30);
-  const double diagonal = (m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff()).norm();
+  const double diagonal =
+      (m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff()).norm();
   CHECK((r.positions - shape).rowwise().norm().maxCoeff() < 1e-6 * diagonal);
   CHECK((r.weights - truth).cwiseAbs().maxCoeff() < 1e-6);
   for (int v : handles) CHECK((r.positions.row(v) - shape.row(v)).norm() == 0.0);  // held exactly
@@ -132,30 +138,39 @@ TEST_CASE("subspace edit: a shape inside the span is recovered from a few handle
   for (int k = 0; k < 4; ++k) {
     Eigen::VectorXd a = truth, b = truth;
     a[k] += 1e-6, b[k] -= 1e-6;
-    const Eigen::VectorXd fd = (ed.energy(a, pinned, opt, SubspaceEditor::EnergyParts::gradient).gradient -
-                                ed.energy(b, pinned, opt, SubspaceEditor::EnergyParts::gradient).gradient) / 2e-6;
-    CHECK((fd - at.gauss_newton.col(k)).cwiseAbs().maxCoeff() < 1e-6 * (1 + at.gauss_newton.cwiseAbs().maxCoeff()));
+    const Eigen::VectorXd fd =
+        (ed.energy(a, pinned, opt, SubspaceEditor::EnergyParts::gradient).gradient -
+         ed.energy(b, pinned, opt, SubspaceEditor::EnergyParts::gradient).gradient) /
+        2e-6;
+    CHECK((fd - at.gauss_newton.col(k)).cwiseAbs().maxCoeff() <
+          1e-6 * (1 + at.gauss_newton.cwiseAbs().maxCoeff()));
   }
   for (std::size_t i = 1; i < r.energy.size(); ++i) CHECK(r.energy[i] < r.energy[i - 1]);
-  for (std::size_t i = 1; i < r.energy.size(); ++i) CHECK(r.energy[i] <= r.energy[i - 1] * (1 - opt.tolerance));
+  for (std::size_t i = 1; i < r.energy.size(); ++i)
+    CHECK(r.energy[i] <= r.energy[i - 1] * (1 - opt.tolerance));
 
   // A shape outside the span (its handles moved off the affine image): the minimum is above zero,
   // and the steps near it gain less than the tolerance; none of them is taken, so the step count
   // does not depend on rounding.
   Vertices off = pinned;
-  for (std::size_t h = 0; h < handles.size(); ++h) off(handles[h], 2) += 0.05 * (h % 2 ? 1.0 : -1.0);
+  for (std::size_t h = 0; h < handles.size(); ++h)
+    off(handles[h], 2) += 0.05 * (h % 2 ? 1.0 : -1.0);
   const auto o = ed.edit(Eigen::VectorXd::Zero(4), off, opt);
   CHECK(o.converged);
   CHECK(o.energy.back() > 1e-8);
-  for (std::size_t i = 1; i < o.energy.size(); ++i) CHECK(o.energy[i] <= o.energy[i - 1] * (1 - opt.tolerance));
+  for (std::size_t i = 1; i < o.energy.size(); ++i)
+    CHECK(o.energy[i] <= o.energy[i - 1] * (1 - opt.tolerance));
 }
 
-TEST_CASE("subspace edit: handles out of range or a span of another size are refused", "[geometry]") {
+TEST_CASE("subspace edit: handles out of range or a span of another size are refused",
+          "[geometry]") {
   const auto m = finger(4);
   const int V = static_cast<int>(m.vertices.rows());
   const auto base = uniform(V, {0, 0, 0}, Eigen::Matrix3d::Identity());
   const Eigen::MatrixXd D = Eigen::MatrixXd::Zero(2, 9 * V);
-  CHECK_THROWS_WITH(SubspaceEditor(m.vertices, m.faces, {V}, D, base), Catch::Contains("does not exist"));
-  CHECK_THROWS_WITH(SubspaceEditor(m.vertices, m.faces, {0}, Eigen::MatrixXd::Zero(2, 9 * V - 1), base),
-                    Catch::Contains("9 numbers per template vertex"));
+  CHECK_THROWS_WITH(SubspaceEditor(m.vertices, m.faces, {V}, D, base),
+                    Catch::Contains("does not exist"));
+  CHECK_THROWS_WITH(
+      SubspaceEditor(m.vertices, m.faces, {0}, Eigen::MatrixXd::Zero(2, 9 * V - 1), base),
+      Catch::Contains("9 numbers per template vertex"));
 }

@@ -1,7 +1,6 @@
 // The ACAP file kind's owner: what AcapWriter writes, AcapReader reads back (and the schema
 // accepts), and ModelData's three ways to the model's normalization.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "helpers.h"
@@ -88,7 +87,7 @@ TEST_CASE("ACAP file: raw features from /features/raw, else from the normalized 
   io::AcapReader(dir / "no-raw.h5").read_features(1, 1, undone.data());
   for (std::size_t k = 0; k < 27; ++k) {
     CHECK(stored[k] == 0.1 * static_cast<double>(k % 9 + 1));  // as written
-    CHECK(undone[k] == Approx(stored[k]).epsilon(1e-6));          // through float
+    CHECK(undone[k] == Approx(stored[k]).epsilon(1e-6));       // through float
   }
   {  // positions only
     io::AcapWriter w(dir / "p.h5", dir / "p.h5", {});
@@ -99,11 +98,13 @@ TEST_CASE("ACAP file: raw features from /features/raw, else from the normalized 
     w.write_positions(1, 3, positions.data());
     w.close();
   }
-  CHECK(error_message([&] { io::AcapReader(dir / "p.h5").read_features(0, 1, stored.data()); })
-            .find("run obj2acap") != std::string::npos);
+  CHECK(error_message([&] {
+          io::AcapReader(dir / "p.h5").read_features(0, 1, stored.data());
+        }).find("run obj2acap") != std::string::npos);
 }
 
-TEST_CASE("model data: the model's normalization from stored, raw or renormalized features", "[io]") {
+TEST_CASE("model data: the model's normalization from stored, raw or renormalized features",
+          "[io]") {
   TempDir dir;
   const auto file_nz = numbers(-1, 2), model_nz = numbers(0, 1);
   write_file(dir / "a.h5", file_nz, true);
@@ -125,12 +126,17 @@ TEST_CASE("model data: the model's normalization from stored, raw or renormalize
   io::Mesh other = triangle();
   other.faces << 0, 2, 1;
   CHECK(error_message([&] { models::ModelData(dir / "a.h5", other); })
-            .find("has another template than the model: the same 3 vertices and 1 triangles, but triangle 0 joins "
-                  "vertices (0 1 2) here and (0 2 1) in the model (counting from 0): the two must share the "
+            .find("has another template than the model: the same 3 vertices and 1 triangles, but "
+                  "triangle 0 joins "
+                  "vertices (0 1 2) here and (0 2 1) in the model (counting from 0): the two must "
+                  "share the "
                   "template") == 0);
   io::Mesh bigger = triangle();
   bigger.vertices.conservativeResize(4, 3);
   bigger.vertices.row(3) << 1, 1, 0;
-  CHECK(error_message([&] { models::ModelData(dir / "a.h5", bigger); })
-            .find("has another template than the model (3 vertices, 1 triangles; the model's: 4, 1)") == 0);
+  CHECK(
+      error_message([&] {
+        models::ModelData(dir / "a.h5", bigger);
+      }).find("has another template than the model (3 vertices, 1 triangles; the model's: 4, 1)") ==
+      0);
 }

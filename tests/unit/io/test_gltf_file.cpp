@@ -1,10 +1,10 @@
 // The glTF export read back by assimp: every frame's positions equal to the source's within float
 // precision, the animation's key times at k / fps, bad input refused.
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <catch2/catch.hpp>
 
+#include <assimp/Importer.hpp>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "helpers.h"
@@ -56,7 +56,8 @@ TEST_CASE("glTF export: assimp reads every frame back", "[io]") {
   REQUIRE(anim->mNumMorphMeshChannels == 1);
   const aiMeshMorphAnim* morph = anim->mMorphMeshChannels[0];
   REQUIRE(morph->mNumKeys == 5);
-  CHECK(morph->mKeys[3].mTime / (anim->mTicksPerSecond > 0 ? anim->mTicksPerSecond : 1) == Approx(0.3).margin(1e-6));
+  CHECK(morph->mKeys[3].mTime / (anim->mTicksPerSecond > 0 ? anim->mTicksPerSecond : 1) ==
+        Approx(0.3).margin(1e-6));
 }
 
 TEST_CASE("glTF export: frames of unequal size are refused", "[io]") {
@@ -65,7 +66,8 @@ TEST_CASE("glTF export: frames of unequal size are refused", "[io]") {
   s.faces.resize(1, 3);
   s.faces << 0, 1, 2;
   s.frames = {io::Vertices::Zero(3, 3), io::Vertices::Zero(4, 3)};
-  CHECK_THROWS_WITH(io::write_gltf_sequence(dir / "x.glb", s), Catch::Contains("another vertex count"));
+  CHECK_THROWS_WITH(io::write_gltf_sequence(dir / "x.glb", s),
+                    Catch::Contains("another vertex count"));
   s.frames.clear();
   CHECK_THROWS_WITH(io::write_gltf_sequence(dir / "x.glb", s), Catch::Contains("no frames"));
 }
@@ -76,7 +78,8 @@ TEST_CASE("glTF export: a skeleton's joints read back as animated nodes", "[io]"
   s.parents = {-1, 0, 1};
   s.joint_names = {"hip", "knee", "foot"};
   for (int t = 0; t < 4; ++t)
-    for (float v : {0.0f, 1.0f + 0.1f * t, 0.0f, 0.0f, 0.5f, 0.2f * t, 0.3f, 0.0f, 0.1f * t}) s.positions.push_back(v);
+    for (float v : {0.0f, 1.0f + 0.1f * t, 0.0f, 0.0f, 0.5f, 0.2f * t, 0.3f, 0.0f, 0.1f * t})
+      s.positions.push_back(v);
   s.fps = 20;
   const auto path = dir / "k.glb";
   io::write_gltf_skeleton(path, s);
@@ -94,7 +97,8 @@ TEST_CASE("glTF export: a skeleton's joints read back as animated nodes", "[io]"
     REQUIRE(ch->mNumPositionKeys == 4);
     for (unsigned t = 0; t < 4; ++t)
       for (int k = 0; k < 3; ++k) {  // the offset from the parent
-        const float p = s.positions[(t * 3 + j) * 3 + k] - (j ? s.positions[(t * 3 + j - 1) * 3 + k] : 0.0f);
+        const float p =
+            s.positions[(t * 3 + j) * 3 + k] - (j ? s.positions[(t * 3 + j - 1) * 3 + k] : 0.0f);
         CHECK(std::abs(ch->mPositionKeys[t].mValue[k] - p) < 1e-6);
       }
   }

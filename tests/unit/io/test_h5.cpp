@@ -45,7 +45,8 @@ TEST_CASE("h5: matrices, arrays, strings and attributes round-trip", "[io]") {
   CHECK(f.is_group("/template"));
   CHECK(f.is_dataset("/template/vertices"));
   CHECK_FALSE(f.exists("/nothing/here"));
-  CHECK(f.children("/") == std::vector<std::string>{"features", "frames", "normalization", "template"});
+  CHECK(f.children("/") ==
+        std::vector<std::string>{"features", "frames", "normalization", "template"});
 }
 
 TEST_CASE("h5: large datasets are chunked, shuffled and zstd-compressed", "[io]") {
@@ -120,7 +121,8 @@ TEST_CASE("h5: parallel chunk I/O is byte-compatible with HDF5's filter pipeline
   // 37 rows of 5000 doubles: 40 KB rows, 26 rows per 1 MiB chunk, a partial edge chunk.
   const std::size_t rows = 37, cols = 5000;
   std::vector<double> data(rows * cols);
-  for (std::size_t i = 0; i < data.size(); ++i) data[i] = std::sin(0.001 * static_cast<double>(i)) * 1e3;
+  for (std::size_t i = 0; i < data.size(); ++i)
+    data[i] = std::sin(0.001 * static_cast<double>(i)) * 1e3;
   {
     File f(tmp / "p.h5", File::Mode::create);
     f.write<double>("/pipeline", data, {rows, cols});  // H5Dwrite through the filters
@@ -150,15 +152,17 @@ TEST_CASE("h5: unaligned row ranges mix pipeline head/tail with parallel whole c
   {
     File f(tmp / "u.h5", File::Mode::create);
     f.create<double>("/x", {rows, cols});
-    f.write_rows<double>("/x", 0, 10, data.data());                      // head only
-    f.write_rows<double>("/x", 10, 180, data.data() + 10 * cols);        // 16 + 6 chunks + 8
-    f.write_rows<double>("/x", 190, 10, data.data() + 190 * cols);       // tail to the end
+    f.write_rows<double>("/x", 0, 10, data.data());                 // head only
+    f.write_rows<double>("/x", 10, 180, data.data() + 10 * cols);   // 16 + 6 chunks + 8
+    f.write_rows<double>("/x", 190, 10, data.data() + 190 * cols);  // tail to the end
   }
   File f(tmp / "u.h5", File::Mode::read);
   CHECK(f.read<double>("/x").data == data);
-  for (auto [first, count] : {std::pair<std::size_t, std::size_t>{0, 200}, {5, 190}, {27, 100}, {150, 50}}) {
+  for (auto [first, count] :
+       {std::pair<std::size_t, std::size_t>{0, 200}, {5, 190}, {27, 100}, {150, 50}}) {
     std::vector<double> back(count * cols);
     f.read_rows<double>("/x", first, count, back.data());
-    REQUIRE(std::equal(back.begin(), back.end(), data.begin() + static_cast<std::ptrdiff_t>(first * cols)));
+    REQUIRE(std::equal(back.begin(), back.end(),
+                       data.begin() + static_cast<std::ptrdiff_t>(first * cols)));
   }
 }

@@ -31,11 +31,14 @@ TEST_CASE("read_mesh: OFF, ASCII PLY and binary PLY", "[io]") {
   df::test::TempDir tmp;
   write_text(tmp / "t.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
   write_text(tmp / "t.ply",
-             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float "
+             "y\nproperty float z\n"
+             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 "
+             "1 0\n0 1 0\n4 0 1 2 3\n");
   {
     std::ofstream b(tmp / "b.ply", std::ios::binary);
-    b << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    b << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+         "y\n"
          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     float v[9] = {0, 0, 0, 1, 0, 0, 0.25f, 1, 0};
     b.write(reinterpret_cast<const char*>(v), sizeof v);
@@ -65,18 +68,24 @@ TEST_CASE("read_mesh: bad input gives a clear error naming the file", "[io]") {
   CHECK_THROWS_WITH(read_mesh(tmp / "points.obj"), Catch::Contains("no faces"));
   write_text(tmp / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
   CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "range.obj"); }),
-             Catch::Contains("names vertex 9, but 3 are defined before it") && Catch::Contains("range.obj:4)"));
+             Catch::Contains("names vertex 9, but 3 are defined before it") &&
+                 Catch::Contains("range.obj:4)"));
   write_text(tmp / "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
   CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "nan.obj"); }),
              Catch::Contains("non-finite coordinate") && Catch::Contains("nan.obj:3)"));
   write_text(tmp / "nan.off", "OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n");
-  CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "nan.off"); }), Catch::Contains("nan.off:5)"));
+  CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "nan.off"); }),
+             Catch::Contains("nan.off:5)"));
   write_text(tmp / "inf.ply",
-             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 -inf 0\n0 1 0\n3 0 1 2\n");
-  CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "inf.ply"); }), Catch::Contains("inf.ply:11)"));
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+             "y\nproperty float z\n"
+             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 -inf "
+             "0\n0 1 0\n3 0 1 2\n");
+  CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "inf.ply"); }),
+             Catch::Contains("inf.ply:11)"));
   write_text(tmp / "word.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
-  CHECK_THROWS_WITH(read_mesh(tmp / "word.obj"), Catch::Contains("1 of 3 vertex lines could not be read"));
+  CHECK_THROWS_WITH(read_mesh(tmp / "word.obj"),
+                    Catch::Contains("1 of 3 vertex lines could not be read"));
   write_text(tmp / "mesh.stl", "solid x\n");
   CHECK_THROWS_WITH(read_mesh(tmp / "mesh.stl"), Catch::Contains("unknown mesh format"));
   std::filesystem::create_directory(tmp / "dir.obj");
@@ -92,26 +101,39 @@ TEST_CASE("read_mesh: structure checks refuse what OpenMesh's readers cannot sur
     return df::test::error_message([&] { read_mesh(tmp / name); });
   };
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
-  CHECK_THAT(error("zero.obj", tri + "f 1 2 0\n"), Catch::Contains("names vertex 0") && Catch::Contains("zero.obj:4)"));
+  CHECK_THAT(error("zero.obj", tri + "f 1 2 0\n"),
+             Catch::Contains("names vertex 0") && Catch::Contains("zero.obj:4)"));
   CHECK_THAT(error("novertex.obj", tri + "f /1/1 2 3\n"), Catch::Contains("face corner '/1/1'"));
-  CHECK_THAT(error("texture.obj", tri + "vt 0 0\nf 1/1 2/2 3/1\n"), Catch::Contains("texture coordinate 2, but 1"));
+  CHECK_THAT(error("texture.obj", tri + "vt 0 0\nf 1/1 2/2 3/1\n"),
+             Catch::Contains("texture coordinate 2, but 1"));
   CHECK_THAT(error("two.obj", tri + "f 1 2\n"), Catch::Contains("fewer than 3 corners"));
-  CHECK_NOTHROW(read_mesh((write_text(tmp / "relative.obj", tri + "vt 0 0\nf -3/1 -2/1 -1\n"), tmp / "relative.obj")));
-  CHECK_THAT(error("huge.off", "OFF\n410719722 1 0\n0 0 0\n"), Catch::Contains("more than the file's"));
+  CHECK_NOTHROW(read_mesh(
+      (write_text(tmp / "relative.obj", tri + "vt 0 0\nf -3/1 -2/1 -1\n"), tmp / "relative.obj")));
+  CHECK_THAT(error("huge.off", "OFF\n410719722 1 0\n0 0 0\n"),
+             Catch::Contains("more than the file's"));
   CHECK_THAT(error("corners.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n1000000 0 1 2\n"),
              Catch::Contains("corner count") && Catch::Contains("corners.off:6)"));
-  CHECK_THAT(error("drift.off", "OFF\n3 1 0\n0 0 0 7\n1 0 0\n0 1 0\n3 0 1 2\n"), Catch::Contains("exactly 3 coordinates") && Catch::Contains("drift.off:3)"));
+  CHECK_THAT(error("drift.off", "OFF\n3 1 0\n0 0 0 7\n1 0 0\n0 1 0\n3 0 1 2\n"),
+             Catch::Contains("exactly 3 coordinates") && Catch::Contains("drift.off:3)"));
   CHECK_THAT(error("color.off", "COFF\n3 1 0\n"), Catch::Contains("only plain OFF"));
-  CHECK_THAT(error("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), Catch::Contains("not a vertex index below 3"));
-  const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
-  CHECK_THAT(error("format.ply", header + "format binary_little_endian 1.0\nend_header\n"), Catch::Contains("one 'format"));
-  CHECK_THAT(error("type.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty quad x\nend_header\n"), Catch::Contains("unknown type 'quad'"));
+  CHECK_THAT(error("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
+             Catch::Contains("not a vertex index below 3"));
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+  CHECK_THAT(error("format.ply", header + "format binary_little_endian 1.0\nend_header\n"),
+             Catch::Contains("one 'format"));
+  CHECK_THAT(
+      error("type.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty quad x\nend_header\n"),
+      Catch::Contains("unknown type 'quad'"));
   CHECK_THAT(error("short.ply", header + "end_header\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n"),
              Catch::Contains("fewer values") && Catch::Contains("short.ply:13)"));
-  CHECK_THAT(error("records.ply", header + "end_header\n0 0 0\n1 0 0\n"), Catch::Contains("ends after 2 of 3 'vertex'"));
-  const std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nend_header\n";
-  CHECK_THAT(error("binary.ply", binary + std::string(12, '\0')), Catch::Contains("file ends inside 'vertex' record 3 of 1000"));
+  CHECK_THAT(error("records.ply", header + "end_header\n0 0 0\n1 0 0\n"),
+             Catch::Contains("ends after 2 of 3 'vertex'"));
+  const std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nend_header\n";
+  CHECK_THAT(error("binary.ply", binary + std::string(12, '\0')),
+             Catch::Contains("file ends inside 'vertex' record 3 of 1000"));
 }
 
 TEST_CASE("read_mesh: non-manifold and zero-area faces are kept and counted", "[io]") {
@@ -159,8 +181,9 @@ TEST_CASE("check_same_connectivity: names the frame and the first differing face
 
 TEST_CASE("read_obj_frame: the fast parser agrees with read_mesh and checks every face", "[io]") {
   df::test::TempDir tmp;
-  const std::string head = "mtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.123456789012345678\nv 2 0.5 0\n"
-                           "vt 0 0\nvn 0 0 1\ns off\n";
+  const std::string head =
+      "mtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.123456789012345678\nv 2 0.5 0\n"
+      "vt 0 0\nvn 0 0 1\ns off\n";
   write_text(tmp / "a.obj", head + "f 1/1/1 2/1/1 3/1/1 4/1/1\nf 2//1 -1//1 -3//1\n");
   Mesh ref = read_mesh(tmp / "a.obj");
   df::io::Vertices fast = df::io::read_obj_frame(tmp / "a.obj", ref, "a.obj");
@@ -169,8 +192,10 @@ TEST_CASE("read_obj_frame: the fast parser agrees with read_mesh and checks ever
   CHECK(ref.faces.row(2) == Eigen::RowVector3i(1, 4, 2));  // relative indices resolved
   write_text(tmp / "b.obj", head + "f 1 2 3 4\nf 2 5 4\n");
   CHECK_THAT(df::test::error_message([&] { df::io::read_obj_frame(tmp / "b.obj", ref, "a.obj"); }),
-             Catch::Contains("first at triangle 3: (2 5 4) instead of (2 5 3)") && Catch::Contains("b.obj)"));
-  write_text(tmp / "c.obj", "v 0 0 0\nv 1 0 0\nv 1 inf 0\nv 0 1 0\nv 2 0.5 0\nf 1 2 3 4\nf 2 5 3\n");
+             Catch::Contains("first at triangle 3: (2 5 4) instead of (2 5 3)") &&
+                 Catch::Contains("b.obj)"));
+  write_text(tmp / "c.obj",
+             "v 0 0 0\nv 1 0 0\nv 1 inf 0\nv 0 1 0\nv 2 0.5 0\nf 1 2 3 4\nf 2 5 3\n");
   CHECK_THAT(df::test::error_message([&] { df::io::read_obj_frame(tmp / "c.obj", ref, "a.obj"); }),
              Catch::Contains("non-finite") && Catch::Contains("c.obj:3)"));
   write_text(tmp / "d.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");

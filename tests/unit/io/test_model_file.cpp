@@ -29,7 +29,8 @@ TEST_CASE("model file: parameters, Adam states, RNG state and log round-trip", "
   CHECK(io::read_iteration(f) == 42);
   CHECK(io::read_param_order(f) == std::vector<std::string>{"enc/w"});
   CHECK(io::read_param(f, "enc/w", 2, 3) == w);
-  const auto a = io::read_adam_state(f, "/optimizer", 2), g = io::read_adam_state(f, "/optimizers/gen", 2);
+  const auto a = io::read_adam_state(f, "/optimizer", 2),
+             g = io::read_adam_state(f, "/optimizers/gen", 2);
   CHECK((a.m == m && a.v == v && a.step == 7));
   CHECK((g.m == v && g.v == m && g.step == 9));
   const auto r = io::read_rng_state(f);

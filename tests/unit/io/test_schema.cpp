@@ -62,16 +62,15 @@ TEST_CASE("schema: each kind of violation is reported precisely", "[io]") {
              Catch::Contains("is a 'skeleton' file, expected a 'acap' file"));
   CHECK_THAT(violation([](File& f) { f.set_attr("/", "schema_version", 99); }),
              Catch::Contains("newer than this build"));
-  CHECK_THAT(violation([](File& f) { f.write_matrix("/template/faces", Eigen::MatrixXi::Zero(0, 3)); }),
-             Catch::Contains("F = 0 (triangles of the template) but at least 1 needed"));
-  CHECK_THAT(violation([](File& f) {
-               f.write_matrix("/template/vertices", Eigen::MatrixXd::Zero(4, 2));
-             }),
-             Catch::Contains("axis 1 has size 2, expected 3") && Catch::Contains(":/template/vertices"));
-  CHECK_THAT(violation([](File& f) {
-               f.write_matrix("/template/vertices", Eigen::MatrixXf::Zero(4, 3));
-             }),
-             Catch::Contains("has type float32, expected float64"));
+  CHECK_THAT(
+      violation([](File& f) { f.write_matrix("/template/faces", Eigen::MatrixXi::Zero(0, 3)); }),
+      Catch::Contains("F = 0 (triangles of the template) but at least 1 needed"));
+  CHECK_THAT(
+      violation([](File& f) { f.write_matrix("/template/vertices", Eigen::MatrixXd::Zero(4, 2)); }),
+      Catch::Contains("axis 1 has size 2, expected 3") && Catch::Contains(":/template/vertices"));
+  CHECK_THAT(
+      violation([](File& f) { f.write_matrix("/template/vertices", Eigen::MatrixXf::Zero(4, 3)); }),
+      Catch::Contains("has type float32, expected float64"));
   CHECK_THAT(violation([](File& f) {
                df::h5::Array<float> p{{3, 5, 3}, std::vector<float>(45, 0.f)};
                f.write("/frames/positions", p);
@@ -99,9 +98,7 @@ TEST_CASE("schema: each kind of violation is reported precisely", "[io]") {
                f.write<std::int64_t>("/sequences/offsets", off, {2});
              }),
              Catch::Contains("offsets end at 2 but there are N = 3 frames"));
-  CHECK_THAT(violation([](File& f) {
-               H5Ldelete(f.id(), "/frames/names", H5P_DEFAULT);
-             }),
+  CHECK_THAT(violation([](File& f) { H5Ldelete(f.id(), "/frames/names", H5P_DEFAULT); }),
              Catch::Contains("missing dataset") && Catch::Contains("/frames/names"));
   CHECK_THAT(violation([](File& f) { H5Ldelete(f.id(), "/frames/positions", H5P_DEFAULT); }),
              Catch::Contains("needs at least one of /frames/positions"));
@@ -145,5 +142,6 @@ TEST_CASE("schema: skeleton kind checks parents and the coordinate count", "[io]
   CHECK(dims.at("D") == 3);
   df::h5::Array<float> flat{{6, 3, 4}, std::vector<float>(72, 0.1f)};
   f.write("/poses", flat);
-  CHECK_THROWS_WITH(df::io::validate(f), Catch::Contains("D = 4") && Catch::Contains("one of 2, 3"));
+  CHECK_THROWS_WITH(df::io::validate(f),
+                    Catch::Contains("D = 4") && Catch::Contains("one of 2, 3"));
 }

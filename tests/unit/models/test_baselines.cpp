@@ -14,9 +14,9 @@ TEST_CASE("SPLOCS on 9 numbers per vertex (ACAP features) finds planted local co
   nn::Matrix<double> planted = nn::Matrix<double>::Zero(2, G * V);
   Rng rng(4, 0);
   for (int j = 0; j < G; ++j) {
-    planted(0, j) = rng.uniform(0.5, 1.0);              // vertex 0
-    planted(0, G + j) = 0.5 * planted(0, j);            // vertex 1
-    planted(1, G * 5 + j) = rng.uniform(-1.0, -0.5);    // vertex 5
+    planted(0, j) = rng.uniform(0.5, 1.0);                // vertex 0
+    planted(0, G + j) = 0.5 * planted(0, j);              // vertex 1
+    planted(1, G * 5 + j) = rng.uniform(-1.0, -0.5);      // vertex 5
     planted(1, G * 4 + j) = 0.5 * planted(1, G * 5 + j);  // vertex 4
   }
   auto shapes = [&](int n, std::uint64_t seed) {

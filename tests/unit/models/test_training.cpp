@@ -1,9 +1,9 @@
-#include <catch2/catch.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <csignal>
+#include <catch2/catch.hpp>
 #include <cmath>
+#include <csignal>
 #include <limits>
 
 #include "core/atomic_output.h"
@@ -35,8 +35,7 @@ TEST_CASE("training loop: interval means in the log, checkpoints on printing bou
   std::vector<double> resumed;
   iteration = 8;
   steps.clear();
-  run_training_loop({10, 4, 3, "c"}, {"loss", "twice"}, iteration, resumed, unprinted, step,
-                    [] {});
+  run_training_loop({10, 4, 3, "c"}, {"loss", "twice"}, iteration, resumed, unprinted, step, [] {});
   CHECK(steps == std::vector<std::int64_t>{9, 10});
   CHECK(resumed == std::vector<double>{10, 9.5, 19});
 }
@@ -80,14 +79,14 @@ TEST_CASE("training loop: a stop request checkpoints mid-interval and resumes to
         saved_unprinted = unprinted;
       });
     } catch (const df::Stopped& e) {
-      const bool named = std::string(e.what()).find("SIGUSR1 after iteration 6 of 10") !=
-                         std::string::npos;
+      const bool named =
+          std::string(e.what()).find("SIGUSR1 after iteration 6 of 10") != std::string::npos;
       // Iterations 5 and 6 since the row at 4: count 2, sums 11 and 22.
-      code = !named ? 11
-             : saved_iteration != 6 ? 12
+      code = !named                                              ? 11
+             : saved_iteration != 6                              ? 12
              : saved_unprinted != std::vector<double>{2, 11, 22} ? 13
-             : log != std::vector<double>{4, 2.5, 5} ? 14
-                                                   : 0;
+             : log != std::vector<double>{4, 2.5, 5}             ? 14
+                                                                 : 0;
     }
     _exit(code);
   }

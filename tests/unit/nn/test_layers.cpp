@@ -15,8 +15,9 @@ constexpr double kTolerance = 1e-6;
 
 // Gradient-checks a layer w.r.t. its input(s) and every parameter of `store`: the first
 // `n_inputs` Vars are inputs, the rest the parameters in store order.
-void require_layer_gradients(ParameterStore<double>& store, const std::vector<M>& inputs,
-                             const std::function<Var<double>(const Bound<double>&, const Vars&)>& f) {
+void require_layer_gradients(
+    ParameterStore<double>& store, const std::vector<M>& inputs,
+    const std::function<Var<double>(const Bound<double>&, const Vars&)>& f) {
   std::vector<M> all = inputs;
   for (const auto& v : store.views()) all.push_back(store.value(store.find(v.name)));
   const std::size_t n_in = inputs.size();
@@ -36,7 +37,9 @@ M rnd(Eigen::Index r, Eigen::Index c, std::uint64_t seed) {
 }
 
 // A tetrahedron's edges: every vertex has 3 neighbours.
-std::vector<std::array<int, 2>> tetra_edges() { return {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}; }
+std::vector<std::array<int, 2>> tetra_edges() {
+  return {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+}
 }  // namespace
 
 TEST_CASE("nn layers: Linear and MLP gradients", "[nn]") {
@@ -44,11 +47,14 @@ TEST_CASE("nn layers: Linear and MLP gradients", "[nn]") {
   ParameterStore<double> s;
   Linear<double> lin(s, "lin", 4, 3, rng);
   s.normal(lin.b, rng, 0.5);
-  require_layer_gradients(s, {rnd(5, 4, 2)}, [&](const Bound<double>& p, const Vars& x) { return lin(p, x[0]); });
-  for (Activation a : {Activation::relu, Activation::tanh, Activation::leaky_relu, Activation::sigmoid}) {
+  require_layer_gradients(s, {rnd(5, 4, 2)},
+                          [&](const Bound<double>& p, const Vars& x) { return lin(p, x[0]); });
+  for (Activation a :
+       {Activation::relu, Activation::tanh, Activation::leaky_relu, Activation::sigmoid}) {
     ParameterStore<double> m;
     Mlp<double> mlp(m, "mlp", {3, 6, 5, 2}, a, rng);
-    require_layer_gradients(m, {rnd(4, 3, 3)}, [&](const Bound<double>& p, const Vars& x) { return mlp(p, x[0]); });
+    require_layer_gradients(m, {rnd(4, 3, 3)},
+                            [&](const Bound<double>& p, const Vars& x) { return mlp(p, x[0]); });
   }
 }
 
@@ -58,8 +64,9 @@ TEST_CASE("nn layers: MeshConv by hand and its gradients (also tied/transposed)"
   Tape<double> t;
   M x(1, 3);
   x << 1, 2, 4;
-  Var<double> y = mesh_conv(t.constant(x), t.constant(M::Constant(1, 1, 2)), t.constant(M::Constant(1, 1, 3)),
-                            t.constant(M::Constant(1, 1, 1)), tri);
+  Var<double> y =
+      mesh_conv(t.constant(x), t.constant(M::Constant(1, 1, 2)), t.constant(M::Constant(1, 1, 3)),
+                t.constant(M::Constant(1, 1, 1)), tri);
   CHECK(y.value() == (M(1, 3) << 12, 12.5, 13.5).finished());
 
   df::Rng rng(2);
@@ -67,9 +74,11 @@ TEST_CASE("nn layers: MeshConv by hand and its gradients (also tied/transposed)"
   ParameterStore<double> s;
   MeshConv<double> conv(s, "conv", 3, 2, a, rng);
   s.normal(conv.b, rng, 0.5);
-  require_layer_gradients(s, {rnd(2, 4 * 3, 3)}, [&](const Bound<double>& p, const Vars& in) { return conv(p, in[0]); });
-  require_layer_gradients(s, {rnd(2, 4 * 2, 4), rnd(1, 3, 5)},
-                          [&](const Bound<double>& p, const Vars& in) { return conv.tied_transpose(p, in[0], in[1]); });
+  require_layer_gradients(s, {rnd(2, 4 * 3, 3)},
+                          [&](const Bound<double>& p, const Vars& in) { return conv(p, in[0]); });
+  require_layer_gradients(
+      s, {rnd(2, 4 * 2, 4), rnd(1, 3, 5)},
+      [&](const Bound<double>& p, const Vars& in) { return conv.tied_transpose(p, in[0], in[1]); });
 }
 
 TEST_CASE("nn layers: LSTM closed form with all weights zero but the forget bias", "[nn]") {
@@ -81,7 +90,8 @@ TEST_CASE("nn layers: LSTM closed form with all weights zero but the forget bias
   Tape<double> t;
   Bound<double> p = s.bind(t);
   M c0 = rnd(1, 3, 4);
-  LstmState<double> st = cell(p, t.constant(rnd(1, 2, 5)), {t.constant(rnd(1, 3, 6)), t.constant(c0)});
+  LstmState<double> st =
+      cell(p, t.constant(rnd(1, 2, 5)), {t.constant(rnd(1, 3, 6)), t.constant(c0)});
   // i = o = σ(0) = ½, f = σ(1), g = tanh(0) = 0: c = σ(1) c0, h = ½ tanh(c).
   const double f = 1 / (1 + std::exp(-1.0));
   for (int k = 0; k < 3; ++k) {
@@ -95,18 +105,20 @@ TEST_CASE("nn layers: LSTM cell, stacked and bidirectional gradients", "[nn]") {
   {
     ParameterStore<double> s;
     LstmCell<double> cell(s, "cell", 3, 4, rng);
-    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 4, 2), rnd(2, 4, 3)}, [&](const Bound<double>& p, const Vars& x) {
-      LstmState<double> st = cell(p, x[0], {x[1], x[2]});
-      return concat_cols<double>({st.h, st.c});
-    });
+    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 4, 2), rnd(2, 4, 3)},
+                            [&](const Bound<double>& p, const Vars& x) {
+                              LstmState<double> st = cell(p, x[0], {x[1], x[2]});
+                              return concat_cols<double>({st.h, st.c});
+                            });
   }
   {
     ParameterStore<double> s;
     StackedLstm<double> lstm(s, "stack", 3, 4, 2, rng);
-    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)}, [&](const Bound<double>& p, const Vars& x) {
-      auto states = lstm.constant_states(*x[0].tape, 2, 0.1);
-      return concat_cols<double>(lstm.run(p, x, states));
-    });
+    require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)},
+                            [&](const Bound<double>& p, const Vars& x) {
+                              auto states = lstm.constant_states(*x[0].tape, 2, 0.1);
+                              return concat_cols<double>(lstm.run(p, x, states));
+                            });
   }
   {
     ParameterStore<double> s;
@@ -128,9 +140,10 @@ TEST_CASE("nn layers: lstm_sequence is the cell step by step, in both directions
   for (bool reverse : {false, true}) {
     INFO("reverse " << reverse);
     // x, h0, c0 and every weight get their gradients through the one node.
-    require_layer_gradients(s, {rnd(8, 3, 1), rnd(2, 4, 2), rnd(2, 4, 3)}, [&](const Bound<double>& p, const Vars& x) {
-      return cell.sequence(p, x[0], {x[1], x[2]}, reverse);
-    });
+    require_layer_gradients(s, {rnd(8, 3, 1), rnd(2, 4, 2), rnd(2, 4, 3)},
+                            [&](const Bound<double>& p, const Vars& x) {
+                              return cell.sequence(p, x[0], {x[1], x[2]}, reverse);
+                            });
     Tape<double> t;
     const Bound<double> p = s.bind(t);
     const Var<double> x = t.constant(rnd(8, 3, 4));
@@ -148,10 +161,11 @@ TEST_CASE("nn layers: the share-weight bidirectional pattern (one LSTM, both dir
   df::Rng rng(8);
   ParameterStore<double> s;
   StackedLstm<double> lstm(s, "shared", 3, 4, 2, rng);
-  require_layer_gradients(s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)}, [&](const Bound<double>& p, const Vars& x) {
-    auto bd = shared_bidirectional(lstm, p, x, 0.1, -0.1);
-    return concat_cols<double>({bd.forward[2], bd.backward[0], bd.backward[2]});
-  });
+  require_layer_gradients(
+      s, {rnd(2, 3, 1), rnd(2, 3, 2), rnd(2, 3, 3)}, [&](const Bound<double>& p, const Vars& x) {
+        auto bd = shared_bidirectional(lstm, p, x, 0.1, -0.1);
+        return concat_cols<double>({bd.forward[2], bd.backward[0], bd.backward[2]});
+      });
   // The backward chain is the same network run on the reversed sequence with −0.1 states.
   Tape<double> t;
   Bound<double> p = s.bind(t);
@@ -163,7 +177,8 @@ TEST_CASE("nn layers: the share-weight bidirectional pattern (one LSTM, both dir
   CHECK(bd.forward[0].value() != bd.backward[1].value());
 }
 
-TEST_CASE("nn layers: critic input gradient is ∇ₓD, and the GP penalty's weight gradients check", "[nn]") {
+TEST_CASE("nn layers: critic input gradient is ∇ₓD, and the GP penalty's weight gradients check",
+          "[nn]") {
   df::Rng rng(5);
   for (Activation a : {Activation::relu, Activation::leaky_relu, Activation::tanh}) {
     ParameterStore<double> s;
@@ -181,7 +196,9 @@ TEST_CASE("nn layers: critic input gradient is ∇ₓD, and the GP penalty's wei
         down(r, c) -= 1e-6;
         Tape<double> t2;
         Bound<double> p2 = s.bind(t2);
-        double d = (critic(p2, t2.constant(up)).value()(r, 0) - critic(p2, t2.constant(down)).value()(r, 0)) / 2e-6;
+        double d = (critic(p2, t2.constant(up)).value()(r, 0) -
+                    critic(p2, t2.constant(down)).value()(r, 0)) /
+                   2e-6;
         REQUIRE(g(r, c) == Approx(d).epsilon(1e-6).margin(1e-9));
       }
     // The penalty mean((‖∇ₓD‖ − 1)²), differentiated w.r.t. the critic's weights (and x).
@@ -265,7 +282,9 @@ TEST_CASE("nn parameters: bind_except holds the named part fixed", "[nn]") {
   for (int i = 0; i < static_cast<int>(p.vars.size()); ++i) {
     const bool is_frozen = i == frozen.w || i == frozen.b;
     CHECK(p.vars[static_cast<std::size_t>(i)].requires_grad() == !is_frozen);
-    if (is_frozen) CHECK(s.grad(i).isZero());
-    else CHECK(s.grad(i).norm() > 0);
+    if (is_frozen)
+      CHECK(s.grad(i).isZero());
+    else
+      CHECK(s.grad(i).norm() > 0);
   }
 }

@@ -31,7 +31,8 @@ TEST_CASE("nn learning: an LSTM learns to output its input delayed by 3 steps", 
       auto h = lstm.run(p, xs, states);
       std::vector<Var<float>> losses;
       for (int k = delay; k < steps; ++k)
-        losses.push_back(mse(head(p, h[static_cast<std::size_t>(k)]), xs[static_cast<std::size_t>(k - delay)]));
+        losses.push_back(
+            mse(head(p, h[static_cast<std::size_t>(k)]), xs[static_cast<std::size_t>(k - delay)]));
       return scale(sum(concat_cols(losses)), 1.0f / static_cast<float>(losses.size()));
     });
     if (it == 0) first = last;
@@ -41,7 +42,9 @@ TEST_CASE("nn learning: an LSTM learns to output its input delayed by 3 steps", 
   CHECK(last < 0.02f);
 }
 
-TEST_CASE("nn learning: a MeshConv autoencoder cuts reconstruction loss 10x on a synthetic sequence", "[nn]") {
+TEST_CASE(
+    "nn learning: a MeshConv autoencoder cuts reconstruction loss 10x on a synthetic sequence",
+    "[nn]") {
   df::synth::MeshSeqParams sp;
   sp.kind = df::synth::MeshSeqKind::flag;
   sp.resolution = 8;

@@ -37,7 +37,8 @@ void check_against_reference(double tolerance) {
             for (bool accumulate : {false, true}) {
               INFO("m " << m << " k " << k << " n " << n << " Wᵀ " << transpose << " Aᵀ "
                         << a_transposed << " accumulate " << accumulate);
-              const Matrix<T> w = transpose ? seeded_matrix<T>(n, k, ++seed) : seeded_matrix<T>(k, n, ++seed);
+              const Matrix<T> w =
+                  transpose ? seeded_matrix<T>(n, k, ++seed) : seeded_matrix<T>(k, n, ++seed);
               const Matrix<T> a = seeded_matrix<T>(m, k, ++seed), at = a.transpose();
               const Matrix<T> c0 = seeded_matrix<T>(m, n, ++seed);
               const auto packed = pack_rhs(w, transpose);
@@ -67,13 +68,17 @@ void check_long_and_empty_k(double tolerance) {
         for (bool accumulate : {false, true}) {
           INFO("m " << m << " k " << k << " Wᵀ " << transpose << " accumulate " << accumulate);
           const Index n = 33;
-          const Matrix<T> w = transpose ? seeded_matrix<T>(n, k, ++seed) : seeded_matrix<T>(k, n, ++seed);
+          const Matrix<T> w =
+              transpose ? seeded_matrix<T>(n, k, ++seed) : seeded_matrix<T>(k, n, ++seed);
           const Matrix<T> a = seeded_matrix<T>(m, k, ++seed), c0 = seeded_matrix<T>(m, n, ++seed);
           Matrix<T> c = c0;
           packed_product<T>(c, a, pack_rhs(w, transpose), accumulate);
-          const Matrix<long double> expected = reference<T>(accumulate ? c0 : Matrix<T>::Zero(m, n), a, w, transpose);
-          const long double error = (c.template cast<long double>() - expected).cwiseAbs().maxCoeff();
-          CHECK(static_cast<double>(error) <= tolerance * std::sqrt(static_cast<double>(std::max<Index>(k, 1))));
+          const Matrix<long double> expected =
+              reference<T>(accumulate ? c0 : Matrix<T>::Zero(m, n), a, w, transpose);
+          const long double error =
+              (c.template cast<long double>() - expected).cwiseAbs().maxCoeff();
+          CHECK(static_cast<double>(error) <=
+                tolerance * std::sqrt(static_cast<double>(std::max<Index>(k, 1))));
         }
 }
 }  // namespace
@@ -91,7 +96,8 @@ TEST_CASE("nn packed product: A · W and A · Wᵀ against a long-double referen
 
 TEST_CASE("nn packed product: writes only its block of a larger matrix (middle rows, strided A)",
           "[nn]") {
-  const Matrix<double> w = seeded_matrix<double>(20, 40, 1), big_a = seeded_matrix<double>(30, 20, 2);
+  const Matrix<double> w = seeded_matrix<double>(20, 40, 1),
+                       big_a = seeded_matrix<double>(30, 20, 2);
   Matrix<double> big_c = seeded_matrix<double>(30, 40, 3);
   const Matrix<double> before = big_c;
   packed_product<double>(big_c.middleRows(7, 13), big_a.middleRows(3, 13), pack_rhs(w, false),

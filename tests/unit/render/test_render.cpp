@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <numbers>
 
+#include "apps/render_mesh.h"
 #include "core/error.h"
 #include "helpers.h"
 #include "io/file_header.h"
@@ -14,7 +15,6 @@
 #include "render/canvas.h"
 #include "render/color.h"
 #include "render/rasterizer.h"
-#include "apps/render_mesh.h"
 #include "render/sheet.h"
 
 using namespace df::render;
@@ -189,7 +189,8 @@ TEST_CASE(
   CHECK(bar_ticks(0, 0.25) == std::vector<double>{0, 0.0625, 0.125, 0.1875, 0.25});
 }
 
-TEST_CASE("render: a title longer than the grid widens the sheet instead of being cut", "[render]") {
+TEST_CASE("render: a title longer than the grid widens the sheet instead of being cut",
+          "[render]") {
   SheetSpec spec;
   spec.rows = 1, spec.cols = 2, spec.panel_width = 60, spec.panel_height = 60;
   spec.row_labels = {"one"};
@@ -296,6 +297,7 @@ TEST_CASE("render: stick figures of a hand-written skeleton file", "[render]") {
   CHECK_THROWS_AS(render_mesh(opt, {}), df::UsageError);
   opt.frames.clear();
   opt.color = "deformation";  // a valid colouring for meshes, not for skeletons
-  CHECK(df::test::error_message([&] { render_mesh(opt, {}); }).find("skeleton files are drawn without") !=
-        std::string::npos);
+  CHECK(df::test::error_message([&] {
+          render_mesh(opt, {});
+        }).find("skeleton files are drawn without") != std::string::npos);
 }

@@ -1,5 +1,4 @@
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "core/error.h"
@@ -19,7 +18,8 @@ double bone(const io::SkeletonFile& s, std::size_t t, std::size_t j) {
 }
 }  // namespace
 
-TEST_CASE("synth-actions: labelled sequences of a rigid skeleton that moves, same per seed", "[synth]") {
+TEST_CASE("synth-actions: labelled sequences of a rigid skeleton that moves, same per seed",
+          "[synth]") {
   synth::ActionParams p;
   p.per_class = 4;
   p.frames = 30;
@@ -36,7 +36,8 @@ TEST_CASE("synth-actions: labelled sequences of a rigid skeleton that moves, sam
     const auto first = static_cast<std::size_t>(s.offsets[q]);
     double motion = 0;
     for (std::size_t t = first + 1; t < first + 30; ++t) {
-      for (std::size_t j = 1; j < s.joints; ++j) CHECK(bone(s, t, j) == Approx(bone(s, first, j)).epsilon(1e-4));
+      for (std::size_t j = 1; j < s.joints; ++j)
+        CHECK(bone(s, t, j) == Approx(bone(s, first, j)).epsilon(1e-4));
       for (std::size_t k = 0; k < s.frame_size(); ++k)
         motion += std::abs(s.poses[t * s.frame_size() + k] - s.poses[first * s.frame_size() + k]);
     }

@@ -1,5 +1,5 @@
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -24,7 +24,8 @@ static double edge_length_change(const MeshSequenceGenerator& g, const df::io::V
   return worst;
 }
 
-TEST_CASE("synth finger: first frame is the rest shape; the tip twists by the requested angle", "[synth]") {
+TEST_CASE("synth finger: first frame is the rest shape; the tip twists by the requested angle",
+          "[synth]") {
   MeshSeqParams p;
   p.kind = MeshSeqKind::finger;
   p.frames = 40;
@@ -97,12 +98,20 @@ TEST_CASE("synth bumps: regions at two scales with recorded ground truth", "[syn
   for (std::size_t r = 0; r < g.regions().size(); ++r) {
     const auto& reg = g.regions()[r];
     double w = g.region_weights(5)[r];
-    CHECK(V(reg.center, 2) == Approx(reg.height * w * std::pow(1 - std::pow((g.rest().vertices.row(reg.center) - g.rest().vertices.row(reg.center)).norm(), 2), 2)).margin(0.02));
+    CHECK(V(reg.center, 2) == Approx(reg.height * w *
+                                     std::pow(1 - std::pow((g.rest().vertices.row(reg.center) -
+                                                            g.rest().vertices.row(reg.center))
+                                                               .norm(),
+                                                           2),
+                                              2))
+                                  .margin(0.02));
   }
   CHECK_FALSE(regions_overlap(g));
 }
 
-TEST_CASE("synth bumps: --fine-regions adds fine regions apart, leaving the first ones as they were", "[synth]") {
+TEST_CASE(
+    "synth bumps: --fine-regions adds fine regions apart, leaving the first ones as they were",
+    "[synth]") {
   MeshSeqParams p = bumps_params(4, 40, 1);
   MeshSequenceGenerator base(p);
   p.fine_regions = 12;

@@ -44,7 +44,8 @@ nn::Matrix<double> random(Eigen::Index r, Eigen::Index c, std::uint64_t seed) {
 struct GenInputs {
   nn::Matrix<double> y = one_hot<double>({0, 1}, 2), h1 = random(2, 2, 3);
   std::vector<nn::Matrix<double>> noise{random(2, 3, 4), random(2, 3, 5), random(2, 3, 6)};
-  GeneratedSequences<double> run(const ActganGenerator<double>& g, nn::Tape<double>& t, const nn::Bound<double>& p) const {
+  GeneratedSequences<double> run(const ActganGenerator<double>& g, nn::Tape<double>& t,
+                                 const nn::Bound<double>& p) const {
     std::vector<nn::Var<double>> xi;
     for (const auto& n : noise) xi.push_back(t.constant(n));
     return g.generate(p, t.constant(y), t.constant(h1), xi);
@@ -53,7 +54,8 @@ struct GenInputs {
 
 }  // namespace
 
-TEST_CASE("ActGAN: generator frames and smoothness, residual and direct latent", "[models][actgan]") {
+TEST_CASE("ActGAN: generator frames and smoothness, residual and direct latent",
+          "[models][actgan]") {
   for (bool residual : {true, false}) {
     for (const char* smooth : {"both", "latent", "action"}) {
       ActganConfig c = tiny();
@@ -103,7 +105,8 @@ TEST_CASE("ActGAN: generator frames and smoothness, residual and direct latent",
 TEST_CASE("ActGAN: discriminator and classifier gradients", "[models][actgan]") {
   ActganConfig c = tiny();
   Rng rng(2);
-  SequenceNet<double> d(c, c.pose + c.classes, 1, "disc", rng), cls(c, c.pose, c.classes, "cls", rng);
+  SequenceNet<double> d(c, c.pose + c.classes, 1, "disc", rng),
+      cls(c, c.pose, c.classes, "cls", rng);
   std::vector<nn::Matrix<double>> frames{random(2, 6, 7), random(2, 6, 8), random(2, 6, 9)};
   const auto y = one_hot<double>({1, 0}, 2);
   auto rd = nn::gradient_check(
@@ -131,7 +134,8 @@ TEST_CASE("ActGAN: the generator's loss through discriminator and classifier", "
   ActganConfig c = tiny();
   Rng rng(3);
   ActganGenerator<double> g(c, rng);
-  SequenceNet<double> d(c, c.pose + c.classes, 1, "disc", rng), cls(c, c.pose, c.classes, "cls", rng);
+  SequenceNet<double> d(c, c.pose + c.classes, 1, "disc", rng),
+      cls(c, c.pose, c.classes, "cls", rng);
   GenInputs in;
   const std::size_t ng = g.store().views().size();
   auto params = values(g.store());
@@ -145,7 +149,8 @@ TEST_CASE("ActGAN: the generator's loss through discriminator and classifier", "
         for (const auto& m : pd) bd.vars.push_back(t.constant(m));
         const auto s = in.run(g, t, pg);
         const auto y = t.constant(in.y);
-        const auto adv = nn::bce_with_logits(d(bd, with_label(s.frames, y)), nn::Matrix<double>(nn::Matrix<double>::Ones(2, 1)));
+        const auto adv = nn::bce_with_logits(d(bd, with_label(s.frames, y)),
+                                             nn::Matrix<double>(nn::Matrix<double>::Ones(2, 1)));
         const auto cyc = nn::softmax_cross_entropy(cls(pc, s.frames), {0, 1});
         return nn::add(nn::add(adv, smoothness(c, s)), nn::scale(cyc, 0.5));
       },
@@ -181,7 +186,8 @@ TEST_CASE("ActGAN: the critic's input gradient and its gradient penalty", "[mode
       nn::Tape<double> u;
       const auto pu = critic.store().bind(u);
       const double d = (critic(pu, u.constant(up), u.constant(y)).value()(row, 0) -
-                        critic(pu, u.constant(down), u.constant(y)).value()(row, 0)) / 2e-6;
+                        critic(pu, u.constant(down), u.constant(y)).value()(row, 0)) /
+                       2e-6;
       sq += d * d;
     }
     expected += (std::sqrt(sq) - 1) * (std::sqrt(sq) - 1) / 3;
@@ -204,15 +210,18 @@ TEST_CASE("ActGAN: the generator's loss through a critic of whole clips", "[mode
         nn::Bound<double> bd;
         for (const auto& m : pd) bd.vars.push_back(t.constant(m));
         const auto s = in.run(g, t, nn::Bound<double>{w});
-        return nn::add(nn::scale(nn::mean(critic(bd, nn::concat_cols<double>(s.frames), t.constant(in.y))), -1.0),
-                       smoothness(c, s));
+        return nn::add(
+            nn::scale(nn::mean(critic(bd, nn::concat_cols<double>(s.frames), t.constant(in.y))),
+                      -1.0),
+            smoothness(c, s));
       },
       values(g.store()));
   INFO(r.report);
   CHECK(r.max_error <= 1e-6);
   auto rp = nn::gradient_check(
       [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& w) {
-        return critic.gradient_penalty(nn::Bound<double>{w}, t.constant(random(2, 4 * c.pose, 11)), t.constant(in.y));
+        return critic.gradient_penalty(nn::Bound<double>{w}, t.constant(random(2, 4 * c.pose, 11)),
+                                       t.constant(in.y));
       },
       pd);
   INFO(rp.report);
@@ -241,7 +250,8 @@ TEST_CASE("ActGAN: --step-init small starts the generator near its h_1", "[model
   CHECK_THROWS_AS(ActganGenerator<double>(bad, rng), UsageError);
 }
 
-TEST_CASE("ActGAN: the discriminator on frames and differences over every step", "[models][actgan]") {
+TEST_CASE("ActGAN: the discriminator on frames and differences over every step",
+          "[models][actgan]") {
   // --disc-input motion --disc-pool all (the authors' discriminator): gradients w.r.t. its
   // weights and through its input to the generator's; the input holds x_t, x_t - x_{t-1}
   // (0 at the first frame) and y; the head reads all T steps and refuses another length.
@@ -258,7 +268,8 @@ TEST_CASE("ActGAN: the discriminator on frames and differences over every step",
   auto rd = nn::gradient_check(
       [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
         const auto s = in.run(g, t, g.store().bind_constant(t));
-        return nn::bce_with_logits((*d)(nn::Bound<double>{x}, discriminator_input(c, s.frames, t.constant(in.y))), ones);
+        return nn::bce_with_logits(
+            (*d)(nn::Bound<double>{x}, discriminator_input(c, s.frames, t.constant(in.y))), ones);
       },
       values(d->store()));
   INFO(rd.report);
@@ -266,7 +277,9 @@ TEST_CASE("ActGAN: the discriminator on frames and differences over every step",
   auto rg = nn::gradient_check(
       [&](nn::Tape<double>& t, const std::vector<nn::Var<double>>& x) {
         const auto s = in.run(g, t, nn::Bound<double>{x});
-        return nn::bce_with_logits((*d)(d->store().bind_constant(t), discriminator_input(c, s.frames, t.constant(in.y))), ones);
+        return nn::bce_with_logits(
+            (*d)(d->store().bind_constant(t), discriminator_input(c, s.frames, t.constant(in.y))),
+            ones);
       },
       values(g.store()));
   INFO(rg.report);

@@ -98,7 +98,8 @@ TEST_CASE("BD-LSTM: an untrained network predicts no change (dX starts at 0)", "
   REQUIRE((y.value() - x).cwiseAbs().maxCoeff() == 0.0);
 }
 
-TEST_CASE("BD-LSTM carry: the step adds the motion of the step before, gradients checked", "[models][bdlstm]") {
+TEST_CASE("BD-LSTM carry: the step adds the motion of the step before, gradients checked",
+          "[models][bdlstm]") {
   // An untrained network (dX = 0) with carry c continues the given frames' motion times c:
   // X_t+1 = X_t + c (X_t - X_t-1); at a chain's first step there is no motion to carry.
   auto cfg = tiny_config(Directions::shared);
@@ -126,7 +127,8 @@ TEST_CASE("BD-LSTM carry: the step adds the motion of the step before, gradients
   }
 }
 
-TEST_CASE("BD-LSTM carry fade: the carry at step t is carry x fade^(t-1), in training and stepping", "[models][bdlstm]") {
+TEST_CASE("BD-LSTM carry fade: the carry at step t is carry x fade^(t-1), in training and stepping",
+          "[models][bdlstm]") {
   auto cfg = tiny_config(Directions::shared);
   cfg.carry = 0.8;
   cfg.carry_fade = 0.5;

@@ -45,8 +45,9 @@ TEST_CASE("settings: one table gives the command line", "[models][settings]") {
   Toy t;
   CLI::App app;
   add_settings(*app.add_option_group("Toy"), toy_settings(t));
-  std::vector<std::string> args = {"--no-attention", "--separate", "--kz", "3,2", "--latent", "tanh",
-                                   "--lr", "0.01", "--added-later", "2"};
+  std::vector<std::string> args = {"--no-attention", "--separate", "--kz", "3,2",
+                                   "--latent",       "tanh",       "--lr", "0.01",
+                                   "--added-later",  "2"};
   std::reverse(args.begin(), args.end());
   app.parse(args);
   CHECK(!t.attention);
@@ -126,11 +127,13 @@ TEST_CASE("settings: the model file's /config round trip, old files, the resume 
   Toy e = b;
   e.kz = b.kz;
   e.attention = !b.attention;  // b was made with --no-attention
-  CHECK_THAT(test::error_message([&] { require_same_settings(toy_settings(b), toy_settings(e), "ck.h5"); }),
+  CHECK_THAT(test::error_message(
+                 [&] { require_same_settings(toy_settings(b), toy_settings(e), "ck.h5"); }),
              Catch::Contains("made with --no-attention, this run does not"));
   Toy g = b;
   g.separate = true;  // b was made without --separate
-  CHECK_THAT(test::error_message([&] { require_same_settings(toy_settings(b), toy_settings(g), "ck.h5"); }),
+  CHECK_THAT(test::error_message(
+                 [&] { require_same_settings(toy_settings(b), toy_settings(g), "ck.h5"); }),
              Catch::Contains("made without --separate, this run gives it"));
 }
 
@@ -159,7 +162,8 @@ TEST_CASE("settings: each model's table is its schema's /config", "[models][sett
   ActganConfig ac;
   ActganTraining at;
   auto actgan = table_names(actgan_settings(ac, at));
-  for (const char* of_the_data : {"frame_rate", "length", "data"}) CHECK(actgan.insert(of_the_data).second);
+  for (const char* of_the_data : {"frame_rate", "length", "data"})
+    CHECK(actgan.insert(of_the_data).second);
   CHECK(actgan == config_attributes("actgan-model"));
 }
 
@@ -170,10 +174,10 @@ TEST_CASE("settings: a flag sets its field, a named option clears it", "[models]
   add_settings(*app.add_option_group("Losses"), actgan_loss_settings(c));
   add_settings(*app.add_option_group("Training"), actgan_training_settings(t));
   app.parse(std::vector<std::string>{"--classifier-only", "--freeze-decoder", "--direct-latent"});
-  CHECK(!c.residual);         // --direct-latent clears residual
-  CHECK(c.classifier);        // not given
-  CHECK(!t.train_decoder);    // --freeze-decoder clears train_decoder
-  CHECK(t.classifier_only);   // --classifier-only sets it
+  CHECK(!c.residual);        // --direct-latent clears residual
+  CHECK(c.classifier);       // not given
+  CHECK(!t.train_decoder);   // --freeze-decoder clears train_decoder
+  CHECK(t.classifier_only);  // --classifier-only sets it
 }
 
 TEST_CASE("settings: an enum held as text", "[models][settings]") {

@@ -19,7 +19,8 @@ nn::Matrix<double> two_regions(int n, int V) {
     for (int i = 0; i < V; ++i)
       for (int f = 0; f < 9; ++f) {
         const double a = (s % 3) - 1.0, b = s % 2 ? 0.7 : -0.4 * s;
-        r(s, 9 * i + f) = i < V / 2 ? a * (1 + 0.1 * f + 0.01 * i) : b * (0.5 - 0.05 * f + 0.02 * i);
+        r(s, 9 * i + f) =
+            i < V / 2 ? a * (1 + 0.1 * f + 0.01 * i) : b * (0.5 - 0.05 * f + 0.02 * i);
       }
   return r;
 }
@@ -30,7 +31,8 @@ double left(const nn::Matrix<double>& r, const nn::Matrix<double>& approx) {
 
 }  // namespace
 
-TEST_CASE("MSAE diagnosis: children on disjoint masks each take their own region", "[models][msae]") {
+TEST_CASE("MSAE diagnosis: children on disjoint masks each take their own region",
+          "[models][msae]") {
   const int n = 6, V = 8;
   const auto r = two_regions(n, V);
   nn::Matrix<double> one_hot = nn::Matrix<double>::Zero(2, V);
@@ -51,7 +53,8 @@ TEST_CASE("MSAE diagnosis: children on spread masks span little more than one of
   // direction, so their sum is the rank-1 projection of r, not a rank-2 one.
   const nn::Matrix<double> uniform = nn::Matrix<double>::Constant(2, V, 0.5);
   const double spread = left(r, best_linear_children(r, uniform, {1, 1}));
-  CHECK(spread == Approx(left(r, best_linear_children(r, nn::Matrix<double>(), {1}))).epsilon(1e-9));
+  CHECK(spread ==
+        Approx(left(r, best_linear_children(r, nn::Matrix<double>(), {1}))).epsilon(1e-9));
   CHECK(spread > 0.05);
   // Partly spread masks lie between the two.
   nn::Matrix<double> soft = nn::Matrix<double>::Zero(2, V);
@@ -64,8 +67,9 @@ TEST_CASE("MSAE diagnosis: children on spread masks span little more than one of
   CHECK_THROWS_AS(best_linear_children(r, uniform, {1}), Error);
 }
 
-TEST_CASE("MSAE eq. 7: a local component leaking a little everywhere is counted over the whole mesh",
-          "[models][msae]") {
+TEST_CASE(
+    "MSAE eq. 7: a local component leaking a little everywhere is counted over the whole mesh",
+    "[models][msae]") {
   // 20 of 1,000 vertices moved by 0.5: exactly local, eq. 7 is 0.5.
   std::vector<double> d(1000, 0.0);
   for (int i = 0; i < 20; ++i) d[static_cast<std::size_t>(i)] = 0.5;
@@ -88,9 +92,10 @@ TEST_CASE("MSAE eq. 7: a local component leaking a little everywhere is counted 
   CHECK(strength_parts(std::vector<double>(5, 0.0), 1e-6).strength == 0.0);
 }
 
-TEST_CASE("MSAE diagnosis: the children's own errors are their losses; their sum is what the shapes "
-          "are left with",
-          "[models][msae]") {
+TEST_CASE(
+    "MSAE diagnosis: the children's own errors are their losses; their sum is what the shapes "
+    "are left with",
+    "[models][msae]") {
   const auto edges = test::grid3x3_edges();
   Rng rng(3, 5);
   const nn::Matrix<float> x = nn::random_matrix(6, 81, rng, -0.9, 0.9).cast<float>();
@@ -102,8 +107,10 @@ TEST_CASE("MSAE diagnosis: the children's own errors are their losses; their sum
     const MsaeNet<float> net(c, 9, edges, 4);
     const ChildrenErrors e = children_errors(net, x);
     INFO("attention " << attention);
-    CHECK(e.residual == Approx((x - net.reconstruct(x, 1)).cast<double>().squaredNorm()).epsilon(1e-5));
-    CHECK(e.whole == Approx((x - net.reconstruct(x, 2)).cast<double>().squaredNorm()).epsilon(1e-5));
+    CHECK(e.residual ==
+          Approx((x - net.reconstruct(x, 1)).cast<double>().squaredNorm()).epsilon(1e-5));
+    CHECK(e.whole ==
+          Approx((x - net.reconstruct(x, 2)).cast<double>().squaredNorm()).epsilon(1e-5));
     // Σ_k ‖e_k‖² / n is level 1's reconstruction term of the loss (levels {1}: its blocks only)
     std::vector<nn::Matrix<float>> lambda;
     for (const auto& b : net.blocks()) lambda.push_back(nn::Matrix<float>::Zero(b.kz, 9));

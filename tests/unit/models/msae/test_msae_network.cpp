@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "helpers.h"
 #include "core/error.h"
+#include "helpers.h"
 #include "models/msae/model.h"
 #include "models/msae/network.h"
 #include "nn/adam.h"
@@ -13,7 +13,9 @@ using namespace df::models;
 
 namespace {
 
-std::vector<std::array<int, 2>> grid_edges() { return test::grid3x3_edges(); }
+std::vector<std::array<int, 2>> grid_edges() {
+  return test::grid3x3_edges();
+}
 
 nn::Matrix<double> random_shapes(int rows, std::uint64_t seed) {
   Rng rng(seed, 5);
@@ -183,9 +185,10 @@ TEST_CASE("MSAE: a batch with repeated shapes equals its distinct shapes weighte
           1e-10 * (1 + ga.cwiseAbs().maxCoeff()));
 }
 
-TEST_CASE("MSAE: the convMesh variants (linear decoder FC, shared decoder convolution, N(0, 0.02) "
-          "initialisation) are gradient-checked and change what they say",
-          "[models][msae]") {
+TEST_CASE(
+    "MSAE: the convMesh variants (linear decoder FC, shared decoder convolution, N(0, 0.02) "
+    "initialisation) are gradient-checked and change what they say",
+    "[models][msae]") {
   MsaeConfig c = tiny({3, 2}, true);
   c.decoder_fc = "linear";
   c.decoder_conv = "shared";
@@ -223,18 +226,20 @@ TEST_CASE("MSAE: the convMesh variants (linear decoder FC, shared decoder convol
   MsaeConfig sm = tiny({3, 2}, true);
   sm.init = "small";
   MsaeNet<double> small(sm, 9, grid_edges(), 3);
-  CHECK((small.store().value(small.blocks()[0].c) - 0.01 * glorot.store().value(glorot.blocks()[0].c))
-            .cwiseAbs()
-            .maxCoeff() < 1e-15);
+  CHECK(
+      (small.store().value(small.blocks()[0].c) - 0.01 * glorot.store().value(glorot.blocks()[0].c))
+          .cwiseAbs()
+          .maxCoeff() < 1e-15);
   CHECK(small.store().value(small.blocks()[0].conv.w_point) ==
         glorot.store().value(glorot.blocks()[0].conv.w_point));
   c.init = "uniform";
   CHECK_THROWS_AS(MsaeNet<double>(c, 9, grid_edges(), 3), UsageError);
 }
 
-TEST_CASE("MSAE: fitted codes reconstruct at least as well as the encoder's and recover a "
-          "decoded shape",
-          "[models][msae]") {
+TEST_CASE(
+    "MSAE: fitted codes reconstruct at least as well as the encoder's and recover a "
+    "decoded shape",
+    "[models][msae]") {
   MsaeConfig c = tiny({3, 2}, true);
   c.decoder_fc = "linear";
   MsaeNet<double> net(c, 9, grid_edges(), 11);
@@ -297,7 +302,8 @@ TEST_CASE("MSAE: recombined shapes are the decoders' sums on codes taken from th
   const auto rec = net.reconstruct(two, 2);
   int new_ones = 0;
   for (Eigen::Index r = 0; r < n; ++r)
-    new_ones += (mixed.row(r) - rec.row(0)).norm() > 1e-6 && (mixed.row(r) - rec.row(1)).norm() > 1e-6;
+    new_ones +=
+        (mixed.row(r) - rec.row(0)).norm() > 1e-6 && (mixed.row(r) - rec.row(1)).norm() > 1e-6;
   CHECK(new_ones > n / 2);
 }
 
@@ -344,7 +350,8 @@ TEST_CASE("MSAE: --centre-separation gives a block's components centres apart", 
     C.setConstant(0.01f);
     // All three components peak at vertex 4 (the centre); the strongest is component 2, and
     // component 0's second-best vertex is 0, component 1's is 8.
-    for (int k = 0; k < 3; ++k) C.row(k).segment(9 * 4, 9).setConstant(1.0f + 0.5f * static_cast<float>(k));
+    for (int k = 0; k < 3; ++k)
+      C.row(k).segment(9 * 4, 9).setConstant(1.0f + 0.5f * static_cast<float>(k));
     C.row(0).segment(9 * 0, 9).setConstant(0.5f);
     C.row(1).segment(9 * 8, 9).setConstant(0.5f);
   };
@@ -389,8 +396,10 @@ TEST_CASE("MSAE: --support hard zeroes C outside each component's radius", "[mod
   CHECK_THROWS_AS(MsaeNet<double>(config, 9, grid_edges(), 3), UsageError);
 }
 
-TEST_CASE("MSAE: --support proximal shrinks C's groups outside the radius by Omega's step and "
-          "zeroes the small ones exactly", "[models][msae]") {
+TEST_CASE(
+    "MSAE: --support proximal shrinks C's groups outside the radius by Omega's step and "
+    "zeroes the small ones exactly",
+    "[models][msae]") {
   MsaeConfig config = tiny({2, 2}, true);
   config.support = "proximal";
   config.lambda_sparse = 3;
@@ -466,13 +475,15 @@ TEST_CASE("MSAE: --centre-features models deviations from a fixed offset, which 
   CHECK_THROWS(centred.set_offset(random_shapes(2, 10)));
   centred.set_offset(mean);
   // The same blocks' weights (the offset is drawn last): centred(x) = mean + plain(x − mean).
-  for (const auto& b : plain.blocks()) REQUIRE(plain.store().value(b.c) == centred.store().value(b.c));
+  for (const auto& b : plain.blocks())
+    REQUIRE(plain.store().value(b.c) == centred.store().value(b.c));
   const nn::Matrix<double> shifted = x.rowwise() - mean.row(0);
   for (int levels : {1, 2}) {
     const nn::Matrix<double> expected = plain.reconstruct(shifted, levels).rowwise() + mean.row(0);
     CHECK((centred.reconstruct(x, levels) - expected).cwiseAbs().maxCoeff() < 1e-12);
   }
-  CHECK((centred.decode(0, nn::Matrix<double>::Zero(1, 3)) - plain.decode(0, nn::Matrix<double>::Zero(1, 3)) - mean)
+  CHECK((centred.decode(0, nn::Matrix<double>::Zero(1, 3)) -
+         plain.decode(0, nn::Matrix<double>::Zero(1, 3)) - mean)
             .cwiseAbs()
             .maxCoeff() < 1e-12);
   // The loss is the plain network's on the shifted shapes; the offset's gradient stays zero, so
@@ -518,9 +529,10 @@ TEST_CASE("MSAE: --attention-sharpness raises the masks' am to the power p, grad
   CHECK_THROWS_AS(MsaeNet<double>(config, 9, grid_edges(), 7), UsageError);
 }
 
-TEST_CASE("MSAE: --lambda-whole adds the whole reconstruction's MSE, gradient-checked, block by "
-          "block as on one tape",
-          "[models][msae]") {
+TEST_CASE(
+    "MSAE: --lambda-whole adds the whole reconstruction's MSE, gradient-checked, block by "
+    "block as on one tape",
+    "[models][msae]") {
   for (bool attention : {true, false}) {
     MsaeConfig config = tiny({3, 2, 2}, attention);
     MsaeNet<double> plain(config, 9, grid_edges(), 4);
