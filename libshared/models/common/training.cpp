@@ -78,13 +78,17 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
   auto interval_start = std::chrono::steady_clock::now();
   std::int64_t timed = 0;  // iterations run since interval_start (a resumed interval holds more)
   std::int64_t last_checkpoint = iteration;
-  // Until the first loss line, one line of pace once the run has taken kFirstWord: a large model
-  // may take minutes to reach its first loss line, and a silent trainer looks hung.
-  constexpr double kFirstWord = 2.0;  // seconds
+  // Until the first loss line, a line of pace once the run has taken kFirstWord (a large model
+  // may take minutes to reach its first loss line, and a silent trainer looks hung), and another
+  // at kSecondWord measured without the first iteration, which holds the run's set-up (on a
+  // large set 20 times a later iteration's time, so the first estimate runs far too long).
+  constexpr double kFirstWord = 2.0, kSecondWord = 30.0;  // seconds
   const auto run_start = interval_start;
-  bool spoken = false;
+  int spoken = 0;  // pace lines so far (2: a loss line came or both were said)
+  auto first_done = run_start;
+  std::int64_t timed_at_first = 0;
   if (iteration < loop.iterations)
-    log::info("training iterations {}-{}: a loss line every {}; a line of pace before the first",
+    log::info("training iterations {}-{}: a loss line every {}; lines of pace before the first",
               iteration + 1, loop.iterations, loop.print_every);
   while (iteration < loop.iterations) {
     const std::int64_t done = iteration + 1;  // counting this one
@@ -97,24 +101,29 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
     ++timed;
     iteration = done;  // before any checkpoint: the file must say how many iterations it holds
     const bool row_due = done % loop.print_every == 0 || done == loop.iterations;
-    if (!row_due && !spoken) {
-      const double so_far =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - run_start).count();
-      if (so_far >= kFirstWord) {
-        spoken = true;
-        const double per = so_far / static_cast<double>(timed);
+    if (timed == 1) first_done = std::chrono::steady_clock::now(), timed_at_first = timed;
+    if (!row_due && spoken < 2) {
+      const auto now = std::chrono::steady_clock::now();
+      const double so_far = std::chrono::duration<double>(now - run_start).count();
+      const bool second = spoken == 1 && so_far >= kSecondWord && timed > timed_at_first;
+      if ((spoken == 0 && so_far >= kFirstWord) || second) {
+        ++spoken;
+        const double per = second ? std::chrono::duration<double>(now - first_done).count() /
+                                        static_cast<double>(timed - timed_at_first)
+                                  : so_far / static_cast<double>(timed);
         const std::int64_t next_row =
             std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
         log::info(
-            "iteration {}/{}: {:.3g} s/iteration so far; the next loss line at iteration {} (in "
-            "~{:.0f} s), "
-            "{:.0f} s left in all",
-            done, loop.iterations, per, next_row, per * static_cast<double>(next_row - done),
+            "iteration {}/{}: {:.3g} s/iteration {}; the next loss line at iteration {} (in "
+            "~{:.0f} "
+            "s), {:.0f} s left in all",
+            done, loop.iterations, per, second ? "since the first" : "so far", next_row,
+            per * static_cast<double>(next_row - done),
             per * static_cast<double>(loop.iterations - done));
       }
     }
     if (row_due) {
-      spoken = true;
+      spoken = 2;
       const std::string detail =
           append_log_row(done, interval, names, evaluate_names, evaluate, log);
       const auto now = std::chrono::steady_clock::now();
