@@ -77,8 +77,7 @@ int main(int argc, char** argv) {
     for (int i = 0; i < V; ++i) err = std::max(err, (res.positions.row(i) - shape.row(i)).norm());
     std::printf(
         "| edit-shape, %d vertices, %d components, %d handles | %d steps | %.1f | %.1f | factor "
-        "%.0f ms, "
-        "largest error %.2g x diagonal |\n",
+        "%.0f ms, largest error %.2g x diagonal |\n",
         V, K, H, res.iterations, t.median_ms, t.min_ms, 1e3 * factor, err / diagonal);
   });
 }

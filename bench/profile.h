@@ -86,8 +86,7 @@ inline void print_profile(const char* title, int iters, const std::function<void
                  limits.bandwidth_gbs > 0 ? bytes / (limits.bandwidth_gbs * 1e9) : 0.0);
     fmt::print(
         "; the machine's limit for it {:.1f} ms (products at {:.0f} GFLOP/s, or {:.0f} MB at "
-        "{:.1f} GB/s): the "
-        "step runs at {:.0f}% of it",
+        "{:.1f} GB/s): the step runs at {:.0f}% of it",
         1e3 * limit_s, limits.peak_gflops, bytes / 1e6, limits.bandwidth_gbs, pct(limit_s, step_s));
   }
   fmt::print("\n\n");

@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
       "or recon-msae): de-normalize with the stored numbers, rebuild T = exp(L)·S per\n"
       "vertex and solve for positions (--solver) with one pinned vertex per connected\n"
       "component. The system matrix is factored once per template; frames are solved\n"
-      "in parallel.\n\n"
+      "in parallel.\n"
+      "\n"
       "OUTPUT: a directory of mesh files (format from --name's extension), or NAME.h5\n"
       "(acap kind with the reconstructed /frames/positions; the features stay in INPUT).\n"
       "When the input stores original positions, the round-trip error is reported.");

@@ -12,7 +12,8 @@ int main(int argc, char** argv) {
       "the class it was generated for. Poses are brought into the model's coordinates through\n"
       "the stored normalizations. Sequences generated for a mixture of classes (gen-actgan --mix)\n"
       "have no right answer: they are not scored, and their class probabilities are printed.\n"
-      "--probabilities prints every sequence's class probabilities.\n\n"
+      "--probabilities prints every sequence's class probabilities.\n"
+      "\n"
       "OUTPUT: the table on stdout; --json FILE (or -) with accuracies and probabilities.");
   tool.with_force();
   df::models::ClassifyOptions opt;

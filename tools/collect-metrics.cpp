@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
       "by their path (E_rms, sted.spatial, ...; lists such as per-step errors are left out),\n"
       "one row per file, named by the file's directory (sweep/kz10/metrics.json -> kz10) or\n"
       "by --names. A number one file lacks is an empty cell. scripts/sweep calls it as the\n"
-      "collect step of a parameter sweep.\n\n"
+      "collect step of a parameter sweep.\n"
+      "\n"
       "OUTPUT: a tab-separated table (header row 'name' + columns) on stdout or to -o.");
   tool.with_force();
   df::eval::CollectMetricsOptions opt;

@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
       "Frames pair through PRED's /frames/source (gen-bdlstm output) or by index. Positions\n"
       "are reconstructed from features (exact solver) when a file stores none; one\n"
       "translation per connected component is removed before measuring (--align rigid:\n"
-      "the best rotation too, Kabsch, as the MSAE paper aligns models before E_rms).\n\n"
+      "the best rotation too, Kabsch, as the MSAE paper aligns models before E_rms).\n"
+      "\n"
       "INPUT: PRED [TRUTH]: acap .h5 files or mesh directories (or two skeleton files, or\n"
       "a components file and a bumps file); with PRED alone only the\n"
       "feature change is measured. OUTPUT: the table on stdout; --json FILE (or -).");

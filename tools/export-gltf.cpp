@@ -7,7 +7,8 @@ int main(int argc, char** argv) {
       "export-gltf",
       "Write a mesh sequence as one glTF 2.0 binary (.glb) that animation tools play: the first\n"
       "frame is the mesh, every frame a morph target (positions and normals), and one animation\n"
-      "switches the targets on in turn (frame k at time k / fps, linear between frames).\n\n"
+      "switches the targets on in turn (frame k at time k / fps, linear between frames).\n"
+      "\n"
       "INPUT: an acap .h5 (stored positions, or reconstructed from its features as acap2obj\n"
       "does: gen-bdlstm and recon-msae outputs) or mesh files / directories; or a skeleton .h5\n"
       "(skel2h5, gen-actgan): one sequence as animated joints, a node per joint in the\n"

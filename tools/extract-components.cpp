@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
       "to the block's zero code, applied to the reference: X = X_r + Dec(s e_k) - Dec(0).\n"
       "Also writes each component's centre (argmax_i |C_k,i|), strength (paper eq. 7),\n"
       "AE0's attention masks (eq. 6) and the |cosine| similarity of the level-0 components\n"
-      "(paper Fig. 3).\n\n"
+      "(paper Fig. 3).\n"
+      "\n"
       "MODEL: from train-msae. DATA: the acap file it was trained on (for the code ranges).\n"
       "OUTPUT: a components .h5 for prune-components; --acap also writes the components as an\n"
       "acap file (one sequence per level) for acap2obj and render-mesh --color deformation.");

@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
       "static repeats the last given frame (what a network that learned no motion does).\n"
       "--test-every K makes the cases from the model's held-out test parts.\n"
       "A model trained with --stride q steps q data frames per generated frame: the\n"
-      "given frames and keyframes are q apart, and so are the frames it is compared with.\n\n"
+      "given frames and keyframes are q apart, and so are the frames it is compared with.\n"
+      "\n"
       "INPUT: MODEL (bdlstm-model) and DATA (acap file on the same template: the given\n"
       "frames). Frames are global indices of DATA or SEQUENCE:K.\n"
       "OUTPUT: an acap .h5 with normalized features, one sequence per case and sample;\n"
@@ -40,8 +41,8 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
   app.add_option("--mode", opt.mode, "predict or complete")->default_val(opt.mode);
   app.add_option("--method", opt.method,
-                 "bdlstm, linear (feature-space baseline), or static (predict: the last "
-                 "given\nframe repeated, the zero-motion reference)")
+                 "bdlstm, linear (feature-space baseline), or static (predict: the last given\n"
+                 "frame repeated, the zero-motion reference)")
       ->default_val(opt.method);
   app.add_option("--from", opt.from,
                  "predict: last given frame of a case (repeatable, or comma-separated: 5,walk:12)")

@@ -10,7 +10,8 @@ int main(int argc, char** argv) {
       "training (or held-out) part — near 0 in every dimension means posterior collapse; and\n"
       "windows of that part predicted from --initial given frames with z = the encoder's mean,\n"
       "z drawn from the prior, and z = 0, beside zero motion: when the prior or zero predict as\n"
-      "well as the mean, the LSTM does not use what the encoder sees.\n\n"
+      "well as the mean, the LSTM does not use what the encoder sees.\n"
+      "\n"
       "INPUT: MODEL (bdlstm-model .h5) DATA (the acap .h5 it was trained on). Output: a report\n"
       "on stdout; --tsv FILE adds the KL per dimension and the error per step for plots.");
   tool.with_seed(0).with_force();

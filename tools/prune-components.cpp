@@ -8,7 +8,8 @@ int main(int argc, char** argv) {
       "Redundant component removal (paper 2, section 4.3): a component's strength is the\n"
       "mean of |(X - X_r)_i| over the vertices where it exceeds --eps1 (eq. 7; X_r the\n"
       "reference's features, normalized units); components weaker than --eps2 are marked\n"
-      "dropped. Prints a table per component and the kept/dropped count per level.\n\n"
+      "dropped. Prints a table per component and the kept/dropped count per level.\n"
+      "\n"
       "INPUT: a components .h5 from extract-components (or an earlier prune-components).\n"
       "OUTPUT: the same file with /level<l>/kept and strength updated; --acap writes the kept\n"
       "components as an acap file, --json the report.");

@@ -7,7 +7,8 @@ int main(int argc, char** argv) {
       "recon-msae",
       "Encode shapes with a trained MSAE model and decode them through its first 1..L levels\n"
       "(the sum of the levels' outputs), for acap2obj, render-mesh and eval-metrics (E_rms,\n"
-      "STED, relative squared error: paper 2 Tables 2, 4, 5).\n\n"
+      "STED, relative squared error: paper 2 Tables 2, 4, 5).\n"
+      "\n"
       "MODEL: from train-msae. DATA: an acap .h5 on the model's template; --part train,\n"
       "validation or test take the model's split of the file it was trained on, all takes\n"
       "every frame of DATA (any file on the same template).\n"

@@ -28,7 +28,8 @@ int main(int argc, char** argv) {
       "whose length spread (interquartile range / 1.349 / median) exceeds --bone-tolerance in a\n"
       "quarter of the recordings are named in a warning, an error with --strict. Malformed\n"
       "input: one-line errors naming file and line; a take without a joints file or a segment\n"
-      "that ends before it starts: a warning.\n\n"
+      "that ends before it starts: a warning.\n"
+      "\n"
       "OUTPUT: a skeleton .h5 (/poses, /sequences/{offsets,labels,names,subjects,test},\n"
       "/classes/names, /skeleton/{parents,joint_names}, /normalization).");
   tool.with_seed(0).with_force();

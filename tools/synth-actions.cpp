@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
       "  squat  knees and hips bend, the body goes down with the arms forward\n"
       "Every sequence draws its own speed (0.8-1.25x), amplitude (0.8-1.2x) and phase, and is\n"
       "performed by one of --subjects simulated bodies (sizes 0.9-1.1x; /sequences/subjects,\n"
-      "for skel2h5 --test-subjects).\n\n"
+      "for skel2h5 --test-subjects).\n"
+      "\n"
       "OUTPUT: a skeleton .h5 (raw coordinates in metres, y up) for skel2h5, render-mesh.");
   tool.with_seed(0).with_force();
   df::synth::ActionParams p;

@@ -36,10 +36,9 @@ int main(int argc, char** argv) {
   app.add_option("--twist", p.twist_degrees, "finger: tip twist in degrees at the peak")
       ->default_val(p.twist_degrees);
   app.add_option("--periods", p.periods, "Motion periods per sequence")->default_val(p.periods);
-  app.add_option(
-         "--fine-regions", p.fine_regions,
-         "bumps: fine regions beside the 2 coarse ones (more regions than a model's first level "
-         "has components make it place fine ones on its second)")
+  app.add_option("--fine-regions", p.fine_regions,
+                 "bumps: fine regions beside the 2 coarse ones (more regions than a model's first "
+                 "level has components make it place fine ones on its second)")
       ->default_val(p.fine_regions)
       ->check(CLI::Range(0, df::synth::kMaxFineRegions));
   app.add_option("--mesh-format", format, "Mesh files when -o is a directory: obj, ply, off")

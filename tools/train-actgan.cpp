@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
       "     BCE + Omega (smoothness of latents, sigma1, and poses, sigma2) + gamma x the\n"
       "     classifier's cross-entropy on real and generated sequences; the pre-trained\n"
       "     decoder learns on (--freeze-decoder: it stays fixed).\n"
-      "Adam with betas 0.5 / 0.9 for every network (as the authors' code).\n\n"
+      "Adam with betas 0.5 / 0.9 for every network (as the authors' code).\n"
+      "\n"
       "INPUT: a skeleton .h5 of equal-length clips (skel2h5 --length; its test part is not\n"
       "trained on). OUTPUT: an actgan-model .h5 for gen-actgan (weights, Adam and RNG state,\n"
       "config, classes, skeleton, normalization, loss log).");

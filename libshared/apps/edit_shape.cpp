@@ -54,8 +54,7 @@ Subspace select_directions(const io::Components& c, const EditShapeOptions& opt)
   if (rows.empty())
     throw InvalidInput(
         "no component to edit with (the chosen levels' components were all pruned: "
-        "--include-pruned "
-        "uses them)",
+        "--include-pruned uses them)",
         opt.components);
   const int D = c.per_vertex();
   const auto n = static_cast<Eigen::Index>(D) * c.tmpl.vertices.rows();
@@ -421,8 +420,7 @@ void edit_shape(const EditShapeOptions& opt, const CommonOptions& common) {
               res.iterations);
   log::info(
       "{} components, {} handles: energy {:.4g} -> {:.4g} in {} steps; the weights alone reach the "
-      "handles "
-      "within {:.3g} x the template's diagonal{}; wrote {}",
+      "handles within {:.3g} x the template's diagonal{}; wrote {}",
       sub.selected.size(), handles.vertices.size(), res.energy.front(), res.energy.back(),
       res.iterations, *std::max_element(record.residual.begin(), record.residual.end()) / diagonal,
       c.space == "positions" ? " (position components: the handles are fitted, not held)" : "",

@@ -74,7 +74,8 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
     fmt::print("{:<16} {:>9} {:>6} {:>11.5g} {:>11.5g} {:>11.5g} {:>11.5g}\n", "mean", "", "",
                r.mmd_avg, r.mmd_seq, r.mmd_motion_avg, r.mmd_motion_seq);
     fmt::print(
-        "\nvariety: mean distance between two sequences, and MMD_u^2 of one half of a set against "
+        "\n"
+        "variety: mean distance between two sequences, and MMD_u^2 of one half of a set against "
         "the other\n"
         "(at the bandwidth of the class's MMD_seq: its sampling noise)\n");
     fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real",

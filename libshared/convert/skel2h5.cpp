@@ -101,8 +101,8 @@ ResolvedInputs resolve_inputs(const Skel2h5Options& opt) {
   if (kinds.empty())
     throw InvalidInput(opt.format == "auto"
                            ? "cannot tell the format (a UTKinect directory or actionLabel.txt, "
-                             "aXX_sYY_eZZ_skeleton3D.txt "
-                             "files or a directory of them, .bvh, or a skeleton .h5); use --format"
+                             "aXX_sYY_eZZ_skeleton3D.txt files or a directory of them, .bvh, or a "
+                             "skeleton .h5); use --format"
                            : fmt::format("no input file of --format {}", opt.format),
                        files.front().path);
   if (kinds.size() > 1)

@@ -71,8 +71,7 @@ std::vector<FrameSource> expand_frames(const std::string& input) {
   if (!is_mesh_file(input))
     throw InvalidInput(
         "unknown input format: expected a mesh file (.obj, .off, .ply), an MD2 model (.md2), an "
-        "acap .h5 file, a "
-        "directory of mesh files or an @LIST of them",
+        "acap .h5 file, a directory of mesh files or an @LIST of them",
         input);
   return {source_of(p)};
 }

@@ -309,14 +309,12 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference,
             throw InvalidInput(fmt::format("has more triangles than the reference {} ({})",
                                            reference_name, reference.faces.rows()),
                                path);
-          throw InvalidInput(
-              fmt::format(
-                  "connectivity differs from the reference {} first at triangle {}: ({} {} {}) "
-                  "instead of ({} {} {})",
-                  reference_name, tri + 1, poly[0] + 1, poly[k] + 1, poly[k + 1] + 1,
-                  reference.faces(tri, 0) + 1, reference.faces(tri, 1) + 1,
-                  reference.faces(tri, 2) + 1),
-              path);
+          throw InvalidInput(fmt::format("connectivity differs from the reference {} first at "
+                                         "triangle {}: ({} {} {}) instead of ({} {} {})",
+                                         reference_name, tri + 1, poly[0] + 1, poly[k] + 1,
+                                         poly[k + 1] + 1, reference.faces(tri, 0) + 1,
+                                         reference.faces(tri, 1) + 1, reference.faces(tri, 2) + 1),
+                             path);
         }
       }
     }
@@ -413,12 +411,18 @@ void MeshWriter::write(const std::string& path, const Vertices& V) const {
       fmt::format_to(std::back_inserter(b), "3 {} {} {}\n", faces_(f, 0), faces_(f, 1),
                      faces_(f, 2));
   } else {
-    fmt::format_to(
-        std::back_inserter(b),
-        "ply\nformat ascii 1.0\ncomment deformflow\nelement vertex {}\nproperty double x\n"
-        "property double y\nproperty double z\nelement face {}\n"
-        "property list uchar int vertex_indices\nend_header\n",
-        V.rows(), faces_.rows());
+    fmt::format_to(std::back_inserter(b),
+                   "ply\n"
+                   "format ascii 1.0\n"
+                   "comment deformflow\n"
+                   "element vertex {}\n"
+                   "property double x\n"
+                   "property double y\n"
+                   "property double z\n"
+                   "element face {}\n"
+                   "property list uchar int vertex_indices\n"
+                   "end_header\n",
+                   V.rows(), faces_.rows());
     for (Eigen::Index i = 0; i < V.rows(); ++i) {
       fmt_vertex(i);
       b.push_back('\n');

@@ -243,11 +243,11 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias,
   const Index V = a->rows(), cin = wp.rows(), cout = wp.cols(), B = x.rows();
   if (x.cols() != V * cin || wn.rows() != cin || wn.cols() != cout || bias.rows() != 1 ||
       bias.cols() != cout || !detail::narrow_fits(cin, cout))
-    throw Error(fmt::format(
-        "internal: mesh_conv of x [{},{}] with V = {}, W [{},{}]/[{},{}], b [{},{}] (at most {} "
-        "channels)",
-        x.rows(), x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(), bias.cols(),
-        detail::kNarrowMax));
+    throw Error(
+        fmt::format("internal: mesh_conv of x [{},{}] with V = {}, W [{},{}]/[{},{}], b [{},{}] "
+                    "(at most {} channels)",
+                    x.rows(), x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(),
+                    bias.cols(), detail::kNarrowMax));
   using ConstMap = Eigen::Map<const Matrix<T>>;
   ConstMap X(x.value().data(), B * V, cin);  // a sample row [V·cin] is V rows of cin
   // Neighbour means, vertex-major [V, B·cin] (sample s in columns s·cin ..), kept for backward.

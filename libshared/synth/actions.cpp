@@ -126,8 +126,8 @@ double base_frequency(const std::string& name) {
 void check_params(const ActionParams& p) {
   if (p.per_class < 1 || p.frames < 2 || p.subjects < 1 || !(p.frame_rate > 0) || p.noise < 0)
     throw UsageError(
-        "--per-class and --subjects must be positive, --frames at least 2, --fps positive, "
-        "--noise not negative");
+        "--per-class and --subjects must be positive, --frames at least 2, --fps positive, --noise "
+        "not negative");
   for (const auto& c : p.classes)
     if (std::find(action_names().begin(), action_names().end(), c) == action_names().end())
       throw UsageError(

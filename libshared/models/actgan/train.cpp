@@ -25,8 +25,8 @@ void check_options(const ActganTrainOptions& opt) {
       t.critic_steps < 1 || t.d_steps < 1 || t.g_steps < 1 || !(t.lr > 0) || !(t.lr_pretrain > 0) ||
       !(t.disc_lr >= 0) || !(t.disc_noise >= 0))
     throw UsageError(
-        "--iterations and --pretrain-iterations must not be negative, batches at least 2, steps "
-        "at least 1, learning rates positive (--disc-lr 0: --lr), --disc-noise not negative");
+        "--iterations and --pretrain-iterations must not be negative, batches at least 2, steps at "
+        "least 1, learning rates positive (--disc-lr 0: --lr), --disc-noise not negative");
   if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
   if (c.generator == "pose" && t.pretrain_iterations > 0)
@@ -336,8 +336,7 @@ std::function<LossTerms()> validation_evaluation(const ActganTrainOptions& opt,
   if (!opt.validate) throw Error("train_actgan: validation subjects but no validation measure");
   log::info(
       "validation: {} clips of subjects {} held out of training; the log's {} columns compare "
-      "generated "
-      "sequences with them",
+      "generated sequences with them",
       validation.size(), fmt::join(m.training.validation_subjects, ","),
       fmt::join(ActganModel::validation_columns(), " / "));
   return [&opt, &m, &validation] { return opt.validate(m, validation); };

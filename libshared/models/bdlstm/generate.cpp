@@ -162,10 +162,10 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
         throw UsageError(
             "--keyframes must be increasing (a gap runs forward from one keyframe to the next)");
       if ((c.frames[k] - c.frames[k - 1]) % q != 0)
-        throw UsageError(fmt::format(
-            "keyframes {} and {} are {} frames apart, not a multiple of the stride {} the "
-            "model steps by (--stride)",
-            c.frames[k - 1], c.frames[k], c.frames[k] - c.frames[k - 1], q));
+        throw UsageError(
+            fmt::format("keyframes {} and {} are {} frames apart, not a multiple of the stride {} "
+                        "the model steps by (--stride)",
+                        c.frames[k - 1], c.frames[k], c.frames[k] - c.frames[k - 1], q));
     }
     c.name = fmt::format("{}-{}", d.sequences[d.sequence_of(c.frames[0])],
                          c.frames[0] - d.offsets[d.sequence_of(c.frames[0])]);
@@ -231,8 +231,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
   if (runner.unmerged())
     log::warn(
         "{} completion(s) did not merge below --threshold {} after {} attempts (worst relative "
-        "difference {:.3g}); "
-        "the closest pair was used",
+        "difference {:.3g}); the closest pair was used",
         runner.unmerged(), runner.threshold(), opt.retries, runner.worst_merge());
   else if (opt.mode == "complete" && opt.method == "bdlstm")
     log::info("every completion merged (worst relative difference {:.3g})", runner.worst_merge());

@@ -125,8 +125,7 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
   const auto active = std::count_if(kl.begin(), kl.end(), [](double v) { return v > 0.01; });
   std::cout << fmt::format(
                    "  KL(q(z|x) || N(0,I)) over {} frames of the {} part: {:.4g} nats in all, {} "
-                   "of {} dimensions "
-                   "above 0.01 nats; largest {:.3g}",
+                   "of {} dimensions above 0.01 nats; largest {:.3g}",
                    frames.size(), opt.part, std::accumulate(kl.begin(), kl.end(), 0.0), active,
                    kl.size(),
                    fmt::join(

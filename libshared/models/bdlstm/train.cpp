@@ -155,12 +155,9 @@ void warn_collapse(const BdlstmModel& m, double first_recon, double recon) {
   log::warn(
       "the latent has collapsed: {:.3g} nats per frame (below --collapse-threshold {}) and the "
       "reconstruction has not improved ({:.4g} -> {:.4g}), so the model predicts what the prior "
-      "does "
-      "(little or no motion). Train with the remedies (the defaults: --kl-warmup 500 "
-      "--kl-free-bits "
-      "0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small; not --paper-form) and see "
-      "what "
-      "z carries with inspect-bdlstm MODEL DATA",
+      "does (little or no motion). Train with the remedies (the defaults: --kl-warmup 500 "
+      "--kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small; not "
+      "--paper-form) and see what z carries with inspect-bdlstm MODEL DATA",
       m.kl_per_frame, m.training.collapse_threshold, first_recon, recon);
 }
 }  // namespace
@@ -235,10 +232,9 @@ std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::stri
     }
   }
   throw InvalidInput(
-      fmt::format(
-          "no sequence has a training part of {} frames (window {}, stride {}); the longest "
-          "has {}: use a smaller --window, --stride or --validation-fraction",
-          span, m.training.window, m.training.stride, longest),
+      fmt::format("no sequence has a training part of {} frames (window {}, stride {}); the "
+                  "longest has {}: use a smaller --window, --stride or --validation-fraction",
+                  span, m.training.window, m.training.stride, longest),
       input);
 }
 
@@ -287,8 +283,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   in.read_normalized(0, in.frames(), data.data());
   log::info(
       "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, "
-      "stride {}), "
-      "{} parameters, {} directions",
+      "stride {}), {} parameters, {} directions",
       opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts.size(),
       m.training.window, m.training.stride, m.net->store().size(),
       directions_name(m.config.directions));

@@ -115,8 +115,7 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
             std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
         log::info(
             "iteration {}/{}: {:.3g} s/iteration {}; the next loss line at iteration {} (in "
-            "~{:.0f} "
-            "s), {:.0f} s left in all",
+            "~{:.0f} s), {:.0f} s left in all",
             done, loop.iterations, per, second ? "since the first" : "so far", next_row,
             per * static_cast<double>(next_row - done),
             per * static_cast<double>(loop.iterations - done));

@@ -28,12 +28,10 @@ MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const s
       throw UsageError("--part must be train, validation, test or all");
     for (auto f : s.frames)
       if (f >= n)
-        throw InvalidInput(
-            fmt::format(
-                "has {} frames, but the model's {} part names frame {}: give the file it was "
-                "trained on ({}), or --part all",
-                n, part, f, m.split.data),
-            path);
+        throw InvalidInput(fmt::format("has {} frames, but the model's {} part names frame {}: "
+                                       "give the file it was trained on ({}), or --part all",
+                                       n, part, f, m.split.data),
+                           path);
   }
   s.history = data.file().history();
   s.offsets = data.file().offsets();

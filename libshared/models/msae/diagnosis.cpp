@@ -228,7 +228,8 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
       d.n_training, d.pca_rank, d.n_heldout, heldout_part, d.eps1, d.n_vertices, heldout_part);
   for (const auto& level : d.levels) {
     t += fmt::format(
-        "\nlevel {}: {} components, {} distinct centres; decoded directions' effective rank {} "
+        "\n"
+        "level {}: {} components, {} distinct centres; decoded directions' effective rank {} "
         "(singular values / largest: {:.3f})\n",
         level.level, level.components.size(), level.distinct_centres, level.effective_rank,
         fmt::join(level.singular_values, " "));
@@ -256,15 +257,15 @@ std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_
                      counted.end());
     t += fmt::format(
         "  eq. 7 counts a median {} of {} vertices; {} of {} reach eps2 = {:g} (the pruning "
-        "threshold), {} over "
-        "their support only\n",
+        "threshold), {} over their support only\n",
         counted[counted.size() / 2], d.n_vertices, pass, level.components.size(), d.eps2,
         pass_support);
   }
   if (d.second.children > 0) {
     const auto& s = d.second;
     t += fmt::format(
-        "\nlevel 1 on the training shapes' residual R after level 0 (shares of its energy):\n"
+        "\n"
+        "level 1 on the training shapes' residual R after level 0 (shares of its energy):\n"
         "  fed to its {} autoencoder(s) ({} components){}: {:.1f}%\n"
         "  left by the trained level 1: {:.1f}%\n"
         "  left by the best linear autoencoders of the same sizes on the same inputs: {:.1f}%\n"

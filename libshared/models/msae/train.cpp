@@ -389,8 +389,7 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     m.net->set_offset(gather(data, m.split.train).colwise().mean());
   log::info(
       "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "
-      "blocks "
-      "in {} levels (K_z {}), {} parameters, {} training",
+      "blocks in {} levels (K_z {}), {} parameters, {} training",
       opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.train.size(),
       m.split.validation.size(), m.split.test.size(), m.net->blocks().size(), m.config.levels(),
       fmt::join(m.config.kz, ","), m.net->store().size(),

@@ -231,11 +231,26 @@ TEST_CASE("skeleton import: BVH forward kinematics through assimp", "[convert]")
   TempDir dir;
   // Root at (1, 2, 3) then (1, 2, 4); a child 1 along x, rotated 90 deg about z in frame 2.
   write_text(dir / "two.bvh",
-             "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition "
-             "Zrotation Xrotation Yrotation\n"
-             "  JOINT Arm\n  {\n    OFFSET 1 0 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n"
-             "    End Site\n    {\n      OFFSET 1 0 0\n    }\n  }\n}\n"
-             "MOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3 0 0 0 0 0 0\n1 2 4 90 0 0 0 0 0\n");
+             "HIERARCHY\n"
+             "ROOT Hips\n"
+             "{\n"
+             "  OFFSET 0 0 0\n"
+             "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+             "  JOINT Arm\n"
+             "  {\n"
+             "    OFFSET 1 0 0\n"
+             "    CHANNELS 3 Zrotation Xrotation Yrotation\n"
+             "    End Site\n"
+             "    {\n"
+             "      OFFSET 1 0 0\n"
+             "    }\n"
+             "  }\n"
+             "}\n"
+             "MOTION\n"
+             "Frames: 2\n"
+             "Frame Time: 0.1\n"
+             "1 2 3 0 0 0 0 0 0\n"
+             "1 2 4 90 0 0 0 0 0\n");
   const auto c = convert::read_bvh({dir / "two.bvh"}, "test");
   REQUIRE(c.sequences.size() == 1);
   CHECK(c.frame_rate == Approx(10));

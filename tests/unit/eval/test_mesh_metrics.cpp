@@ -7,8 +7,7 @@
 using namespace df;
 
 TEST_CASE(
-    "align_rigid: undoes a rotation and translation per connected part; translation-only "
-    "does not",
+    "align_rigid: undoes a rotation and translation per connected part; translation-only does not",
     "[eval]") {
   Rng rng(3, 0);
   io::Vertices truth(40, 3);

@@ -127,9 +127,8 @@ TEST_CASE("model data: the model's normalization from stored, raw or renormalize
   other.faces << 0, 2, 1;
   CHECK(error_message([&] { models::ModelData(dir / "a.h5", other); })
             .find("has another template than the model: the same 3 vertices and 1 triangles, but "
-                  "triangle 0 joins "
-                  "vertices (0 1 2) here and (0 2 1) in the model (counting from 0): the two must "
-                  "share the "
+                  "triangle 0 joins vertices (0 1 2) here and (0 2 1) in the model (counting from "
+                  "0): the two must share the "
                   "template") == 0);
   io::Mesh bigger = triangle();
   bigger.vertices.conservativeResize(4, 3);

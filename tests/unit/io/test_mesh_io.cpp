@@ -13,8 +13,15 @@ using df::test::write_text;
 TEST_CASE("read_mesh: OBJ keeps vertex order and fan-triangulates polygons", "[io]") {
   df::test::TempDir tmp;
   write_text(tmp / "q.obj",
-             "# quad and pentagon\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0.5 0\nvt 0 0\n"
-             "f 1/1 2/1 3/1 4/1\nf 2 5 3\n");
+             "# quad and pentagon\n"
+             "v 0 0 0\n"
+             "v 1 0 0\n"
+             "v 1 1 0\n"
+             "v 0 1 0\n"
+             "v 2 0.5 0\n"
+             "vt 0 0\n"
+             "f 1/1 2/1 3/1 4/1\n"
+             "f 2 5 3\n");
   df::io::MeshReadReport rep;
   Mesh m = read_mesh(tmp / "q.obj", &rep);
   REQUIRE(m.vertices.rows() == 5);
@@ -31,15 +38,28 @@ TEST_CASE("read_mesh: OFF, ASCII PLY and binary PLY", "[io]") {
   df::test::TempDir tmp;
   write_text(tmp / "t.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
   write_text(tmp / "t.ply",
-             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float "
-             "y\nproperty float z\n"
-             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 "
-             "1 0\n0 1 0\n4 0 1 2 3\n");
+             "ply\n"
+             "format ascii 1.0\n"
+             "element vertex 4\n"
+             "property float x\n"
+             "property float y\n"
+             "property float z\n"
+             "element face 1\n"
+             "property list uchar int vertex_indices\n"
+             "end_header\n"
+             "0 0 0\n"
+             "1 0 0\n"
+             "1 1 0\n"
+             "0 1 0\n"
+             "4 0 1 2 3\n");
   {
     std::ofstream b(tmp / "b.ply", std::ios::binary);
     b << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
          "y\n"
-         "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+         "property float z\n"
+         "element face 1\n"
+         "property list uchar int vertex_indices\n"
+         "end_header\n";
     float v[9] = {0, 0, 0, 1, 0, 0, 0.25f, 1, 0};
     b.write(reinterpret_cast<const char*>(v), sizeof v);
     unsigned char n = 3;
@@ -77,10 +97,19 @@ TEST_CASE("read_mesh: bad input gives a clear error naming the file", "[io]") {
   CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "nan.off"); }),
              Catch::Contains("nan.off:5)"));
   write_text(tmp / "inf.ply",
-             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
-             "y\nproperty float z\n"
-             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 -inf "
-             "0\n0 1 0\n3 0 1 2\n");
+             "ply\n"
+             "format ascii 1.0\n"
+             "element vertex 3\n"
+             "property float x\n"
+             "property float y\n"
+             "property float z\n"
+             "element face 1\n"
+             "property list uchar int vertex_indices\n"
+             "end_header\n"
+             "0 0 0\n"
+             "1 -inf 0\n"
+             "0 1 0\n"
+             "3 0 1 2\n");
   CHECK_THAT(df::test::error_message([&] { read_mesh(tmp / "inf.ply"); }),
              Catch::Contains("inf.ply:11)"));
   write_text(tmp / "word.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
@@ -119,8 +148,14 @@ TEST_CASE("read_mesh: structure checks refuse what OpenMesh's readers cannot sur
   CHECK_THAT(error("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
              Catch::Contains("not a vertex index below 3"));
   const std::string header =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+      "ply\n"
+      "format ascii 1.0\n"
+      "element vertex 3\n"
+      "property float x\n"
+      "property float y\n"
+      "property float z\n"
+      "element face 1\n"
+      "property list uchar int vertex_indices\n";
   CHECK_THAT(error("format.ply", header + "format binary_little_endian 1.0\nend_header\n"),
              Catch::Contains("one 'format"));
   CHECK_THAT(
@@ -141,8 +176,18 @@ TEST_CASE("read_mesh: non-manifold and zero-area faces are kept and counted", "[
   // Three triangles on edge (1,2); a zero-area triangle (collinear corners); a face with a
   // repeated corner (OpenMesh's OBJ reader skips it: counted as dropped).
   write_text(tmp / "nm.obj",
-             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\nv 5 5 5\nv 2 0 0\n"
-             "f 1 2 3\nf 2 1 4\nf 1 2 5\nf 1 2 7\nf 3 3 4\n");
+             "v 0 0 0\n"
+             "v 1 0 0\n"
+             "v 0 1 0\n"
+             "v 0 0 1\n"
+             "v 1 1 1\n"
+             "v 5 5 5\n"
+             "v 2 0 0\n"
+             "f 1 2 3\n"
+             "f 2 1 4\n"
+             "f 1 2 5\n"
+             "f 1 2 7\n"
+             "f 3 3 4\n");
   df::io::MeshReadReport rep;
   Mesh m = read_mesh(tmp / "nm.obj", &rep);
   CHECK(m.vertices.rows() == 7);  // OpenMesh's kernel would have duplicated vertices
@@ -182,8 +227,16 @@ TEST_CASE("check_same_connectivity: names the frame and the first differing face
 TEST_CASE("read_obj_frame: the fast parser agrees with read_mesh and checks every face", "[io]") {
   df::test::TempDir tmp;
   const std::string head =
-      "mtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.123456789012345678\nv 2 0.5 0\n"
-      "vt 0 0\nvn 0 0 1\ns off\n";
+      "mtllib x.mtl\n"
+      "o thing\n"
+      "v 0 0 0\n"
+      "v 1 0 0\n"
+      "v 1 1 0\n"
+      "v 0 1 0.123456789012345678\n"
+      "v 2 0.5 0\n"
+      "vt 0 0\n"
+      "vn 0 0 1\n"
+      "s off\n";
   write_text(tmp / "a.obj", head + "f 1/1/1 2/1/1 3/1/1 4/1/1\nf 2//1 -1//1 -3//1\n");
   Mesh ref = read_mesh(tmp / "a.obj");
   df::io::Vertices fast = df::io::read_obj_frame(tmp / "a.obj", ref, "a.obj");

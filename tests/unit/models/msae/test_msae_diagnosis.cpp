@@ -93,8 +93,8 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "MSAE diagnosis: the children's own errors are their losses; their sum is what the shapes "
-    "are left with",
+    "MSAE diagnosis: the children's own errors are their losses; their sum is what the shapes are "
+    "left with",
     "[models][msae]") {
   const auto edges = test::grid3x3_edges();
   Rng rng(3, 5);

@@ -237,8 +237,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "MSAE: fitted codes reconstruct at least as well as the encoder's and recover a "
-    "decoded shape",
+    "MSAE: fitted codes reconstruct at least as well as the encoder's and recover a decoded shape",
     "[models][msae]") {
   MsaeConfig c = tiny({3, 2}, true);
   c.decoder_fc = "linear";
@@ -397,8 +396,8 @@ TEST_CASE("MSAE: --support hard zeroes C outside each component's radius", "[mod
 }
 
 TEST_CASE(
-    "MSAE: --support proximal shrinks C's groups outside the radius by Omega's step and "
-    "zeroes the small ones exactly",
+    "MSAE: --support proximal shrinks C's groups outside the radius by Omega's step and zeroes the "
+    "small ones exactly",
     "[models][msae]") {
   MsaeConfig config = tiny({2, 2}, true);
   config.support = "proximal";
@@ -530,8 +529,8 @@ TEST_CASE("MSAE: --attention-sharpness raises the masks' am to the power p, grad
 }
 
 TEST_CASE(
-    "MSAE: --lambda-whole adds the whole reconstruction's MSE, gradient-checked, block by "
-    "block as on one tape",
+    "MSAE: --lambda-whole adds the whole reconstruction's MSE, gradient-checked, block by block as "
+    "on one tape",
     "[models][msae]") {
   for (bool attention : {true, false}) {
     MsaeConfig config = tiny({3, 2, 2}, attention);
