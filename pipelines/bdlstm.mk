@@ -327,20 +327,24 @@ BD_VALIDATION_ITERATIONS ?= 1500
 # stretches beside its validation part are 84 frames. chickenCrossing (stride 2) fits neither 64
 # nor 96 (its longest training stretch beside the validation part is 108 frames, a window of 64
 # steps spans 127): BD_VALIDATION_SETS=chickenCrossing BD_CANDIDATES="paper window48".
-BD_CANDIDATES ?= paper remedies no-kl window64
+BD_CANDIDATES ?= paper remedies carry no-kl window64
 # Every candidate spells out every remedy option and its window, so that a change of defaults
 # does not change it.
-paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero
-remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small
-no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero
+paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
+remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0
+no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
+# the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: the
+# defaults since 2026-12-02)
+carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions
 # are 32 free nats per frame) while z stays a sample of q(z|x) in training.
-free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero
+free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
 paper_CANDIDATE_WINDOW := 32
 remedies_CANDIDATE_WINDOW := 32
 no-kl_CANDIDATE_WINDOW := 32
 free-bits_CANDIDATE_WINDOW := 32
+carry_CANDIDATE_WINDOW := 32
 # Longer training windows, windowN for any N: the paper's form with N-frame windows (a chain runs
 # free at most a window's length in training, while the long generation runs 300 frames).
 $(foreach c,$(filter window%,$(BD_CANDIDATES)),$(eval $(c)_CANDIDATE := $(paper_CANDIDATE))\
@@ -349,7 +353,7 @@ $(foreach c,$(filter window%,$(BD_CANDIDATES)),$(eval $(c)_CANDIDATE := $(paper_
 $(foreach c,$(foreach x,$(BD_CANDIDATES),$(if $(findstring -w,$(x)),$(x))),$(eval $(c)_CANDIDATE := $($(word 1,$(subst -w, ,$(c)))_CANDIDATE))\
   $(eval $(c)_CANDIDATE_WINDOW := $(word 2,$(subst -w, ,$(c)))))
 $(foreach c,$(BD_CANDIDATES),$(if $($(c)_CANDIDATE_WINDOW),,\
-  $(error BD_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, windowN or NAME-wN: N frames))))
+  $(error BD_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, carry, windowN or NAME-wN: N frames))))
 
 .PHONY: bdlstm-validation
 bdlstm-validation: $(foreach s,$(BD_VALIDATION_SETS),$(BD)/$(s)/validation.md)

@@ -15,8 +15,10 @@ int main(int argc, char** argv) {
       "backward chain at its last frame (states -0.1), both free-running with the same\n"
       "weights. Loss: L_recon + 0.5 L_bidir + 0.1 (L_KL + sum w^2) (eq. 3-5); by default\n"
       "with remedies that keep the latent alive on new data (KL warm-up, free bits, L_2\n"
-      "on the weights at 1/8, a small decoder start; --paper-form for the paper's exact\n"
-      "form). A loss line warns when the latent collapses anyway.\n"
+      "on the weights at 1/8, a small decoder start) and a step that carries the motion of\n"
+      "the step before, fading along the chain (--carry 1 --carry-fade 0.8: a prediction\n"
+      "starts at the given frames' pace); --paper-form for the paper's exact form. A loss\n"
+      "line warns when the latent collapses anyway.\n"
       "\n"
       "INPUT: an acap .h5 with /features/normalized (from obj2acap).\n"
       "OUTPUT: a bdlstm-model .h5 (weights, Adam/RNG state, config, template,\n"
@@ -36,9 +38,11 @@ int main(int argc, char** argv) {
   g->add_flag(
       "--paper-form", paper_form,
       "The paper's exact form: --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1\n"
-      "--decoder-init zero (options given explicitly still win). The defaults differ in\n"
-      "those five because on new data the paper's form often learns nothing: the latent\n"
-      "collapses to the prior and the model predicts no motion (docs/bdlstm.md)");
+      "--decoder-init zero --carry 0 (options given explicitly still win). The defaults\n"
+      "differ in the first five because on new data the paper's form often learns nothing:\n"
+      "the latent collapses to the prior and the model predicts no motion; in --carry because\n"
+      "without it a prediction moves at a pace of its own, not the given frames'\n"
+      "(docs/bdlstm.md)");
   g->add_option("--collapse-threshold", opt.training.collapse_threshold,
                 "Warn at a loss line (and at the end; recorded in the model file) when the KL is\n"
                 "below this many nats per frame while the reconstruction has not improved by 10%:\n"
@@ -63,6 +67,8 @@ int main(int argc, char** argv) {
       if (app.count("--l2-scope")) opt.net.l2_scope = given.net.l2_scope;
       if (app.count("--l2-weight")) opt.net.l2_weight = given.net.l2_weight;
       if (app.count("--decoder-init")) opt.net.decoder_init = given.net.decoder_init;
+      if (app.count("--carry")) opt.net.carry = given.net.carry;
+      if (app.count("--carry-fade")) opt.net.carry_fade = given.net.carry_fade;
     }
     df::models::train_bdlstm(opt, tool.common());
   });

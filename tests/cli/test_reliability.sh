@@ -129,7 +129,7 @@ prune-components -q --threads 1 comps.h5 -o kept.h5 > /dev/null
 echo "ok (every tool takes --threads)"
 
 # --- a long run speaks within seconds: a pace line before the first loss line, and a second
-# after 30 s measured without the first iteration (which holds the set-up)
+# 30 s after the first iteration, measured without it (it holds the set-up)
 train-msae "${tiny[@]}" --print-every 1000000 --iterations 1000000 data.h5 -o slow.h5 2>slow.err &
 pid=$!
 wait_for slow.err "s/iteration so far; the next loss line at iteration 1000000"

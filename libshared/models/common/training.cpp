@@ -80,7 +80,7 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
   std::int64_t last_checkpoint = iteration;
   // Until the first loss line, a line of pace once the run has taken kFirstWord (a large model
   // may take minutes to reach its first loss line, and a silent trainer looks hung), and another
-  // at kSecondWord measured without the first iteration, which holds the run's set-up (on a
+  // kSecondWord after the first iteration, measured without it: it holds the run's set-up (on a
   // large set 20 times a later iteration's time, so the first estimate runs far too long).
   constexpr double kFirstWord = 2.0, kSecondWord = 30.0;  // seconds
   const auto run_start = interval_start;
@@ -105,7 +105,8 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
     if (!row_due && spoken < 2) {
       const auto now = std::chrono::steady_clock::now();
       const double so_far = std::chrono::duration<double>(now - run_start).count();
-      const bool second = spoken == 1 && so_far >= kSecondWord && timed > timed_at_first;
+      const bool second = spoken == 1 && timed > timed_at_first &&
+                          std::chrono::duration<double>(now - first_done).count() >= kSecondWord;
       if ((spoken == 0 && so_far >= kFirstWord) || second) {
         ++spoken;
         const double per = second ? std::chrono::duration<double>(now - first_done).count() /
