@@ -333,8 +333,8 @@ BD_CANDIDATES ?= paper remedies carry no-kl window64
 paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
 remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0
 no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
-# the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: the
-# defaults since 2026-12-02)
+# the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: ahead
+# on the finger and chickenCrossing, behind on pcow; docs/bdlstm.md)
 carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions

@@ -15,10 +15,10 @@ int main(int argc, char** argv) {
       "backward chain at its last frame (states -0.1), both free-running with the same\n"
       "weights. Loss: L_recon + 0.5 L_bidir + 0.1 (L_KL + sum w^2) (eq. 3-5); by default\n"
       "with remedies that keep the latent alive on new data (KL warm-up, free bits, L_2\n"
-      "on the weights at 1/8, a small decoder start) and a step that carries the motion of\n"
-      "the step before, fading along the chain (--carry 1 --carry-fade 0.8: a prediction\n"
-      "starts at the given frames' pace); --paper-form for the paper's exact form. A loss\n"
-      "line warns when the latent collapses anyway.\n"
+      "on the weights at 1/8, a small decoder start; --paper-form for the paper's exact\n"
+      "form). A loss line warns when the latent collapses anyway. --carry adds the motion\n"
+      "of the step before (fading with --carry-fade): a prediction starts at the given\n"
+      "frames' pace (not a default: docs/bdlstm.md).\n"
       "\n"
       "INPUT: an acap .h5 with /features/normalized (from obj2acap).\n"
       "OUTPUT: a bdlstm-model .h5 (weights, Adam/RNG state, config, template,\n"
@@ -40,9 +40,7 @@ int main(int argc, char** argv) {
       "The paper's exact form: --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1\n"
       "--decoder-init zero --carry 0 (options given explicitly still win). The defaults\n"
       "differ in the first five because on new data the paper's form often learns nothing:\n"
-      "the latent collapses to the prior and the model predicts no motion; in --carry because\n"
-      "without it a prediction moves at a pace of its own, not the given frames'\n"
-      "(docs/bdlstm.md)");
+      "the latent collapses to the prior and the model predicts no motion (docs/bdlstm.md)");
   g->add_option("--collapse-threshold", opt.training.collapse_threshold,
                 "Warn at a loss line (and at the end; recorded in the model file) when the KL is\n"
                 "below this many nats per frame while the reconstruction has not improved by 10%:\n"

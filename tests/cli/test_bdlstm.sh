@@ -43,10 +43,10 @@ run train-bdlstm "${tiny[@]}" --iterations 4 --collapse-threshold -1 data.h5 -o 
 expect_rc 2; expect_one_error_line train-bdlstm
 echo "ok (collapse warning)"
 
-# --- the carried motion: the defaults carry 1 fading by 0.8, --paper-form none, and an explicit
-# --carry / --carry-fade wins over --paper-form; a fade outside [0, 1] is refused
+# --- the carried motion: none by default and in --paper-form, and an explicit --carry /
+# --carry-fade wins over --paper-form; a fade outside [0, 1] is refused
 cfg() { h5dump -a "/config/$2" "$1" | awk '/\(0\):/ { print $2 }'; }
-[ "$(cfg defaults.h5 carry)" = 1 ] && [ "$(cfg defaults.h5 carry_fade)" = 0.8 ] ||
+[ "$(cfg defaults.h5 carry)" = 0 ] && [ "$(cfg defaults.h5 carry_fade)" = 1 ] ||
   fail "the defaults' carry: $(cfg defaults.h5 carry) fading $(cfg defaults.h5 carry_fade)"
 [ "$(cfg collapsed.h5 carry)" = 0 ] || fail "--paper-form carries motion: $(cfg collapsed.h5 carry)"
 train-bdlstm -q "${tiny[@]}" --iterations 2 --paper-form --carry 0.5 --carry-fade 0.9 data.h5 -o pf-carry.h5

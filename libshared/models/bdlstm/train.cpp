@@ -168,8 +168,6 @@ void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training) {
   net.l2_scope = "weights";
   net.l2_weight = 0.125;
   net.decoder_init = "small";
-  net.carry = 1;
-  net.carry_fade = 0.8;
 }
 
 void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
