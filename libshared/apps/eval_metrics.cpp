@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include <array>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -346,18 +346,14 @@ SamplesVsTruth samples_vs_truth(const FrameSet& pred, const SampleGroups& groups
   return v;
 }
 
-// Everything measured on one file pair (or on PRED alone), as the JSON, the TSV and the table
-// show it.
 // The pace of a prediction: over the first kPaceSteps frames after the given ones, how far each
 // frame moves from the one before (mean vertex distance, each frame's centroid removed), the
 // prediction's against the data's at the same times, summed over the cases (sequences). 1: the
 // data's pace; near 0: frozen; above 1: moving where the data stands still.
 constexpr int kPaceSteps = 5;
-struct Pace {
-  double predicted = 0, truth = 0;
-  std::size_t cases = 0;
-  std::vector<std::array<double, 2>> per_case;  ///< [predicted, true] motion per frame of each case
-  std::vector<std::string> names;               ///< the cases (PRED's sequences)
+struct PaceCase {
+  std::string name;                 ///< PRED's sequence
+  double predicted = 0, truth = 0;  ///< motion summed over the kPaceSteps frames
 };
 
 double motion_between(const io::Vertices& a, const io::Vertices& b) {
@@ -365,36 +361,36 @@ double motion_between(const io::Vertices& a, const io::Vertices& b) {
   return ((a.rowwise() - shift) - b).rowwise().norm().mean();
 }
 
-Pace pace_of(const FrameSet& pred, const FrameSet& truth) {
-  Pace p;
-  if (pred.step.empty() || pred.source.empty()) return p;
+// The cases whose first kPaceSteps predicted frames (and the given frame before them) all have a
+// data frame of the same time.
+std::vector<PaceCase> pace_of(const FrameSet& pred, const FrameSet& truth) {
+  std::vector<PaceCase> cases;
+  if (pred.step.empty() || pred.source.empty()) return cases;
   for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
     const auto begin = static_cast<std::size_t>(pred.offsets[s]),
                end = static_cast<std::size_t>(pred.offsets[s + 1]);
     std::size_t last_given = end;  // the frame before step 1
     for (std::size_t i = begin; i + 1 < end; ++i)
       if (pred.step[i] == 0 && pred.step[i + 1] == 1) last_given = i;
-    if (last_given == end || last_given + kPaceSteps >= end) continue;
-    double mp = 0, mt = 0;
-    bool paired = true;
+    if (last_given + kPaceSteps >= end) continue;  // (also: no step 1)
+    const auto first = pred.source.begin() + static_cast<std::ptrdiff_t>(last_given);
+    if (std::any_of(first, first + kPaceSteps + 1, [](std::int64_t j) { return j < 0; })) continue;
+    PaceCase c{pred.sequences[s]};
     for (std::size_t k = last_given + 1; k <= last_given + kPaceSteps; ++k) {
-      if (pred.source[k] < 0 || pred.source[k - 1] < 0) paired = false;
-      if (!paired) break;
-      mp += motion_between(pred.positions[k], pred.positions[k - 1]);
-      mt += motion_between(truth.positions[static_cast<std::size_t>(pred.source[k])],
-                           truth.positions[static_cast<std::size_t>(pred.source[k - 1])]);
+      c.predicted += motion_between(pred.positions[k], pred.positions[k - 1]);
+      c.truth += motion_between(truth.positions[static_cast<std::size_t>(pred.source[k])],
+                                truth.positions[static_cast<std::size_t>(pred.source[k - 1])]);
     }
-    if (!paired) continue;
-    p.predicted += mp, p.truth += mt, ++p.cases;
-    p.per_case.push_back({mp / kPaceSteps, mt / kPaceSteps});
-    p.names.push_back(pred.sequences[s]);
+    cases.push_back(std::move(c));
   }
-  return p;
+  return cases;
 }
 
+// Everything measured on one file pair (or on PRED alone), as the JSON, the TSV and the table
+// show it.
 struct MeshMeasures {
   bool has_truth = false;
-  Pace pace;
+  std::vector<PaceCase> pace;
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   PairMeasures pm;
   Totals totals;
@@ -449,20 +445,22 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred,
     if (t.rse_n)
       js["relative_squared_error"] = {{"max", t.rse_max},
                                       {"mean", t.rse_mean / static_cast<double>(t.rse_n)}};
-    if (m.pace.cases) {
-      const double n = static_cast<double>(m.pace.cases * kPaceSteps);
+    if (!m.pace.empty()) {
+      double predicted = 0, truth = 0;
+      for (const auto& c : m.pace) predicted += c.predicted, truth += c.truth;
+      const double n = static_cast<double>(m.pace.size() * kPaceSteps);
       js["pace"] = {{"steps", kPaceSteps},
-                    {"cases", m.pace.cases},
-                    {"predicted_per_frame", m.pace.predicted / n},
-                    {"true_per_frame", m.pace.truth / n},
-                    {"predicted_per_frame_relative", m.pace.predicted / n / diag},
-                    {"true_per_frame_relative", m.pace.truth / n / diag},
-                    {"ratio", m.pace.truth > 0 ? m.pace.predicted / m.pace.truth : 0.0}};
+                    {"cases", m.pace.size()},
+                    {"predicted_per_frame", predicted / n},
+                    {"true_per_frame", truth / n},
+                    {"predicted_per_frame_relative", predicted / n / diag},
+                    {"true_per_frame_relative", truth / n / diag},
+                    {"ratio", truth > 0 ? predicted / truth : 0.0}};
       nlohmann::ordered_json cases = nlohmann::ordered_json::array();
-      for (std::size_t k = 0; k < m.pace.per_case.size(); ++k)
-        cases.push_back({{"case", m.pace.names[k]},
-                         {"predicted_relative", m.pace.per_case[k][0] / diag},
-                         {"true_relative", m.pace.per_case[k][1] / diag}});
+      for (const auto& c : m.pace)
+        cases.push_back({{"case", c.name},
+                         {"predicted_relative", c.predicted / kPaceSteps / diag},
+                         {"true_relative", c.truth / kPaceSteps / diag}});
       js["pace"]["per_case"] = cases;
     }
     const auto& v = m.samples;
@@ -554,7 +552,7 @@ std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const
         "  {:<28} {:.4g} per frame, the data {:.4g} (x bbox diagonal), over the first {} predicted "
         "frames of {} cases: ratio {:.3f}\n",
         "pace", js["pace"]["predicted_per_frame_relative"].get<double>(),
-        js["pace"]["true_per_frame_relative"].get<double>(), kPaceSteps, m.pace.cases,
+        js["pace"]["true_per_frame_relative"].get<double>(), kPaceSteps, m.pace.size(),
         js["pace"]["ratio"].get<double>());
   const auto& v = m.samples;
   if (v.cases)

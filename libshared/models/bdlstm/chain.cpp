@@ -17,7 +17,6 @@ void ChainStepper::reset(Index rows, float value, double sigma, Rng& rng) {
   h_.assign(static_cast<std::size_t>(net_.config().lstm_layers),
             Matrix::Constant(rows, hidden, value));
   c_ = h_;
-  previous_.resize(0, 0);
   steps_ = 0;
   if (sigma > 0)
     for (auto* states : {&h_, &c_})
@@ -50,15 +49,17 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
       for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
     z = tape_.constant(eps);
   }
+  // The carried motion needs the input of the step before (none at the first step).
+  const bool carries = net_.config().carry != 0;
   nn::Var<float> previous;
-  if (previous_.rows()) previous = tape_.constant(previous_);
-  const Matrix y = net_.decode_step(bound_, chain_, xin, z, states,
-                                    previous_.rows() ? &previous : nullptr, steps_)
-                       .value();
+  if (carries && steps_ > 0) previous = tape_.constant(previous_);
+  const Matrix y =
+      net_.decode_step(bound_, chain_, xin, z, states, previous.tape ? &previous : nullptr, steps_)
+          .value();
   ++steps_;
   for (std::size_t l = 0; l < states.size(); ++l)
     h_[l] = states[l].h.value(), c_[l] = states[l].c.value();
-  previous_ = x;
+  if (carries) previous_ = x;
   return y;
 }
 

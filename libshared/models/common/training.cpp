@@ -84,9 +84,8 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
   // large set 20 times a later iteration's time, so the first estimate runs far too long).
   constexpr double kFirstWord = 2.0, kSecondWord = 30.0;  // seconds
   const auto run_start = interval_start;
-  int spoken = 0;  // pace lines so far (2: a loss line came or both were said)
-  auto first_done = run_start;
-  std::int64_t timed_at_first = 0;
+  int spoken = 0;               // pace lines so far (2: a loss line came or both were said)
+  auto first_done = run_start;  // when this run's first iteration ended
   if (iteration < loop.iterations)
     log::info("training iterations {}-{}: a loss line every {}; lines of pace before the first",
               iteration + 1, loop.iterations, loop.print_every);
@@ -101,16 +100,16 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
     ++timed;
     iteration = done;  // before any checkpoint: the file must say how many iterations it holds
     const bool row_due = done % loop.print_every == 0 || done == loop.iterations;
-    if (timed == 1) first_done = std::chrono::steady_clock::now(), timed_at_first = timed;
+    if (spoken < 2 && timed == 1) first_done = std::chrono::steady_clock::now();
     if (!row_due && spoken < 2) {
       const auto now = std::chrono::steady_clock::now();
       const double so_far = std::chrono::duration<double>(now - run_start).count();
-      const bool second = spoken == 1 && timed > timed_at_first &&
+      const bool second = spoken == 1 && timed > 1 &&
                           std::chrono::duration<double>(now - first_done).count() >= kSecondWord;
       if ((spoken == 0 && so_far >= kFirstWord) || second) {
         ++spoken;
         const double per = second ? std::chrono::duration<double>(now - first_done).count() /
-                                        static_cast<double>(timed - timed_at_first)
+                                        static_cast<double>(timed - 1)
                                   : so_far / static_cast<double>(timed);
         const std::int64_t next_row =
             std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
