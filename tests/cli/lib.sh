@@ -26,6 +26,11 @@ expect_no_temporaries() {
   left=$(find "${1:-.}" -maxdepth 1 -name '.*.tmp-*' | head -5)
   [ -z "$left" ] || fail "temporaries left behind: $left"
 }
+# wait_for FILE REGEX [SECONDS]: until FILE has a line matching REGEX (at most SECONDS, 20 unless said)
+wait_for() {
+  for _ in $(seq 1 $(( ${3:-20} * 100 ))); do grep -qE -- "$2" "$1" 2>/dev/null && return 0; sleep 0.01; done
+  fail "no line /$2/ in $1: $(cat "$1")"
+}
 # expect_close NAME GOT WANT RTOL: |GOT - WANT| <= RTOL * max(|WANT|, 1e-12)
 expect_close() {
   awk -v n="$1" -v g="$2" -v w="$3" -v t="$4" 'BEGIN {

@@ -35,8 +35,11 @@ done
 # a checkpoint taken before the first loss line (SIGTERM early in a run) keeps the log's columns,
 # the validation shapes' E_rms included
 long=(--kz 3,2 --batch 16 --seed 3 --validation-fraction 0.2 --print-every 100000000)
-timeout -s TERM 3 train-msae -q "${long[@]}" --iterations 100000000 data.h5 -o never.h5 \
-  --checkpoint early.h5 2>/dev/null || true
+# (the signal comes once training runs, after its first pace line, however slow the set-up)
+train-msae "${long[@]}" --iterations 100000000 data.h5 -o never.h5 --checkpoint early.h5 2>early.err &
+wait_for early.err "s/iteration so far" 120
+kill -TERM $!
+wait $! || true
 [ -f early.h5 ] || fail "SIGTERM left no checkpoint"
 n=$(h5dump -a /iteration early.h5 | sed -n 's/.*(0): \([0-9]*\).*/\1/p')
 train-msae -q "${long[@]}" --iterations $((n + 5)) --resume --checkpoint early.h5 data.h5 -o late.h5

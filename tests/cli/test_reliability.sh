@@ -26,11 +26,6 @@ run_readonly() {
     chmod u+w "$dir"
   fi
 }
-# wait_for FILE PATTERN: until FILE has a line matching PATTERN (at most 20 s)
-wait_for() {  # FILE REGEX [SECONDS, 20 unless said]
-  for _ in $(seq 1 $(( ${3:-20} * 100 ))); do grep -qE -- "$2" "$1" 2>/dev/null && return 0; sleep 0.01; done
-  fail "no line /$2/ in $1: $(cat "$1")"
-}
 
 # --- a read-only output directory fails before any work: a converter and a trainer
 mkdir ro
