@@ -57,16 +57,13 @@ int main(int argc, char** argv) {
       "  train-bdlstm --directions unidirectional pcow.h5 -o pcow-uni.h5   # ablation\n"
       "  train-bdlstm --resume --checkpoint-every 100 pcow.h5 -o m.h5       # after a kill");
   return tool.run(argc, argv, [&] {
-    if (paper_form) {
-      auto given = opt;
-      df::models::apply_paper_form(opt.net, opt.training);
-      if (app.count("--kl-warmup")) opt.training.kl_warmup = given.training.kl_warmup;
-      if (app.count("--kl-free-bits")) opt.net.free_bits = given.net.free_bits;
-      if (app.count("--l2-scope")) opt.net.l2_scope = given.net.l2_scope;
-      if (app.count("--l2-weight")) opt.net.l2_weight = given.net.l2_weight;
-      if (app.count("--decoder-init")) opt.net.decoder_init = given.net.decoder_init;
-      if (app.count("--carry")) opt.net.carry = given.net.carry;
-      if (app.count("--carry-fade")) opt.net.carry_fade = given.net.carry_fade;
+    if (paper_form) {  // options given explicitly still win
+      auto paper = opt;
+      df::models::apply_paper_form(paper.net, paper.training);
+      df::models::take_settings_not_given(
+          df::models::bdlstm_settings(paper.net, paper.training),
+          df::models::bdlstm_settings(opt.net, opt.training),
+          [&](const std::string& option) { return app.count(option) > 0; });
     }
     df::models::train_bdlstm(opt, tool.common());
   });

@@ -165,4 +165,18 @@ void require_same_settings(const Settings& checkpoint, const Settings& now,
   }
 }
 
+void take_settings_not_given(const Settings& from, const Settings& to,
+                             const std::function<bool(const std::string&)>& given) {
+  if (from.size() != to.size())
+    throw Error("internal: take_settings_not_given needs two tables of the same model");
+  for (std::size_t k = 0; k < to.size(); ++k) {
+    if (!*to[k].help || given(to[k].option_name())) continue;
+    std::visit(Overloaded{[&](const Setting::Text& t) {
+                            t.set(std::get<Setting::Text>(from[k].target).get());
+                          },
+                          [&](auto* p) { *p = *std::get<decltype(p)>(from[k].target); }},
+               to[k].target);
+  }
+}
+
 }  // namespace df::models

@@ -68,4 +68,10 @@ void read_settings(const h5::File& f, const std::string& object, const Settings&
 void require_same_settings(const Settings& checkpoint, const Settings& now,
                            const std::string& path);
 
+/// A form of the settings (e.g. a paper's exact one, `from`: a table of the same model) taken over
+/// into `to` for every option the command line did not give (`given(option_name)`); settings that
+/// are not options (no help, e.g. the seed) keep their values.
+void take_settings_not_given(const Settings& from, const Settings& to,
+                             const std::function<bool(const std::string&)>& given);
+
 }  // namespace df::models

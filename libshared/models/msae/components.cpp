@@ -67,9 +67,6 @@ std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net,
   return codes;
 }
 
-namespace {
-
-// The strength-maximising sign of each component of a block, decoded.
 void decode_block(const MsaeNet<float>& net, int b, const nn::Matrix<float>& codes,
                   const std::vector<int>& centres, const std::array<double, 9>& ref, double eps1,
                   ComponentLevel& out) {
@@ -98,8 +95,6 @@ void decode_block(const MsaeNet<float>& net, int b, const nn::Matrix<float>& cod
     out.kept.push_back(1);
   }
 }
-
-}  // namespace
 
 nn::Matrix<double> level0_similarity(const ComponentLevel& level0,
                                      const std::array<double, 9>& ref) {

@@ -57,6 +57,12 @@ nn::Matrix<double> level0_similarity(const ComponentLevel& level0,
 std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net,
                                            const nn::Matrix<float>& shapes);
 
+/// Block b's components appended to `out`: each decoded at the training shapes' largest and most
+/// negative code (`codes` [n, kz]; ±1 without shapes), the sign of the larger eq. 7 strength kept.
+void decode_block(const MsaeNet<float>& net, int b, const nn::Matrix<float>& codes,
+                  const std::vector<int>& centres, const std::array<double, 9>& ref, double eps1,
+                  ComponentLevel& out);
+
 /// The components of every block; `training_codes` are the training shapes' codes
 /// (block_codes), which give the scale of each one-hot code. All components start kept.
 Components extract_components(const MsaeModel& m,

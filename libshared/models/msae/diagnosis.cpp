@@ -212,6 +212,75 @@ MsaeDiagnosis diagnose_msae(const MsaeModel& m, const Components& comps,
   return d;
 }
 
+bool CollapseSigns::collapsed() const {
+  return 2 * distinct_centres < components || 2 * wide > components || constant > 0;
+}
+
+std::string CollapseSigns::describe(const MsaeConfig& config, const std::string& model,
+                                    const std::string& data) const {
+  if (!collapsed()) return "";
+  std::vector<std::string> signs, remedies;
+  if (2 * distinct_centres < components) {
+    signs.push_back(fmt::format("{} distinct centres", distinct_centres));
+    if (config.centres != "spread")
+      remedies.push_back("--centres spread");
+    else if (config.centre_separation == 0)
+      remedies.push_back("--centre-separation 1");
+  }
+  if (2 * wide > components) {
+    signs.push_back(fmt::format("{} spanning over 80% of the mesh", wide));
+    if (config.support != "hard")
+      remedies.push_back(config.support == "soft" ? "--support proximal" : "--support hard");
+  }
+  if (constant > 0) {
+    signs.push_back(
+        fmt::format("{} carrying a near-constant code: the mean deformation", constant));
+    if (!config.centre_features) remedies.push_back("--centre-features");
+  }
+  const std::string remedy =
+      remedies.empty() ? std::string("fewer level-0 components (--kz) or more training shapes")
+                       : fmt::format("{}", fmt::join(remedies, " "));
+  return fmt::format(
+      "level 0's {} components have collapsed ({}): unseen shapes will be reconstructed "
+      "poorly; try {}; extract-components --report {} {} shows each component",
+      components, fmt::join(signs, ", "), remedy, model, data);
+}
+
+CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& training) {
+  const MsaeNet<float>& net = *m.net;
+  CollapseSigns s;
+  const int kz = net.blocks()[0].kz, V = net.n_vertices();
+  s.components = kz;
+  const auto centres = net.centres()[0];
+  s.distinct_centres = static_cast<int>(std::set<int>(centres.begin(), centres.end()).size());
+  if (training.rows() == 0) return s;
+  std::vector<nn::Matrix<float>> codes;
+  net.reconstruct(training, 1, &codes);
+  const nn::Matrix<float>& z = codes[0];
+  // the components as extract-components decodes them, their supports as --report counts them
+  const auto ref = geometry::identity_features(&m.normalization);
+  ComponentLevel decoded;
+  decode_block(net, 0, z, centres, ref, 1e-6, decoded);
+  std::vector<double> size(static_cast<std::size_t>(kz)), range(size.size());
+  for (int k = 0; k < kz; ++k) {
+    const double lo = z.col(k).minCoeff(), hi = z.col(k).maxCoeff();
+    size[static_cast<std::size_t>(k)] = std::max(std::abs(lo), std::abs(hi));
+    range[static_cast<std::size_t>(k)] = hi - lo;
+  }
+  const double largest = *std::max_element(size.begin(), size.end());
+  for (int k = 0; k < kz; ++k) {
+    const auto support =
+        strength_parts(deformation_per_vertex(decoded.features.row(k).data(), V, ref), 1e-6)
+            .support;
+    if (support > 0.8 * V) ++s.wide;
+    const auto ku = static_cast<std::size_t>(k);
+    if (training.rows() >= 3 && size[ku] > 0 && size[ku] >= 0.1 * largest &&
+        range[ku] < 0.1 * size[ku])
+      ++s.constant;
+  }
+  return s;
+}
+
 std::string format_diagnosis(const MsaeDiagnosis& d, const std::string& heldout_part) {
   std::string t = fmt::format(
       "MSAE diagnosis: {} training shapes (PCA spans {} direction(s)), {} {} shapes\n"

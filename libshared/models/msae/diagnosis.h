@@ -86,6 +86,29 @@ struct ChildrenErrors {
 };
 ChildrenErrors children_errors(const MsaeNet<float>& net, const nn::Matrix<float>& shapes);
 
+/// Signs that level 0's components have collapsed (issue 65's diagnosis of the Horse set: ten
+/// components on three distinct centres, seven decoded over most of the mesh, two carrying the
+/// mean deformation with a near-constant code), measured on AE₀ (block 0) from the training
+/// shapes: train-msae warns with them at its loss lines and records them in the model file.
+struct CollapseSigns {
+  int components = 0;        ///< AE₀'s K_z
+  int distinct_centres = 0;  ///< distinct peaks c_k = argmax_i ‖C_{k,i}‖
+  /// Components whose decoded deformation (at the training shapes' extreme code) reaches 10% of
+  /// its peak on more than 80% of the vertices
+  int wide = 0;
+  /// Components whose code over the training shapes varies by less than a tenth of its size
+  /// (the size at least a tenth of the block's largest): a constant offset, not a deformation
+  int constant = 0;
+  /// Fewer distinct centres than half the components, more than half of them wide, or any
+  /// constant code.
+  bool collapsed() const;
+  /// What collapsed and the options that address it (those the model does not already use),
+  /// one line without the "warning:" prefix; "" when nothing collapsed.
+  std::string describe(const MsaeConfig& config, const std::string& model,
+                       const std::string& data) const;
+};
+CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& training);
+
 /// @param comps           the model's components (extract_components of training_codes)
 /// @param training        the training shapes [n, 9V] (normalized): PCA's rank
 /// @param training_codes  every block's codes of them (block_codes): the code ranges

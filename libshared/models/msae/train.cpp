@@ -16,6 +16,7 @@
 #include "geometry/geodesic_distance.h"
 #include "io/acap_file.h"
 #include "models/common/training.h"
+#include "models/msae/diagnosis.h"
 #include "models/msae/settings.h"
 
 namespace df::models {
@@ -447,9 +448,21 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
       if (erms) values.push_back(erms(recon));
       return values;
     };
-  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt},
+  // Level 0's collapse, measured on the training shapes at every loss line: a warning while it
+  // lasts, and the last one in the model file.
+  const nn::Matrix<float> training = gather(data, m.split.train);
+  auto check_collapse = [&] {
+    m.collapse = collapse_signs(m, training).describe(m.config, opt.output, opt.input);
+    if (m.collapse.empty()) return;
+    if (m.collapse_since == 0) m.collapse_since = m.iteration;
+    log::warn("{}", m.collapse);
+  };
+  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt,
+                     [&](const std::vector<double>&) { check_collapse(); }},
                     {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, m.unprinted, step,
                     checkpoint, evaluate_names, evaluate);
+  if (!m.collapse.empty())
+    log::warn("the trained model (collapsed since iteration {}): {}", m.collapse_since, m.collapse);
   remember_geodesics(m, *geodesic);
   save_msae_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);
