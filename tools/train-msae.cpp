@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
       "collections (--split collection) on a random half; or explicit --train/--test lists.");
   tool.with_seed(1).with_force().with_stop_requests();
   df::models::MsaeTrainOptions opt;
+  // The defaults span unseen shapes on every shared set; --paper-form restores the paper's form.
+  df::models::apply_msae_defaults(opt.net, opt.training);
   int levels = 0;
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "acap .h5 with normalized features")->required();

@@ -35,11 +35,11 @@ n=$(grep -c "warning: level 0's 3 components have collapsed (.*carrying a near-c
 [ "$n" = 3 ] || fail "expected a collapse warning at each of 3 loss lines, got $n: $(cat collapsed.err)"
 tail -n 2 collapsed.err | head -n 1 | grep -q "warning: the trained model (collapsed since iteration 10): .*try .*--centre-features.*; extract-components --report collapsed.h5 data.h5" ||
   fail "no final collapse line naming the remedy and the report: $(tail -n 3 collapsed.err)"
-h5dump -a /training/collapse collapsed.h5 | grep -q "near-constant code" || fail "the model file does not record the collapse"
+h5dump -a /training/log/collapse collapsed.h5 | grep -q "near-constant code" || fail "the model file does not record the collapse"
 h5check -q --kind msae-model collapsed.h5
 train-msae "${tiny[@]}" --paper-form --centre-features --support proximal --iterations 300 data.h5 -o centred.h5 2>centred.err
 tail -n 3 centred.err | grep -q "collapse" && fail "the centred model still ends collapsed: $(tail -n 3 centred.err)"
-h5dump -a /training/collapse centred.h5 2>/dev/null | grep -q "have collapsed" && fail "centred.h5 records a collapse at its end"
+h5dump -a /training/log/collapse centred.h5 2>/dev/null | grep -q "have collapsed" && fail "centred.h5 records a collapse at its end"
 echo "ok (collapse: $n warnings, recorded; none at the end when centred)"
 
 # --- resume: any model file is a checkpoint; the result equals an uninterrupted run
@@ -102,7 +102,7 @@ zero_groups() {
   h5_data "$1" "$2" %.9g | tr -c '0-9.e+-' ' ' |
     awk '{ for (i = 1; i <= NF; i++) { n++; if ($i != 0) nz = 1; if (n % 9 == 0) { z += !nz; nz = 0 } } } END { print z + 0 }'
 }
-train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 data.h5 -o soft.h5
+train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 --support soft data.h5 -o soft.h5
 train-msae -q "${tiny[@]}" --iterations 30 --lambda-sparse 1000 --support proximal data.h5 -o prox.h5
 h5check -q --kind msae-model prox.h5
 for c in /params/ae0.0.C /params/ae1.0.C; do

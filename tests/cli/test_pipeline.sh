@@ -190,12 +190,12 @@ echo "ok (MSAE's separate-training options per set)"
 # validation shapes there is no such row. (Real tools, tiny bumps, 40 iterations per model.)
 mstables() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/$1" MS_SETS=bumps MS_LEVEL3_SETS= \
                MS_BUMPS="--frames 40 --resolution 8" bumps_MSAE="--split sequence $2 --iterations 40 --batch 16" \
-               TRAIN_THREADS=1 "$DF_TMP/$1/msae/bumps/table2.md" "$DF_TMP/$1/msae/bumps/table4.md" >/dev/null 2>&1 ||
+               bumps_TUNED="--centre-features" bumps_BLOCKS="--kz 3,4" TRAIN_THREADS=1 "$DF_TMP/$1/msae/bumps/table2.md" "$DF_TMP/$1/msae/bumps/table4.md" >/dev/null 2>&1 ||
                fail "MSAE tables ($2) were not made"; }
 mstables ms-val "--validation-fraction 0.2"
 m=ms-val/msae/bumps
 best=$(for v in msae:joint,with msae-noatt:joint,without msae-separate:separate,with msae-separate-noatt:separate,without; do
-         tail -n 2 "$m/${v%%:*}.log" | sed -n 's/.*validation_erms \([0-9.]*\).*/\1/p' | tail -n 1 | sed "s/\$/ ${v#*:}/"
+         sed -n 's/.*validation_erms \([0-9.]*\).*/\1/p' "$m/${v%%:*}.log" | tail -n 1 | sed "s/\$/ ${v#*:}/"
        done | sort -g | head -n 1)
 [ -n "$best" ] || fail "the MSAE logs have no validation E_rms"
 row=$(grep "validation shapes choose" $m/table2.md) || fail "Table 2 has no row for the strategy chosen on validation: $(cat $m/table2.md)"
@@ -205,16 +205,22 @@ echo "$row" | grep -q "($training training $attention attention: validation E_rm
 cell=$(grep "^| $training |" $m/table4.md | awk -F'|' -v c=$([ "$attention" = with ] && echo 3 || echo 4) '{ print $c }' | cut -d/ -f1 | tr -d ' ')
 [ "$(echo "$row" | awk -F'|' '{ print $4 }' | tr -d ' ')" = "$cell" ] ||
   fail "the chosen strategy's E_rms is not its Table 4 cell ($cell): $row"
+# the tool's defaults are Table 2's MSAE rows; the set's own settings a row of their own (their K_z)
+grep -q "^| MSAE, the tool's defaults (2 levels, attention, joint), encoder's codes (the paper's protocol) | 10 + 10 x 50 |" $m/table2.md &&
+  grep -q "^| MSAE, the set's own settings .* | 3 + 3 x 4 |" $m/table2.md || fail "Table 2's MSAE rows: $(cat $m/table2.md)"
+grep -q -- "--iterations 40 --batch 16 --paper-form --centre-features --kz 3,4" $m/msae-tuned.args &&
+  ! grep -q -- "--paper-form\|--kz" $m/msae.args || fail "the models' arguments: $(cat $m/msae.args $m/msae-tuned.args)"
 mstables ms-noval ""
 ! grep -q "validation shapes choose" ms-noval/msae/bumps/table2.md || fail "a chosen row without validation shapes"
 echo "ok (MSAE's Table 2: the strategy chosen on validation, $training training $attention attention)"
 
 # Each synthetic set is made with its own arguments and its localization is measured against its
-# own planted regions: bumps12 with one fine region has 3, the tiny bumps above 6.
+# own planted regions: bumps12 with one fine region has 3, the tiny bumps above 6. (bumps12 in a
+# form that keeps a level-1 component in 40 iterations on this tiny surface, for the sheets below.)
 mssynth() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/ms-val" MS_SETS=$1 MS_LEVEL3_SETS= \
               MS_BUMPS="--frames 40 --resolution 8" bumps_MSAE="--split sequence --validation-fraction 0.2 --iterations 40 --batch 16" \
-              MS_BUMPS12="--frames 40 --resolution 8 --fine-regions 1" bumps12_MSAE="--split sequence --iterations 40 --batch 16" \
-              TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/$1/$2" >/dev/null 2>&1 || fail "$1's $2 was not made"; }
+              MS_BUMPS12="--frames 40 --resolution 8 --fine-regions 1" bumps12_MSAE="--split sequence --iterations 40 --batch 16 --paper-form --kz 10,50 --support proximal" \
+              bumps_TUNED= bumps12_TUNED= MS_TUNED_SETS= TRAIN_THREADS=1 "$DF_TMP/ms-val/msae/$1/$2" >/dev/null 2>&1 || fail "$1's $2 was not made"; }
 regions() { grep -cE '^ +[0-9]' "$1"; }
 mssynth bumps12 localization.md
 [ "$(regions ms-val/msae/bumps12/localization.md)" = 6 ] && [ "$(head -n 1 ms-val/msae/bumps12/localization.md | cut -d' ' -f1)" = bumps12 ] ||

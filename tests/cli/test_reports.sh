@@ -9,7 +9,8 @@ export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
 pipeline() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_BIN" OUT="$DF_TMP/out" TRAIN_THREADS=1 "$@" > "$DF_TMP/$1.log" 2>&1 ||
                fail "the tiny $1 pipeline failed: $(tail -5 "$DF_TMP/$1.log")"; }
 pipeline msae MS_SETS=bumps MS_LEVEL3_SETS= MS_BUMPS="--frames 40 --resolution 8" MS_FIG6_SHAPES=2 \
-  bumps_MSAE="--split sequence --validation-fraction 0.2 --iterations 40 --batch 16"
+  bumps_MSAE="--split sequence --validation-fraction 0.2 --iterations 40 --batch 16" \
+  bumps_TUNED="--centre-features" bumps_BLOCKS="--kz 3,4"
 pipeline bdlstm BD_SETS=finger BD_ABLATION_SETS= finger_TRAIN="--iterations 20 --window 8 --batch 2 --latent 8 --hidden 8 --lstm-layers 1"
 pipeline actgan AG_SETS=synthetic AG_SEEDS= AG_PRETRAIN=10 AG_ITERATIONS=10 AG_COUNT=4 AG_OPTIONS="--hidden 16 --fc 32 --batch 8"
 

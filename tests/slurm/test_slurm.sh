@@ -33,7 +33,8 @@ slurm_jobs() { squeue -h --states=all -o '%j %T' | grep -E "^$1 " || true; }
 export SOURCE_DATE_EPOCH=1700000000  # the history attributes' time stamp
 pipeline=(-s -C "$DF_SOURCE" -f Makefile.data OUT="$DF_TMP/run" BIN="$DF_BIN" -j2
   MS_SETS=bumps MS_LEVEL3_SETS= MS_BUMPS="--frames 40 --resolution 8"
-  bumps_MSAE="--split sequence --iterations 40 --batch 16" TRAIN_THREADS=1
+  bumps_MSAE="--split sequence --iterations 40 --batch 16" bumps_TUNED=
+  MS_TUNED_SETS= TRAIN_THREADS=1
   "$DF_TMP/run/msae/bumps/table2.md" "$DF_TMP/run/msae/bumps/table4.md")
 make "${pipeline[@]}" >local.log 2>&1 || fail "local pipeline: $(tail -5 local.log)"
 mv run run-local

@@ -51,6 +51,14 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
         Overloaded{
             [&](bool* p) {
               const bool given = !*s.option;  // --name sets it, a named option clears it
+              if (given && *p) {  // on by default: the flag says so, and --no-name clears it
+                group.add_flag_callback(
+                    flag, [p] { *p = true; }, std::string(s.help) + " (the default)");
+                group.add_flag_callback(
+                    "--no-" + flag.substr(2), [p] { *p = false; },
+                    fmt::format("The opposite of {} (on by default)", flag));
+                return;
+              }
               group.add_flag_callback(
                   flag, [p, given] { *p = given; }, s.help);
             },

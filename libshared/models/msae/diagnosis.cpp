@@ -216,8 +216,7 @@ bool CollapseSigns::collapsed() const {
   return 2 * distinct_centres < components || 2 * wide > components || constant > 0;
 }
 
-std::string CollapseSigns::describe(const MsaeConfig& config, const std::string& model,
-                                    const std::string& data) const {
+std::string CollapseSigns::describe(const MsaeConfig& config) const {
   if (!collapsed()) return "";
   std::vector<std::string> signs, remedies;
   if (2 * distinct_centres < components) {
@@ -242,8 +241,8 @@ std::string CollapseSigns::describe(const MsaeConfig& config, const std::string&
                        : fmt::format("{}", fmt::join(remedies, " "));
   return fmt::format(
       "level 0's {} components have collapsed ({}): unseen shapes will be reconstructed "
-      "poorly; try {}; extract-components --report {} {} shows each component",
-      components, fmt::join(signs, ", "), remedy, model, data);
+      "poorly; try {}",
+      components, fmt::join(signs, ", "), remedy);
 }
 
 CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& training) {

@@ -104,8 +104,7 @@ struct CollapseSigns {
   bool collapsed() const;
   /// What collapsed and the options that address it (those the model does not already use),
   /// one line without the "warning:" prefix; "" when nothing collapsed.
-  std::string describe(const MsaeConfig& config, const std::string& model,
-                       const std::string& data) const;
+  std::string describe(const MsaeConfig& config) const;
 };
 CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& training);
 

@@ -62,9 +62,9 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     MsaeTraining t = m.training;
     write_settings(f, io::model_layout::config, msae_settings(c, t));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
-    if (m.collapse_since > 0) {  // /training exists: the log has a row
-      f.set_attr("/training", "collapse", m.collapse);
-      f.set_attr("/training", "collapse_since", m.collapse_since);
+    if (m.collapse_since > 0) {  // the log has a row
+      f.set_attr(io::model_layout::training_log, "collapse", m.collapse);
+      f.set_attr(io::model_layout::training_log, "collapse_since", m.collapse_since);
     }
     f.create_groups(io::model_layout::split);
     f.set_attr(io::model_layout::split, "data", m.split.data);
@@ -102,9 +102,10 @@ MsaeModel load_msae_model(const std::string& path) {
       f.exists(io::model_layout::training_log) &&
       f.attr_string(io::model_layout::training_log, "columns").find("validation_erms") !=
           std::string::npos;
-  if (f.exists("/training") && f.has_attr("/training", "collapse_since")) {
-    m.collapse = f.attr_string("/training", "collapse");
-    m.collapse_since = f.attr_int("/training", "collapse_since");
+  if (f.exists(io::model_layout::training_log) &&
+      f.has_attr(io::model_layout::training_log, "collapse_since")) {
+    m.collapse = f.attr_string(io::model_layout::training_log, "collapse");
+    m.collapse_since = f.attr_int(io::model_layout::training_log, "collapse_since");
   }
   m.split.data = f.attr_string(io::model_layout::split, "data");
   m.split.train = f.read<std::int64_t>(io::model_layout::split_part("train")).data;

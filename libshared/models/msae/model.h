@@ -73,7 +73,7 @@ struct MsaeModel {
   std::vector<double> log;        ///< rows of log_columns(), flat
   std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   /// The last loss line's collapse warning (CollapseSigns::describe; "" = none) and the
-  /// iteration of the first loss line that warned (0 = none): /training's attributes
+  /// iteration of the first loss line that warned (0 = none): /training/log's attributes
   std::string collapse;
   std::int64_t collapse_since = 0;
   std::unique_ptr<MsaeNet<float>> net;

@@ -321,6 +321,8 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
     m.log_validation_erms =
         ck.log_validation_erms;  // its log's columns go on as they began (if any)
     m.unprinted = std::move(ck.unprinted);
+    m.collapse = std::move(ck.collapse);  // a collapse warned of goes on being dated from then
+    m.collapse_since = ck.collapse_since;
     m.geodesic_diameter = ck.geodesic_diameter;
     auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
                                                              m.geodesic_diameter);
@@ -367,6 +369,13 @@ void remember_geodesics(MsaeModel& m, geometry::GeodesicRows& geodesic) {
 }
 
 }  // namespace
+
+void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training) {
+  net.centre_features = true;  // no component spent on the mean deformation
+  net.support = "proximal";    // Omega's weights outside each radius exactly zero
+  net.kz = {10, 50};           // second-level blocks as wide as the residual needs
+  training.synthetic = 16;  // the encoder learns to invert the decoders beyond the training codes
+}
 
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
@@ -451,18 +460,21 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   // Level 0's collapse, measured on the training shapes at every loss line: a warning while it
   // lasts, and the last one in the model file.
   const nn::Matrix<float> training = gather(data, m.split.train);
+  const std::string report =
+      fmt::format("extract-components --report {} {} shows each component", opt.output, opt.input);
   auto check_collapse = [&] {
-    m.collapse = collapse_signs(m, training).describe(m.config, opt.output, opt.input);
+    m.collapse = collapse_signs(m, training).describe(m.config);
     if (m.collapse.empty()) return;
     if (m.collapse_since == 0) m.collapse_since = m.iteration;
-    log::warn("{}", m.collapse);
+    log::warn("{}; {}", m.collapse, report);
   };
   run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt,
                      [&](const std::vector<double>&) { check_collapse(); }},
                     {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, m.unprinted, step,
                     checkpoint, evaluate_names, evaluate);
   if (!m.collapse.empty())
-    log::warn("the trained model (collapsed since iteration {}): {}", m.collapse_since, m.collapse);
+    log::warn("the trained model (collapsed since iteration {}): {}; {}", m.collapse_since,
+              m.collapse, report);
   remember_geodesics(m, *geodesic);
   save_msae_model(opt.output, m, {opt.input}, common.force);
   opt.run.finish(opt.output);

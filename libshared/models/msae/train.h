@@ -46,6 +46,11 @@ MsaeSplit split_shapes(const std::vector<std::int64_t>& offsets, const MsaeTrain
 MsaeSplit split_from_lists(const std::vector<std::string>& frame_names,
                            const std::string& train_list, const std::string& test_list);
 
+/// train-msae's defaults where they differ from the paper's form (MsaeConfig's and
+/// MsaeTraining's own values; --paper-form): chosen by their worst case over the shared sets'
+/// validation shapes against SPLOCS on the same ACAP features (issue 65, docs/msae.md).
+void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training);
+
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common);
 
 }  // namespace df::models
