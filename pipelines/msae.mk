@@ -139,7 +139,7 @@ $(eval $(call UNPACK_RULES,$(MS)/%/src,$(DATA)/meshseq/%.tar.zst))
 $(foreach s,pcow chickenCrossing cactus cat-poses lion-poses,$(MS)/$(s)/data.h5): $(MS)/%/data.h5: $(MS)/%/src/.unpacked
 	$(BIN)/obj2acap -q -f $$(find $(<D) -mindepth 1 -maxdepth 1 -type d | head -1) -o $@
 
-# --- training: MSAE (paper defaults) and the variants; logs beside the models
+# --- training: MSAE (the tool's defaults) and the variants; logs beside the models
 # A model's arguments: the set's split, then for the per-set model and the one-level AE the paper's
 # form with the set's own settings, then the variant's flags.
 ms_args = $($(1)_MSAE)$(if $(filter tuned tan,$(2)), --paper-form $($(1)_TUNED))$(if $(filter tuned,$(2)),$(if $($(1)_BLOCKS), $($(1)_BLOCKS))) $(if $(2),$($(2)_FLAGS))$(if $(filter separate%,$(2)),$(if $($(1)_SEPARATE), $($(1)_SEPARATE)))

@@ -23,7 +23,13 @@ int main(int argc, char** argv) {
       "OUTPUT: an msae-model .h5 (weights, Adam/RNG state, config, template, normalization,\n"
       "split, geodesic distances from the centres, loss log) for recon-msae and\n"
       "extract-components. Split as in the paper: sequences train on every 10th shape (1:9),\n"
-      "collections (--split collection) on a random half; or explicit --train/--test lists.");
+      "collections (--split collection) on a random half; or explicit --train/--test lists.\n"
+      "\n"
+      "The defaults are not the paper's form (--paper-form): mean-centred features, Omega as a\n"
+      "proximal step, second-level blocks of 50 components and 16 recombined shapes per batch,\n"
+      "chosen by their worst case over every shared set (docs/msae.md). A loss line warns when\n"
+      "level 0's components collapse (few distinct centres, supports spanning the mesh, a\n"
+      "near-constant code).");
   tool.with_seed(1).with_force().with_stop_requests();
   df::models::MsaeTrainOptions opt;
   // The defaults span unseen shapes on every shared set; --paper-form restores the paper's form.
@@ -55,6 +61,7 @@ int main(int argc, char** argv) {
   tool.footer(
       "Examples:\n"
       "  train-msae bumps.h5 -o bumps-msae.h5\n"
+      "  train-msae --paper-form bumps.h5 -o bumps-paper.h5   # K_z 10,5, soft Omega, uncentred\n"
       "  train-msae --split collection --iterations 3000 lion.h5 -o lion-msae.h5\n"
       "  train-msae --levels 1 --kz 50 --no-attention pcow.h5 -o pcow-tan.h5   # one-level AE\n"
       "  train-msae --levels 3 pcow.h5 -o pcow-3.h5                            # K_z 10,5,5\n"
