@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
       "near-constant code).");
   tool.with_seed(1).with_force().with_stop_requests();
   df::models::MsaeTrainOptions opt;
-  // The defaults span unseen shapes on every shared set; --paper-form restores the paper's form.
+  // The defaults: the best worst case over the shared sets (docs/msae.md); --paper-form restores
+  // the paper's form.
   df::models::apply_msae_defaults(opt.net, opt.training);
   int levels = 0;
   auto& app = tool.app();

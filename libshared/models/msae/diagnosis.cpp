@@ -245,17 +245,26 @@ std::string CollapseSigns::describe(const MsaeConfig& config) const {
       components, fmt::join(signs, ", "), remedy);
 }
 
-CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& training) {
+CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& data,
+                             const std::vector<std::int64_t>& training) {
   const MsaeNet<float>& net = *m.net;
   CollapseSigns s;
   const int kz = net.blocks()[0].kz, V = net.n_vertices();
   s.components = kz;
   const auto centres = net.centres()[0];
   s.distinct_centres = static_cast<int>(std::set<int>(centres.begin(), centres.end()).size());
-  if (training.rows() == 0) return s;
-  std::vector<nn::Matrix<float>> codes;
-  net.reconstruct(training, 1, &codes);
-  const nn::Matrix<float>& z = codes[0];
+  if (training.empty()) return s;
+  // AE₀'s codes of the training shapes, 64 at a time (no copy of them all)
+  nn::Matrix<float> z(static_cast<Index>(training.size()), kz), chunk;
+  for (std::size_t r = 0; r < training.size(); r += 64) {
+    const auto n = static_cast<Index>(std::min<std::size_t>(64, training.size() - r));
+    chunk.resize(n, data.cols());
+    for (Index i = 0; i < n; ++i)
+      chunk.row(i) = data.row(training[r + static_cast<std::size_t>(i)]);
+    std::vector<nn::Matrix<float>> codes;
+    net.reconstruct(chunk, 1, &codes);
+    z.middleRows(static_cast<Index>(r), n) = codes[0];
+  }
   // the components as extract-components decodes them, their supports as --report counts them
   const auto ref = geometry::identity_features(&m.normalization);
   ComponentLevel decoded;
@@ -273,7 +282,7 @@ CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& traini
             .support;
     if (support > 0.8 * V) ++s.wide;
     const auto ku = static_cast<std::size_t>(k);
-    if (training.rows() >= 3 && size[ku] > 0 && size[ku] >= 0.1 * largest &&
+    if (training.size() >= 3 && size[ku] > 0 && size[ku] >= 0.1 * largest &&
         range[ku] < 0.1 * size[ku])
       ++s.constant;
   }

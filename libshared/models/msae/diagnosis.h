@@ -4,6 +4,7 @@
 // extract-components --report prints it.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -106,7 +107,10 @@ struct CollapseSigns {
   /// one line without the "warning:" prefix; "" when nothing collapsed.
   std::string describe(const MsaeConfig& config) const;
 };
-CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& training);
+/// @param data      every shape [N, 9V] (normalized features)
+/// @param training  the rows of `data` trained on
+CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& data,
+                             const std::vector<std::int64_t>& training);
 
 /// @param comps           the model's components (extract_components of training_codes)
 /// @param training        the training shapes [n, 9V] (normalized): PCA's rank

@@ -459,11 +459,10 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
     };
   // Level 0's collapse, measured on the training shapes at every loss line: a warning while it
   // lasts, and the last one in the model file.
-  const nn::Matrix<float> training = gather(data, m.split.train);
   const std::string report =
       fmt::format("extract-components --report {} {} shows each component", opt.output, opt.input);
   auto check_collapse = [&] {
-    m.collapse = collapse_signs(m, training).describe(m.config);
+    m.collapse = collapse_signs(m, data, m.split.train).describe(m.config);
     if (m.collapse.empty()) return;
     if (m.collapse_since == 0) m.collapse_since = m.iteration;
     log::warn("{}; {}", m.collapse, report);
