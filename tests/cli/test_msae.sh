@@ -42,6 +42,20 @@ tail -n 3 centred.err | grep -q "collapse" && fail "the centred model still ends
 h5dump -a /training/log/collapse centred.h5 2>/dev/null | grep -q "have collapsed" && fail "centred.h5 records a collapse at its end"
 echo "ok (collapse: $n warnings, recorded; none at the end when centred)"
 
+# --- the defaults (issue 65) and --paper-form: the paper's values for every option not given
+cfg() { h5dump -a "/config/$2" "$1" | sed -n 's/^ *(0): \(.*\)$/\1/p' | tr -d '"' | paste -sd' '; }
+train-msae -q --iterations 1 --batch 4 data.h5 -o defaults.h5
+train-msae -q --iterations 1 --batch 4 --paper-form --synthetic 4 data.h5 -o paper.h5
+[ "$(cfg defaults.h5 centre_features) $(cfg defaults.h5 support) $(cfg defaults.h5 synthetic)" = "1 proximal 16" ] &&
+  h5dump -a /config/kz defaults.h5 | grep -q "10, 50" ||
+  fail "the defaults: $(cfg defaults.h5 centre_features) $(cfg defaults.h5 support) $(cfg defaults.h5 synthetic)"
+[ "$(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)" = "0 soft 4" ] &&
+  h5dump -a /config/kz paper.h5 | grep -q "10, 5$" ||
+  fail "--paper-form (an explicit --synthetic kept): $(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)"
+train-msae -q --iterations 1 --batch 4 --no-centre-features data.h5 -o uncentred.h5
+[ "$(cfg uncentred.h5 centre_features)" = 0 ] || fail "--no-centre-features kept the mean centring"
+echo "ok (defaults, --paper-form, --no-centre-features)"
+
 # --- resume: any model file is a checkpoint; the result equals an uninterrupted run
 train-msae -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
 train-msae -q "${tiny[@]}" --iterations 30 --resume --checkpoint m20.h5 data.h5 -o resumed.h5
