@@ -59,8 +59,8 @@ MS_TUNED_SETS ?= $(MS_SETS)
 # form. bumps, centred, validates best at 12,000 iterations (0.511; 0.607 at 20,000): uncentred it
 # took 30,000; with K_z 10,50 (below) its curve is flat from 8,000 to 12,000 (0.154-0.167).
 MS_CENTRED := --centre-features
-# The sequence sets' multiscale blocks (<set>_BLOCKS: MSAE and its Table 4 variants; the one-level
-# AE and the three-level model set their own K_z and keep the default weight of Omega) are wider
+# The sequence sets' multiscale blocks (<set>_BLOCKS: the per-set model msae-tuned's; the
+# one-level AE and the three-level model set their own K_z and keep the weight of Omega) are wider
 # than the paper's 5 components per second-level autoencoder: level 0's components overlap, so
 # every attention mask spreads over the mesh and a child of 5 components reconstructs a rank-5
 # projection of its share of the residual (extract-components --report). Chosen on the validation
@@ -77,8 +77,8 @@ MS_CENTRED := --centre-features
 # against 19.49, so only pcow has it; the one-level AE, given it on pcow, validates worse (70.93
 # against 69.24) and keeps its arguments (docs/msae.md). pcow's schedule is three times the
 # earlier 3,000 iterations halving every 1,000: it validates better for joint training with
-# attention (47.88 against 49.88) and separate training without (44.88 against 46.53), and every
-# Table 4 variant and the one-level AE share it so that Table 4 compares strategies, not schedules.
+# attention (47.88 against 49.88) and separate training without (44.88 against 46.53); the one-level
+# AE shares it (Table 4's variants, since issue 65, share the defaults' schedule instead).
 bumps_TUNED := $(MS_CENTRED) --iterations 12000 --lr-decay-steps 3000
 bumps_BLOCKS := --kz 10,50 --support proximal
 # bumps12: bumps' blocks; the proximal step validates at 0.345 against the soft penalty's 0.717
@@ -197,7 +197,7 @@ ms_sted = $(call json_values,$(1),sted.spatial) | awk '{ printf "%.4f", $$1 }'
 ms_rse_max = $(call json_values,$(1),relative_squared_error.max) | awk '{ printf "%.4g", $$1 }'
 ms_pairs = $(call json_values,$(1),frame_pairs)
 
-# MSAE's components per level as the set's K_z gives them ("10 + 10 x 5").
+# A model's components per level as its /config/kz gives them ("10 + 10 x 50"; default: msae.h5).
 ms_kz_label = $$(h5dump -a /config/kz -y -w 0 $(MS)/$*/$(or $(1),msae).h5 | awk '/DATA {/ { on = 1; next } on && /}/ { exit } on { gsub(/ /, ""); print }' | \
   sed 's/^\([0-9]*\),\([0-9]*\)$$/\1 + \1 x \2/')
 # A row of Table 2: E_rms translation-aligned / rigidly aligned, STED, for recon file $(1).
