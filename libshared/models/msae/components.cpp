@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numeric>
 
 #include "core/atomic_output.h"
 #include "core/error.h"
@@ -52,19 +53,31 @@ double component_strength(const float* x, int n_vertices, const std::array<doubl
   return strength_parts(deformation_per_vertex(x, n_vertices, reference), eps1).strength;
 }
 
-std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net,
-                                           const nn::Matrix<float>& shapes) {
+std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& data,
+                                           const std::vector<std::int64_t>& rows, int levels) {
+  const int through = levels > 0 ? levels : net.config().levels();
+  const auto n = static_cast<Index>(rows.size());
   std::vector<nn::Matrix<float>> codes(net.blocks().size());
-  for (Index r = 0; r < shapes.rows(); r += 64) {
-    std::vector<nn::Matrix<float>> chunk;
-    net.reconstruct(shapes.middleRows(r, std::min<Index>(64, shapes.rows() - r)),
-                    net.config().levels(), &chunk);
-    for (std::size_t b = 0; b < codes.size(); ++b) {
-      codes[b].conservativeResize(codes[b].rows() + chunk[b].rows(), chunk[b].cols());
-      codes[b].bottomRows(chunk[b].rows()) = chunk[b];
-    }
+  for (std::size_t b = 0; b < codes.size(); ++b)
+    if (net.blocks()[b].level < through) codes[b].resize(n, net.blocks()[b].kz);
+  nn::Matrix<float> chunk;
+  for (Index r = 0; r < n; r += 64) {
+    const Index m = std::min<Index>(64, n - r);
+    chunk.resize(m, data.cols());
+    for (Index i = 0; i < m; ++i) chunk.row(i) = data.row(rows[static_cast<std::size_t>(r + i)]);
+    std::vector<nn::Matrix<float>> part;
+    net.reconstruct(chunk, through, &part);
+    for (std::size_t b = 0; b < codes.size(); ++b)
+      if (codes[b].size()) codes[b].middleRows(r, m) = part[b];
   }
   return codes;
+}
+
+std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net,
+                                           const nn::Matrix<float>& shapes) {
+  std::vector<std::int64_t> all(static_cast<std::size_t>(shapes.rows()));
+  std::iota(all.begin(), all.end(), std::int64_t{0});
+  return block_codes(net, shapes, all, 0);
 }
 
 void decode_block(const MsaeNet<float>& net, int b, const nn::Matrix<float>& codes,

@@ -53,6 +53,10 @@ double component_strength(const float* x, int n_vertices, const std::array<doubl
 nn::Matrix<double> level0_similarity(const ComponentLevel& level0,
                                      const std::array<double, 9>& ref);
 
+/// Every block's codes of the rows `rows` of `data` [N, 9V] through the first `levels` levels (0:
+/// all), 64 shapes at a time: [rows, kz] per block, empty for blocks below those levels.
+std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net, const nn::Matrix<float>& data,
+                                           const std::vector<std::int64_t>& rows, int levels);
 /// Every block's codes of `shapes` [n, 9V] through all levels (in chunks): [n, kz] per block.
 std::vector<nn::Matrix<float>> block_codes(const MsaeNet<float>& net,
                                            const nn::Matrix<float>& shapes);

@@ -254,21 +254,11 @@ CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& data,
   const auto centres = net.centres()[0];
   s.distinct_centres = static_cast<int>(std::set<int>(centres.begin(), centres.end()).size());
   if (training.empty()) return s;
-  // AE₀'s codes of the training shapes, 64 at a time (no copy of them all)
-  nn::Matrix<float> z(static_cast<Index>(training.size()), kz), chunk;
-  for (std::size_t r = 0; r < training.size(); r += 64) {
-    const auto n = static_cast<Index>(std::min<std::size_t>(64, training.size() - r));
-    chunk.resize(n, data.cols());
-    for (Index i = 0; i < n; ++i)
-      chunk.row(i) = data.row(training[r + static_cast<std::size_t>(i)]);
-    std::vector<nn::Matrix<float>> codes;
-    net.reconstruct(chunk, 1, &codes);
-    z.middleRows(static_cast<Index>(r), n) = codes[0];
-  }
+  const nn::Matrix<float> z = block_codes(net, data, training, 1)[0];  // AE₀'s codes
   // the components as extract-components decodes them, their supports as --report counts them
   const auto ref = geometry::identity_features(&m.normalization);
   ComponentLevel decoded;
-  decode_block(net, 0, z, centres, ref, 1e-6, decoded);
+  decode_block(net, 0, z, centres, ref, io::Components{}.eps1, decoded);
   std::vector<double> size(static_cast<std::size_t>(kz)), range(size.size());
   for (int k = 0; k < kz; ++k) {
     const double lo = z.col(k).minCoeff(), hi = z.col(k).maxCoeff();
@@ -278,7 +268,8 @@ CollapseSigns collapse_signs(const MsaeModel& m, const nn::Matrix<float>& data,
   const double largest = *std::max_element(size.begin(), size.end());
   for (int k = 0; k < kz; ++k) {
     const auto support =
-        strength_parts(deformation_per_vertex(decoded.features.row(k).data(), V, ref), 1e-6)
+        strength_parts(deformation_per_vertex(decoded.features.row(k).data(), V, ref),
+                       io::Components{}.eps1)
             .support;
     if (support > 0.8 * V) ++s.wide;
     const auto ku = static_cast<std::size_t>(k);
