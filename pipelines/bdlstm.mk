@@ -336,6 +336,8 @@ no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --ca
 # the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: ahead
 # on the finger and chickenCrossing, behind on pcow; docs/bdlstm.md)
 carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8
+# the remedies with an encoder that reads each step's motion beside its frame (issue 67)
+motion_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions
 # are 32 free nats per frame) while z stays a sample of q(z|x) in training.
@@ -345,6 +347,7 @@ remedies_CANDIDATE_WINDOW := 32
 no-kl_CANDIDATE_WINDOW := 32
 free-bits_CANDIDATE_WINDOW := 32
 carry_CANDIDATE_WINDOW := 32
+motion_CANDIDATE_WINDOW := 32
 # Longer training windows, windowN for any N: the paper's form with N-frame windows (a chain runs
 # free at most a window's length in training, while the long generation runs 300 frames).
 $(foreach c,$(filter window%,$(BD_CANDIDATES)),$(eval $(c)_CANDIDATE := $(paper_CANDIDATE))\
@@ -353,7 +356,7 @@ $(foreach c,$(filter window%,$(BD_CANDIDATES)),$(eval $(c)_CANDIDATE := $(paper_
 $(foreach c,$(foreach x,$(BD_CANDIDATES),$(if $(findstring -w,$(x)),$(x))),$(eval $(c)_CANDIDATE := $($(word 1,$(subst -w, ,$(c)))_CANDIDATE))\
   $(eval $(c)_CANDIDATE_WINDOW := $(word 2,$(subst -w, ,$(c)))))
 $(foreach c,$(BD_CANDIDATES),$(if $($(c)_CANDIDATE_WINDOW),,\
-  $(error BD_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, carry, windowN or NAME-wN: N frames))))
+  $(error BD_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, carry, motion, windowN or NAME-wN: N frames))))
 
 .PHONY: bdlstm-validation
 bdlstm-validation: $(foreach s,$(BD_VALIDATION_SETS),$(BD)/$(s)/validation.md)

@@ -34,9 +34,15 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
   tape_.truncate(mark_);
   auto states = net_.states_from(tape_, h_, c_);
   const nn::Var<float> xin = tape_.constant(x);
+  // The carried motion and the motion input need the input of the step before (none at the
+  // first step).
+  const bool needs_previous = net_.config().needs_previous();
+  nn::Var<float> previous;
+  if (needs_previous && steps_ > 0) previous = tape_.constant(previous_);
+  const nn::Var<float>* before = previous.tape ? &previous : nullptr;
   nn::Var<float> z;
   if (latent == LatentInput::mean || latent == LatentInput::sample) {
-    auto [mu, logvar] = net_.encode(bound_, chain_, xin);
+    auto [mu, logvar] = net_.encode(bound_, chain_, xin, before);
     z = mu;
     if (latent == LatentInput::sample && net_.config().kl) {  // z ~ q(z|x), as in training (a
       Matrix eps(x.rows(), net_.config().latent);             // deterministic encoder: the mean)
@@ -49,17 +55,11 @@ Matrix ChainStepper::step(const Matrix& x, LatentInput latent, Rng& rng) {
       for (Index k = 0; k < eps.size(); ++k) eps.data()[k] = static_cast<float>(rng.normal());
     z = tape_.constant(eps);
   }
-  // The carried motion needs the input of the step before (none at the first step).
-  const bool carries = net_.config().carry != 0;
-  nn::Var<float> previous;
-  if (carries && steps_ > 0) previous = tape_.constant(previous_);
-  const Matrix y =
-      net_.decode_step(bound_, chain_, xin, z, states, previous.tape ? &previous : nullptr, steps_)
-          .value();
+  const Matrix y = net_.decode_step(bound_, chain_, xin, z, states, before, steps_).value();
   ++steps_;
   for (std::size_t l = 0; l < states.size(); ++l)
     h_[l] = states[l].h.value(), c_[l] = states[l].c.value();
-  if (carries) previous_ = x;
+  if (needs_previous) previous_ = x;
   return y;
 }
 

@@ -29,7 +29,7 @@ class ChainStepper {
   nn::Bound<float> bound_;
   std::size_t mark_ = 0;
   std::vector<nn::Matrix<float>> h_, c_;
-  nn::Matrix<float> previous_;  ///< the input of the step before (kept when the net carries)
+  nn::Matrix<float> previous_;  ///< the input of the step before (kept when the net needs it)
   int steps_ = 0;               ///< steps since reset (the carry fades with them)
 };
 

@@ -29,7 +29,8 @@ std::vector<V> evenly(const std::vector<V>& all, std::size_t n) {
   return out;
 }
 
-// Mean KL(q(z|x) ‖ N(0, I)) per latent dimension over `frames` (nats), encoded in batches.
+// Mean KL(q(z|x) ‖ N(0, I)) per latent dimension over `frames` (nats), encoded in batches, each
+// frame as at a chain's first step (with --motion-input: no motion).
 std::vector<double> kl_per_dimension(const BdlstmModel& m, const Matrix& X,
                                      const std::vector<std::int64_t>& frames) {
   const auto& net = *m.net;

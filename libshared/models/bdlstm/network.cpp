@@ -45,6 +45,8 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     throw UsageError("--decoder-init must be zero or small");
   if (!(config.l2_weight >= 0)) throw UsageError("--l2-weight must not be negative");
   if (!(config.free_bits >= 0)) throw UsageError("--kl-free-bits must not be negative");
+  if (!(config.motion_scale > 0 && std::isfinite(config.motion_scale)))
+    throw InvalidInput("the motion scale must be a positive number");
   adjacency_ = nn::neighbour_mean_operator<T>(n_vertices, edges);
   Rng rng(seed, 0);
   const int n = config.directions == Directions::standard ? 2 : 1;
@@ -69,6 +71,9 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     } else {  // small: the Glorot draw scaled down, so the encoder gets a gradient from the start
       for (int w : {ch.dec.back().w_point, ch.dec.back().w_nb}) store_.value(w) *= T(0.01);
     }
+    // Last, so that every other weight starts as without it.
+    if (config.motion_input)
+      ch.enc_motion.emplace_back(store_, prefix + "conv0_motion", 9, 9, adjacency_, rng);
     chains_.push_back(std::move(ch));
   }
 }
@@ -93,10 +98,18 @@ typename BdlstmNet<T>::States BdlstmNet<T>::states_from(nn::Tape<T>& tape,
 
 template <class T>
 std::pair<typename BdlstmNet<T>::Var, typename BdlstmNet<T>::Var> BdlstmNet<T>::encode(
-    const nn::Bound<T>& p, int chain, Var x) const {
+    const nn::Bound<T>& p, int chain, Var x, const Var* previous) const {
   const Chain& ch = chains_[static_cast<std::size_t>(chain)];
   Var h = x;
-  for (const auto& conv : ch.enc) h = nn::tanh(conv(p, h));
+  for (std::size_t l = 0; l < ch.enc.size(); ++l) {
+    Var a = ch.enc[l](p, h);
+    if (l == 0 && !ch.enc_motion.empty()) {  // one convolution over [X_t, s (X_t − X_t−1)]
+      Var motion = previous ? nn::scale(nn::sub(x, *previous), static_cast<T>(config_.motion_scale))
+                            : x.tape->constant(Matrix::Zero(x.rows(), x.cols()));
+      a = nn::add(a, ch.enc_motion[0](p, motion));
+    }
+    h = nn::tanh(a);
+  }
   Var ml = ch.fc_enc.repeated(p, h);
   return {nn::slice_cols(ml, 0, config_.latent),
           nn::slice_cols(ml, config_.latent, config_.latent)};
@@ -122,7 +135,7 @@ template <class T>
 typename BdlstmNet<T>::Var BdlstmNet<T>::step(const nn::Bound<T>& p, int chain, Var x,
                                               States& states, const Matrix* eps, KlSum<T>* kl_sum,
                                               const Var* previous, int t) const {
-  auto [mu, logvar] = encode(p, chain, x);
+  auto [mu, logvar] = encode(p, chain, x, previous);
   Var z = mu;
   if (config_.kl && eps) {
     z = nn::reparameterize(mu, logvar, *eps);
@@ -152,7 +165,7 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
                                                                 States states, int steps, Rng& rng,
                                                                 KlSum<T>* kl_sum) const {
   std::vector<Var> frames{given.front()};
-  Var previous;  // the input of the step before (carry)
+  Var previous;  // the input of the step before (carry, motion input)
   Matrix eps(given.front().rows(), config_.latent);
   for (int t = 0; t < steps; ++t) {
     if (config_.kl)

@@ -71,8 +71,18 @@ struct BdlstmConfig {
   /// carry · carry_fade^(t−1), so a prediction starts at the given frames' pace and, far from
   /// them, moves by δX alone. 1 = never fades.
   double carry_fade = 1;
+  /// The encoder reads the chain's motion beside its frame (issue 67): its first convolution
+  /// takes X_t and motion_scale (X_t − X_{t−1}) (zero at a chain's first step), so that z can
+  /// tell the given frames' pace and direction. false = the paper (X_t alone).
+  bool motion_input = false;
+  /// The motion's scale: 1 / the RMS of a training frame's change to the next, per feature (set
+  /// by train-bdlstm from the training frames when motion_input is on, so that the motion comes
+  /// in at the frames' own size on any set; stored in the model).
+  double motion_scale = 1;
   /// The carry at a chain's step t (0 at its first step, which has no step before).
   double carry_at(int t) const;
+  /// Whether a step needs the chain's previous input (carry or motion input).
+  bool needs_previous() const { return carry != 0 || motion_input; }
 };
 
 /// The loss of one batch of windows, by term (each averaged over the windows of the batch).
@@ -121,14 +131,17 @@ class BdlstmNet {
   /// BD-LSTM) for frames x [rows, 9V]: returns X_{t+1}, updates `states`. With `eps`
   /// ([rows, latent] standard normal) z is sampled and Σ_rows KL is added to *kl_sum
   /// (when the config has KL); without, z is the mean.
-  /// `previous`: the chain's input of the step before (for `carry`; null at the first step);
-  /// `t`: the chain's step (0 = its first; the carry fades with it).
+  /// `previous`: the chain's input of the step before (for `carry` and `motion_input`; null at
+  /// the first step); `t`: the chain's step (0 = its first; the carry fades with it).
   Var step(const nn::Bound<T>& p, int chain, Var x, States& states, const Matrix* eps,
            KlSum<T>* kl_sum, const Var* previous = nullptr, int t = 1) const;
 
   /// The encoder of chain `chain`: the latent mean and log-variance of frames x [rows, 9V]
-  /// (each [rows, latent]; the log-variance is meaningless without KL).
-  std::pair<Var, Var> encode(const nn::Bound<T>& p, int chain, Var x) const;
+  /// (each [rows, latent]; the log-variance is meaningless without KL). With `motion_input` it
+  /// also reads the motion from `previous` (the chain's input of the step before; null: none, as
+  /// at a chain's first step).
+  std::pair<Var, Var> encode(const nn::Bound<T>& p, int chain, Var x,
+                             const Var* previous = nullptr) const;
   /// One step with z given ([rows, latent]): LSTM, decoder, X_{t+1} = x + δX (+ carry_at(t)
   /// (x − previous) when the config carries motion and `previous` is given).
   Var decode_step(const nn::Bound<T>& p, int chain, Var x, Var z, States& states,
@@ -145,6 +158,7 @@ class BdlstmNet {
  private:
   struct Chain {
     std::vector<nn::MeshConv<T>> enc, dec;
+    std::vector<nn::MeshConv<T>> enc_motion;  ///< the first convolution's motion part (or none)
     nn::Linear<T> fc_enc, fc_dec;
     nn::StackedLstm<T> lstm;
   };

@@ -57,6 +57,14 @@ Settings bdlstm_network_settings(BdlstmConfig& c) {
                "starts at the given frames' pace and, far from them, moves by dX alone (a long\n"
                "generation does not compound the carried motion); 1 = never fades",
        .optional = true},
+      {.name = "motion_input",
+       .target = &c.motion_input,
+       .help = "The encoder reads each step's motion X_t - X_t-1 beside the frame X_t (scaled by\n"
+               "the training frames' own frame-to-frame change), so that z can tell the given\n"
+               "frames' pace and direction; off = the paper (X_t alone)",
+       .optional = true},
+      // Not an option: train-bdlstm measures it on the training frames (motion_input).
+      {.name = "motion_scale", .target = &c.motion_scale, .optional = true},
   };
 }
 

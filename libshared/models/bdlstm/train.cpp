@@ -178,6 +178,7 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   net.decoder_init = "zero";
   net.carry = 0;
   net.carry_fade = 1;
+  net.motion_input = false;
 }
 
 namespace {
@@ -238,6 +239,20 @@ std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::stri
       input);
 }
 
+// The motion input's scale: 1 / the RMS, per feature, of the change from a training frame to the
+// next one a stride on (pairs clear of the test and validation parts); 1 for still frames.
+double motion_scale(const BdlstmModel& m, const nn::Matrix<float>& data) {
+  const std::int64_t q = m.training.stride;
+  double sum = 0;
+  std::int64_t pairs = 0;
+  for (const std::int64_t f : window_starts(m.split, q + 1)) {
+    sum += (data.row(f + q) - data.row(f)).cast<double>().squaredNorm();
+    ++pairs;
+  }
+  const double rms = pairs ? std::sqrt(sum / static_cast<double>(pairs * data.cols())) : 0;
+  return rms > 0 ? 1 / rms : 1;
+}
+
 // Continues the checkpoint (weights, Adam, RNG, log, the collapse check's verdict) when resuming
 // and one exists, else starts afresh.
 void restore_or_initialize(BdlstmModel& m, bool resume, const std::string& ckpt) {
@@ -274,13 +289,13 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
   BdlstmModel m = describe_model(opt, common, in);
   const std::vector<std::int64_t> starts = training_windows(m, opt.input);
-  const std::string ckpt = opt.run.checkpoint_path(opt.output);
-  restore_or_initialize(m, opt.run.resume, ckpt);
-
   // The normalized features of all frames, one row per frame.
-  const Eigen::Index v9 = m.net->frame_size();
+  const Eigen::Index v9 = 9 * m.tmpl.vertices.rows();
   nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
   in.read_normalized(0, in.frames(), data.data());
+  if (m.config.motion_input) m.config.motion_scale = motion_scale(m, data);
+  const std::string ckpt = opt.run.checkpoint_path(opt.output);
+  restore_or_initialize(m, opt.run.resume, ckpt);
   log::info(
       "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, "
       "stride {}), {} parameters, {} directions",
