@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
   df::bench::ProfileOptions profile;
   profile.add_to(tool.app());
   return tool.run(argc, argv, [&] {
-    const df::io::Mesh m = df::io::read_mesh(mesh_path);
+    const df::Mesh m = df::io::read_mesh(mesh_path);
     const int V = static_cast<int>(m.vertices.rows());
     const auto topo = df::geometry::mesh_topology(m.faces, V);
     df::models::BdlstmNet<float> net({}, V, topo.edges, 0);

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     p.kind = synth::MeshSeqKind::bumps;
     p.resolution = resolution;
     p.frames = 1;
-    const io::Mesh m = synth::MeshSequenceGenerator(p).rest();
+    const Mesh m = synth::MeshSequenceGenerator(p).rest();
     const int V = static_cast<int>(m.vertices.rows());
     const double diagonal =
         (m.vertices.colwise().maxCoeff() - m.vertices.colwise().minCoeff()).norm();
@@ -62,9 +62,9 @@ int main(int argc, char** argv) {
     for (int k = 0; k < K; ++k) truth[k] = 0.5 * u(rng);
     Eigen::VectorXd f =
         Eigen::Map<const Eigen::VectorXd>(base.data(), 9 * V) + D.transpose() * truth;
-    const io::Vertices shape = geometry::Reconstructor(m.vertices, m.faces).solve(f.data());
+    const Vertices shape = geometry::Reconstructor(m.vertices, m.faces).solve(f.data());
     const auto handles = apps::furthest_point_sample(m.vertices, H);
-    io::Vertices pinned = m.vertices;
+    Vertices pinned = m.vertices;
     for (int v : handles) pinned.row(v) = shape.row(v);
     geometry::SubspaceEditResult res;
     double factor = 0;

@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
       .add_option("--shapes", shapes, "Random shapes the batch is drawn from")
       ->default_val(shapes);
   return tool.run(argc, argv, [&] {
-    df::io::Mesh m;
+    df::Mesh m;
     if (grid > 1) {
       m.vertices.resize(grid * grid, 3);
       for (int y = 0; y < grid; ++y)

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
       time_case(c, iters);
     }
     if (!only || only == 2) {  // MeshConv(9->9)+tanh then Linear(9V->128)+tanh, batch 256
-      df::io::Mesh m;
+      df::Mesh m;
       if (!mesh_path.empty()) {
         m = df::io::read_mesh(mesh_path);
       } else {

@@ -69,12 +69,12 @@ py::array_t<double, py::array::c_style> doubles(const py::array& a, const char* 
   return out;
 }
 
-io::Faces faces_of(const py::array& a, py::ssize_t vertices) {
+Faces faces_of(const py::array& a, py::ssize_t vertices) {
   if (a.dtype().kind() != 'i' && a.dtype().kind() != 'u')
     throw py::value_error("faces must be an integer array");
   if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error("faces must be [F, 3] triangles");
   auto f = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
-  io::Faces out(f.shape(0), 3);
+  Faces out(f.shape(0), 3);
   for (py::ssize_t i = 0; i < f.size(); ++i) {
     const auto v = f.data()[i];
     if (v < 0 || v >= vertices)
@@ -85,8 +85,8 @@ io::Faces faces_of(const py::array& a, py::ssize_t vertices) {
   return out;
 }
 
-io::Vertices vertices_of(const double* p, py::ssize_t V) {
-  return Eigen::Map<const io::Vertices>(p, V, 3);
+Vertices vertices_of(const double* p, py::ssize_t V) {
+  return Eigen::Map<const Vertices>(p, V, 3);
 }
 
 F64 array(std::vector<py::ssize_t> shape, const double* data) {
@@ -102,7 +102,7 @@ py::array_t<T> array_of(const std::vector<T>& v, std::vector<py::ssize_t> shape)
   return a;
 }
 
-py::dict mesh_dict(const io::Mesh& m) {
+py::dict mesh_dict(const Mesh& m) {
   py::dict d;
   d["vertices"] = array({m.vertices.rows(), 3}, m.vertices.data());
   py::array_t<std::int32_t> f({m.faces.rows(), Eigen::Index{3}});
@@ -123,7 +123,7 @@ F64 solve_frames(const geometry::Reconstructor& rec, const py::array& features) 
   {
     py::gil_scoped_release free;
     tbb::parallel_for(py::ssize_t{0}, n, [&](py::ssize_t k) {
-      const io::Vertices p = rec.solve(f.data() + k * V * kDims);
+      const Vertices p = rec.solve(f.data() + k * V * kDims);
       std::copy(p.data(), p.data() + p.size(), out.data() + k * V * 3);
     });
   }
@@ -179,11 +179,11 @@ PYBIND11_MODULE(deformflow, m) {
         if (reference < 0 || reference >= n)
           throw py::value_error("reference " + std::to_string(reference) + " is not a frame (0.." +
                                 std::to_string(n - 1) + ")");
-        const io::Faces F = faces_of(faces, V);
+        const Faces F = faces_of(faces, V);
         std::vector<double> out;
         {
           py::gil_scoped_release free;
-          std::vector<io::Vertices> frames;
+          std::vector<Vertices> frames;
           for (py::ssize_t k = 0; k < n; ++k)
             frames.push_back(vertices_of(v.data() + k * V * 3, V));
           const geometry::AcapFeatureExtractor ex(frames[static_cast<std::size_t>(reference)], F);
@@ -205,8 +205,8 @@ PYBIND11_MODULE(deformflow, m) {
              if (solver != "gradients" && solver != "edges")
                throw py::value_error(
                    "solver must be 'gradients' (exact) or 'edges' (the papers' system)");
-             const io::Faces F = faces_of(faces, t.shape(0));
-             const io::Vertices V = vertices_of(t.data(), t.shape(0));
+             const Faces F = faces_of(faces, t.shape(0));
+             const Vertices V = vertices_of(t.data(), t.shape(0));
              py::gil_scoped_release free;
              return new geometry::Reconstructor(V, F, anchor,
                                                 solver == "edges"
@@ -229,7 +229,7 @@ PYBIND11_MODULE(deformflow, m) {
       [](const py::array& features, const py::array& tmpl, const py::array& faces, int anchor,
          const std::string& solver) {
         auto t = doubles(tmpl, "template", {-1, 3});
-        const io::Faces F = faces_of(faces, t.shape(0));
+        const Faces F = faces_of(faces, t.shape(0));
         const geometry::Reconstructor rec(vertices_of(t.data(), t.shape(0)), F, anchor,
                                           solver == "edges"
                                               ? geometry::ReconstructionSolver::edges
@@ -247,8 +247,8 @@ PYBIND11_MODULE(deformflow, m) {
         auto f = doubles(features, "features", {-1, -1, kDims});
         if (mode != "group" && mode != "per-dim")
           throw py::value_error("mode must be 'group' or 'per-dim'");
-        geometry::NormalizationBuilder b(mode == "group" ? io::NormalizationMode::group
-                                                         : io::NormalizationMode::per_dim);
+        geometry::NormalizationBuilder b(mode == "group" ? NormalizationMode::group
+                                                         : NormalizationMode::per_dim);
         b.add(f.data(), static_cast<std::size_t>(f.size() / kDims));
         const auto nz = b.finish();
         return py::make_tuple(array({kDims}, nz.min.data()), array({kDims}, nz.max.data()));
@@ -261,7 +261,7 @@ PYBIND11_MODULE(deformflow, m) {
       [](const py::array& features, const py::array& lo, const py::array& hi, bool inverse) {
         auto f = doubles(features, "features", {-1, -1, kDims});
         auto a = doubles(lo, "min", {kDims}), b = doubles(hi, "max", {kDims});
-        io::FeatureNormalization nz;
+        FeatureNormalization nz;
         std::copy(a.data(), a.data() + kDims, nz.min.begin());
         std::copy(b.data(), b.data() + kDims, nz.max.begin());
         F64 out({f.shape(0), f.shape(1), py::ssize_t{kDims}});
@@ -290,7 +290,7 @@ PYBIND11_MODULE(deformflow, m) {
               &parts);
         double sum = 0;
         for (py::ssize_t k = 0; k < n; ++k) {
-          const io::Vertices T = vertices_of(t.data() + k * V * 3, V);
+          const Vertices T = vertices_of(t.data() + k * V * 3, V);
           sum += eval::unit_ball_squared_error(
               eval::align_translation(vertices_of(p.data() + k * V * 3, V), T, part, parts), T);
         }
@@ -343,10 +343,10 @@ PYBIND11_MODULE(deformflow, m) {
         }
         if (r.has_normalization()) {
           const auto nz = r.normalization();
-          d["normalization"] = py::dict(
-              py::arg("min") = array({kDims}, nz.min.data()),
-              py::arg("max") = array({kDims}, nz.max.data()),
-              py::arg("mode") = nz.mode == io::NormalizationMode::group ? "group" : "per-dim");
+          d["normalization"] =
+              py::dict(py::arg("min") = array({kDims}, nz.min.data()),
+                       py::arg("max") = array({kDims}, nz.max.data()),
+                       py::arg("mode") = nz.mode == NormalizationMode::group ? "group" : "per-dim");
         }
         if (r.has_source()) d["source"] = array_of(r.source(), {n});
         if (r.labelled()) {
@@ -369,7 +369,7 @@ PYBIND11_MODULE(deformflow, m) {
          const py::object& positions, const py::object& features) {
         auto t = doubles(tmpl, "template", {-1, 3});
         const py::ssize_t V = t.shape(0);
-        io::Mesh mesh;
+        Mesh mesh;
         mesh.vertices = vertices_of(t.data(), V);
         mesh.faces = faces_of(faces, V);
         if (positions.is_none() && features.is_none())
@@ -394,7 +394,7 @@ PYBIND11_MODULE(deformflow, m) {
             w.write_positions(N, nv, q.data());
           }
           if (!features.is_none()) {
-            geometry::NormalizationBuilder b(io::NormalizationMode::group);
+            geometry::NormalizationBuilder b(NormalizationMode::group);
             b.add(f.data(), N * nv);
             const auto nz = b.finish();
             w.write_normalization(nz);
@@ -698,7 +698,7 @@ PYBIND11_MODULE(deformflow, m) {
         auto t = doubles(truth, "truth", {-1, -1, 3});
         auto p = doubles(pred, "pred", {t.shape(0), t.shape(1), 3});
         const py::ssize_t n = t.shape(0), V = t.shape(1);
-        const io::Faces F = faces_of(faces, V);
+        const Faces F = faces_of(faces, V);
         const auto topo = geometry::mesh_topology(F, static_cast<int>(V));
         const auto hoods = eval::edge_neighbourhoods(topo, rings);
         double spatial = 0, temporal = 0;

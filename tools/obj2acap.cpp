@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
       "  obj2acap -v frames/ -o f.h5    # prints both consistency objectives per frame\n"
       "Reconstruct meshes with acap2obj; inspect with h5check.");
   return tool.run(argc, argv, [&] {
-    opt.normalize = normalize == "group" ? df::geometry::NormalizationMode::group
-                                         : df::geometry::NormalizationMode::per_dim;
+    opt.normalize =
+        normalize == "group" ? df::NormalizationMode::group : df::NormalizationMode::per_dim;
     opt.consistency = !no_consistency;
     df::convert::obj2acap(opt, tool.common());
   });

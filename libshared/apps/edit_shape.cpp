@@ -74,7 +74,7 @@ Subspace select_directions(const io::Components& c, const EditShapeOptions& opt)
 // Where the edit starts: the shape's positions and raw features (none for position
 // components), the weights it was made with, and its history.
 struct Start {
-  io::Vertices positions;
+  Vertices positions;
   std::vector<double> features;  // [9V]
   std::vector<double> weights;   // [K] every component's
   std::vector<int> handles;      // the vertices the edit it came from held
@@ -155,7 +155,7 @@ void sample_handles(Handles& h, const EditShapeOptions& opt, const io::Component
   const auto V = c.tmpl.vertices.rows();
   if (opt.sample > V)
     throw UsageError(fmt::format("--sample {}: the template has {} vertices", opt.sample, V));
-  const io::Vertices p = r.read_frame_positions(static_cast<std::size_t>(opt.to_frame));
+  const Vertices p = r.read_frame_positions(static_cast<std::size_t>(opt.to_frame));
   std::set<int> seen(h.vertices.begin(), h.vertices.end());
   for (int v : furthest_point_sample(c.tmpl.vertices, opt.sample)) {
     if (!seen.insert(v).second) continue;  // a handle of the file wins
@@ -165,7 +165,7 @@ void sample_handles(Handles& h, const EditShapeOptions& opt, const io::Component
 }
 
 // The handles with their targets (held vertices at their start positions).
-void place_handles(Handles& h, const std::vector<int>& fixed, const io::Vertices& start,
+void place_handles(Handles& h, const std::vector<int>& fixed, const Vertices& start,
                    bool relative) {
   if (relative)
     for (std::size_t k = 0; k < h.vertices.size(); ++k)
@@ -189,7 +189,7 @@ void place_handles(Handles& h, const std::vector<int>& fixed, const io::Vertices
 std::vector<double> handle_residual(const io::Components& c, const std::vector<double>& features,
                                     const Handles& h) {
   const geometry::Reconstructor free(c.tmpl.vertices, c.tmpl.faces, h.vertices.front());
-  const io::Vertices p = free.solve(features.data());
+  const Vertices p = free.solve(features.data());
   Eigen::RowVector3d shift = Eigen::RowVector3d::Zero();
   for (std::size_t k = 0; k < h.vertices.size(); ++k) shift += h.targets[k] - p.row(h.vertices[k]);
   shift /= static_cast<double>(h.vertices.size());
@@ -246,7 +246,7 @@ geometry::SubspaceEditResult solve_acap(const io::Components& c, const Subspace&
   Eigen::VectorXd base = Eigen::Map<const Eigen::VectorXd>(
       start.features.data(), static_cast<Eigen::Index>(start.features.size()));
   base -= sub.directions.transpose() * w0;
-  io::Vertices pinned = start.positions;
+  Vertices pinned = start.positions;
   for (std::size_t k = 0; k < handles.vertices.size(); ++k)
     pinned.row(handles.vertices[k]) = handles.targets[k];
   const geometry::SubspaceEditor editor(
@@ -263,7 +263,7 @@ geometry::SubspaceEditResult solve_acap(const io::Components& c, const Subspace&
 // components, fitted to centred shapes, should not have to carry where the shape stands); the
 // weights minimise Σ_h ‖p_h − t_h‖² / (H d²) + λ‖w‖² (d: the template's diagonal), one solve.
 geometry::SubspaceEditResult fit_positions(const Subspace& sub, const Eigen::VectorXd& w0,
-                                           const io::Vertices& start, const Handles& h, double l2,
+                                           const Vertices& start, const Handles& h, double l2,
                                            double diagonal) {
   const auto K = sub.directions.rows(), H = static_cast<Eigen::Index>(h.vertices.size());
   const Eigen::VectorXd flat =
@@ -295,13 +295,13 @@ geometry::SubspaceEditResult fit_positions(const Subspace& sub, const Eigen::Vec
   res.converged = true;
   const Eigen::VectorXd p = base + sub.directions.transpose() * res.weights;
   res.positions =
-      Eigen::Map<const io::Vertices>(p.data(), start.rows(), 3).rowwise() + x.tail(3).transpose();
+      Eigen::Map<const Vertices>(p.data(), start.rows(), 3).rowwise() + x.tail(3).transpose();
   return res;
 }
 
 }  // namespace
 
-std::vector<int> furthest_point_sample(const io::Vertices& v, int n) {
+std::vector<int> furthest_point_sample(const Vertices& v, int n) {
   std::vector<int> out;
   if (n <= 0 || v.rows() == 0) return out;
   Eigen::VectorXd d = Eigen::VectorXd::Constant(v.rows(), std::numeric_limits<double>::infinity());

@@ -37,7 +37,7 @@ Handles read_handles(const std::string& path, int n_vertices);
 
 /// n vertices spread over the template: vertex 0, then each time the vertex furthest (in
 /// space) from those chosen; ties to the lowest index.
-std::vector<int> furthest_point_sample(const io::Vertices& v, int n);
+std::vector<int> furthest_point_sample(const Vertices& v, int n);
 
 void edit_shape(const EditShapeOptions& opt, const CommonOptions& common);
 

@@ -212,10 +212,10 @@ PairMeasures measure_pairs(FrameSet& pred, FrameSet& truth, const Shape& sh,
   const auto& nz = truth.normalization ? truth.normalization : pred.normalization;
   const bool features = pred.raw.rows() && truth.raw.rows();
   pm.results.resize(pairs.size());
-  std::vector<io::Vertices> aligned(pairs.size());
+  std::vector<Vertices> aligned(pairs.size());
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
     const auto [i, j] = pairs[k];
-    const io::Vertices& gt = truth.positions[j];
+    const Vertices& gt = truth.positions[j];
     aligned[k] = opt.align == "rigid"
                      ? align_rigid(pred.positions[i], gt, sh.component, sh.n_components)
                      : align_translation(pred.positions[i], gt, sh.component, sh.n_components);
@@ -356,7 +356,7 @@ struct PaceCase {
   double predicted = 0, truth = 0;  ///< motion summed over the kPaceSteps frames
 };
 
-double motion_between(const io::Vertices& a, const io::Vertices& b) {
+double motion_between(const Vertices& a, const Vertices& b) {
   const Eigen::RowVector3d shift = a.colwise().mean() - b.colwise().mean();
   return ((a.rowwise() - shift) - b).rowwise().norm().mean();
 }

@@ -48,7 +48,7 @@ struct Row {
   std::vector<std::size_t> frames;          // indices into the input's frames
   std::vector<std::string> captions;        // default column caption of each frame
   bool truth = false;                       // the ground-truth row of --show-truth
-  std::vector<io::Vertices> shown;          // meshes: positions drawn, per frame
+  std::vector<Vertices> shown;              // meshes: positions drawn, per frame
   std::vector<std::vector<double>> scalar;  // meshes: per-vertex value per frame (empty: plain)
 };
 
@@ -274,12 +274,12 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
     const auto& s = r.truth ? *truth : sets[r.input];
     const double diag = s.diagonal();
     for (std::size_t i : r.frames) {
-      io::Vertices p = s.positions[i];
+      Vertices p = s.positions[i];
       std::vector<double> v;
       if (r.truth || col.mode == "none") {
         // drawn in the plain mesh colour
       } else if (col.mode == "error") {
-        const io::Vertices& gt = truth->positions[truth_frame(s, i, *truth)];
+        const Vertices& gt = truth->positions[truth_frame(s, i, *truth)];
         p = eval::align_translation(p, gt, components[r.input], n_components[r.input]);
         v.resize(s.vertices());
         for (Eigen::Index k = 0; k < p.rows(); ++k)

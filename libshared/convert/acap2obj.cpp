@@ -29,8 +29,8 @@ using geometry::kFeatureDims;
 struct FrameError {
   double max = 0, mean = 0;
 };
-FrameError frame_error(const io::Vertices& P, const io::Vertices& truth,
-                       const std::vector<int>& component, int nc) {
+FrameError frame_error(const Vertices& P, const Vertices& truth, const std::vector<int>& component,
+                       int nc) {
   Eigen::MatrixXd shift = Eigen::MatrixXd::Zero(nc, 3);
   Eigen::VectorXd count = Eigen::VectorXd::Zero(nc);
   for (Eigen::Index v = 0; v < P.rows(); ++v) {
@@ -174,7 +174,7 @@ std::vector<std::string> mesh_file_names(const Selection& sel, const std::string
 // their positions.
 std::unique_ptr<io::AcapWriter> acap_output(const std::filesystem::path& temp,
                                             const std::string& output, const io::AcapReader& in,
-                                            const io::Mesh& tmpl, const Selection& sel) {
+                                            const Mesh& tmpl, const Selection& sel) {
   auto f = std::make_unique<io::AcapWriter>(temp, output, std::vector<std::string>{in.history()});
   f->write_template(tmpl);
   std::vector<std::string> sel_names, sel_seqs;
@@ -206,8 +206,8 @@ std::unique_ptr<io::AcapWriter> acap_output(const std::filesystem::path& temp,
 // written in order. Buffers are reused across blocks.
 std::vector<FrameError> reconstruct_frames(const io::AcapReader& in, const FeatureSource& src,
                                            const Selection& sel, const geometry::Reconstructor& rec,
-                                           bool pin_to_frames, const io::Mesh& tmpl,
-                                           io::AcapWriter* f, const std::filesystem::path& dir,
+                                           bool pin_to_frames, const Mesh& tmpl, io::AcapWriter* f,
+                                           const std::filesystem::path& dir,
                                            const std::vector<std::string>& file_names) {
   const std::size_t nv = in.vertices();
   const bool has_positions = in.has_positions();
@@ -218,7 +218,7 @@ std::vector<FrameError> reconstruct_frames(const io::AcapReader& in, const Featu
   const std::size_t row = nv * kFeatureDims;
   std::vector<double> feat(block * row);
   std::vector<float> featf, pos_in, pos_out(block * nv * 3);
-  std::vector<io::Vertices> truth(block), result(block);
+  std::vector<Vertices> truth(block), result(block);
   std::vector<FrameError> errors(frames.size());
   auto read_run = [&](std::size_t k0, std::size_t len) {  // frames[k0..k0+len) are consecutive
     const std::size_t i = frames[k0], b = k0 % block;
@@ -289,7 +289,7 @@ void acap2obj(const Acap2ObjOptions& opt, const CommonOptions& common) {
                    h5out ? AtomicOutput::Kind::file : AtomicOutput::Kind::directory);
   const io::AcapReader in(opt.input);
   const FeatureSource src = feature_source(in, opt);
-  const io::Mesh tmpl = in.read_template();
+  const Mesh tmpl = in.read_template();
   if (opt.anchor_positions == "frames" && !in.has_positions())
     throw InvalidInput("--anchor-positions frames needs /frames/positions", opt.input);
   const bool pin_to_frames = in.has_positions() && opt.anchor_positions != "reference";

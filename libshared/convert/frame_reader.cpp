@@ -21,7 +21,7 @@ struct FrameReader::Source {
   std::vector<io::FrameSource> files;    // mesh_files
   io::Md2Model md2;                      // md2
   std::unique_ptr<io::AcapReader> file;  // hdf5
-  io::Faces faces;                       // md2, hdf5: the connectivity of every frame
+  Faces faces;                           // md2, hdf5: the connectivity of every frame
   std::size_t n_vertices = 0;
   std::string history;
 };
@@ -120,10 +120,10 @@ std::string FrameReader::frame_origin(std::size_t i) const {
   return s.path + " frame " + f.name;
 }
 
-io::Mesh FrameReader::read(std::size_t i) const {
+Mesh FrameReader::read(std::size_t i) const {
   const Frame& f = frames_[i];
   const Source& s = *sources_[static_cast<std::size_t>(f.source)];
-  io::Mesh m;
+  Mesh m;
   switch (s.kind) {
     case Source::Kind::mesh_files: {
       io::MeshReadReport rep;
@@ -151,8 +151,8 @@ io::Mesh FrameReader::read(std::size_t i) const {
   return m;
 }
 
-io::Vertices FrameReader::read_positions(std::size_t i, const io::Mesh& reference,
-                                         const std::string& reference_name) const {
+Vertices FrameReader::read_positions(std::size_t i, const Mesh& reference,
+                                     const std::string& reference_name) const {
   const Frame& f = frames_[i];
   const Source& s = *sources_[static_cast<std::size_t>(f.source)];
   if (s.kind == Source::Kind::mesh_files) {
@@ -160,7 +160,7 @@ io::Vertices FrameReader::read_positions(std::size_t i, const io::Mesh& referenc
     if (io::lower_extension(path) == ".obj")
       return io::read_obj_frame(path, reference, reference_name);
   }
-  io::Mesh m = read(i);
+  Mesh m = read(i);
   io::check_same_connectivity(reference, reference_name, m, frame_origin(i));
   return std::move(m.vertices);
 }

@@ -33,11 +33,11 @@ class FrameReader {
   std::string frame_origin(std::size_t i) const;
   /// Reads frame i with its connectivity (mesh files are read on demand; MD2 and HDF5 frames
   /// come from memory or the open file). Thread-safe.
-  io::Mesh read(std::size_t i) const;
+  Mesh read(std::size_t i) const;
   /// Reads frame i's positions, checking that it has `reference`'s connectivity (OBJ files go
   /// through the fast parser). Thread-safe; frames may be read in parallel.
-  io::Vertices read_positions(std::size_t i, const io::Mesh& reference,
-                              const std::string& reference_name) const;
+  Vertices read_positions(std::size_t i, const Mesh& reference,
+                          const std::string& reference_name) const;
   /// Inputs that are files (for the "do not overwrite an input" check).
   std::vector<std::string> input_paths() const;
   /// Histories of HDF5 inputs (provenance).

@@ -17,12 +17,12 @@ namespace df::convert {
 
 struct FrameSet {
   std::string path;
-  io::Mesh tmpl;                       ///< the template (reference) mesh
+  Mesh tmpl;                           ///< the template (reference) mesh
   std::vector<std::int64_t> offsets;   ///< [S+1] sequence offsets
   std::vector<std::string> sequences;  ///< [S] sequence names
   std::vector<std::string> names;      ///< [N] frame names
   /// [N] #V by 3 positions (mesh units); an entry is empty until stored or reconstructed
-  std::vector<io::Vertices> positions;
+  std::vector<Vertices> positions;
   bool positions_stored = false;
   Eigen::MatrixXd raw;  ///< [N, 9V] raw features; 0 rows if none
   std::optional<geometry::Normalization> normalization;

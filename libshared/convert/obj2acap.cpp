@@ -70,17 +70,17 @@ Labelled labelled_sequences(const FrameReader& reader, const std::vector<std::st
 }
 
 // The template: --reference, or the first frame.
-io::Mesh read_reference(FrameReader& reader, const std::string& reference) {
+Mesh read_reference(FrameReader& reader, const std::string& reference) {
   if (reference.empty()) return reader.read(0);
   io::MeshReadReport rep;
-  io::Mesh mesh = io::read_mesh(reference, &rep);
+  Mesh mesh = io::read_mesh(reference, &rep);
   io::warn_about(rep, reference);
   return mesh;
 }
 
 // Template, frame names, sequences and labels, and the three datasets the frames fill.
 std::vector<std::string> write_layout(io::AcapWriter& f, const FrameReader& reader,
-                                      const Labelled& l, const io::Mesh& reference) {
+                                      const Labelled& l, const Mesh& reference) {
   const std::size_t n = reader.size(), nv = static_cast<std::size_t>(reference.vertices.rows());
   f.write_template(reference);
   std::vector<std::string> frame_names, seq_names;
@@ -105,8 +105,7 @@ std::vector<std::string> write_layout(io::AcapWriter& f, const FrameReader& read
 // The in-order stage of one block overlaps with the parallel stage of the next. A bad frame is
 // reported deterministically: the first one.
 geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
-                                         const io::Mesh& reference,
-                                         const std::string& reference_name,
+                                         const Mesh& reference, const std::string& reference_name,
                                          const std::vector<std::string>& frame_names,
                                          const Obj2AcapOptions& opt, io::AcapWriter& f) {
   const std::size_t n = reader.size(), nv = static_cast<std::size_t>(reference.vertices.rows());
@@ -118,7 +117,7 @@ geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
     if (s.count) starts[s.first] = 1;
   struct Block {
     std::size_t first = 0, count = 0;
-    std::vector<io::Vertices> positions;
+    std::vector<Vertices> positions;
     std::vector<geometry::FrameDecomposition> dec;
     std::exception_ptr error;  // the block's first bad frame, thrown by the in-order stage
   };
@@ -228,7 +227,7 @@ void obj2acap(const Obj2AcapOptions& opt, const CommonOptions& common) {
   const std::size_t n = reader.size();
   if (n == 0) throw InvalidInput("the inputs hold no frames");
   const std::string reference_name = opt.reference.empty() ? reader.frame_origin(0) : opt.reference;
-  const io::Mesh reference = read_reference(reader, opt.reference);
+  const Mesh reference = read_reference(reader, opt.reference);
   const auto nv = static_cast<std::size_t>(reference.vertices.rows());
 
   auto inputs = as_paths(reader.input_paths());

@@ -15,7 +15,7 @@ struct Obj2AcapOptions {
   std::vector<std::string> inputs;  ///< see FrameReader for how inputs become sequences
   std::string output;               ///< .h5 path
   std::string reference;            ///< mesh file; "" = the first frame
-  geometry::NormalizationMode normalize = geometry::NormalizationMode::group;
+  NormalizationMode normalize = NormalizationMode::group;
   std::vector<std::string> labels;  ///< one per sequence ("" = keep the inputs' labels)
   bool consistency = true;          ///< false: principal per-vertex logs (for comparison only)
   geometry::ConsistencyOptions consistency_options;

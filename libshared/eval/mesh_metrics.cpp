@@ -8,15 +8,15 @@
 
 namespace df::eval {
 
-io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth,
-                               const std::vector<int>& component, int n_components) {
+Vertices align_translation(const Vertices& pred, const Vertices& truth,
+                           const std::vector<int>& component, int n_components) {
   Eigen::MatrixXd shift = Eigen::MatrixXd::Zero(n_components, 3);
   Eigen::VectorXd count = Eigen::VectorXd::Zero(n_components);
   for (Eigen::Index v = 0; v < pred.rows(); ++v) {
     shift.row(component[static_cast<std::size_t>(v)]) += truth.row(v) - pred.row(v);
     count[component[static_cast<std::size_t>(v)]] += 1;
   }
-  io::Vertices out = pred;
+  Vertices out = pred;
   for (Eigen::Index v = 0; v < pred.rows(); ++v) {
     const int c = component[static_cast<std::size_t>(v)];
     out.row(v) += shift.row(c) / count[c];
@@ -24,8 +24,8 @@ io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& tru
   return out;
 }
 
-io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth,
-                         const std::vector<int>& component, int n_components) {
+Vertices align_rigid(const Vertices& pred, const Vertices& truth, const std::vector<int>& component,
+                     int n_components) {
   const auto nc = static_cast<std::size_t>(n_components);
   std::vector<Eigen::RowVector3d> cp(nc, Eigen::RowVector3d::Zero()),
       ct(nc, Eigen::RowVector3d::Zero());
@@ -50,7 +50,7 @@ io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth,
     d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
     rot[c] = svd.matrixU() * d * svd.matrixV().transpose();
   }
-  io::Vertices out(pred.rows(), 3);
+  Vertices out(pred.rows(), 3);
   for (Eigen::Index v = 0; v < pred.rows(); ++v) {
     const auto c = static_cast<std::size_t>(component[static_cast<std::size_t>(v)]);
     out.row(v) = (pred.row(v) - cp[c]) * rot[c] + ct[c];
@@ -58,11 +58,11 @@ io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth,
   return out;
 }
 
-double mean_vertex_error(const io::Vertices& pred, const io::Vertices& truth) {
+double mean_vertex_error(const Vertices& pred, const Vertices& truth) {
   return (pred - truth).rowwise().norm().mean();
 }
 
-double unit_ball_squared_error(const io::Vertices& pred, const io::Vertices& truth) {
+double unit_ball_squared_error(const Vertices& pred, const Vertices& truth) {
   const Eigen::RowVector3d c = truth.colwise().mean();
   const double r = (truth.rowwise() - c).rowwise().norm().maxCoeff();
   const double s = r > 0 ? 1.0 / r : 1.0;
@@ -92,8 +92,7 @@ std::vector<std::vector<int>> edge_neighbourhoods(const geometry::MeshTopology& 
   return out;
 }
 
-double sted_spatial(const io::Vertices& pred, const io::Vertices& truth,
-                    const geometry::MeshTopology& topo,
+double sted_spatial(const Vertices& pred, const Vertices& truth, const geometry::MeshTopology& topo,
                     const std::vector<std::vector<int>>& neighbourhoods) {
   const std::size_t ne = topo.edges.size();
   std::vector<double> ed(ne), len(ne);
@@ -121,10 +120,9 @@ double sted_spatial(const io::Vertices& pred, const io::Vertices& truth,
   return neighbourhoods.empty() ? 0.0 : total / static_cast<double>(neighbourhoods.size());
 }
 
-double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1,
-                     const io::Vertices& truth0, const io::Vertices& truth1,
-                     const geometry::MeshTopology& topo, double dt) {
-  auto speed = [&](const io::Vertices& p0, const io::Vertices& p1, int i) {
+double sted_temporal(const Vertices& pred0, const Vertices& pred1, const Vertices& truth0,
+                     const Vertices& truth1, const geometry::MeshTopology& topo, double dt) {
+  auto speed = [&](const Vertices& p0, const Vertices& p1, int i) {
     double l = 0;
     const int d = topo.degree(i);
     for (int k = topo.ring_offsets[i]; k < topo.ring_offsets[i + 1]; ++k)

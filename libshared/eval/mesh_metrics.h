@@ -14,24 +14,24 @@ namespace df::eval {
 
 /// Moves each connected component of `pred` so that its centroid matches `truth`'s (the
 /// reconstruction fixes positions only up to one translation per component).
-io::Vertices align_translation(const io::Vertices& pred, const io::Vertices& truth,
-                               const std::vector<int>& component, int n_components);
+Vertices align_translation(const Vertices& pred, const Vertices& truth,
+                           const std::vector<int>& component, int n_components);
 
 /// Moves each connected component of `pred` by the rotation and translation that best fit it to
 /// `truth`'s (Kabsch: least squares over the component's vertices, no reflection): the paper's
 /// "align all the models" before E_rms (MSAE paper §5.1). A reconstruction from ACAP features is
 /// fixed up to one translation per component only, but an error in the features can turn a whole
 /// part; this alignment forgives that turn, translation-only does not.
-io::Vertices align_rigid(const io::Vertices& pred, const io::Vertices& truth,
-                         const std::vector<int>& component, int n_components);
+Vertices align_rigid(const Vertices& pred, const Vertices& truth, const std::vector<int>& component,
+                     int n_components);
 
 /// Mean over vertices of ‖pred_i − truth_i‖.
-double mean_vertex_error(const io::Vertices& pred, const io::Vertices& truth);
+double mean_vertex_error(const Vertices& pred, const Vertices& truth);
 
 /// Σ‖A − A′‖² over the vertices after translating the truth's centroid to the origin and
 /// scaling it into the unit ball (the same transform applied to pred). E_rms over N frames is
 /// 1000 · sqrt(Σ_frames / (3 N V)).
-double unit_ball_squared_error(const io::Vertices& pred, const io::Vertices& truth);
+double unit_ball_squared_error(const Vertices& pred, const Vertices& truth);
 
 /// E_rms × 1000 from unit_ball_squared_error summed over `frames` frames of `vertices` vertices.
 double erms_from_sum(double unit_ball_sum, double frames, double vertices);
@@ -41,16 +41,14 @@ std::vector<std::vector<int>> edge_neighbourhoods(const geometry::MeshTopology& 
 
 /// STED's spatial part for one frame: per edge ed = |l′ − l| / l; per vertex the standard
 /// deviation of ed over its neighbourhood weighted by l; the mean over vertices.
-double sted_spatial(const io::Vertices& pred, const io::Vertices& truth,
-                    const geometry::MeshTopology& topo,
+double sted_spatial(const Vertices& pred, const Vertices& truth, const geometry::MeshTopology& topo,
                     const std::vector<std::vector<int>>& neighbourhoods);
 
 /// STED's temporal part for one pair of consecutive frames (t, t+1): per vertex the relative
 /// speed s = ‖p_i(t+1) − p_i(t)‖ / (dt · mean incident edge length at t) of each mesh, and the
 /// mean over vertices of |s_pred − s_truth|.
-double sted_temporal(const io::Vertices& pred0, const io::Vertices& pred1,
-                     const io::Vertices& truth0, const io::Vertices& truth1,
-                     const geometry::MeshTopology& topo, double dt);
+double sted_temporal(const Vertices& pred0, const Vertices& pred1, const Vertices& truth0,
+                     const Vertices& truth1, const geometry::MeshTopology& topo, double dt);
 
 /// ‖X − X̂‖²_F / ‖X‖²_F (features of one frame).
 double relative_squared_error(const Eigen::Ref<const Eigen::VectorXd>& x,

@@ -43,7 +43,7 @@ double ShapeErms::operator()(
       raw[static_cast<std::size_t>(c)] =
           nz_.denormalize(static_cast<int>(c % geometry::kFeatureDims),
                           static_cast<double>(normalized(static_cast<Eigen::Index>(k), c)));
-    const io::Vertices p = solver_->solve(raw.data());
+    const Vertices p = solver_->solve(raw.data());
     squared[k] = unit_ball_squared_error(align_translation(p, truth_[k], component_, n_components_),
                                          truth_[k]);
   });

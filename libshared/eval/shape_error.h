@@ -33,7 +33,7 @@ class ShapeErms {
  private:
   geometry::Normalization nz_;
   std::unique_ptr<geometry::Reconstructor> solver_;
-  std::vector<io::Vertices> truth_;
+  std::vector<Vertices> truth_;
   std::vector<int> component_;
   int n_components_ = 0;
 };

@@ -12,14 +12,14 @@
 
 namespace df::geometry {
 
-AcapFeatureExtractor::AcapFeatureExtractor(const io::Vertices& reference, const io::Faces& faces,
+AcapFeatureExtractor::AcapFeatureExtractor(const Vertices& reference, const Faces& faces,
                                            ConsistencyOptions opt)
     : topo_(mesh_topology(faces, static_cast<int>(reference.rows()))),
       gradients_(std::make_unique<DeformationGradientSolver>(
           reference, faces, topo_, cotangent_weights(reference, faces, topo_))),
       consistency_(topo_, opt) {}
 
-void AcapFeatureExtractor::decompose(const io::Vertices& frame, FrameDecomposition& out) const {
+void AcapFeatureExtractor::decompose(const Vertices& frame, FrameDecomposition& out) const {
   std::vector<Eigen::Matrix3d> T;
   gradients_->compute(frame, T);
   std::vector<PolarDecomposition> p(T.size());
@@ -122,7 +122,7 @@ ConsistencyReport FeatureSequence::add(const FrameDecomposition& d, bool start, 
 }
 
 std::vector<double> sequence_features(const AcapFeatureExtractor& ex,
-                                      const std::vector<io::Vertices>& frames,
+                                      const std::vector<Vertices>& frames,
                                       const std::vector<char>& starts, bool consistency) {
   const std::size_t n = frames.size(), nv = static_cast<std::size_t>(ex.n_vertices());
   std::vector<FrameDecomposition> dec(n);

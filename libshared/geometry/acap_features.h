@@ -10,15 +10,16 @@
 #include <memory>
 #include <vector>
 
+#include "core/feature_normalization.h"
+#include "core/mesh.h"
 #include "geometry/acap_consistency.h"
 #include "geometry/deformation_gradient.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/rotation.h"
-#include "io/acap_file.h"
 
 namespace df::geometry {
 
-inline constexpr int kFeatureDims = io::kAcapFeatureDims;
+inline constexpr int kFeatureDims = kAcapFeatureDims;
 
 /// The rotations (principal axis-angle) and stretches of one frame, before consistency.
 struct FrameDecomposition {
@@ -31,15 +32,14 @@ struct FrameDecomposition {
 class AcapFeatureExtractor {
  public:
   /// @param reference  #V by 3 reference positions; @param faces  #F by 3
-  AcapFeatureExtractor(const io::Vertices& reference, const io::Faces& faces,
-                       ConsistencyOptions opt = {});
+  AcapFeatureExtractor(const Vertices& reference, const Faces& faces, ConsistencyOptions opt = {});
 
   const MeshTopology& topology() const { return topo_; }
   const std::vector<double>& weights() const { return gradients_->weights(); }
   int n_vertices() const { return topo_.n_vertices; }
 
   /// T → (R, S) → principal log of R, for every vertex of a frame (#V by 3).
-  void decompose(const io::Vertices& frame, FrameDecomposition& out) const;
+  void decompose(const Vertices& frame, FrameDecomposition& out) const;
 
   /// Consistent rotation vectors of a decomposed frame (`previous`: the previous frame of the
   /// same sequence, or nullptr).
@@ -74,7 +74,7 @@ class FeatureSequence {
 /// decomposed (in parallel), then a FeatureSequence (`starts[f]` marks frame f as a sequence's
 /// first; frame 0 always is). InvalidInput naming the frame when one has another vertex count.
 std::vector<double> sequence_features(const AcapFeatureExtractor& ex,
-                                      const std::vector<io::Vertices>& frames,
+                                      const std::vector<Vertices>& frames,
                                       const std::vector<char>& starts, bool consistency);
 
 /// Writes the 9 features of each vertex (row-major #V by 9) from rotation vectors and stretches.
@@ -90,9 +90,8 @@ std::vector<Eigen::Vector3d> principal_rotation_vectors(const FrameDecomposition
 
 // --- normalization to [−0.95, 0.95] for tanh networks (SPEC §4.7)
 
-// The numbers themselves belong to the files that carry them (io/acap_file.h).
-using NormalizationMode = io::NormalizationMode;
-using Normalization = io::FeatureNormalization;
+// The numbers themselves are core/feature_normalization.h's (io/acap_file.h writes them).
+using Normalization = FeatureNormalization;
 
 /// The reference's own features (r = 0, S = I), normalized by `nz` when given: X_r of the MSAE
 /// paper, the zero of "deformation".

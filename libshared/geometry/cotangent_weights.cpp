@@ -13,8 +13,7 @@ int edge_index(const MeshTopology& t, int a, int b) {
 }
 }  // namespace
 
-std::vector<double> cotangent_sums(const io::Vertices& V, const io::Faces& F,
-                                   const MeshTopology& topo) {
+std::vector<double> cotangent_sums(const Vertices& V, const Faces& F, const MeshTopology& topo) {
   std::vector<double> c(topo.edges.size(), 0.0);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (int k = 0; k < 3; ++k) {
@@ -36,8 +35,7 @@ double positive_weight(double c) {
   return w;
 }
 
-std::vector<double> cotangent_weights(const io::Vertices& V, const io::Faces& F,
-                                      const MeshTopology& topo) {
+std::vector<double> cotangent_weights(const Vertices& V, const Faces& F, const MeshTopology& topo) {
   std::vector<double> w = cotangent_sums(V, F, topo);
   std::transform(w.begin(), w.end(), w.begin(), positive_weight);
   return w;

@@ -14,14 +14,12 @@ namespace df::geometry {
 
 /// Raw cotangent sums c_ij per edge of `topo` (may be negative, NaN on degenerate faces).
 /// @param V  #V by 3 positions of the reference mesh
-std::vector<double> cotangent_sums(const io::Vertices& V, const io::Faces& F,
-                                   const MeshTopology& topo);
+std::vector<double> cotangent_sums(const Vertices& V, const Faces& F, const MeshTopology& topo);
 
 /// The positive weight w = sqrt(sexp(c)) of one cotangent sum, with the NaN/1e5 rule.
 double positive_weight(double c);
 
 /// w_ij per edge of `topo`.
-std::vector<double> cotangent_weights(const io::Vertices& V, const io::Faces& F,
-                                      const MeshTopology& topo);
+std::vector<double> cotangent_weights(const Vertices& V, const Faces& F, const MeshTopology& topo);
 
 }  // namespace df::geometry

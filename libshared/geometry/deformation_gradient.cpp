@@ -8,8 +8,8 @@
 
 namespace df::geometry {
 
-io::Vertices pseudo_edges(const io::Vertices& V, const io::Faces& F, const MeshTopology& topo) {
-  io::Vertices N = vertex_normals(V, F);
+Vertices pseudo_edges(const Vertices& V, const Faces& F, const MeshTopology& topo) {
+  Vertices N = vertex_normals(V, F);
   for (int i = 0; i < topo.n_vertices; ++i) {
     double sum = 0;
     for (int k = topo.ring_offsets[i]; k < topo.ring_offsets[i + 1]; ++k)
@@ -20,8 +20,8 @@ io::Vertices pseudo_edges(const io::Vertices& V, const io::Faces& F, const MeshT
   return N;
 }
 
-Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo,
-                        const MeshTopology& topo, const std::vector<double>& weights, int i) {
+Matrix3 one_ring_moment(const Vertices& reference, const Vertices& pseudo, const MeshTopology& topo,
+                        const std::vector<double>& weights, int i) {
   Eigen::Vector3d n = pseudo.row(i);
   Matrix3 A = n * n.transpose();
   for (int k = topo.ring_offsets[i]; k < topo.ring_offsets[i + 1]; ++k) {
@@ -31,8 +31,7 @@ Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseud
   return A;
 }
 
-DeformationGradientSolver::DeformationGradientSolver(const io::Vertices& reference,
-                                                     const io::Faces& faces,
+DeformationGradientSolver::DeformationGradientSolver(const Vertices& reference, const Faces& faces,
                                                      const MeshTopology& topo,
                                                      std::vector<double> weights)
     : reference_(reference), faces_(faces), topo_(topo), weights_(std::move(weights)) {
@@ -54,8 +53,8 @@ DeformationGradientSolver::DeformationGradientSolver(const io::Vertices& referen
   });
 }
 
-void DeformationGradientSolver::compute(const io::Vertices& frame, std::vector<Matrix3>& T) const {
-  io::Vertices pseudo = pseudo_edges(frame, faces_, topo_);
+void DeformationGradientSolver::compute(const Vertices& frame, std::vector<Matrix3>& T) const {
+  Vertices pseudo = pseudo_edges(frame, faces_, topo_);
   T.resize(static_cast<std::size_t>(topo_.n_vertices));
   for (int i = 0; i < topo_.n_vertices; ++i) {
     Eigen::Vector3d n = pseudo_.row(i), nd = pseudo.row(i);

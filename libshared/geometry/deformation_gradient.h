@@ -19,35 +19,35 @@ using Matrix3 = Eigen::Matrix3d;
 inline constexpr double kPseudoEdgeScale = 0.3;
 
 /// Pseudo-edges ñ_i of a mesh: #V by 3.
-io::Vertices pseudo_edges(const io::Vertices& V, const io::Faces& F, const MeshTopology& topo);
+Vertices pseudo_edges(const Vertices& V, const Faces& F, const MeshTopology& topo);
 
 /// The reference one-ring moment A_i = Σ_j w_ij e_ij e_ijᵀ + ñ_i ñ_iᵀ of vertex i.
 /// @param pseudo  the reference's pseudo-edges (#V by 3)
-Matrix3 one_ring_moment(const io::Vertices& reference, const io::Vertices& pseudo,
-                        const MeshTopology& topo, const std::vector<double>& weights, int i);
+Matrix3 one_ring_moment(const Vertices& reference, const Vertices& pseudo, const MeshTopology& topo,
+                        const std::vector<double>& weights, int i);
 
 /// Holds the reference side; compute() is const and thread-safe (one frame per thread).
 class DeformationGradientSolver {
  public:
   /// @param reference  #V by 3 reference positions
   /// @param weights    w_ij per edge of topo (cotangent_weights)
-  DeformationGradientSolver(const io::Vertices& reference, const io::Faces& faces,
-                            const MeshTopology& topo, std::vector<double> weights);
+  DeformationGradientSolver(const Vertices& reference, const Faces& faces, const MeshTopology& topo,
+                            std::vector<double> weights);
 
   /// T_i of every vertex of `frame` (#V by 3, same connectivity); T is resized to #V.
-  void compute(const io::Vertices& frame, std::vector<Matrix3>& T) const;
+  void compute(const Vertices& frame, std::vector<Matrix3>& T) const;
 
   const MeshTopology& topology() const { return topo_; }
   const std::vector<double>& weights() const { return weights_; }
-  const io::Vertices& reference() const { return reference_; }
-  const io::Faces& faces() const { return faces_; }
+  const Vertices& reference() const { return reference_; }
+  const Faces& faces() const { return faces_; }
 
  private:
-  io::Vertices reference_;
-  io::Faces faces_;
+  Vertices reference_;
+  Faces faces_;
   const MeshTopology& topo_;
   std::vector<double> weights_;
-  io::Vertices pseudo_;         // ñ_i of the reference
+  Vertices pseudo_;             // ñ_i of the reference
   std::vector<Matrix3> a_inv_;  // A_i⁻¹ (pseudo-inverse where singular)
 };
 

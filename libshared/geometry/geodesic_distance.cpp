@@ -18,8 +18,8 @@ using Sparse = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
 struct HeatMethodDistance::Impl {
-  io::Vertices V;
-  io::Faces F;
+  Vertices V;
+  Faces F;
   std::vector<std::array<double, 3>> cot;  // per face, cotangent of the angle at each corner
   std::vector<Eigen::Vector3d> normal;     // per face, unit normal
   std::vector<double> area;                // per face
@@ -152,7 +152,7 @@ Eigen::VectorXd HeatMethodDistance::Impl::divergence_of_unit_field(const Eigen::
   return div;
 }
 
-HeatMethodDistance::HeatMethodDistance(const io::Vertices& V, const io::Faces& F, double t_factor)
+HeatMethodDistance::HeatMethodDistance(const Vertices& V, const Faces& F, double t_factor)
     : impl_(std::make_unique<Impl>()) {
   auto& m = *impl_;
   if (V.rows() == 0 || F.rows() == 0) throw InvalidInput("geodesics need a mesh with triangles");
@@ -197,8 +197,7 @@ Eigen::VectorXd HeatMethodDistance::from(int source) const {
   return phi;
 }
 
-GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F)
-    : heat_(V, F), n_vertices_(V.rows()) {
+GeodesicRows::GeodesicRows(const Vertices& V, const Faces& F) : heat_(V, F), n_vertices_(V.rows()) {
   // Farthest-point sweeps: each solve starts from the vertex farthest from the previous source.
   int source = 0;
   for (int sweep = 0; sweep < 8; ++sweep) {
@@ -215,7 +214,7 @@ GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F)
     throw InvalidInput("the template has no extent: geodesic distances are all zero");
 }
 
-GeodesicRows::GeodesicRows(const io::Vertices& V, const io::Faces& F, double diameter)
+GeodesicRows::GeodesicRows(const Vertices& V, const Faces& F, double diameter)
     : heat_(V, F), n_vertices_(V.rows()), diameter_(diameter) {
   if (!(diameter_ > 0)) throw InvalidInput("geodesic diameter must be positive");
 }

@@ -15,7 +15,7 @@
 #include <memory>
 #include <vector>
 
-#include "io/mesh_io.h"
+#include "core/mesh.h"
 
 namespace df::geometry {
 
@@ -24,7 +24,7 @@ class HeatMethodDistance {
   /// Factors the operators of the mesh.
   /// @param V  #V by 3 positions; @param F  #F by 3 triangles (consistently oriented)
   /// @param t_factor  heat time = t_factor · (mean edge length)² (the paper's m = 1)
-  HeatMethodDistance(const io::Vertices& V, const io::Faces& F, double t_factor = 1.0);
+  HeatMethodDistance(const Vertices& V, const Faces& F, double t_factor = 1.0);
   ~HeatMethodDistance();
   HeatMethodDistance(const HeatMethodDistance&) = delete;
   HeatMethodDistance& operator=(const HeatMethodDistance&) = delete;
@@ -47,9 +47,9 @@ class HeatMethodDistance {
 /// count or on which rows were solved before.
 class GeodesicRows {
  public:
-  GeodesicRows(const io::Vertices& V, const io::Faces& F);
+  GeodesicRows(const Vertices& V, const Faces& F);
   /// Restores a provider whose diameter is known (from a model file) without the sweeps.
-  GeodesicRows(const io::Vertices& V, const io::Faces& F, double diameter);
+  GeodesicRows(const Vertices& V, const Faces& F, double diameter);
 
   double diameter() const { return diameter_; }
   /// Solves the rows of `sources` not yet kept (in parallel); afterwards row(s) is cheap. Drops

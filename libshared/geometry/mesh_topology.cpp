@@ -4,7 +4,7 @@
 
 namespace df::geometry {
 
-MeshTopology mesh_topology(const io::Faces& F, int n_vertices) {
+MeshTopology mesh_topology(const Faces& F, int n_vertices) {
   MeshTopology t;
   t.n_vertices = n_vertices;
   t.edges.reserve(static_cast<std::size_t>(F.rows()) * 3);

@@ -4,7 +4,7 @@
 #include <array>
 #include <vector>
 
-#include "io/mesh_io.h"
+#include "core/mesh.h"
 
 namespace df::geometry {
 
@@ -20,7 +20,7 @@ struct MeshTopology {
 };
 
 /// @param F  #F by 3 triangles; @param n_vertices  #V (vertices in no face get an empty ring)
-MeshTopology mesh_topology(const io::Faces& F, int n_vertices);
+MeshTopology mesh_topology(const Faces& F, int n_vertices);
 
 /// The connected component of every vertex: `first`'s component is 0, the others are numbered
 /// in order of their lowest vertex. @param count  receives the number of components

@@ -10,7 +10,7 @@
 
 namespace df::geometry {
 
-Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& faces, int anchor,
+Reconstructor::Reconstructor(const Vertices& reference, const Faces& faces, int anchor,
                              ReconstructionSolver solver)
     : reference_(reference),
       faces_(faces),
@@ -25,7 +25,7 @@ Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& fac
   factor();
 }
 
-Reconstructor::Reconstructor(const io::Vertices& reference, const io::Faces& faces,
+Reconstructor::Reconstructor(const Vertices& reference, const Faces& faces,
                              const std::vector<int>& pinned)
     : reference_(reference),
       faces_(faces),
@@ -118,7 +118,7 @@ Eigen::SparseMatrix<double> Reconstructor::edge_system() const {
 // MᵀM of the projected deformation-gradient equations; keeps M, A_i P_i and the pinned terms.
 Eigen::SparseMatrix<double> Reconstructor::gradient_system() {
   const int n = topo_.n_vertices;
-  io::Vertices pseudo = pseudo_edges(reference_, faces_, topo_);
+  Vertices pseudo = pseudo_edges(reference_, faces_, topo_);
   moment_.resize(static_cast<std::size_t>(n));
   std::vector<Eigen::Triplet<double>> trip;
   for (int i = 0; i < n; ++i) {
@@ -146,9 +146,8 @@ Eigen::SparseMatrix<double> Reconstructor::gradient_system() {
   return m_free_.transpose() * m_free_;
 }
 
-io::Vertices Reconstructor::solve(const double* features,
-                                  const io::Vertices* pinned_positions) const {
-  const io::Vertices& pinned = pinned_positions ? *pinned_positions : reference_;
+Vertices Reconstructor::solve(const double* features, const Vertices* pinned_positions) const {
+  const Vertices& pinned = pinned_positions ? *pinned_positions : reference_;
   const int n = topo_.n_vertices;
   // T_i = exp(L_i) S_i
   std::vector<Eigen::Matrix3d> T(static_cast<std::size_t>(n));
@@ -181,7 +180,7 @@ io::Vertices Reconstructor::solve(const double* features,
     }
     x = cholesky_.solve(b);
   }
-  io::Vertices P(n, 3);
+  Vertices P(n, 3);
   for (int i = 0; i < n; ++i)
     P.row(i) = reduced_[i] >= 0 ? Eigen::RowVector3d(x.row(reduced_[i]))
                                 : Eigen::RowVector3d(pinned.row(i));

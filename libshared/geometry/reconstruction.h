@@ -41,19 +41,18 @@ class Reconstructor {
   /// Factors the chosen system once.
   /// @param reference  #V by 3 reference positions; @param faces  #F by 3
   /// @param anchor     pinned vertex of its component (at its reference position)
-  Reconstructor(const io::Vertices& reference, const io::Faces& faces, int anchor = 0,
+  Reconstructor(const Vertices& reference, const Faces& faces, int anchor = 0,
                 ReconstructionSolver solver = ReconstructionSolver::edges);
   /// Pins the given vertices (e.g. an edit's handles, at the positions solve() is given) and
   /// the lowest-index vertex of every connected component that holds none of them. Only the edge
   /// system; InvalidInput for a vertex out of range.
-  Reconstructor(const io::Vertices& reference, const io::Faces& faces,
-                const std::vector<int>& pinned);
+  Reconstructor(const Vertices& reference, const Faces& faces, const std::vector<int>& pinned);
   ~Reconstructor();
 
   /// Positions (#V by 3) from one frame's raw features (#V rows of 9, row-major). Pinned
   /// vertices take their positions from `pinned_positions` (#V by 3, e.g. the original frame)
   /// when given, else from the reference. Thread-safe.
-  io::Vertices solve(const double* features, const io::Vertices* pinned_positions = nullptr) const;
+  Vertices solve(const double* features, const Vertices* pinned_positions = nullptr) const;
 
   ReconstructionSolver solver() const { return solver_; }
   int n_vertices() const { return topo_.n_vertices; }
@@ -82,8 +81,8 @@ class Reconstructor {
   Eigen::SparseMatrix<double> edge_system() const;
   Eigen::SparseMatrix<double> gradient_system();
 
-  io::Vertices reference_;
-  io::Faces faces_;
+  Vertices reference_;
+  Faces faces_;
   MeshTopology topo_;
   std::vector<double> weights_;
   ReconstructionSolver solver_;

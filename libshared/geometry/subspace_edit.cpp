@@ -35,7 +35,7 @@ Eigen::Matrix3d transform_change(const Eigen::Matrix3d& R, const Eigen::Matrix3d
 
 }  // namespace
 
-SubspaceEditor::SubspaceEditor(const io::Vertices& reference, const io::Faces& faces,
+SubspaceEditor::SubspaceEditor(const Vertices& reference, const Faces& faces,
                                const std::vector<int>& handles, const Eigen::MatrixXd& directions,
                                std::vector<double> base)
     : rec_(reference, faces, handles),
@@ -85,7 +85,7 @@ Eigen::Matrix3d SubspaceEditor::transform_derivative(const Eigen::VectorXd& w, i
   return transform_change(rotation_exp(r), right_jacobian(r), S, dr, dS);
 }
 
-SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertices& pinned,
+SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const Vertices& pinned,
                                       const SubspaceEditOptions& reg, EnergyParts parts) const {
   constexpr double eps = 1e-3;  // the sparsity term's smoothing
   const Eigen::ArrayXd root = (w.array().square() + eps * eps).sqrt();
@@ -212,7 +212,7 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const io::Vertic
   return out;
 }
 
-SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const io::Vertices& pinned,
+SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const Vertices& pinned,
                                         const SubspaceEditOptions& opt,
                                         const std::function<void(int, double)>& progress) const {
   if (start.size() != directions_.rows())

@@ -35,7 +35,7 @@ struct SubspaceEditOptions {
 
 struct SubspaceEditResult {
   Eigen::VectorXd weights;       ///< [K]
-  io::Vertices positions;        ///< [V, 3]
+  Vertices positions;            ///< [V, 3]
   std::vector<double> features;  ///< [V * 9] raw ACAP features of the edited shape
   std::vector<double> energy;    ///< E at the start and after each accepted step
   int iterations = 0;
@@ -47,7 +47,7 @@ struct SubspaceEnergy {
   double value = 0, fit = 0;  ///< E, and its first term alone
   Eigen::VectorXd gradient;
   Eigen::MatrixXd gauss_newton;
-  io::Vertices positions;
+  Vertices positions;
 };
 
 class SubspaceEditor {
@@ -55,21 +55,20 @@ class SubspaceEditor {
   /// Factors the system with `handles` pinned (every connected component without a handle gets
   /// its lowest vertex pinned too). @param directions  [K, 9V] raw feature directions D_k;
   /// @param base  [9V] raw features f⁰ at w = 0
-  SubspaceEditor(const io::Vertices& reference, const io::Faces& faces,
-                 const std::vector<int>& handles, const Eigen::MatrixXd& directions,
-                 std::vector<double> base);
+  SubspaceEditor(const Vertices& reference, const Faces& faces, const std::vector<int>& handles,
+                 const Eigen::MatrixXd& directions, std::vector<double> base);
 
   /// Minimises E from `start` [K]. `pinned` [V, 3]: the handles' targets at their rows, and the
   /// positions the other pinned vertices keep (e.g. the shape edited from). `progress` gets each
   /// iteration and E.
-  SubspaceEditResult edit(const Eigen::VectorXd& start, const io::Vertices& pinned,
+  SubspaceEditResult edit(const Eigen::VectorXd& start, const Vertices& pinned,
                           const SubspaceEditOptions& opt,
                           const std::function<void(int, double)>& progress = {}) const;
 
   enum class EnergyParts { value, gradient, gauss_newton };
   /// E, and its gradient (cheap: the adjoint) or its gradient and Gauss-Newton matrix (K more
   /// solves, O(E K²)).
-  SubspaceEnergy energy(const Eigen::VectorXd& w, const io::Vertices& pinned,
+  SubspaceEnergy energy(const Eigen::VectorXd& w, const Vertices& pinned,
                         const SubspaceEditOptions& reg, EnergyParts parts) const;
   /// f⁰ + Σ w_k D_k
   std::vector<double> features(const Eigen::VectorXd& w) const;
@@ -85,7 +84,7 @@ class SubspaceEditor {
   Reconstructor rec_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> directions_;  // [K, 9V]
   std::vector<double> base_;
-  io::Vertices reference_;
+  Vertices reference_;
   double scale_ = 1;  // Σ c_ij ‖q_i − q_j‖²
   // the rotation vector and stretch of each of the 9 unit feature vectors (the features' layout)
   std::array<Eigen::Vector3d, 9> unit_rotation_;

@@ -4,8 +4,8 @@
 
 namespace df::geometry {
 
-io::Vertices vertex_normals(const io::Vertices& V, const io::Faces& F) {
-  io::Vertices N = io::Vertices::Zero(V.rows(), 3);
+Vertices vertex_normals(const Vertices& V, const Faces& F) {
+  Vertices N = Vertices::Zero(V.rows(), 3);
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     Eigen::Vector3d n = (b - a).cross(c - a);

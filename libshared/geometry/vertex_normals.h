@@ -2,11 +2,11 @@
 // unit normals of the faces around the vertex (zero for a vertex in no proper face).
 #pragma once
 
-#include "io/mesh_io.h"
+#include "core/mesh.h"
 
 namespace df::geometry {
 
 /// @param V  #V by 3 positions; @param F  #F by 3 triangles; @return #V by 3 unit normals
-io::Vertices vertex_normals(const io::Vertices& V, const io::Faces& F);
+Vertices vertex_normals(const Vertices& V, const Faces& F);
 
 }  // namespace df::geometry

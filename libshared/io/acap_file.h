@@ -11,31 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "core/feature_normalization.h"
+#include "core/mesh.h"
 #include "io/h5.h"
 #include "io/mesh_io.h"
 #include "io/schema.h"
 
 namespace df::io {
-
-/// Numbers per vertex of an ACAP feature: the rotation's log (3) and the symmetric stretch's upper
-/// triangle (6).
-inline constexpr int kAcapFeatureDims = 9;
-
-// --- normalization to [−0.95, 0.95] for tanh networks (SPEC §4.7)
-
-enum class NormalizationMode { group, per_dim };
-
-struct FeatureNormalization {
-  NormalizationMode mode = NormalizationMode::group;
-  std::array<double, kAcapFeatureDims> min{}, max{};
-
-  /// x_norm = −0.95 + 1.9 (x − min_d) / (max_d − min_d)
-  double normalize(int d, double x) const { return -0.95 + 1.9 * (x - min[d]) / (max[d] - min[d]); }
-  double denormalize(int d, double y) const {
-    return min[d] + (y + 0.95) * (max[d] - min[d]) / 1.9;
-  }
-  bool same_numbers(const FeatureNormalization& o) const { return min == o.min && max == o.max; }
-};
 
 /// Writes /normalization (mode, range, min, max) into a file of any kind that carries it.
 void write_normalization(h5::File& f, const FeatureNormalization& nz);

@@ -7,22 +7,13 @@
 // writers are process-wide singletons that cannot run in parallel over frames.
 #pragma once
 
-#include <Eigen/Core>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/mesh.h"
+
 namespace df::io {
-
-/// #V by 3 vertex positions (mesh units), row-major.
-using Vertices = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-/// #F by 3 triangles, 0-based vertex indices.
-using Faces = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
-
-struct Mesh {
-  Vertices vertices;
-  Faces faces;
-};
 
 /// What reading a mesh noticed but could continue past.
 struct MeshReadReport {

@@ -24,7 +24,7 @@ struct Samples {
 };
 
 // Screen position (samples) and depth of every vertex.
-std::vector<Eigen::Vector3d> project(const io::Vertices& V, const Camera& camera, int w, int h,
+std::vector<Eigen::Vector3d> project(const Vertices& V, const Camera& camera, int w, int h,
                                      const Shading& s) {
   std::vector<Eigen::Vector3d> P(static_cast<std::size_t>(V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
@@ -34,7 +34,7 @@ std::vector<Eigen::Vector3d> project(const io::Vertices& V, const Camera& camera
   return P;
 }
 
-void rasterize_triangles(const std::vector<Eigen::Vector3d>& P, const io::Faces& F, Samples& g) {
+void rasterize_triangles(const std::vector<Eigen::Vector3d>& P, const Faces& F, Samples& g) {
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d& a = P[static_cast<std::size_t>(F(f, 0))];
     const Eigen::Vector3d& b = P[static_cast<std::size_t>(F(f, 1))];
@@ -72,7 +72,7 @@ void rasterize_triangles(const std::vector<Eigen::Vector3d>& P, const io::Faces&
 }
 
 // View-space face normals (unnormalised, area-weighted) and, for smooth shading, vertex normals.
-void normals(const io::Vertices& V, const io::Faces& F, const Camera& camera, bool smooth,
+void normals(const Vertices& V, const Faces& F, const Camera& camera, bool smooth,
              std::vector<Eigen::Vector3d>& face_n, std::vector<Eigen::Vector3d>& vertex_n) {
   face_n.resize(static_cast<std::size_t>(F.rows()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
@@ -101,7 +101,7 @@ Rgb shade(Eigen::Vector3d n, const Rgb& base, const Eigen::Vector3d& light) {
 
 }  // namespace
 
-Panel rasterize_mesh(const io::Vertices& V, const io::Faces& F, const std::vector<Rgb>& colors,
+Panel rasterize_mesh(const Vertices& V, const Faces& F, const std::vector<Rgb>& colors,
                      const Rgb& base, const Camera& camera, int w, int h, const Shading& shading) {
   const int ss = std::max(1, shading.supersample);
   Samples g(w * ss, h * ss);

@@ -39,7 +39,7 @@ struct Panel {
 /// @param V       #V by 3 positions (world units)
 /// @param F       #F by 3 triangles
 /// @param colors  #V per-vertex colours, or empty for `base` everywhere
-Panel rasterize_mesh(const io::Vertices& V, const io::Faces& F, const std::vector<Rgb>& colors,
+Panel rasterize_mesh(const Vertices& V, const Faces& F, const std::vector<Rgb>& colors,
                      const Rgb& base, const Camera& camera, int w, int h, const Shading& shading);
 
 }  // namespace df::render

@@ -21,8 +21,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 // Triangulated (nx+1) x (ny+1) grid over [x0,x1] x [y0,y1] at z = 0.
-io::Mesh grid(int nx, int ny, double x0, double x1, double y0, double y1) {
-  io::Mesh m;
+Mesh grid(int nx, int ny, double x0, double x1, double y0, double y1) {
+  Mesh m;
   m.vertices.resize((nx + 1) * (ny + 1), 3);
   for (int j = 0; j <= ny; ++j)
     for (int i = 0; i <= nx; ++i)
@@ -163,11 +163,11 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
   }
 }
 
-io::Vertices MeshSequenceGenerator::finger(int seq, double phase) const {
+Vertices MeshSequenceGenerator::finger(int seq, double phase) const {
   const double lift = 0.5 - 0.5 * std::cos(phase);  // 0 at rest, 1 at the peak
   const double bend = params_.amplitude * seq_scale_[seq] * 0.5 * kPi * lift;
   const double twist = params_.twist_degrees * seq_scale_[seq] * kPi / 180.0 * lift;
-  io::Vertices V(rest_.vertices.rows(), 3);
+  Vertices V(rest_.vertices.rows(), 3);
   const double kappa = bend / length_;
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     double s = s_[v], t = twist * s / length_;
@@ -188,8 +188,8 @@ io::Vertices MeshSequenceGenerator::finger(int seq, double phase) const {
   return V;
 }
 
-io::Vertices MeshSequenceGenerator::flag(int seq, double phase) const {
-  io::Vertices V = rest_.vertices;
+Vertices MeshSequenceGenerator::flag(int seq, double phase) const {
+  Vertices V = rest_.vertices;
   const double a = 0.25 * params_.amplitude * seq_scale_[seq];
   for (Eigen::Index v = 0; v < V.rows(); ++v) {
     double x = rest_.vertices(v, 0), y = rest_.vertices(v, 1);
@@ -211,8 +211,8 @@ std::vector<double> MeshSequenceGenerator::region_weights(int t) const {
   return w;
 }
 
-io::Vertices MeshSequenceGenerator::bumps(int t) const {
-  io::Vertices V = rest_.vertices;
+Vertices MeshSequenceGenerator::bumps(int t) const {
+  Vertices V = rest_.vertices;
   auto w = region_weights(t);
   for (std::size_t r = 0; r < regions_.size(); ++r) {
     const Region& reg = regions_[r];
@@ -227,7 +227,7 @@ io::Vertices MeshSequenceGenerator::bumps(int t) const {
   return V;
 }
 
-io::Vertices MeshSequenceGenerator::frame(int t) const {
+Vertices MeshSequenceGenerator::frame(int t) const {
   int seq = t / params_.frames, local = t % params_.frames;
   double phase = 2 * kPi * params_.periods * local / std::max(params_.frames, 1);
   switch (params_.kind) {
@@ -270,7 +270,7 @@ void write_hdf5(const MeshSequenceGenerator& gen, const AtomicOutput& out) {
     int count = std::min(block, n - first);
     buf.assign(static_cast<std::size_t>(count) * nv * 3, 0.0f);
     tbb::parallel_for(0, count, [&](int i) {
-      io::Vertices V = gen.frame(first + i);
+      Vertices V = gen.frame(first + i);
       float* dst = buf.data() + static_cast<std::size_t>(i) * nv * 3;
       for (std::size_t k = 0; k < nv * 3; ++k) dst[k] = static_cast<float>(V.data()[k]);
       progress.advance();

@@ -52,22 +52,22 @@ class MeshSequenceGenerator {
  public:
   explicit MeshSequenceGenerator(const MeshSeqParams& p);
 
-  const io::Mesh& rest() const { return rest_; }
+  const Mesh& rest() const { return rest_; }
   int total_frames() const { return params_.frames * params_.sequences; }
   /// #V by 3 positions of global frame t in [0, total_frames()).
-  io::Vertices frame(int t) const;
+  Vertices frame(int t) const;
   const std::vector<Region>& regions() const { return regions_; }
   /// Weight of each region in global frame t (bumps only).
   std::vector<double> region_weights(int t) const;
   const MeshSeqParams& params() const { return params_; }
 
  private:
-  io::Vertices finger(int seq, double phase) const;
-  io::Vertices flag(int seq, double phase) const;
-  io::Vertices bumps(int t) const;
+  Vertices finger(int seq, double phase) const;
+  Vertices flag(int seq, double phase) const;
+  Vertices bumps(int t) const;
 
   MeshSeqParams params_;
-  io::Mesh rest_;
+  Mesh rest_;
   std::vector<double> seq_scale_;  // per-sequence amplitude variation
   std::vector<Region> regions_;
   // finger: per-vertex (arc length s, cross-section x, y) on the rest shape

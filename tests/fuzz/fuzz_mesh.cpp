@@ -6,9 +6,9 @@
 #include "io/mesh_io.h"
 
 namespace {
-const df::io::Mesh& square() {
-  static const df::io::Mesh m = [] {
-    df::io::Mesh s;
+const df::Mesh& square() {
+  static const df::Mesh m = [] {
+    df::Mesh s;
     s.vertices.resize(4, 3);
     s.vertices << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0;
     s.faces.resize(2, 3);

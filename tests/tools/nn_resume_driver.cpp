@@ -7,7 +7,7 @@
 #include <thread>
 
 #include "core/tool.h"
-#include "nn/checkpoint.h"
+#include "models/common/checkpoint.h"
 #include "nn/layers.h"
 #include "nn/train_step.h"
 
@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   tool.app().add_option("-o", output)->required();
   return tool.run(argc, argv, [&] {
     using namespace df::nn;
+    using namespace df::models;  // the checkpoint files
     df::Rng init(tool.common().seed, 0);
     ParameterStore<float> store;
     Mlp<float> mlp(store, "mlp", {4, 16, 16, 1}, Activation::tanh, init);

@@ -50,8 +50,8 @@ inline void write_text(const std::string& path, const std::string& text) {
 }
 
 /// Regular tetrahedron-like closed mesh: 4 vertices, 4 outward triangles.
-inline io::Mesh tetrahedron() {
-  io::Mesh m;
+inline Mesh tetrahedron() {
+  Mesh m;
   m.vertices.resize(4, 3);
   m.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1;
   m.faces.resize(4, 3);
@@ -62,7 +62,7 @@ inline io::Mesh tetrahedron() {
 /// The edges of a 3 × 3 vertex grid of 8 triangles: a mesh small enough for finite differences of
 /// every weight of a network on it.
 inline std::vector<std::array<int, 2>> grid3x3_edges() {
-  io::Faces f(8, 3);
+  Faces f(8, 3);
   f << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7;
   return geometry::mesh_topology(f, 9).edges;
 }

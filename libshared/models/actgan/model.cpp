@@ -12,7 +12,7 @@
 #include "io/schema.h"
 #include "io/skeleton_file.h"
 #include "models/actgan/settings.h"
-#include "nn/checkpoint.h"
+#include "models/common/checkpoint.h"
 
 namespace df::models {
 namespace {
@@ -163,9 +163,9 @@ ActganModel load_actgan_model(const std::string& path) {
     }
   }
   for (const auto& [name, a] : optimizers(m))
-    nn::restore_adam(*a, io::read_adam_state(f, io::model_layout::optimizer(name),
-                                             static_cast<std::size_t>(a->first_moment().size())));
-  nn::restore_rng(m.rng, io::read_rng_state(f));
+    restore_adam(*a, io::read_adam_state(f, io::model_layout::optimizer(name),
+                                         static_cast<std::size_t>(a->first_moment().size())));
+  restore_rng(m.rng, io::read_rng_state(f));
   m.iteration = io::read_iteration(f);
   io::read_classes_and_skeleton(f, m.class_names, m.parents, m.joint_names);
   m.normalization = io::read_pose_normalization(f);

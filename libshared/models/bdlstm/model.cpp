@@ -8,8 +8,8 @@
 #include "io/file_header.h"
 #include "io/schema.h"
 #include "models/bdlstm/settings.h"
+#include "models/common/checkpoint.h"
 #include "models/common/model_file.h"
-#include "nn/checkpoint.h"
 
 namespace df::models {
 
@@ -64,7 +64,7 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     for (std::size_t k = 0; k < s; ++k)
       validation.insert(validation.end(), {m.split.validation_begin[k], m.split.validation_end[k]});
     f.write<std::int64_t>(io::model_layout::split_part("validation"), validation, {s, 2});
-    nn::write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
+    write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
     f.close();
   }
   out.commit();
@@ -108,7 +108,7 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   m.initialize();          // the network's shapes; weights, Adam and RNG state come from the file
   m.log = std::move(log);  // after initialize(), which clears it
   m.unprinted = std::move(unprinted);
-  m.iteration = nn::read_training_state(f, m.net->store(), *m.adam, m.rng);
+  m.iteration = read_training_state(f, m.net->store(), *m.adam, m.rng);
   return m;
 }
 

@@ -59,7 +59,7 @@ struct BdlstmSplit {
 struct BdlstmModel {
   BdlstmConfig config;
   BdlstmTraining training;
-  io::Mesh tmpl;
+  Mesh tmpl;
   geometry::Normalization normalization;
   BdlstmSplit split;
   /// The training log's columns: iteration total recon bidir kl l2, and validation (the error on

@@ -8,19 +8,19 @@
 
 namespace df::models {
 
-ModelData::ModelData(const std::string& path, const io::Mesh& tmpl) : file_(path) {
+ModelData::ModelData(const std::string& path, const Mesh& tmpl) : file_(path) {
   file_.require_template(tmpl, "the model");
 }
 
 nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
-                                      const io::FeatureNormalization& nz) const {
-  const std::size_t row = file_.vertices() * io::kAcapFeatureDims;
+                                      const FeatureNormalization& nz) const {
+  const std::size_t row = file_.vertices() * kAcapFeatureDims;
   nn::Matrix<float> x(static_cast<Eigen::Index>(frames.size()), static_cast<Eigen::Index>(row));
   // Where the rows come from: the stored normalized features as they are (the same numbers), the
   // raw ones normalized, or the stored ones renormalized through the file's own numbers.
   enum class From { stored, raw, renormalized };
   const bool normalized = file_.has_normalized();
-  const io::FeatureNormalization own = file_.has_normalization() ? file_.normalization() : nz;
+  const FeatureNormalization own = file_.has_normalization() ? file_.normalization() : nz;
   const From from = normalized && file_.has_normalization() && own.same_numbers(nz) ? From::stored
                     : file_.has_raw()                                               ? From::raw
                     : normalized ? From::renormalized
@@ -40,13 +40,12 @@ nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
       raw.resize(run * row);
       file_.read_raw(first, run, raw.data());
       for (std::size_t j = 0; j < run * row; ++j)
-        out[j] =
-            static_cast<float>(nz.normalize(static_cast<int>(j % io::kAcapFeatureDims), raw[j]));
+        out[j] = static_cast<float>(nz.normalize(static_cast<int>(j % kAcapFeatureDims), raw[j]));
     } else {
       file_.read_normalized(first, run, out);
       if (from == From::renormalized)
         for (std::size_t j = 0; j < run * row; ++j) {
-          const int d = static_cast<int>(j % io::kAcapFeatureDims);
+          const int d = static_cast<int>(j % kAcapFeatureDims);
           out[j] = static_cast<float>(nz.normalize(d, own.denormalize(d, out[j])));
         }
     }
@@ -55,7 +54,7 @@ nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
   return x;
 }
 
-nn::Matrix<float> ModelData::all_features(const io::FeatureNormalization& nz) const {
+nn::Matrix<float> ModelData::all_features(const FeatureNormalization& nz) const {
   std::vector<std::int64_t> all(frames());
   std::iota(all.begin(), all.end(), std::int64_t{0});
   return features(all, nz);

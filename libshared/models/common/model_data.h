@@ -16,7 +16,7 @@ class ModelData {
  public:
   /// Opens `path` (kind acap) and checks that its template is `tmpl` (vertex count and
   /// triangles): InvalidInput otherwise, saying model and data must share the template.
-  ModelData(const std::string& path, const io::Mesh& tmpl);
+  ModelData(const std::string& path, const Mesh& tmpl);
 
   const io::AcapReader& file() const { return file_; }
   std::size_t frames() const { return file_.frames(); }
@@ -26,9 +26,9 @@ class ModelData {
   /// else the stored normalized ones renormalized; every value checked finite. InvalidInput
   /// when the file has no features.
   nn::Matrix<float> features(const std::vector<std::int64_t>& frames,
-                             const io::FeatureNormalization& nz) const;
+                             const FeatureNormalization& nz) const;
   /// The same of every frame.
-  nn::Matrix<float> all_features(const io::FeatureNormalization& nz) const;
+  nn::Matrix<float> all_features(const FeatureNormalization& nz) const;
 
  private:
   io::AcapReader file_;

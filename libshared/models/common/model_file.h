@@ -16,13 +16,13 @@ namespace df::models {
 /// [rows, columns] with a `columns` attribute naming them; when a checkpoint falls between two
 /// log rows, /training/unprinted (the iterations since the last row and their loss sums: see
 /// run_training_loop).
-void write_mesh_model_common(h5::File& f, const io::Mesh& tmpl, const geometry::Normalization& nz,
+void write_mesh_model_common(h5::File& f, const Mesh& tmpl, const geometry::Normalization& nz,
                              const std::vector<double>& log,
                              const std::vector<std::string>& columns,
                              const std::vector<double>& unprinted);
 
 /// Reads what write_mesh_model_common wrote (an absent log or unprinted part reads as empty).
-void read_mesh_model_common(const h5::File& f, io::Mesh& tmpl, geometry::Normalization& nz,
+void read_mesh_model_common(const h5::File& f, Mesh& tmpl, geometry::Normalization& nz,
                             std::vector<double>& log, std::vector<double>& unprinted);
 
 }  // namespace df::models

@@ -9,9 +9,9 @@
 #include "geometry/mesh_topology.h"
 #include "io/file_header.h"
 #include "io/schema.h"
+#include "models/common/checkpoint.h"
 #include "models/common/model_file.h"
 #include "models/msae/settings.h"
-#include "nn/checkpoint.h"
 
 namespace df::models {
 
@@ -82,7 +82,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
       for (const auto& r : m.geodesic_rows) rows.insert(rows.end(), r.data(), r.data() + r.size());
       f.write<float>(io::model_layout::geodesic_part("distances"), rows, {sources.size(), V});
     }
-    nn::write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
+    write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
     f.close();
   }
   out.commit();
@@ -128,7 +128,7 @@ MsaeModel load_msae_model(const std::string& path) {
   }
   m.log = std::move(log);
   m.unprinted = std::move(unprinted);
-  m.iteration = nn::read_training_state(f, m.net->store(), *m.adam, m.rng);
+  m.iteration = read_training_state(f, m.net->store(), *m.adam, m.rng);
   return m;
 }
 

@@ -60,7 +60,7 @@ struct MsaeSplit {
 struct MsaeModel {
   MsaeConfig config;
   MsaeTraining training;
-  io::Mesh tmpl;
+  Mesh tmpl;
   geometry::Normalization normalization;
   MsaeSplit split;
   /// The template's geodesic diameter (mesh units) and the normalized distances from the

@@ -10,10 +10,10 @@
 #include "synth/meshseq.h"
 
 using namespace df::geometry;
-using df::io::Vertices;
+using df::Vertices;
 
 namespace {
-df::io::Mesh finger_rest(int resolution = 12) {
+df::Mesh finger_rest(int resolution = 12) {
   df::synth::MeshSeqParams p;
   p.resolution = resolution;
   p.frames = 1;
@@ -163,7 +163,7 @@ TEST_CASE("ACAP consistency: never worse than its initialisation, deterministic"
 TEST_CASE("Normalization: group and per-dim ranges, widened, invertible", "[geometry]") {
   std::vector<double> f = {-1,  0.5, 0.2, 1, 0,   0,    1,   0, 1,     // vertex 0
                            0.3, -2,  0.1, 2, 0.1, -0.3, 0.9, 0, 1.2};  // vertex 1
-  NormalizationBuilder gb(NormalizationMode::group), pb(NormalizationMode::per_dim);
+  NormalizationBuilder gb(df::NormalizationMode::group), pb(df::NormalizationMode::per_dim);
   gb.add(f.data(), 2);
   pb.add(f.data(), 2);
   Normalization g = gb.finish(), d = pb.finish();
@@ -207,7 +207,7 @@ TEST_CASE("Reconstructor: identity and rigid motions are reproduced exactly", "[
 TEST_CASE("Reconstructor: one pinned vertex per connected component", "[geometry]") {
   auto a = finger_rest(6);
   const auto na = a.vertices.rows();
-  df::io::Mesh two;  // two fingers side by side: two components
+  df::Mesh two;  // two fingers side by side: two components
   two.vertices.resize(2 * na, 3);
   two.vertices << a.vertices, a.vertices.rowwise() + Eigen::RowVector3d(3, 0, 0);
   two.faces.resize(2 * a.faces.rows(), 3);

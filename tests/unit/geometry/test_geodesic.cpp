@@ -11,8 +11,8 @@ using df::geometry::HeatMethodDistance;
 namespace {
 
 // A planar n × n grid on [−1, 1]², each square split along alternating diagonals.
-df::io::Mesh grid(int n) {
-  df::io::Mesh m;
+df::Mesh grid(int n) {
+  df::Mesh m;
   m.vertices.resize(n * n, 3);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x)
@@ -34,7 +34,7 @@ df::io::Mesh grid(int n) {
 }
 
 // Unit icosphere: an icosahedron subdivided `levels` times, vertices pushed onto the sphere.
-df::io::Mesh icosphere(int levels) {
+df::Mesh icosphere(int levels) {
   const double t = (1 + std::sqrt(5.0)) / 2;
   std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
                                     {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
@@ -61,7 +61,7 @@ df::io::Mesh icosphere(int levels) {
     }
     f = std::move(g);
   }
-  df::io::Mesh m;
+  df::Mesh m;
   m.vertices.resize(static_cast<Eigen::Index>(v.size()), 3);
   for (std::size_t i = 0; i < v.size(); ++i)
     m.vertices.row(static_cast<Eigen::Index>(i)) = v[i].transpose();
@@ -129,7 +129,7 @@ TEST_CASE("geodesics: normalized rows lie in [0, 1], nearly symmetric; other par
           "[geometry][geodesic]") {
   auto m = grid(9);
   // A second, disconnected copy shifted away.
-  df::io::Mesh two;
+  df::Mesh two;
   two.vertices.resize(2 * m.vertices.rows(), 3);
   two.vertices << m.vertices, m.vertices.rowwise() + Eigen::RowVector3d(5, 0, 0);
   two.faces.resize(2 * m.faces.rows(), 3);
@@ -152,7 +152,7 @@ TEST_CASE("geodesics: normalized rows lie in [0, 1], nearly symmetric; other par
   HeatMethodDistance heat(two.vertices, two.faces);
   CHECK(std::isinf(heat.from(0)[n]));
   CHECK_THROWS_AS(heat.from(-1), df::InvalidInput);
-  CHECK_THROWS_AS(HeatMethodDistance(two.vertices, df::io::Faces(0, 3)), df::InvalidInput);
+  CHECK_THROWS_AS(HeatMethodDistance(two.vertices, df::Faces(0, 3)), df::InvalidInput);
 }
 
 TEST_CASE("geodesics: rows on demand are normalized by the swept diameter",

@@ -12,8 +12,8 @@
 #include "helpers.h"
 
 using namespace df::geometry;
-using df::io::Faces;
-using df::io::Vertices;
+using df::Faces;
+using df::Vertices;
 
 namespace {
 Eigen::Matrix3d random_rotation(std::mt19937& rng) {

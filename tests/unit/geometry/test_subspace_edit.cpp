@@ -10,10 +10,10 @@
 #include "synth/meshseq.h"
 
 using namespace df::geometry;
-using df::io::Vertices;
+using df::Vertices;
 
 namespace {
-df::io::Mesh finger(int resolution) {
+df::Mesh finger(int resolution) {
   df::synth::MeshSeqParams p;
   p.resolution = resolution;
   p.frames = 1;

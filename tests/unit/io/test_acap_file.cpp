@@ -13,8 +13,8 @@ using df::test::TempDir;
 
 namespace {
 
-io::Mesh triangle() {
-  io::Mesh m;
+Mesh triangle() {
+  Mesh m;
   m.vertices.resize(3, 3);
   m.vertices << 0, 0, 0, 1, 0, 0, 0, 1, 0;
   m.faces.resize(1, 3);
@@ -22,8 +22,8 @@ io::Mesh triangle() {
   return m;
 }
 
-io::FeatureNormalization numbers(double lo, double hi) {
-  io::FeatureNormalization nz;
+FeatureNormalization numbers(double lo, double hi) {
+  FeatureNormalization nz;
   nz.min.fill(lo);
   nz.max.fill(hi);
   return nz;
@@ -31,7 +31,7 @@ io::FeatureNormalization numbers(double lo, double hi) {
 
 // Two frames of a triangle: raw features 0.1 (k + 1) for value k, normalized with `nz`;
 // `with_raw` false leaves the raw ones out.
-void write_file(const std::string& path, const io::FeatureNormalization& nz, bool with_raw) {
+void write_file(const std::string& path, const FeatureNormalization& nz, bool with_raw) {
   io::AcapWriter w(path, path, {"made by the test"});
   w.write_template(triangle());
   w.write_normalization(nz);
@@ -123,14 +123,14 @@ TEST_CASE("model data: the model's normalization from stored, raw or renormalize
   CHECK(z(0, 7) == Approx(model_nz.normalize(7, 0.8)).margin(1e-6));
 
   // the same counts, other triangles: the message says which triangle differs, not two equal counts
-  io::Mesh other = triangle();
+  Mesh other = triangle();
   other.faces << 0, 2, 1;
   CHECK(error_message([&] { models::ModelData(dir / "a.h5", other); })
             .find("has another template than the model: the same 3 vertices and 1 triangles, but "
                   "triangle 0 joins vertices (0 1 2) here and (0 2 1) in the model (counting from "
                   "0): the two must share the "
                   "template") == 0);
-  io::Mesh bigger = triangle();
+  Mesh bigger = triangle();
   bigger.vertices.conservativeResize(4, 3);
   bigger.vertices.row(3) << 1, 1, 0;
   CHECK(

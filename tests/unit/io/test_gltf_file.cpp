@@ -28,7 +28,7 @@ TEST_CASE("glTF export: assimp reads every frame back", "[io]") {
   s.faces.resize(2, 3);
   s.faces << 0, 1, 2, 0, 2, 3;
   for (int k = 0; k < 5; ++k) {
-    io::Vertices v(4, 3);
+    Vertices v(4, 3);
     const double a = 0.3 * k;
     v << 0, 0, 0, 1, std::sin(a), 0, 1, 1, std::cos(a), 0, 1, 0.1 * k;
     s.frames.push_back(v);
@@ -65,7 +65,7 @@ TEST_CASE("glTF export: frames of unequal size are refused", "[io]") {
   io::GltfSequence s;
   s.faces.resize(1, 3);
   s.faces << 0, 1, 2;
-  s.frames = {io::Vertices::Zero(3, 3), io::Vertices::Zero(4, 3)};
+  s.frames = {Vertices::Zero(3, 3), Vertices::Zero(4, 3)};
   CHECK_THROWS_WITH(io::write_gltf_sequence(dir / "x.glb", s),
                     Catch::Contains("another vertex count"));
   s.frames.clear();

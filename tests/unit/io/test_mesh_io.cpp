@@ -6,7 +6,7 @@
 #include "helpers.h"
 #include "io/mesh_io.h"
 
-using df::io::Mesh;
+using df::Mesh;
 using df::io::read_mesh;
 using df::test::write_text;
 
@@ -239,7 +239,7 @@ TEST_CASE("read_obj_frame: the fast parser agrees with read_mesh and checks ever
       "s off\n";
   write_text(tmp / "a.obj", head + "f 1/1/1 2/1/1 3/1/1 4/1/1\nf 2//1 -1//1 -3//1\n");
   Mesh ref = read_mesh(tmp / "a.obj");
-  df::io::Vertices fast = df::io::read_obj_frame(tmp / "a.obj", ref, "a.obj");
+  df::Vertices fast = df::io::read_obj_frame(tmp / "a.obj", ref, "a.obj");
   CHECK(fast == ref.vertices);
   CHECK(fast(3, 2) == 0.123456789012345678);  // double precision, unlike OpenMesh's float reader
   CHECK(ref.faces.row(2) == Eigen::RowVector3i(1, 4, 2));  // relative indices resolved

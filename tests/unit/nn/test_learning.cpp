@@ -56,7 +56,7 @@ TEST_CASE(
   auto adj = neighbour_mean_operator<float>(static_cast<int>(V), topo.edges);
   Matrix<float> X(sp.frames, V * 3);  // displacements from the rest shape
   for (int f = 0; f < sp.frames; ++f) {
-    df::io::Vertices d = g.frame(f) - rest.vertices;
+    df::Vertices d = g.frame(f) - rest.vertices;
     for (Eigen::Index k = 0; k < V * 3; ++k) X(f, k) = static_cast<float>(d.data()[k]);
   }
   df::Rng init(5, 0);

@@ -23,8 +23,8 @@ using namespace df::apps;
 namespace {
 
 // Axis-aligned box [lo, hi]^3 as 12 triangles.
-df::io::Mesh box(double lo, double hi) {
-  df::io::Mesh m;
+df::Mesh box(double lo, double hi) {
+  df::Mesh m;
   m.vertices.resize(8, 3);
   for (int i = 0; i < 8; ++i)
     m.vertices.row(i) << (i & 1 ? hi : lo), (i & 2 ? hi : lo), (i & 4 ? hi : lo);
@@ -35,8 +35,8 @@ df::io::Mesh box(double lo, double hi) {
 }
 
 // Torus (radii 1 and 0.35) of nu × nv quads split into triangles.
-df::io::Mesh torus(int nu, int nv) {
-  df::io::Mesh m;
+df::Mesh torus(int nu, int nv) {
+  df::Mesh m;
   m.vertices.resize(nu * nv, 3);
   m.faces.resize(2 * nu * nv, 3);
   for (int i = 0; i < nu; ++i)
@@ -113,12 +113,12 @@ TEST_CASE("render: views and the camera fit", "[render]") {
 TEST_CASE("render: the nearer triangle hides the farther one, whatever the drawing order",
           "[render]") {
   // Two squares overlapping on screen: red at z = 1 (near), blue at z = 0.
-  df::io::Vertices V(8, 3);
+  df::Vertices V(8, 3);
   V << 0, 0, 1, 2, 0, 1, 2, 2, 1, 0, 2, 1,  // red
       1, 1, 0, 3, 1, 0, 3, 3, 0, 1, 3, 0;   // blue, shifted
   std::vector<Rgb> colors(8, {0, 0, 1});
   for (int i = 0; i < 4; ++i) colors[static_cast<std::size_t>(i)] = {1, 0, 0};
-  df::io::Faces red_first(4, 3), blue_first(4, 3);
+  df::Faces red_first(4, 3), blue_first(4, 3);
   red_first << 0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7;
   blue_first << 4, 5, 6, 4, 6, 7, 0, 1, 2, 0, 2, 3;
   Camera cam(parse_view("front", "y"));

@@ -11,7 +11,7 @@ using df::synth::MeshSeqKind;
 using df::synth::MeshSeqParams;
 using df::synth::MeshSequenceGenerator;
 
-static double edge_length_change(const MeshSequenceGenerator& g, const df::io::Vertices& V) {
+static double edge_length_change(const MeshSequenceGenerator& g, const df::Vertices& V) {
   const auto& F = g.rest().faces;
   const auto& R = g.rest().vertices;
   double worst = 0;

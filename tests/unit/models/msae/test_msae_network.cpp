@@ -316,10 +316,10 @@ TEST_CASE("MSAE: place_centres makes the given vertices the centres", "[models][
 TEST_CASE("MSAE: separate training's levels restart the rate or continue the schedule",
           "[models][msae]") {
   MsaeModel m;
-  io::Faces f(8, 3);
+  Faces f(8, 3);
   f << 0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4, 3, 4, 7, 3, 7, 6, 4, 5, 8, 4, 8, 7;
   m.tmpl.faces = f;
-  m.tmpl.vertices = io::Vertices::Zero(9, 3);
+  m.tmpl.vertices = Vertices::Zero(9, 3);
   m.config = tiny({3, 2}, true);
   m.training.lr = 1e-3;
   m.training.lr_decay = 0.5;

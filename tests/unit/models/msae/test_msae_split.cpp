@@ -81,8 +81,8 @@ TEST_CASE("MSAE components: strength (eq. 7) and pruning keep strong, drop weak"
 
   // Planted components: a strong localized one, a weak one, one with no deformation.
   Components c;
-  c.tmpl.vertices = io::Vertices::Zero(4, 3);
-  c.tmpl.faces = io::Faces(1, 3);
+  c.tmpl.vertices = Vertices::Zero(4, 3);
+  c.tmpl.faces = Faces(1, 3);
   c.tmpl.faces << 0, 1, 2;
   c.normalization.min.fill(-10);
   c.normalization.max.fill(10);

@@ -13,26 +13,26 @@
 #include "nn/adam.h"
 #include "nn/parameters.h"
 
-namespace df::nn {
+namespace df::models {
 
 /// Writes the training state into an open file (groups /params, /optimizer, /rng and the root
 /// attribute `iteration`); the caller writes the header and anything model-specific.
-void write_training_state(h5::File& f, const ParameterStore<float>& params, const Adam<float>& adam,
-                          const Rng& rng, std::int64_t iteration);
+void write_training_state(h5::File& f, const nn::ParameterStore<float>& params,
+                          const nn::Adam<float>& adam, const Rng& rng, std::int64_t iteration);
 
 /// Restores it. The file's parameters must match the store's names and shapes exactly.
 /// @return the iteration
-std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& params,
-                                 Adam<float>& adam, Rng& rng);
+std::int64_t read_training_state(const h5::File& f, nn::ParameterStore<float>& params,
+                                 nn::Adam<float>& adam, Rng& rng);
 
 /// Sets an optimizer's or a generator's state to one read from a file (io/model_file.h).
-void restore_adam(Adam<float>& adam, const io::AdamState& s);
+void restore_adam(nn::Adam<float>& adam, const io::AdamState& s);
 void restore_rng(Rng& rng, const io::RngState& s);
 
 /// A complete checkpoint file of kind `nn-checkpoint`, written atomically.
-void save_checkpoint(const std::string& path, const ParameterStore<float>& params,
-                     const Adam<float>& adam, const Rng& rng, std::int64_t iteration);
-std::int64_t load_checkpoint(const std::string& path, ParameterStore<float>& params,
-                             Adam<float>& adam, Rng& rng);
+void save_checkpoint(const std::string& path, const nn::ParameterStore<float>& params,
+                     const nn::Adam<float>& adam, const Rng& rng, std::int64_t iteration);
+std::int64_t load_checkpoint(const std::string& path, nn::ParameterStore<float>& params,
+                             nn::Adam<float>& adam, Rng& rng);
 
-}  // namespace df::nn
+}  // namespace df::models

@@ -1,4 +1,4 @@
-#include "nn/checkpoint.h"
+#include "models/common/checkpoint.h"
 
 #include <fmt/format.h>
 
@@ -9,10 +9,10 @@
 #include "io/model_file.h"
 #include "io/schema.h"
 
-namespace df::nn {
+namespace df::models {
 
-void write_training_state(h5::File& f, const ParameterStore<float>& params, const Adam<float>& adam,
-                          const Rng& rng, std::int64_t iteration) {
+void write_training_state(h5::File& f, const nn::ParameterStore<float>& params,
+                          const nn::Adam<float>& adam, const Rng& rng, std::int64_t iteration) {
   io::write_iteration(f, iteration);
   std::vector<std::string> names;
   for (std::size_t i = 0; i < params.views().size(); ++i) {
@@ -28,8 +28,8 @@ void write_training_state(h5::File& f, const ParameterStore<float>& params, cons
   io::write_rng_state(f, {rng.state(), rng.has_spare_normal(), rng.spare_normal()});
 }
 
-std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& params,
-                                 Adam<float>& adam, Rng& rng) {
+std::int64_t read_training_state(const h5::File& f, nn::ParameterStore<float>& params,
+                                 nn::Adam<float>& adam, Rng& rng) {
   const auto names = io::read_param_order(f);
   if (names.size() != params.views().size())
     throw InvalidInput(
@@ -48,11 +48,11 @@ std::int64_t read_training_state(const h5::File& f, ParameterStore<float>& param
   return io::read_iteration(f);
 }
 
-void restore_adam(Adam<float>& adam, const io::AdamState& s) {
+void restore_adam(nn::Adam<float>& adam, const io::AdamState& s) {
   adam.first_moment() =
-      Eigen::Map<const Vector<float>>(s.m.data(), static_cast<Eigen::Index>(s.m.size()));
+      Eigen::Map<const nn::Vector<float>>(s.m.data(), static_cast<Eigen::Index>(s.m.size()));
   adam.second_moment() =
-      Eigen::Map<const Vector<float>>(s.v.data(), static_cast<Eigen::Index>(s.v.size()));
+      Eigen::Map<const nn::Vector<float>>(s.v.data(), static_cast<Eigen::Index>(s.v.size()));
   adam.set_steps(static_cast<long>(s.step));
 }
 
@@ -60,8 +60,8 @@ void restore_rng(Rng& rng, const io::RngState& s) {
   rng.restore(s.state, s.has_spare, s.spare);
 }
 
-void save_checkpoint(const std::string& path, const ParameterStore<float>& params,
-                     const Adam<float>& adam, const Rng& rng, std::int64_t iteration) {
+void save_checkpoint(const std::string& path, const nn::ParameterStore<float>& params,
+                     const nn::Adam<float>& adam, const Rng& rng, std::int64_t iteration) {
   AtomicOutput out(path, AtomicOutput::Kind::file, true);
   {
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
@@ -72,10 +72,10 @@ void save_checkpoint(const std::string& path, const ParameterStore<float>& param
   out.commit();
 }
 
-std::int64_t load_checkpoint(const std::string& path, ParameterStore<float>& params,
-                             Adam<float>& adam, Rng& rng) {
+std::int64_t load_checkpoint(const std::string& path, nn::ParameterStore<float>& params,
+                             nn::Adam<float>& adam, Rng& rng) {
   h5::File f = io::open_input(path, "nn-checkpoint");
   return read_training_state(f, params, adam, rng);
 }
 
-}  // namespace df::nn
+}  // namespace df::models
