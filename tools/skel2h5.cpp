@@ -17,6 +17,12 @@ int main(int argc, char** argv) {
       "                     camera); other files beside them are left out with a warning\n"
       "  BVH                .bvh files (forward kinematics of their channels, through assimp),\n"
       "                     one sequence each, class --label or the file's stem\n"
+      "  joint arrays       .npy files of [frames, joints, 3] positions, one sequence each\n"
+      "                     (HumanAct12, NTU's processed skeletons, AMASS-derived sets), or a\n"
+      "                     directory of them or of class folders; at --source-fps; classes\n"
+      "                     from --labels FILE, --label, or each file's folder; joints named by\n"
+      "                     --joints FILE or recognised by their count (22, 24: SMPL; 25:\n"
+      "                     Kinect v2)\n"
       "  skeleton .h5       the project's files (synth-actions, an earlier skel2h5)\n"
       "Then: resampling to --fps (linear interpolation in time), a train/test split of whole\n"
       "sequences (--test-subjects, or --test-fraction of each class by --seed), clips of\n"
@@ -40,8 +46,19 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "Output skeleton file (.h5)")->required();
   app.add_option("--format", opt.format, "Input format")
       ->default_val(opt.format)
-      ->check(CLI::IsMember({"auto", "utkinect", "msr", "bvh", "skeleton"}));
-  app.add_option("--label", opt.label, "BVH: the class of every file (default: the file's stem)");
+      ->check(CLI::IsMember({"auto", "utkinect", "msr", "bvh", "npy", "skeleton"}));
+  app.add_option("--label", opt.label,
+                 "BVH, npy: the class of every file (default: BVH the file's stem, npy its\n"
+                 "folder's name)");
+  app.add_option("--labels", opt.arrays.labels_file,
+                 "npy: lines 'NAME CLASS [SUBJECT]', NAME a file's stem (# comments); every\n"
+                 "file needs one. SUBJECT (a positive integer) is what --test-subjects holds out");
+  app.add_option("--joints", opt.arrays.joints_file,
+                 "npy: lines 'NAME PARENT' in the arrays' joint order, PARENT an earlier joint's\n"
+                 "name or - for the root (default: recognised by the count: 22 SMPL body joints,\n"
+                 "24 SMPL, 25 Kinect v2)");
+  app.add_option("--source-fps", opt.arrays.fps, "npy: the arrays' frame rate")
+      ->default_val(opt.arrays.fps);
   app.add_option("--fps", opt.fps,
                  "Frame rate to resample to (default: the source's: UTKinect 30,\n"
                  "MSR-Action3D 15, BVH its frame time)")
@@ -74,6 +91,8 @@ int main(int argc, char** argv) {
       "-o utk.h5\n"
       "  skel2h5 MSRAction3DSkeletonReal3D --test-subjects 1,3,5,7,9 -o msr.h5\n"
       "  skel2h5 --label boxing Boxing_Toes.bvh --fps 30 --length 60 -o box.h5\n"
+      "  skel2h5 --labels labels.txt --source-fps 20 --length 40 --test-subjects 1,2 joints/ "
+      "-o ha12.h5\n"
       "  skel2h5 actions.h5 --length 30 --test-fraction 0.2 -o train.h5");
   return tool.run(argc, argv, [&] { df::convert::skel2h5(opt, tool.common()); });
 }

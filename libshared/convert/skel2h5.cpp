@@ -43,6 +43,7 @@ std::string format_of_file(const std::string& path) {
   if (is_msr_action3d_name(path)) return "msr";
   const std::string ext = lower_extension(path);
   if (ext == ".bvh") return "bvh";
+  if (ext == ".npy") return "npy";
   if (ext == ".h5" || ext == ".hdf5") return "skeleton";
   return {};
 }
@@ -53,7 +54,8 @@ struct ResolvedInputs {
 };
 
 // The inputs as files of one format. A directory is recognised by what it holds: a UTKinect label
-// file, else its files whose names say one format (natural order). A file named on the command
+// file, else its files whose names say one format (natural order), or when it holds only
+// folders (one per class), theirs. A file named on the command
 // line is taken by its name under --format auto, as it is under an explicit --format (but for
 // MSR-Action3D, whose files are always told by their names: the dataset ships other .txt files
 // beside them). Files of no recognised kind beside recognised ones are left out with a warning;
@@ -77,6 +79,11 @@ ResolvedInputs resolve_inputs(const Skel2h5Options& opt) {
     std::vector<std::string> inside;
     for (const auto& e : fs::directory_iterator(in))
       if (e.is_regular_file()) inside.push_back(e.path().string());
+    if (inside.empty())  // a directory of class folders: their files
+      for (const auto& d : fs::directory_iterator(in))
+        if (d.is_directory())
+          for (const auto& e : fs::directory_iterator(d.path()))
+            if (e.is_regular_file()) inside.push_back(e.path().string());
     if (inside.empty()) throw InvalidInput("an empty directory", in);
     natural_sort(inside);
     for (auto& f : inside) files.push_back({std::move(f), false});
@@ -101,8 +108,8 @@ ResolvedInputs resolve_inputs(const Skel2h5Options& opt) {
   if (kinds.empty())
     throw InvalidInput(opt.format == "auto"
                            ? "cannot tell the format (a UTKinect directory or actionLabel.txt, "
-                             "aXX_sYY_eZZ_skeleton3D.txt files or a directory of them, .bvh, or a "
-                             "skeleton .h5); use --format"
+                             "aXX_sYY_eZZ_skeleton3D.txt files or a directory of them, .bvh, .npy "
+                             "joint arrays, or a skeleton .h5); use --format"
                            : fmt::format("no input file of --format {}", opt.format),
                        files.front().path);
   if (kinds.size() > 1)
@@ -129,8 +136,13 @@ RawSkeletonCollection read_inputs(const Skel2h5Options& opt) {
   if (in.format == "utkinect") return read_utkinect(one("utkinect"));
   if (in.format == "msr") return read_msr_action3d(in.files);
   if (in.format == "bvh") return read_bvh(in.files, opt.label);
+  if (in.format == "npy") {
+    JointArrayOptions arrays = opt.arrays;
+    arrays.label = opt.label;
+    return read_joint_arrays(in.files, arrays);
+  }
   if (in.format == "skeleton") return read_skeleton_h5(one("skeleton"));
-  throw UsageError("--format must be auto, utkinect, msr, bvh or skeleton");
+  throw UsageError("--format must be auto, utkinect, msr, bvh, npy or skeleton");
 }
 
 }  // namespace

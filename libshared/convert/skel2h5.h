@@ -17,11 +17,12 @@ namespace df::convert {
 struct Skel2h5Options {
   std::vector<std::string> inputs;
   std::string output;
-  std::string format = "auto";     ///< auto, utkinect, msr, bvh, skeleton
-  std::string label;               ///< bvh: the class of every file ("" = the file's stem)
-  double fps = 0;                  ///< 0 = the source's rate
-  int length = 0;                  ///< frames per clip; 0 = whole sequences
-  int clip_stride = 0;             ///< frames between clip starts; 0 = --length
+  std::string format = "auto";  ///< auto, utkinect, msr, bvh, npy, skeleton
+  std::string label;  ///< bvh, npy: the class of every file ("" = bvh: its stem, npy: its folder)
+  JointArrayOptions arrays;  ///< npy: labels file, joint layout, frame rate (label: from above)
+  double fps = 0;            ///< 0 = the source's rate
+  int length = 0;            ///< frames per clip; 0 = whole sequences
+  int clip_stride = 0;       ///< frames between clip starts; 0 = --length
   std::vector<int> test_subjects;  ///< sequences of these subjects are held out
   double test_fraction = 0;        ///< or this fraction of each class, drawn by the seed
   int root_joint = 0;

@@ -1,6 +1,7 @@
 #include "convert/skeleton_import.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <array>
@@ -10,9 +11,11 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/log.h"
+#include "io/npy_file.h"
 #include "io/skeleton_file.h"
 
 namespace fs = std::filesystem;
@@ -308,6 +311,158 @@ RawSkeletonCollection read_msr_action3d(const std::vector<std::string>& files) {
     c.sequences.push_back(std::move(s));
   }
   reorder_msr_joints(c);
+  return c;
+}
+
+const std::vector<JointLayout>& joint_array_layouts() {
+  static const std::vector<JointLayout> layouts = [] {
+    const std::vector<std::string> smpl{
+        "pelvis",     "left_hip",      "right_hip",      "spine1",      "left_knee",
+        "right_knee", "spine2",        "left_ankle",     "right_ankle", "spine3",
+        "left_foot",  "right_foot",    "neck",           "left_collar", "right_collar",
+        "head",       "left_shoulder", "right_shoulder", "left_elbow",  "right_elbow",
+        "left_wrist", "right_wrist",   "left_hand",      "right_hand"};
+    const std::vector<std::int32_t> smpl_parents{-1, 0, 0, 0,  1,  2,  3,  4,  5,  6,  7,  8,
+                                                 9,  9, 9, 12, 13, 14, 16, 17, 18, 19, 20, 21};
+    return std::vector<JointLayout>{
+        {"SMPL's 22 body joints (HumanML3D, AMASS-derived sets)",
+         {smpl.begin(), smpl.begin() + 22},
+         {smpl_parents.begin(), smpl_parents.begin() + 22}},
+        {"SMPL's 24 joints (HumanAct12)", smpl, smpl_parents},
+        {"Kinect v2's 25 joints (NTU RGB+D)",
+         {"spine_base",     "spine_mid",     "neck",       "head",           "shoulder_left",
+          "elbow_left",     "wrist_left",    "hand_left",  "shoulder_right", "elbow_right",
+          "wrist_right",    "hand_right",    "hip_left",   "knee_left",      "ankle_left",
+          "foot_left",      "hip_right",     "knee_right", "ankle_right",    "foot_right",
+          "spine_shoulder", "hand_tip_left", "thumb_left", "hand_tip_right", "thumb_right"},
+         {-1, 0, 20, 2, 20, 4, 5, 6, 20, 8, 9, 10, 0, 12, 13, 14, 0, 16, 17, 18, 1, 7, 7, 11, 11}}};
+  }();
+  return layouts;
+}
+
+namespace {
+
+// The words of a list file's lines, without comments ('#' on) and blank lines, with line numbers.
+std::vector<std::pair<std::size_t, std::vector<std::string>>> list_lines(const std::string& path) {
+  std::ifstream in = open_text(path);
+  std::vector<std::pair<std::size_t, std::vector<std::string>>> lines;
+  std::string line;
+  for (std::size_t n = 1; std::getline(in, line); ++n) {
+    line = line.substr(0, line.find('#'));
+    std::istringstream words(line);
+    std::vector<std::string> w;
+    for (std::string word; words >> word;) w.push_back(word);
+    if (!w.empty()) lines.emplace_back(n, std::move(w));
+  }
+  return lines;
+}
+
+// The joints' names and parents from a "NAME PARENT" list, or the layout of their count.
+void joint_layout(RawSkeletonCollection& c, std::size_t joints, const std::string& joints_file,
+                  const std::string& first_file) {
+  if (joints_file.empty()) {
+    for (const auto& l : joint_array_layouts())
+      if (l.names.size() == joints) {
+        log::info("{} joints: taken as {} (give --joints FILE if they are not)", joints, l.what);
+        c.joint_names = l.names, c.parents = l.parents;
+        return;
+      }
+    throw InvalidInput(fmt::format("{} joints per frame, not a layout skel2h5 knows (22, 24 or "
+                                   "25): give --joints FILE, lines 'NAME PARENT' in their order",
+                                   joints),
+                       first_file);
+  }
+  for (const auto& [n, w] : list_lines(joints_file)) {
+    if (w.size() != 2)
+      throw InvalidInput("expected 'NAME PARENT' (PARENT an earlier joint's name, or -)",
+                         at_line(joints_file, n));
+    std::int32_t parent = -1;
+    if (w[1] != "-") {
+      const auto it = std::find(c.joint_names.begin(), c.joint_names.end(), w[1]);
+      if (it == c.joint_names.end())
+        throw InvalidInput(fmt::format("parent '{}' is not an earlier joint", w[1]),
+                           at_line(joints_file, n));
+      parent = static_cast<std::int32_t>(it - c.joint_names.begin());
+    }
+    if (std::find(c.joint_names.begin(), c.joint_names.end(), w[0]) != c.joint_names.end())
+      throw InvalidInput(fmt::format("joint '{}' named twice", w[0]), at_line(joints_file, n));
+    c.joint_names.push_back(w[0]);
+    c.parents.push_back(parent);
+  }
+  if (std::count(c.parents.begin(), c.parents.end(), -1) != 1)
+    throw InvalidInput("the joints need exactly one root (parent -)", joints_file);
+  if (c.joint_names.size() != joints)
+    throw InvalidInput(
+        fmt::format("names {} joints, the arrays have {} per frame", c.joint_names.size(), joints),
+        joints_file);
+}
+
+}  // namespace
+
+RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
+                                        const JointArrayOptions& opt) {
+  if (!(opt.fps > 0)) throw UsageError("--source-fps must be positive");
+  struct Label {
+    std::string label;
+    std::int32_t subject = 0;
+  };
+  std::map<std::string, Label> labels;  // by file stem
+  if (!opt.labels_file.empty())
+    for (const auto& [n, w] : list_lines(opt.labels_file)) {
+      if (w.size() < 2 || w.size() > 3)
+        throw InvalidInput("expected 'NAME CLASS [SUBJECT]'", at_line(opt.labels_file, n));
+      std::int32_t subject = 0;
+      if (w.size() == 3) {
+        const auto [stop, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), subject);
+        if (ec != std::errc() || stop != w[2].data() + w[2].size() || subject < 1)
+          throw InvalidInput(fmt::format("subject '{}' is not a positive integer", w[2]),
+                             at_line(opt.labels_file, n));
+      }
+      if (!labels.emplace(w[0], Label{w[1], subject}).second)
+        throw InvalidInput(fmt::format("'{}' is labelled twice", w[0]),
+                           at_line(opt.labels_file, n));
+    }
+  RawSkeletonCollection c;
+  c.frame_rate = opt.fps;
+  for (const auto& path : files) {
+    const io::NpyArray a = io::read_npy(path);
+    if (a.shape.size() != 3 || a.shape[2] != 3 || a.shape[0] < 1 || a.shape[1] < 1)
+      throw InvalidInput(fmt::format("an array of shape ({}): joint positions are [frames, "
+                                     "joints, 3]",
+                                     fmt::join(a.shape, ", ")),
+                         path);
+    const auto joints = static_cast<std::size_t>(a.shape[1]);
+    if (c.joint_names.empty()) joint_layout(c, joints, opt.joints_file, path);
+    if (joints != c.joints())
+      throw InvalidInput(
+          fmt::format("{} joints per frame where {} had {}", joints, files.front(), c.joints()),
+          path);
+    for (std::size_t k = 0; k < a.values.size(); ++k)
+      if (!std::isfinite(a.values[k]))
+        throw InvalidInput(fmt::format("a non-finite coordinate at frame {} joint {}",
+                                       k / (joints * 3), k / 3 % joints),
+                           path);
+    RawSkeletonSequence q;
+    q.name = fs::path(path).stem().string();
+    if (!opt.labels_file.empty()) {
+      const auto it = labels.find(q.name);
+      if (it == labels.end())
+        throw InvalidInput(fmt::format("has no line '{} CLASS' in {}", q.name, opt.labels_file),
+                           path);
+      q.label = it->second.label, q.subject = it->second.subject;
+    } else {
+      q.label = opt.label.empty() ? fs::path(path).parent_path().filename().string() : opt.label;
+      if (q.label.empty() || q.label == "." || q.label == "..")
+        throw InvalidInput(
+            "has no class: give --labels FILE or --label, or put each class's "
+            "files in a folder of its name",
+            path);
+    }
+    for (std::int64_t t = 0; t < a.shape[0]; ++t)
+      q.times.push_back(static_cast<double>(t) / opt.fps);
+    q.poses.assign(a.values.begin(), a.values.end());
+    c.sequences.push_back(std::move(q));
+  }
   return c;
 }
 

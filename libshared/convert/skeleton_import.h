@@ -9,6 +9,10 @@
 //                      (io::kinect_joint_names), left and right told from the geometry
 //   BVH                forward kinematics of every joint's channels (assimp), one sequence per file
 //   skeleton .h5       the project's own files (synth-actions; raw coordinates, or de-normalized)
+//   joint arrays       .npy files of [frames, joints, 3] positions, one sequence each (HumanAct12,
+//                      NTU's processed skeletons, AMASS-derived joint sets), the joints' layout
+//                      given or recognised by their count, classes from a list, one label or the
+//                      files' folders
 #pragma once
 
 #include <cstdint>
@@ -57,6 +61,35 @@ RawSkeletonCollection read_bvh(const std::vector<std::string>& files, const std:
 
 /// A skeleton .h5 (kind skeleton), its poses raw (de-normalized when it has a normalization).
 RawSkeletonCollection read_skeleton_h5(const std::string& path);
+
+/// How joint arrays are labelled and laid out.
+struct JointArrayOptions {
+  /// Lines "NAME CLASS [SUBJECT]" (NAME: a file's stem; '#' starts a comment); "" = none
+  std::string labels_file;
+  std::string
+      label;  ///< the class of every file when there is no labels file ("" = its folder's name)
+  /// Lines "NAME PARENT" in the arrays' joint order (PARENT: an earlier joint's name, or - for the
+  /// root); "" = recognise the layout by the joint count (joint_array_layouts)
+  std::string joints_file;
+  double fps = 30;  ///< the arrays' frame rate
+};
+
+/// Joint-position arrays, one .npy file per sequence ([frames, joints, 3], any float or integer
+/// type): every file must have the same joint count. A layout is recognised by its count: 22
+/// (SMPL's body joints without the hands, as HumanML3D and other AMASS-derived sets keep them),
+/// 24 (SMPL, as HumanAct12 has them), 25 (Kinect v2, as NTU RGB+D has them); any other count needs
+/// `joints_file`. InvalidInput naming the file (and line) on a malformed array or list, a file
+/// without a label, a parent that is not an earlier joint.
+RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
+                                        const JointArrayOptions& opt);
+
+/// The joint layouts read_joint_arrays recognises: names and parents (-1 for the root), by count.
+struct JointLayout {
+  const char* what;
+  std::vector<std::string> names;
+  std::vector<std::int32_t> parents;
+};
+const std::vector<JointLayout>& joint_array_layouts();
 
 /// MSR-Action3D's 20 action names (a01 .. a20).
 const std::vector<std::string>& msr_action_names();
