@@ -330,18 +330,18 @@ BD_VALIDATION_ITERATIONS ?= 1500
 BD_CANDIDATES ?= paper remedies carry no-kl window64
 # Every candidate spells out every remedy option and its window, so that a change of defaults
 # does not change it.
-paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
-remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0
-no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
+paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input
+remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --no-motion-input
+no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input
 # the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: ahead
 # on the finger and chickenCrossing, behind on pcow; docs/bdlstm.md)
-carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8
+carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8 --no-motion-input
 # the remedies with an encoder that reads each step's motion beside its frame (issue 67)
 motion_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions
 # are 32 free nats per frame) while z stays a sample of q(z|x) in training.
-free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0
+free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input
 paper_CANDIDATE_WINDOW := 32
 remedies_CANDIDATE_WINDOW := 32
 no-kl_CANDIDATE_WINDOW := 32

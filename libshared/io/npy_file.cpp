@@ -102,8 +102,8 @@ NpyArray parse_npy(std::string_view bytes, const std::string& name) {
     for (std::size_t k = 0; k < count; ++k) {  // k walks the Fortran order; index its subscripts
       std::size_t row_major = 0;
       for (std::size_t d = 0; d < index.size(); ++d)
-        row_major = row_major * static_cast<std::size_t>(a.shape[d]) +
-                    static_cast<std::size_t>(index[d]);
+        row_major =
+            row_major * static_cast<std::size_t>(a.shape[d]) + static_cast<std::size_t>(index[d]);
       c[row_major] = a.values[k];
       for (std::size_t d = 0; d < index.size() && ++index[d] == a.shape[d]; ++d) index[d] = 0;
     }
@@ -112,6 +112,8 @@ NpyArray parse_npy(std::string_view bytes, const std::string& name) {
   return a;
 }
 
-NpyArray read_npy(const std::string& path) { return parse_npy(read_file_bytes(path), path); }
+NpyArray read_npy(const std::string& path) {
+  return parse_npy(read_file_bytes(path), path);
+}
 
 }  // namespace df::io

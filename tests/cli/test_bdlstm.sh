@@ -56,12 +56,15 @@ run train-bdlstm "${tiny[@]}" --iterations 2 --carry-fade 1.5 data.h5 -o x.h5
 expect_rc 2; expect_one_error_line train-bdlstm; expect_err "carry-fade must lie in"
 echo "ok (carry: defaults, paper form, explicit options)"
 
-# --- the motion input: off by default and in --paper-form; on, its scale is measured from the
-# training frames (1 / RMS of a frame's change, > 1 for frames that move little), a resumed run
-# equals the straight one, and a prediction runs (the stepper reads the motion too)
-[ "$(cfg defaults.h5 motion_input)" = 0 ] || fail "the defaults read the motion"
+# --- the motion input: on by default, off in --paper-form and with --no-motion-input; its scale
+# is measured from the training frames (1 / RMS of a frame's change, > 1 for frames that move
+# little), a resumed run equals the straight one, and a prediction runs (the stepper reads the
+# motion too)
+[ "$(cfg defaults.h5 motion_input)" = 1 ] || fail "the defaults do not read the motion"
 train-bdlstm -q "${tiny[@]}" --iterations 2 --paper-form data.h5 -o pf.h5
 [ "$(cfg pf.h5 motion_input)" = 0 ] || fail "--paper-form reads the motion"
+train-bdlstm -q "${tiny[@]}" --iterations 2 --no-motion-input data.h5 -o no-motion.h5
+[ "$(cfg no-motion.h5 motion_input)" = 0 ] || fail "--no-motion-input reads the motion"
 train-bdlstm -q "${tiny[@]}" --iterations 20 --motion-input data.h5 -o motion.h5
 [ "$(cfg motion.h5 motion_input)" = 1 ] || fail "--motion-input not recorded"
 awk -v s="$(cfg motion.h5 motion_scale)" 'BEGIN { exit !(s > 1 && s < 1e6) }' ||
@@ -73,7 +76,7 @@ for obj in /params /optimizer/m /training/log; do
 done
 gen-bdlstm -q motion.h5 data.h5 --test-every 4 --initial 3 --length 4 -o motion-pred.h5
 h5check -q --kind acap motion-pred.h5
-echo "ok (motion input: off by default and in the paper's form, measured scale, resume, prediction)"
+echo "ok (motion input: on by default, off in the paper's form and with --no-motion-input, measured scale, resume, prediction)"
 
 # --- resume: a 20-iteration model is a checkpoint; resuming to 40 equals the straight run
 train-bdlstm -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5

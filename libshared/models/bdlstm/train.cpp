@@ -156,8 +156,8 @@ void warn_collapse(const BdlstmModel& m, double first_recon, double recon) {
       "the latent has collapsed: {:.3g} nats per frame (below --collapse-threshold {}) and the "
       "reconstruction has not improved ({:.4g} -> {:.4g}), so the model predicts what the prior "
       "does (little or no motion). Train with the remedies (the defaults: --kl-warmup 500 "
-      "--kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small; not "
-      "--paper-form) and see what z carries with inspect-bdlstm MODEL DATA",
+      "--kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small "
+      "--motion-input; not --paper-form) and see what z carries with inspect-bdlstm MODEL DATA",
       m.kl_per_frame, m.training.collapse_threshold, first_recon, recon);
 }
 }  // namespace
@@ -168,6 +168,7 @@ void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training) {
   net.l2_scope = "weights";
   net.l2_weight = 0.125;
   net.decoder_init = "small";
+  net.motion_input = true;
 }
 
 void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {

@@ -32,16 +32,14 @@ std::string raw(std::initializer_list<T> v) {
 
 TEST_CASE("npy: C and Fortran order, the number types, versions 1 and 2", "[io][npy]") {
   // [[1, 2, 3], [4, 5, 6]] stored row by row, and column by column
-  const auto c = io::parse_npy(
-      npy(1, "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }",
-          raw<float>({1, 2, 3, 4, 5, 6})),
-      "c");
+  const auto c = io::parse_npy(npy(1, "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }",
+                                   raw<float>({1, 2, 3, 4, 5, 6})),
+                               "c");
   REQUIRE(c.shape == std::vector<std::int64_t>{2, 3});
   REQUIRE(c.values == std::vector<double>{1, 2, 3, 4, 5, 6});
-  const auto f = io::parse_npy(
-      npy(2, "{'descr': '<f8', 'fortran_order': True, 'shape': (2, 3), }",
-          raw<double>({1, 4, 2, 5, 3, 6})),
-      "f");
+  const auto f = io::parse_npy(npy(2, "{'descr': '<f8', 'fortran_order': True, 'shape': (2, 3), }",
+                                   raw<double>({1, 4, 2, 5, 3, 6})),
+                               "f");
   REQUIRE(f.values == c.values);
   // three dimensions in Fortran order: element (i, j, k) at i + 2 j + 4 k
   std::vector<double> want, stored(8);
@@ -73,17 +71,17 @@ TEST_CASE("npy: what is not read is an InvalidInput naming the file", "[io][npy]
   REQUIRE_THROWS_WITH(io::parse_npy(npy(1, ok, raw<float>({1, 2, 3})), "x.npy"),
                       Catch::Contains("truncated .npy array: 12 bytes of data for 6 elements"));
   REQUIRE_THROWS_WITH(
-      io::parse_npy(npy(1, "{'descr': '>f4', 'fortran_order': False, 'shape': (1,), }",
-                        raw<float>({1})),
-                    "x.npy"),
+      io::parse_npy(
+          npy(1, "{'descr': '>f4', 'fortran_order': False, 'shape': (1,), }", raw<float>({1})),
+          "x.npy"),
       Catch::Contains("dtype '>f4'"));
   REQUIRE_THROWS_WITH(
-      io::parse_npy(npy(1, "{'descr': '<U3', 'fortran_order': False, 'shape': (1,), }",
-                        std::string(12, 'a')),
-                    "x.npy"),
+      io::parse_npy(
+          npy(1, "{'descr': '<U3', 'fortran_order': False, 'shape': (1,), }", std::string(12, 'a')),
+          "x.npy"),
       Catch::Contains("dtype '<U3'"));
-  REQUIRE_THROWS_WITH(io::parse_npy(npy(1, "{'descr': '<f4', 'shape': (1,), }", raw<float>({1})),
-                                    "x.npy"),
-                      Catch::Contains("without 'fortran_order'"));
+  REQUIRE_THROWS_WITH(
+      io::parse_npy(npy(1, "{'descr': '<f4', 'shape': (1,), }", raw<float>({1})), "x.npy"),
+      Catch::Contains("without 'fortran_order'"));
   REQUIRE_THROWS_WITH(io::parse_npy(npy(7, ok, ""), "x.npy"), Catch::Contains("version 7"));
 }
