@@ -63,8 +63,9 @@ Settings bdlstm_network_settings(BdlstmConfig& c) {
                "the training frames' own frame-to-frame change), so that z can tell the given\n"
                "frames' pace and direction; off = the paper (X_t alone)",
        .optional = true},
-      // Not an option: train-bdlstm measures it on the training frames (motion_input).
-      {.name = "motion_scale", .target = &c.motion_scale, .optional = true},
+      // Not an option: train-bdlstm measures it on the training frames (motion_input); a resumed
+      // run's data and split are checked themselves, so their settings are named, not this.
+      {.name = "motion_scale", .target = &c.motion_scale, .resume = false, .optional = true},
   };
 }
 

@@ -260,6 +260,7 @@ void restore_or_initialize(BdlstmModel& m, bool resume, const std::string& ckpt)
   if (resume && std::filesystem::exists(ckpt)) {
     BdlstmModel ck = load_bdlstm_model(ckpt);
     check_resumable(ck, m, ckpt);
+    m.config.motion_scale = ck.config.motion_scale;  // the scale its weights were trained with
     m.net = std::move(ck.net);
     m.adam = std::move(ck.adam);
     m.rng = ck.rng;
