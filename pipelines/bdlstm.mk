@@ -29,8 +29,9 @@ BD_ABLATION_SETS ?= finger
 BD_ABLATIONS := unidirectional standard no-kl no-l2
 # Every variant a model rule is made for; a set's Table 2 and Fig. 2 show set_variants: the
 # ablations, and the paper's form itself unless it is the set's model (S_CHOSEN exactly
-# --paper-form; it would train twice). train-bdlstm's defaults are the remedies (issue 46): every
-# variant spells out --paper-form, so that Table 2 stays "the paper's form with one change".
+# --paper-form; it would train twice). train-bdlstm's defaults are the remedies (issue 46) and
+# the motion input (issue 67): every variant spells out --paper-form, so that Table 2 stays "the
+# paper's form with one change".
 BD_VARIANTS := paper $(BD_ABLATIONS)
 set_variants = $(if $(subst --paper-form,,$(strip $($(1)_CHOSEN)))$(if $(strip $($(1)_CHOSEN)),,tool-defaults),paper) $(BD_ABLATIONS)
 TRAIN_THREADS ?= 0
@@ -55,7 +56,7 @@ TRAIN_THREADS ?= 0
 # README, issue 18).
 # S_CHOSEN: training remedies chosen on the set's validation part (bdlstm-validation), given to
 # the set's model only (a set without one trains with train-bdlstm's defaults, the remedies of
-# issue 46): Table 2's variants stay the paper's form with one change each, and the paper's form
+# issue 46 and the motion input of issue 67): Table 2's variants stay the paper's form with one change each, and the paper's form
 # itself is the variant `paper`. The finger trains the paper's form without the KL term:
 # validation error 0.604 against 0.681 (seed 1) and 0.469 against 0.618 (seed 2) at 1,500
 # iterations.
