@@ -4,15 +4,14 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <numeric>
 #include <set>
-#include <sstream>
 
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "core/word_lines.h"
 #include "geometry/acap_features.h"
 #include "geometry/reconstruction.h"
 #include "io/acap_file.h"
@@ -317,17 +316,9 @@ std::vector<int> furthest_point_sample(const Vertices& v, int n) {
 }
 
 Handles read_handles(const std::string& path, int n_vertices) {
-  std::ifstream in(path);
-  if (!in) throw IOError("cannot read the handle file", path);
   Handles h;
   std::set<int> seen;
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream s(line);
-    std::vector<std::string> words;
-    for (std::string w; s >> w;) words.push_back(w);
-    if (words.empty()) continue;
+  for (const auto& [number, words] : read_word_lines(path, "the handle file")) {
     const auto where = fmt::format("{}:{}", path, number);
     if (words.size() != 1 && words.size() != 4)
       throw InvalidInput(

@@ -136,11 +136,7 @@ RawSkeletonCollection read_inputs(const Skel2h5Options& opt) {
   if (in.format == "utkinect") return read_utkinect(one("utkinect"));
   if (in.format == "msr") return read_msr_action3d(in.files);
   if (in.format == "bvh") return read_bvh(in.files, opt.label);
-  if (in.format == "npy") {
-    JointArrayOptions arrays = opt.arrays;
-    arrays.label = opt.label;
-    return read_joint_arrays(in.files, arrays);
-  }
+  if (in.format == "npy") return read_joint_arrays(in.files, opt.label, opt.arrays);
   if (in.format == "skeleton") return read_skeleton_h5(one("skeleton"));
   throw UsageError("--format must be auto, utkinect, msr, bvh, npy or skeleton");
 }

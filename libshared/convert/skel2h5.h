@@ -19,10 +19,10 @@ struct Skel2h5Options {
   std::string output;
   std::string format = "auto";  ///< auto, utkinect, msr, bvh, npy, skeleton
   std::string label;  ///< bvh, npy: the class of every file ("" = bvh: its stem, npy: its folder)
-  JointArrayOptions arrays;  ///< npy: labels file, joint layout, frame rate (label: from above)
-  double fps = 0;            ///< 0 = the source's rate
-  int length = 0;            ///< frames per clip; 0 = whole sequences
-  int clip_stride = 0;       ///< frames between clip starts; 0 = --length
+  JointArrayOptions arrays;        ///< npy: labels file, joint layout, frame rate
+  double fps = 0;                  ///< 0 = the source's rate
+  int length = 0;                  ///< frames per clip; 0 = whole sequences
+  int clip_stride = 0;             ///< frames between clip starts; 0 = --length
   std::vector<int> test_subjects;  ///< sequences of these subjects are held out
   double test_fraction = 0;        ///< or this fraction of each class, drawn by the seed
   int root_joint = 0;

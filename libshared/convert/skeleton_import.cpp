@@ -11,10 +11,10 @@
 #include <fstream>
 #include <map>
 #include <regex>
-#include <sstream>
 
 #include "core/error.h"
 #include "core/log.h"
+#include "core/word_lines.h"
 #include "io/npy_file.h"
 #include "io/skeleton_file.h"
 
@@ -342,21 +342,6 @@ const std::vector<JointLayout>& joint_array_layouts() {
 
 namespace {
 
-// The words of a list file's lines, without comments ('#' on) and blank lines, with line numbers.
-std::vector<std::pair<std::size_t, std::vector<std::string>>> list_lines(const std::string& path) {
-  std::ifstream in = open_text(path);
-  std::vector<std::pair<std::size_t, std::vector<std::string>>> lines;
-  std::string line;
-  for (std::size_t n = 1; std::getline(in, line); ++n) {
-    line = line.substr(0, line.find('#'));
-    std::istringstream words(line);
-    std::vector<std::string> w;
-    for (std::string word; words >> word;) w.push_back(word);
-    if (!w.empty()) lines.emplace_back(n, std::move(w));
-  }
-  return lines;
-}
-
 // The joints' names and parents from a "NAME PARENT" list, or the layout of their count.
 void joint_layout(RawSkeletonCollection& c, std::size_t joints, const std::string& joints_file,
                   const std::string& first_file) {
@@ -372,7 +357,7 @@ void joint_layout(RawSkeletonCollection& c, std::size_t joints, const std::strin
                                    joints),
                        first_file);
   }
-  for (const auto& [n, w] : list_lines(joints_file)) {
+  for (const auto& [n, w] : read_word_lines(joints_file, "the joint list")) {
     if (w.size() != 2)
       throw InvalidInput("expected 'NAME PARENT' (PARENT an earlier joint's name, or -)",
                          at_line(joints_file, n));
@@ -400,7 +385,7 @@ void joint_layout(RawSkeletonCollection& c, std::size_t joints, const std::strin
 }  // namespace
 
 RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
-                                        const JointArrayOptions& opt) {
+                                        const std::string& label, const JointArrayOptions& opt) {
   if (!(opt.fps > 0)) throw UsageError("--source-fps must be positive");
   struct Label {
     std::string label;
@@ -408,7 +393,7 @@ RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
   };
   std::map<std::string, Label> labels;  // by file stem
   if (!opt.labels_file.empty())
-    for (const auto& [n, w] : list_lines(opt.labels_file)) {
+    for (const auto& [n, w] : read_word_lines(opt.labels_file, "the labels list")) {
       if (w.size() < 2 || w.size() > 3)
         throw InvalidInput("expected 'NAME CLASS [SUBJECT]'", at_line(opt.labels_file, n));
       std::int32_t subject = 0;
@@ -451,7 +436,7 @@ RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
                            path);
       q.label = it->second.label, q.subject = it->second.subject;
     } else {
-      q.label = opt.label.empty() ? fs::path(path).parent_path().filename().string() : opt.label;
+      q.label = label.empty() ? fs::path(path).parent_path().filename().string() : label;
       if (q.label.empty() || q.label == "." || q.label == "..")
         throw InvalidInput(
             "has no class: give --labels FILE or --label, or put each class's "

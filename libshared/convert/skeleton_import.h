@@ -66,8 +66,6 @@ RawSkeletonCollection read_skeleton_h5(const std::string& path);
 struct JointArrayOptions {
   /// Lines "NAME CLASS [SUBJECT]" (NAME: a file's stem; '#' starts a comment); "" = none
   std::string labels_file;
-  std::string
-      label;  ///< the class of every file when there is no labels file ("" = its folder's name)
   /// Lines "NAME PARENT" in the arrays' joint order (PARENT: an earlier joint's name, or - for the
   /// root); "" = recognise the layout by the joint count (joint_array_layouts)
   std::string joints_file;
@@ -78,10 +76,11 @@ struct JointArrayOptions {
 /// type): every file must have the same joint count. A layout is recognised by its count: 22
 /// (SMPL's body joints without the hands, as HumanML3D and other AMASS-derived sets keep them),
 /// 24 (SMPL, as HumanAct12 has them), 25 (Kinect v2, as NTU RGB+D has them); any other count needs
-/// `joints_file`. InvalidInput naming the file (and line) on a malformed array or list, a file
-/// without a label, a parent that is not an earlier joint.
+/// `joints_file`. A file's class: its line in `labels_file`, else `label` (every file's), else its
+/// folder's name. InvalidInput naming the file (and line) on a malformed array or list, a file
+/// without a class, a parent that is not an earlier joint.
 RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
-                                        const JointArrayOptions& opt);
+                                        const std::string& label, const JointArrayOptions& opt);
 
 /// The joint layouts read_joint_arrays recognises: names and parents (-1 for the root), by count.
 struct JointLayout {

@@ -89,13 +89,15 @@ NpyArray parse_npy(std::string_view bytes, const std::string& name) {
                                    bytes.size() - data_at, count, h.descr),
                        name);
   a.values.resize(count);
-  const char* p = bytes.data() + data_at;
-  for (std::size_t k = 0; k < count; ++k, p += width) {
-    if (kind == "f4") a.values[k] = load<float>(p);
-    if (kind == "f8") a.values[k] = load<double>(p);
-    if (kind == "i4") a.values[k] = load<std::int32_t>(p);
-    if (kind == "i8") a.values[k] = static_cast<double>(load<std::int64_t>(p));
-  }
+  const char* data = bytes.data() + data_at;
+  auto convert = [&]<class T>(T) {  // the type chosen once, not per element
+    for (std::size_t k = 0; k < count; ++k)
+      a.values[k] = static_cast<double>(load<T>(data + k * sizeof(T)));
+  };
+  if (kind == "f4") convert(float{});
+  if (kind == "f8") convert(double{});
+  if (kind == "i4") convert(std::int32_t{});
+  if (kind == "i8") convert(std::int64_t{});
   if (h.fortran && a.shape.size() > 1) {  // column-major: the first index runs fastest
     std::vector<double> c(count);
     std::vector<std::int64_t> index(a.shape.size(), 0);
