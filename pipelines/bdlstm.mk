@@ -328,7 +328,8 @@ BD_VALIDATION_ITERATIONS ?= 1500
 # stretches beside its validation part are 84 frames. chickenCrossing (stride 2) fits neither 64
 # nor 96 (its longest training stretch beside the validation part is 108 frames, a window of 64
 # steps spans 127): BD_VALIDATION_SETS=chickenCrossing BD_CANDIDATES="paper window48".
-BD_CANDIDATES ?= paper remedies carry no-kl window64
+# motion: train-bdlstm's defaults since issue 67 (the remedies with the motion input).
+BD_CANDIDATES ?= paper remedies motion carry no-kl window64
 # Every candidate spells out every remedy option and its window, so that a change of defaults
 # does not change it.
 paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input
@@ -337,7 +338,8 @@ no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --ca
 # the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: ahead
 # on the finger and chickenCrossing, behind on pcow; docs/bdlstm.md)
 carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8 --no-motion-input
-# the remedies with an encoder that reads each step's motion beside its frame (issue 67)
+# the remedies with an encoder that reads each step's motion beside its frame: train-bdlstm's
+# defaults since issue 67
 motion_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions

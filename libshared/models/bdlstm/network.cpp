@@ -73,7 +73,7 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     }
     // Last, so that every other weight starts as without it.
     if (config.motion_input)
-      ch.enc_motion.emplace_back(store_, prefix + "conv0_motion", 9, 9, adjacency_, rng);
+      ch.enc_motion.emplace(store_, prefix + "conv0_motion", 9, 9, adjacency_, rng);
     chains_.push_back(std::move(ch));
   }
 }
@@ -103,10 +103,10 @@ std::pair<typename BdlstmNet<T>::Var, typename BdlstmNet<T>::Var> BdlstmNet<T>::
   Var h = x;
   for (std::size_t l = 0; l < ch.enc.size(); ++l) {
     Var a = ch.enc[l](p, h);
-    if (l == 0 && !ch.enc_motion.empty()) {  // one convolution over [X_t, s (X_t − X_t−1)]
+    if (l == 0 && ch.enc_motion) {  // one convolution over [X_t, s (X_t − X_t−1)]
       Var motion = previous ? nn::scale(nn::sub(x, *previous), static_cast<T>(config_.motion_scale))
                             : x.tape->constant(Matrix::Zero(x.rows(), x.cols()));
-      a = nn::add(a, ch.enc_motion[0](p, motion));
+      a = nn::add(a, (*ch.enc_motion)(p, motion));
     }
     h = nn::tanh(a);
   }

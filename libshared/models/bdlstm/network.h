@@ -16,6 +16,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -158,7 +159,8 @@ class BdlstmNet {
  private:
   struct Chain {
     std::vector<nn::MeshConv<T>> enc, dec;
-    std::vector<nn::MeshConv<T>> enc_motion;  ///< the first convolution's motion part (or none)
+    std::optional<nn::MeshConv<T>>
+        enc_motion;  ///< the first convolution's motion part (motion input)
     nn::Linear<T> fc_enc, fc_dec;
     nn::StackedLstm<T> lstm;
   };
