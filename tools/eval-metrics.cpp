@@ -40,7 +40,16 @@ int main(int argc, char** argv) {
       "                             clips are held still or shuffled in time, these do);\n"
       "                             and the spread (distance to the class's mean sequence);\n"
       "                             --pred-subjects / --truth-subjects measure the data\n"
-      "                             against itself (the level a generator could reach).\n"
+      "                             against itself (the level a generator could reach);\n"
+      "  FID, diversity,            skeleton files with --recogniser MODEL (a classifier\n"
+      "  multimodality, accuracy    trained alone on the real training clips:\n"
+      "                             train-actgan --classifier-only), in its features (the\n"
+      "                             hidden layer its output layer reads), as Action2Motion,\n"
+      "                             ACTOR and MDM report them: FID of generated vs real test\n"
+      "                             clips; diversity, the mean distance of 200 random pairs;\n"
+      "                             multimodality, of 20 pairs within each class; accuracy\n"
+      "                             of the recogniser's most probable class — and the same\n"
+      "                             of the real test clips (FID: one half vs the other).\n"
       "Frames pair through PRED's /frames/source (gen-bdlstm output) or by index. Positions\n"
       "are reconstructed from features (exact solver) when a file stores none; one\n"
       "translation per connected component is removed before measuring (--align rigid:\n"
@@ -86,6 +95,12 @@ int main(int argc, char** argv) {
          "its test part. With both, a file against itself: the score of the real clips")
       ->delimiter(',')
       ->allow_extra_args(false);
+  app.add_option(
+      "--recogniser", opt.recogniser,
+      "Skeleton files: an actgan-model .h5 whose classifier recognises the clips (train\n"
+      "one alone on the real training clips: train-actgan --classifier-only; a narrow\n"
+      "head, --fc 30 as Action2Motion's, keeps FID's covariances estimable): adds FID,\n"
+      "diversity, multimodality and accuracy");
   app.add_option("--change-span", opt.change_span,
                  "Feature change between frames K apart (1 = consecutive)")
       ->default_val(opt.change_span);
@@ -108,6 +123,7 @@ int main(int argc, char** argv) {
       "  eval-metrics recon.h5 test.h5 --json -\n"
       "  eval-metrics recon.h5 data.h5 --align rigid  # E_rms as the MSAE paper measures it\n"
       "  eval-metrics gen.h5 clips.h5                 # MMD of generated actions (test part)\n"
+      "  eval-metrics gen.h5 clips.h5 --recogniser recogniser.h5  # + FID, diversity, ...\n"
       "  eval-metrics clips.h5 clips.h5 --pred-subjects 1,2,3 --truth-subjects 4\n"
       "                                  # the data's own level: training subjects vs one held "
       "out");

@@ -21,24 +21,127 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "eval/mesh_metrics.h"
+#include "eval/recognition_metrics.h"
 #include "eval/skeleton_metrics.h"
 #include "geometry/acap_features.h"
 #include "geometry/reconstruction.h"
 #include "io/h5.h"
 #include "io/schema.h"
+#include "models/actgan/generate.h"
 
 namespace df::apps {
 using namespace df::eval;
 namespace {
 
-// eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics.
-void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
-                    const std::string& json, const SkeletonSelection& select, bool force) {
+// The recogniser's view of the compared clips (the sequences skeleton_metrics pairs, each read
+// for the frames it compares): FID, diversity, multimodality and accuracy, and each class's
+// accuracy of PRED's and of TRUTH's clips.
+struct Recognition {
+  RecognitionMetrics metrics;
+  std::vector<std::string> classes;
+  std::vector<double> accuracy_generated, accuracy_real;
+};
+
+Recognition recognition_of(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
+                           const SkeletonSelection& select, const std::string& model_path) {
+  const models::ActganModel m = models::load_actgan_model(model_path);
+  if (!m.config.classifier)
+    throw InvalidInput(
+        "the recogniser has no classifier (trained with --no-classifier); train one with "
+        "train-actgan --classifier-only",
+        model_path);
+  const SkeletonPairing pairs = pair_skeleton_classes(pred, truth, select);
+  Recognition out;
+  std::vector<std::size_t> gen, real;
+  std::vector<int> gen_labels, real_labels;
+  for (const auto& k : pairs.classes) {
+    const auto it = std::find(m.class_names.begin(), m.class_names.end(), k.name);
+    if (it == m.class_names.end())
+      throw InvalidInput(fmt::format("the recogniser does not know class '{}' (it knows: {})",
+                                     k.name, fmt::join(m.class_names, ", ")),
+                         model_path);
+    const int label = static_cast<int>(it - m.class_names.begin());
+    out.classes.push_back(k.name);
+    gen.insert(gen.end(), k.pred.begin(), k.pred.end());
+    gen_labels.insert(gen_labels.end(), k.pred.size(), label);
+    real.insert(real.end(), k.truth.begin(), k.truth.end());
+    real_labels.insert(real_labels.end(), k.truth.size(), label);
+  }
+  const auto clips_of = [&](const io::SkeletonFile& file, const std::vector<std::size_t>& seqs,
+                            const std::vector<int>& labels) {
+    const models::Recognised r = models::recognise(m, file, seqs, pairs.frames);
+    RecognisedClips c;
+    c.features = r.features.cast<double>();
+    c.labels = labels;
+    for (Eigen::Index i = 0; i < r.prob.rows(); ++i) {
+      Eigen::Index best = 0;
+      r.prob.row(i).maxCoeff(&best);
+      c.predicted.push_back(static_cast<int>(best));
+    }
+    return c;
+  };
+  const RecognisedClips g = clips_of(pred, gen, gen_labels), t = clips_of(truth, real, real_labels);
+  out.metrics = recognition_metrics(g, t);
+  const auto class_accuracy = [](const RecognisedClips& c, int label) {
+    RecognisedClips one;
+    for (std::size_t i = 0; i < c.labels.size(); ++i)
+      if (c.labels[i] == label)
+        one.labels.push_back(label), one.predicted.push_back(c.predicted[i]);
+    return accuracy(one);
+  };
+  for (const auto& name : out.classes) {
+    const auto label = static_cast<int>(
+        std::find(m.class_names.begin(), m.class_names.end(), name) - m.class_names.begin());
+    out.accuracy_generated.push_back(class_accuracy(g, label));
+    out.accuracy_real.push_back(class_accuracy(t, label));
+  }
+  return out;
+}
+
+nlohmann::ordered_json recognition_json(const Recognition& r, const std::string& model_path) {
+  const auto scores = [](const RecognitionScores& s) {
+    return nlohmann::ordered_json{{"fid", s.fid},
+                                  {"diversity", s.diversity},
+                                  {"multimodality", s.multimodality},
+                                  {"accuracy", s.accuracy}};
+  };
+  nlohmann::ordered_json js{{"recogniser", model_path},
+                            {"features", r.metrics.features},
+                            {"generated", scores(r.metrics.generated)},
+                            {"real", scores(r.metrics.real)}};
+  for (std::size_t c = 0; c < r.classes.size(); ++c)
+    js["classes"][r.classes[c]] = {{"accuracy_generated", r.accuracy_generated[c]},
+                                   {"accuracy_real", r.accuracy_real[c]}};
+  return js;
+}
+
+void print_recognition(const Recognition& r, const std::string& model_path) {
+  fmt::print(
+      "\nrecogniser {} ({} features): FID of Gaussians fitted to the features, diversity (200\n"
+      "random pairs), multimodality (20 pairs per class), accuracy of the most probable class\n",
+      model_path, r.metrics.features);
+  fmt::print("{:<28} {:>10} {:>10} {:>14} {:>9}\n", "", "FID", "diversity", "multimodality",
+             "accuracy");
+  const auto row = [](const char* what, const RecognitionScores& s) {
+    fmt::print("{:<28} {:>10.4g} {:>10.4g} {:>14.4g} {:>9.3f}\n", what, s.fid, s.diversity,
+               s.multimodality, s.accuracy);
+  };
+  row("generated (PRED)", r.metrics.generated);
+  row("real (TRUTH; FID of halves)", r.metrics.real);
+}
+
+// eval-metrics on skeleton files: the table (or JSON) of skeleton_metrics, and with a
+// recogniser the measures in its feature space.
+void eval_skeletons(const EvalOptions& opt, bool force) {
+  const std::string &pred_path = opt.pred, &truth_path = opt.truth, &json = opt.json;
+  const SkeletonSelection& select = opt.skeletons;
   if (truth_path.empty())
     throw UsageError("skeleton files are measured against TRUTH (real sequences)");
   const io::SkeletonFile pred = io::read_skeleton_file(pred_path);
   const io::SkeletonFile truth = io::read_skeleton_file(truth_path);
   const SkeletonMetrics r = skeleton_metrics(pred, truth, select);
+  std::optional<Recognition> recognition;
+  if (!opt.recogniser.empty()) recognition = recognition_of(pred, truth, select, opt.recogniser);
   nlohmann::ordered_json js;
   js["pred"] = pred_path;
   js["truth"] = truth_path;
@@ -61,6 +164,7 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
                              {"pairwise_real", m.pairwise_real},
                              {"halves_generated", m.halves_generated},
                              {"halves_real", m.halves_real}};
+  if (recognition) js["recognition"] = recognition_json(*recognition, opt.recogniser);
   if (json != "-") {
     fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
                pred_path, truth_path, r.frames);
@@ -85,6 +189,7 @@ void eval_skeletons(const std::string& pred_path, const std::string& truth_path,
                  m.pairwise_generated, m.pairwise_real, m.pairwise_generated / m.pairwise_real,
                  m.halves_generated, m.halves_real);
     fmt::print("{:<16} {:>14} {:>14} {:>8.3f}\n", "mean", "", "", r.pairwise_ratio);
+    if (recognition) print_recognition(*recognition, opt.recogniser);
   }
   if (json.empty()) return;
   if (json == "-") {
@@ -628,8 +733,9 @@ void eval_metrics(const EvalOptions& opt, const CommonOptions& common) {
       io::is_hdf5_path(opt.pred)
           ? io::declared_kind(h5::File(opt.pred, h5::File::Mode::read, opt.pred))
           : std::string();
-  if (kind == "skeleton")
-    return eval_skeletons(opt.pred, opt.truth, opt.json, opt.skeletons, common.force);
+  if (kind == "skeleton") return eval_skeletons(opt, common.force);
+  if (!opt.recogniser.empty())
+    throw UsageError("--recogniser measures skeleton files (generated actions against real ones)");
   if (kind == "components") {
     if (opt.truth.empty())
       throw UsageError("a components file is measured against TRUTH's planted regions");

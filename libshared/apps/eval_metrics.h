@@ -11,7 +11,9 @@
 //     regions (synth-meshseq --kind bumps): how well the kept components localize them
 //     (component_metrics.h);
 //   * PRED and TRUTH skeleton files (gen-actgan, skel2h5): MMD_avg, MMD_seq and the spread of
-//     generated sequences per class (skeleton_metrics.h);
+//     generated sequences per class (skeleton_metrics.h); with a recogniser (an ActGAN model's
+//     classifier, train-actgan --classifier-only) FID, diversity, multimodality and accuracy in
+//     its feature space (recognition_metrics.h);
 //   * the spread of diverse samples (gen-bdlstm --samples: sequences NAME~k): mean per-vertex
 //     distance between every two samples of a case at the same frame.
 #pragma once
@@ -44,6 +46,8 @@ struct EvalOptions {
   /// PRED and TRUTH skeleton files: which sequences are compared (all of TRUTH's, or some
   /// subjects' of either file)
   eval::SkeletonSelection skeletons;
+  /// Skeleton files: an ActGAN model whose classifier recognises the clips ("" = none)
+  std::string recogniser;
 };
 
 void eval_metrics(const EvalOptions& opt, const CommonOptions& common);

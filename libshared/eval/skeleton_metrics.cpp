@@ -292,8 +292,8 @@ ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrix
   return m;
 }
 
-SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
-                                 const SkeletonSelection& select) {
+SkeletonPairing pair_skeleton_classes(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
+                                      const SkeletonSelection& select) {
   if (pred.joints != truth.joints || pred.dims != truth.dims)
     throw InvalidInput(fmt::format("PRED has {} joints x {}, TRUTH {} x {}", pred.joints, pred.dims,
                                    truth.joints, truth.dims));
@@ -308,34 +308,45 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     truth_in = of_subjects(truth, select.truth_subjects, "TRUTH");
   else if (!select.all_truth && std::count(truth.test.begin(), truth.test.end(), 1) > 0)
     for (std::size_t s = 0; s < truth.sequences(); ++s) truth_in[s] = truth.test[s] != 0;
-  SkeletonMetrics out;
+  SkeletonPairing out;
   out.frames = std::numeric_limits<std::size_t>::max();
   for (std::size_t s = 0; s < pred.sequences(); ++s)
     if (pred_in[s]) out.frames = std::min(out.frames, pred.length(s));
   for (std::size_t s = 0; s < truth.sequences(); ++s)
     if (truth_in[s]) out.frames = std::min(out.frames, truth.length(s));
-  const std::vector<float> pred_poses = io::poses_normalized_as(pred, truth.normalization);
-  const std::size_t fs = pred.frame_size();
   for (std::size_t c = 0; c < pred.class_names.size(); ++c) {
     const auto tc =
         std::find(truth.class_names.begin(), truth.class_names.end(), pred.class_names[c]);
     if (tc == truth.class_names.end()) continue;
-    std::vector<std::size_t> gen, real;
+    SkeletonPairing::Class k{.name = pred.class_names[c]};
     for (std::size_t s = 0; s < pred.sequences(); ++s)
-      if (pred_in[s] && pred.labels[s] == static_cast<std::int32_t>(c)) gen.push_back(s);
+      if (pred_in[s] && pred.labels[s] == static_cast<std::int32_t>(c)) k.pred.push_back(s);
     for (std::size_t s = 0; s < truth.sequences(); ++s)
       if (truth_in[s] &&
           truth.labels[s] == static_cast<std::int32_t>(tc - truth.class_names.begin()))
-        real.push_back(s);
-    if (gen.size() < 2 || real.size() < 2) {
+        k.truth.push_back(s);
+    out.classes.push_back(std::move(k));
+  }
+  return out;
+}
+
+SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
+                                 const SkeletonSelection& select) {
+  const SkeletonPairing pairs = pair_skeleton_classes(pred, truth, select);
+  SkeletonMetrics out;
+  out.frames = pairs.frames;
+  const std::vector<float> pred_poses = io::poses_normalized_as(pred, truth.normalization);
+  const std::size_t fs = pred.frame_size();
+  for (const auto& k : pairs.classes) {
+    if (k.pred.size() < 2 || k.truth.size() < 2) {
       log::warn("class {}: {} generated and {} real sequences; MMD needs 2 of each, skipped",
-                pred.class_names[c], gen.size(), real.size());
+                k.name, k.pred.size(), k.truth.size());
       continue;
     }
-    const RowMatrixF X = sequence_rows(pred, pred_poses, gen, out.frames);
-    const RowMatrixF Y = sequence_rows(truth, truth.poses, real, out.frames);
+    const RowMatrixF X = sequence_rows(pred, pred_poses, k.pred, out.frames);
+    const RowMatrixF Y = sequence_rows(truth, truth.poses, k.truth, out.frames);
     ClassSkeletonMetrics m = skeleton_class_metrics(X, Y, fs);
-    m.name = pred.class_names[c];
+    m.name = k.name;
     out.classes.push_back(m);
   }
   if (out.classes.empty())

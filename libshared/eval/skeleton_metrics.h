@@ -87,6 +87,21 @@ struct SkeletonSelection {
   std::vector<std::int32_t> truth_subjects;
 };
 
+/// The sequences compared: per class name both files have (in PRED's class order), PRED's and
+/// TRUTH's sequences as `select` picks them (below), and the frames compared of each.
+struct SkeletonPairing {
+  struct Class {
+    std::string name;
+    std::vector<std::size_t> pred, truth;  ///< sequence indices in each file
+  };
+  std::size_t frames = 0;  ///< the shortest selected sequence of both files
+  std::vector<Class> classes;
+};
+
+/// Which sequences skeleton_metrics compares (InvalidInput when the skeletons differ).
+SkeletonPairing pair_skeleton_classes(const io::SkeletonFile& pred, const io::SkeletonFile& truth,
+                                      const SkeletonSelection& select = {});
+
 /// PRED's sequences against TRUTH's of the same class name, as `select` picks them (by default
 /// all of PRED's and TRUTH's test sequences when it marks any), both in TRUTH's coordinates (PRED
 /// converted through raw coordinates when its normalization differs), cut to the shortest

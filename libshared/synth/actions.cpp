@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "core/atomic_output.h"
 #include "core/error.h"
@@ -67,6 +68,58 @@ double pos(double x) {
   return std::max(0.0, x);
 }
 
+// The right arm's (shoulder flex, shoulder abduct) along the closed polygon through `corners`
+// at phase psi: the hand drawing a figure in front of the body, one round per cycle.
+void trace(const std::vector<std::array<double, 2>>& corners, double psi, double amp, Angles& a) {
+  const double u =
+      std::fmod(psi / (2 * std::numbers::pi), 1.0) * static_cast<double>(corners.size());
+  const auto i = static_cast<std::size_t>(u) % corners.size();
+  const auto& p = corners[i];
+  const auto& q = corners[(i + 1) % corners.size()];
+  const double w = u - std::floor(u), centre_flex = 1.3, centre_abduct = 0.35;
+  a.shoulder_flex[1] = centre_flex + amp * ((1 - w) * p[0] + w * q[0] - centre_flex);
+  a.shoulder_abduct[1] = centre_abduct + amp * ((1 - w) * p[1] + w * q[1] - centre_abduct);
+  a.elbow_flex[1] = 0.1;
+}
+
+// The arm gestures (MSR-Action3D's kind of classes: the same body, one arm's path differs).
+void arm_gesture(const std::string& name, double psi, double amp, Angles& a) {
+  const double sn = std::sin(psi), out = (1 + sn) / 2;  // out: 0 pulled in .. 1 reached out
+  if (name == "hammer") {  // upper arm forward and up, the forearm chopping down and up
+    a.shoulder_flex[1] = 1.5;
+    a.elbow_flex[1] = 0.7 + 0.7 * amp * sn;
+  } else if (name == "punch") {  // forward punch: the fist from the chest straight ahead
+    a.shoulder_flex[1] = 0.3 + 1.2 * amp * out;
+    a.elbow_flex[1] = 1.9 * (1 - out);
+    a.shoulder_abduct[1] = 0.15;
+  } else if (name == "side-box") {  // the same punch out to the side
+    a.shoulder_abduct[1] = 0.4 + 1.1 * amp * out;
+    a.shoulder_flex[1] = 0.3;
+    a.elbow_flex[1] = 1.8 * (1 - out);
+  } else if (name == "throw") {  // high throw: from behind the shoulder over the head and forward
+    a.shoulder_flex[1] = 1.2 + 1.5 * amp * sn;
+    a.elbow_flex[1] = 1.0 * pos(-sn) + 0.2;
+  } else if (name == "catch") {  // reach forward and up, pull the hand back in
+    a.shoulder_flex[1] = 0.3 + 1.3 * amp * pos(sn);
+    a.shoulder_abduct[1] = 0.15 + 0.35 * pos(sn);
+    a.elbow_flex[1] = 0.9 * (1 - pos(sn));
+  } else if (name == "clap") {  // both hands in front, opening and meeting
+    for (int k = 0; k < 2; ++k) {
+      a.shoulder_flex[k] = 1.3;
+      a.shoulder_abduct[k] = -0.25 + 0.8 * amp * out;
+      a.elbow_flex[k] = 0.3;
+    }
+  } else if (name == "circle") {  // draw a circle in front
+    a.shoulder_flex[1] = 1.3 + 0.4 * amp * sn;
+    a.shoulder_abduct[1] = 0.35 + 0.4 * amp * std::cos(psi);
+    a.elbow_flex[1] = 0.1;
+  } else if (name == "draw-x") {  // two diagonals joined by the X's sides
+    trace({{1.75, -0.05}, {0.85, 0.75}, {1.75, 0.75}, {0.85, -0.05}}, psi, amp, a);
+  } else if (name == "tick") {  // a short stroke down, a long one up, back
+    trace({{1.35, -0.05}, {1.0, 0.15}, {1.8, 0.75}}, psi, amp, a);
+  }
+}
+
 // The angles of action `name` at phase psi (radians), amplitude amp, time `seconds`.
 Angles action_angles(const std::string& name, double psi, double amp, double seconds) {
   Angles a;
@@ -110,6 +163,8 @@ Angles action_angles(const std::string& name, double psi, double amp, double sec
     }
     a.lean = 0.4 * d;
     a.root_height = -0.45 * d;
+  } else {
+    arm_gesture(name, psi, amp, a);
   }
   return a;
 }
@@ -120,7 +175,12 @@ double base_frequency(const std::string& name) {
   if (name == "wave") return 1.5;
   if (name == "jump") return 0.8;
   if (name == "kick") return 0.7;
-  return 0.5;  // squat
+  if (name == "squat") return 0.5;
+  return 0.8;  // the arm gestures
+}
+
+bool is_known(const std::vector<std::string>& names, const std::string& c) {
+  return std::find(names.begin(), names.end(), c) != names.end();
 }
 
 void check_params(const ActionParams& p) {
@@ -129,9 +189,28 @@ void check_params(const ActionParams& p) {
         "--per-class and --subjects must be positive, --frames at least 2, --fps positive, --noise "
         "not negative");
   for (const auto& c : p.classes)
-    if (std::find(action_names().begin(), action_names().end(), c) == action_names().end())
+    if (!is_known(action_names(), c) && !is_known(gesture_names(), c) && c != "gestures")
       throw UsageError(
-          fmt::format("unknown action '{}' (known: {})", c, fmt::join(action_names(), ", ")));
+          fmt::format("unknown action '{}' (known: {}, {}, or 'gestures' for the last {})", c,
+                      fmt::join(action_names(), ", "), fmt::join(gesture_names(), ", "),
+                      gesture_names().size()));
+}
+
+// The classes asked for, 'gestures' expanded.
+std::vector<std::string> class_list(const ActionParams& p) {
+  if (p.classes.empty()) return action_names();
+  std::vector<std::string> out;
+  for (const auto& c : p.classes) {
+    if (c == "gestures")
+      out.insert(out.end(), gesture_names().begin(), gesture_names().end());
+    else
+      out.push_back(c);
+  }
+  std::vector<std::string> sorted = out;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+    throw UsageError(fmt::format("--classes names an action twice: {}", fmt::join(out, ", ")));
+  return out;
 }
 
 }  // namespace
@@ -141,10 +220,16 @@ const std::vector<std::string>& action_names() {
   return names;
 }
 
+const std::vector<std::string>& gesture_names() {
+  static const std::vector<std::string> names{"hammer", "punch",  "side-box", "throw", "catch",
+                                              "clap",   "circle", "draw-x",   "tick"};
+  return names;
+}
+
 io::SkeletonFile make_actions(const ActionParams& p) {
   check_params(p);
   io::SkeletonFile s;
-  s.class_names = p.classes.empty() ? action_names() : p.classes;
+  s.class_names = class_list(p);
   s.joints = 20;
   s.dims = 3;
   s.joint_names = io::kinect_joint_names();

@@ -215,6 +215,27 @@ expect_out "clips.h5 classified by trained.h5 \([0-9]+ sequences, the test part\
 grep -q '"overall"' acc.json || fail "no overall accuracy in the JSON"
 echo "ok (classify: $(grep -o 'all .*' out.txt))"
 
+# --- a recogniser trained alone on the real clips: FID, diversity, multimodality, accuracy
+train-actgan -q --hidden 16 --fc 8 --batch 8 --seed 3 --classifier-only --pretrain-iterations 0 --iterations 150 clips.h5 -o rec.h5
+rec() { eval-metrics "$1" clips.h5 --recogniser rec.h5 --json - | python3 -c "import json, sys; r = json.load(sys.stdin)['recognition']; print(r['features'], *(f'{r[w][k]:.6g}' for w in ('generated', 'real') for k in ('fid', 'diversity', 'multimodality', 'accuracy')))"; }
+read -r width fid1 div1 mm1 acc1 fid_real div_real mm_real acc_real <<< "$(rec gen1.h5)"
+read -r _ fid0 _ _ acc0 _ _ _ _ <<< "$(rec gen0.h5)"
+[ "$width" = 8 ] || fail "the recogniser's features: 8 wide (its --fc) expected, got $width"
+awk -v a="$acc_real" -v f0="$fid0" -v f1="$fid1" -v d="$div_real" -v m="$mm_real" 'BEGIN { exit !(a >= 0.5 && f1 < f0 && f1 >= 0 && d > 0 && m > 0 && m < d) }' ||
+  fail "recognition: real accuracy $acc_real (>= 0.5), FID untrained $fid0 > trained $fid1 >= 0, real diversity $div_real > multimodality $mm_real > 0 expected"
+run eval-metrics gen1.h5 clips.h5 --recogniser rec.h5; expect_rc 0
+expect_out "^generated \(PRED\) +[0-9.e+-]+ +[0-9.e+-]+ +[0-9.e+-]+ +[01]\.[0-9]{3}$"
+[ "$(rec gen1.h5)" = "$(rec gen1.h5)" ] || fail "recognition measures differ between two runs"
+run eval-metrics gen1.h5 clips.h5 --recogniser m-crit1.h5; expect_rc 0  # any model with a classifier
+train-actgan -q "${tiny[@]}" --no-classifier --pretrain-iterations 1 --iterations 1 clips.h5 -o nocls.h5
+run eval-metrics gen1.h5 clips.h5 --recogniser nocls.h5; expect_rc 1
+expect_one_error_line eval-metrics; expect_err "the recogniser has no classifier"
+synth-actions -q --classes walk,kick --per-class 4 --frames 24 --seed 1 -o kick-raw.h5
+skel2h5 -q kick-raw.h5 --length 12 --clip-stride 6 -o kick.h5
+run eval-metrics kick.h5 kick.h5 --all-truth --recogniser rec.h5; expect_rc 1
+expect_one_error_line eval-metrics; expect_err "the recogniser does not know class 'kick' \(it knows: walk, wave, squat\)"
+echo "ok (recogniser: real accuracy $acc_real, FID $fid0 -> $fid1 with training; diversity $div1 / real $div_real; multimodality $mm1 / real $mm_real; accuracy $acc0 -> $acc1)"
+
 # --- other data and bad input: one-line errors, nothing written
 synth-actions -q --classes walk --per-class 2 --frames 10 -o short.h5
 skel2h5 -q short.h5 -o short-norm.h5  # walks of 10 frames, their own normalization

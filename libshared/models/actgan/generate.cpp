@@ -187,33 +187,46 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
   log::info("wrote {}: {} sequences of {} frames", opt.output, names.size(), length);
 }
 
-nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s,
-                           const std::vector<std::size_t>& seqs) {
+Recognised recognise(const ActganModel& m, const io::SkeletonFile& s,
+                     const std::vector<std::size_t>& seqs, std::size_t length) {
+  if (!m.config.classifier)
+    throw InvalidInput("the model was trained without a classifier (--no-classifier)");
   if (s.joints * 3 != static_cast<std::size_t>(m.config.pose) || s.dims != 3)
     throw InvalidInput(fmt::format("{} joints x {}: the model was trained on {} values per pose",
                                    s.joints, s.dims, m.config.pose));
   const std::vector<float> poses = io::poses_normalized_as(s, m.normalization);
   const std::size_t P = s.frame_size();
-  nn::Matrix<float> prob(static_cast<Eigen::Index>(seqs.size()), m.config.classes);
+  Recognised out;
+  out.prob.resize(static_cast<Eigen::Index>(seqs.size()), m.config.classes);
+  out.features.resize(static_cast<Eigen::Index>(seqs.size()), m.config.fc);
   nn::Tape<float> tape;
   for (std::size_t r0 = 0; r0 < seqs.size(); r0 += kBatch) {
     const std::size_t n = std::min<std::size_t>(kBatch, seqs.size() - r0);
-    std::size_t length = s.length(seqs[r0]);
-    for (std::size_t i = 1; i < n; ++i) length = std::min(length, s.length(seqs[r0 + i]));
+    std::size_t frames = length ? length : s.length(seqs[r0]);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (length && s.length(seqs[r0 + i]) < length)
+        throw Error(
+            fmt::format("internal: sequence {} is shorter than {} frames", seqs[r0 + i], length));
+      if (!length) frames = std::min(frames, s.length(seqs[r0 + i]));
+    }
     tape.clear();
-    std::vector<nn::Var<float>> frames;
-    for (std::size_t t = 0; t < length; ++t) {
-      nn::Matrix<float> x(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(P));
+    std::vector<nn::Var<float>> x;
+    for (std::size_t t = 0; t < frames; ++t) {
+      nn::Matrix<float> xt(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(P));
       for (std::size_t i = 0; i < n; ++i)
-        x.row(static_cast<Eigen::Index>(i)) = Eigen::Map<const Eigen::RowVectorXf>(
+        xt.row(static_cast<Eigen::Index>(i)) = Eigen::Map<const Eigen::RowVectorXf>(
             poses.data() + (static_cast<std::size_t>(s.offsets[seqs[r0 + i]]) + t) * P,
             static_cast<Eigen::Index>(P));
-      frames.push_back(tape.constant(x));
+      x.push_back(tape.constant(xt));
     }
-    prob.middleRows(static_cast<Eigen::Index>(r0), static_cast<Eigen::Index>(n)) =
-        nn::softmax<float>((*m.cls)(m.cls->store().bind_constant(tape), frames).value());
+    const auto p = m.cls->store().bind_constant(tape);
+    const auto rows = [&](nn::Matrix<float>& M) {
+      return M.middleRows(static_cast<Eigen::Index>(r0), static_cast<Eigen::Index>(n));
+    };
+    rows(out.features) = m.cls->features(p, x).value();
+    rows(out.prob) = nn::softmax<float>((*m.cls)(p, x).value());
   }
-  return prob;
+  return out;
 }
 
 namespace {
@@ -331,7 +344,7 @@ void classify_actions(const ClassifyOptions& opt, const CommonOptions& common) {
   std::vector<std::size_t> seqs;
   for (std::size_t q = 0; q < s.sequences(); ++q)
     if (!test_only || s.test[q]) seqs.push_back(q);
-  const nn::Matrix<float> prob = classify(m, s, seqs);
+  const nn::Matrix<float> prob = recognise(m, s, seqs).prob;
   const ClassScores sc = score_sequences(m, s, seqs, prob);
   if (opt.json != "-") print_classification(opt, m, s, seqs, prob, sc, test_only);
   if (opt.json.empty()) return;

@@ -40,9 +40,18 @@ struct ClassifyOptions {
   bool probabilities = false;  ///< print each sequence's class probabilities
 };
 
-/// Class probabilities [sequences, C] of the sequences of `s` (equal length, same skeleton).
-nn::Matrix<float> classify(const ActganModel& m, const io::SkeletonFile& s,
-                           const std::vector<std::size_t>& seqs);
+/// What the model's classifier makes of sequences: class probabilities and the features its
+/// output layer reads (the head's hidden layer, m.config.fc wide).
+struct Recognised {
+  nn::Matrix<float> prob;      ///< [sequences, C]
+  nn::Matrix<float> features;  ///< [sequences, fc]
+};
+
+/// The classifier on the sequences `seqs` of `s` (the same skeleton; poses brought into the
+/// model's coordinates), each read for its first `length` frames (0: each batch of 64 to its
+/// shortest sequence). InvalidInput when the model has no classifier.
+Recognised recognise(const ActganModel& m, const io::SkeletonFile& s,
+                     const std::vector<std::size_t>& seqs, std::size_t length = 0);
 
 void classify_actions(const ClassifyOptions& opt, const CommonOptions& common);
 

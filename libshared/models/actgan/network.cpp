@@ -77,7 +77,7 @@ SequenceNet<T>::SequenceNet(const ActganConfig& c, Eigen::Index in, Eigen::Index
 }
 
 template <class T>
-nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const {
+nn::Var<T> SequenceNet<T>::pooled(const nn::Bound<T>& p, const std::vector<Var>& x) const {
   if (x.empty()) throw Error("internal: a sequence network on an empty sequence");
   const Eigen::Index batch = x.front().rows(), steps = static_cast<Eigen::Index>(x.size());
   if (pool_steps_ > 0 && steps != pool_steps_)
@@ -85,14 +85,27 @@ nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<V
         fmt::format("internal: a network of {}-frame sequences on {} frames", pool_steps_, steps));
   const auto h = lstm_.run(p, nn::concat_rows<T>(x), batch);
   if (pool_steps_ == 0)
-    return head_(p, nn::concat_cols<T>({nn::slice_rows(h.forward, (steps - 1) * batch, batch),
-                                        nn::slice_rows(h.backward, 0, batch)}));
+    return nn::concat_cols<T>({nn::slice_rows(h.forward, (steps - 1) * batch, batch),
+                               nn::slice_rows(h.backward, 0, batch)});
   std::vector<Var> every_step;  // [forward_1, backward_1, ..., forward_T, backward_T]
   for (Eigen::Index t = 0; t < steps; ++t) {
     every_step.push_back(nn::slice_rows(h.forward, t * batch, batch));
     every_step.push_back(nn::slice_rows(h.backward, t * batch, batch));
   }
-  return head_(p, nn::concat_cols<T>(every_step));
+  return nn::concat_cols<T>(every_step);
+}
+
+template <class T>
+nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const {
+  return head_(p, pooled(p, x));
+}
+
+template <class T>
+nn::Var<T> SequenceNet<T>::features(const nn::Bound<T>& p, const std::vector<Var>& x) const {
+  Var f = pooled(p, x);
+  for (std::size_t k = 0; k + 1 < head_.layers.size(); ++k)
+    f = nn::activate(head_.layers[k](p, f), head_.hidden, head_.leaky_slope);
+  return f;
 }
 
 template <class T>

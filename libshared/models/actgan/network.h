@@ -110,8 +110,14 @@ class SequenceNet {
   const nn::ParameterStore<T>& store() const { return store_; }
   /// Logits [B, out] of the sequence x_1..x_T (rows [B, in]).
   Var operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const;
+  /// What the head's output layer reads: its hidden layer's activations [B, fc] (a recogniser's
+  /// features, for FID, diversity and multimodality of generated actions).
+  Var features(const nn::Bound<T>& p, const std::vector<Var>& x) const;
 
  private:
+  /// The BiLSTM's states the head reads: [B, 2H] or [B, T·2H].
+  Var pooled(const nn::Bound<T>& p, const std::vector<Var>& x) const;
+
   nn::ParameterStore<T> store_;
   nn::BidirectionalLstm<T> lstm_;
   nn::Mlp<T> head_;
