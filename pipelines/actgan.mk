@@ -8,6 +8,10 @@
 #                         real training clips (the data's own level), ours, the direct-pose RNN
 #                         baseline, and the ablations of paper Tables 5-6 (smoothness none / latent
 #                         only / action only, direct latent, no classifier)
+#   $(AG)/S/recognition.md  FID, diversity, multimodality and accuracy (Action2Motion / ACTOR / MDM)
+#                         in the features of a recogniser trained alone on the real training clips
+#                         (train-actgan --classifier-only, a 30-wide head): the real test clips'
+#                         own values, the real training clips, ours, the baseline, the ablations
 #   $(AG)/S/accuracy.md   per class, how often a classifier recognises real test clips and
 #                         generated sequences: ours (trained inside the GAN) and a classifier
 #                         trained alone on the real clips (paper Table 2's Baseline_T/G)
@@ -47,15 +51,19 @@ direct_AG := --direct-latent
 no-cls_AG := --no-classifier
 latent2_AG := --latent 2
 cls-alone_AG := --classifier-only
+# The recogniser of recognition.md: a classifier trained alone on the real training clips, its head
+# 30 wide as Action2Motion's recogniser (FID's covariances are then estimable from a few hundred clips)
+recogniser_AG := --classifier-only --hidden 128 --fc 30
 # Ours and the baseline again at other training seeds (seedN, pose-seedN; seeds.md): how much of a
 # difference between the two is one training run's luck. AG_SEEDS= leaves them out.
 AG_SEEDS ?= 2 3 4 5
 AG_SEED_MODELS := $(foreach n,$(AG_SEEDS),seed$(n) pose-seed$(n))
 $(foreach n,$(AG_SEEDS),$(eval seed$(n)_AG := --seed $(n))$(eval pose-seed$(n)_AG := --generator pose --seed $(n)))
 # $(call ag_train,VARIANT): a model's training options in a rule of set $* (no pre-training without a
-# decoder to train)
-ag_train = --pretrain-iterations $(if $(filter pose% cls-alone,$(1)),0,$(AG_PRETRAIN)) \
-  --iterations $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) $(AG_GAN) $(AG_OPTIONS) $(if $(1),$($(1)_AG))
+# decoder to train,
+# and the recogniser, an instrument, keeps its own size when AG_OPTIONS shrinks the models)
+ag_train = --pretrain-iterations $(if $(filter pose% cls-alone recogniser,$(1)),0,$(AG_PRETRAIN)) \
+  --iterations $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) $(AG_GAN) $(if $(filter recogniser,$(1)),,$(AG_OPTIONS)) $(if $(1),$($(1)_AG))
 # The training subjects (the data's own level in mmd.md: their real clips against the test clips)
 synthetic_TRAIN_SUBJECTS := 1,2,3,4
 utkinect_TRAIN_SUBJECTS := 1,3,5,7,9
@@ -69,10 +77,10 @@ AG_LABEL_direct := ours, direct latent (Table 6)
 AG_LABEL_no-cls := ours, no classifier (Table 2 ablation)
 
 .PHONY: actgan
-actgan: $(foreach s,$(AG_SETS),$(AG)/$(s)/mmd.md $(if $(AG_SEEDS),$(AG)/$(s)/seeds.md) $(AG)/$(s)/accuracy.md $(AG)/$(s)/mixed.png \
+actgan: $(foreach s,$(AG_SETS),$(AG)/$(s)/mmd.md $(if $(AG_SEEDS),$(AG)/$(s)/seeds.md) $(AG)/$(s)/recognition.md $(AG)/$(s)/accuracy.md $(AG)/$(s)/mixed.png \
           $(AG)/$(s)/latent.png $(AG)/$(s)/generated.png $(AG)/$(s)/curve.png $(AG)/$(s)/gen.glb $(AG)/$(s)/mixed.glb)
 	@for s in $(AG_SETS); do \
-	  echo; echo "=== $$s"; cat $(AG)/$$s/mmd.md; echo; $(if $(AG_SEEDS),cat $(AG)/$$s/seeds.md; echo;) cat $(AG)/$$s/accuracy.md; echo; cat $(AG)/$$s/mixed.md; \
+	  echo; echo "=== $$s"; cat $(AG)/$$s/mmd.md; echo; $(if $(AG_SEEDS),cat $(AG)/$$s/seeds.md; echo;) cat $(AG)/$$s/recognition.md; echo; cat $(AG)/$$s/accuracy.md; echo; cat $(AG)/$$s/mixed.md; \
 	  echo; echo "pictures: $(AG)/$$s/generated.png, mixed.png, latent.png, curve.png"; \
 	done
 	$(call pipeline_report,$(AG),actgan)
@@ -104,7 +112,7 @@ $(AG)/%/model-$(1).h5: $(AG)/%/data.h5 $(AG)/%/model-$(1).args
 	$$(call launch,train) $$(BIN)/train-actgan -f --threads $$(TRAIN_THREADS) --print-every 100 --checkpoint-every 200 --resume \
 	  $$(call ag_train,$(1)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
 endef
-$(foreach v,$(AG_VARIANTS) latent2 cls-alone $(AG_SEED_MODELS),$(eval $(call AG_VARIANT_RULES,$(v))))
+$(foreach v,$(AG_VARIANTS) latent2 cls-alone recogniser $(AG_SEED_MODELS),$(eval $(call AG_VARIANT_RULES,$(v))))
 
 # --- generation and measures
 $(AG)/%/gen.h5: $(AG)/%/model.h5
@@ -123,16 +131,18 @@ ag_mmd_row = $$($(call ag_mmd,$(1),avg)) | $$($(call ag_mmd,$(1),seq)) | $$($(ca
 # variety: the mean distance between two sequences of a class over the real test clips' (1: as
 # varied as the data; eval-metrics' pairwise_ratio, averaged over the classes)
 ag_variety = $$($(call json_values,$(1),pairwise_ratio) | awk '{ printf "%.3f", $$1 }')
+# pace: the distance a pose moves per frame over the real test clips' (eval-metrics' pace_ratio)
+ag_pace = $$($(call json_values,$(1),pace_ratio) | awk '{ printf "%.3f", $$1 }')
 $(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json) $(AG)/%/real.mmd.json
 	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences; variety: see below the table. Every model trained against the same discriminator ($(or $(AG_GAN),the paper's BiLSTM)), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) GAN iterations."; echo; \
-	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | variety |"; echo "|---|---:|---:|---:|---:|---:|"; \
-	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) | $(call ag_variety,$(AG)/$*/real.mmd.json) |"; \
-	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) |"; \
+	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | variety | pace |"; echo "|---|---:|---:|---:|---:|---:|---:|"; \
+	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) | $(call ag_variety,$(AG)/$*/real.mmd.json) | $(call ag_pace,$(AG)/$*/real.mmd.json) |"; \
+	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) | $(call ag_pace,$<) |"; \
 	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.mmd.json; \
 	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
 	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; esac; \
-	    echo "| $$l | $(call ag_mmd_row,$$f) | $(call ag_variety,$$f) |"; done; \
-	  echo; echo "variety: per class, the mean distance between two generated sequences over that of two real test clips, averaged over the classes (1: as varied as the data; per class in gen*.mmd.json, eval-metrics' variety table). The classifier's view of the same: accuracy.md."; \
+	    echo "| $$l | $(call ag_mmd_row,$$f) | $(call ag_variety,$$f) | $(call ag_pace,$$f) |"; done; \
+	  echo; echo "variety: per class, the mean distance between two generated sequences over that of two real test clips, averaged over the classes (1: as varied as the data; per class in gen*.mmd.json, eval-metrics' variety table). pace: per class, the mean distance a pose moves from one frame to the next over the real test clips', averaged over the classes (1: the data's pace). The classifier's view of the same: accuracy.md."; \
 	} $(write_if_changed)
 # seeds.md: ours against the baseline at training seed 1 (the models above) and AG_SEEDS, then per
 # measure the mean, the range and at how many seeds ours is lower.
@@ -167,6 +177,32 @@ $(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 
 	  for c in $$($(call h5_values,$(AG)/$*/data.h5,/classes/names) | grep -o '"[^"]*"' | tr -d '"') all; do \
 	    echo "| $$c | $$($(call ag_acc_of,$(AG)/$*/acc-alone-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-alone-gen.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-gen.json,$$c)) |"; \
 	  done; } $(write_if_changed)
+
+# recognition.md: the measures of the field (Action2Motion, ACTOR, MDM) in the recogniser's features.
+# $(AG)/S/NAME.rec.json: eval-metrics --recogniser of gen-*.h5 (or the real training clips, real)
+# against the real test clips.
+define AG_REC_RULES
+$(AG)/%/$(1).rec.json: $(AG)/%/$(1).h5 $(AG)/%/model-recogniser.h5 $(AG)/%/data.h5
+	$$(call launch,eval) $$(BIN)/eval-metrics -q -f $$< $(AG)/$$*/data.h5 --recogniser $(AG)/$$*/model-recogniser.h5 --json $$@.tmp > /dev/null && mv $$@.tmp $$@
+endef
+$(foreach g,gen $(AG_VARIANTS:%=gen-%),$(eval $(call AG_REC_RULES,$(g))))
+$(AG)/%/real.rec.json: $(AG)/%/data.h5 $(AG)/%/model-recogniser.h5
+	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $< --pred-subjects $($*_TRAIN_SUBJECTS) --recogniser $(AG)/$*/model-recogniser.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
+# $(call ag_rec_row,JSON,WHICH): FID | diversity | multimodality | accuracy of WHICH (generated: PRED,
+# real: the real test clips themselves, FID one half against the other)
+ag_rec_row = $$($(call json_values,$(1),recognition.$(2).fid recognition.$(2).diversity recognition.$(2).multimodality recognition.$(2).accuracy) | \
+  awk '{ printf "%.3f | %.3f | %.3f | %.3f", $$1, $$2, $$3, $$4 }')
+$(AG)/%/recognition.md: $(AG)/%/gen.rec.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).rec.json) $(AG)/%/real.rec.json
+	{ echo "$* — in the features of a recogniser trained alone on the real training clips (train-actgan $(recogniser_AG), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) iterations; its 30 features are what its output layer reads): FID of $(AG_COUNT) generated sequences per class against the real test clips, diversity (mean feature distance of 200 random pairs), multimodality (of 20 random pairs within a class, averaged over the classes) and the recogniser's accuracy, as Action2Motion, ACTOR and MDM report them (each pair measure the mean of 10 draws; eval-metrics --recogniser). Lower FID is closer to the data; diversity and multimodality are closest to the real test clips' own."; echo; \
+	  echo "| model | FID | diversity | multimodality | accuracy |"; echo "|---|---:|---:|---:|---:|"; \
+	  echo "| the real test clips (the reference: FID of one half against the other) | $(call ag_rec_row,$(AG)/$*/real.rec.json,real) |"; \
+	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS)) | $(call ag_rec_row,$(AG)/$*/real.rec.json,generated) |"; \
+	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_rec_row,$<,generated) |"; \
+	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.rec.json; \
+	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
+	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; esac; \
+	    echo "| $$l | $(call ag_rec_row,$$f,generated) |"; done; \
+	} $(write_if_changed)
 
 # A generated sequence (the first class's first) and a mixture's, as animated joints for the report page.
 $(AG)/%/gen.glb: $(AG)/%/gen.h5

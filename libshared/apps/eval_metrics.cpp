@@ -151,6 +151,7 @@ void eval_skeletons(const EvalOptions& opt, bool force) {
   js["mmd_motion_avg"] = r.mmd_motion_avg;
   js["mmd_motion_seq"] = r.mmd_motion_seq;
   js["pairwise_ratio"] = r.pairwise_ratio;
+  js["pace_ratio"] = r.pace_ratio;
   for (const auto& m : r.classes)
     js["classes"][m.name] = {{"generated", m.generated},
                              {"real", m.real},
@@ -163,7 +164,9 @@ void eval_skeletons(const EvalOptions& opt, bool force) {
                              {"pairwise_generated", m.pairwise_generated},
                              {"pairwise_real", m.pairwise_real},
                              {"halves_generated", m.halves_generated},
-                             {"halves_real", m.halves_real}};
+                             {"halves_real", m.halves_real},
+                             {"motion_generated", m.motion_generated},
+                             {"motion_real", m.motion_real}};
   if (recognition) js["recognition"] = recognition_json(*recognition, opt.recogniser);
   if (json != "-") {
     fmt::print("{} vs {} ({} frames per sequence; MMD_u^2 max over bandwidths 1e-4..1e9)\n",
@@ -182,13 +185,17 @@ void eval_skeletons(const EvalOptions& opt, bool force) {
         "variety: mean distance between two sequences, and MMD_u^2 of one half of a set against "
         "the other\n"
         "(at the bandwidth of the class's MMD_seq: its sampling noise)\n");
-    fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14}\n", "class", "dist generated", "dist real",
-               "ratio", "halves gen.", "halves real");
+    fmt::print("{:<16} {:>14} {:>14} {:>8} {:>14} {:>14} {:>10}\n", "class", "dist generated",
+               "dist real", "ratio", "halves gen.", "halves real", "pace");
     for (const auto& m : r.classes)
-      fmt::print("{:<16} {:>14.5g} {:>14.5g} {:>8.3f} {:>14.5g} {:>14.5g}\n", m.name,
+      fmt::print("{:<16} {:>14.5g} {:>14.5g} {:>8.3f} {:>14.5g} {:>14.5g} {:>10.3f}\n", m.name,
                  m.pairwise_generated, m.pairwise_real, m.pairwise_generated / m.pairwise_real,
-                 m.halves_generated, m.halves_real);
-    fmt::print("{:<16} {:>14} {:>14} {:>8.3f}\n", "mean", "", "", r.pairwise_ratio);
+                 m.halves_generated, m.halves_real, m.motion_generated / m.motion_real);
+    fmt::print("{:<16} {:>14} {:>14} {:>8.3f} {:>14} {:>14} {:>10.3f}\n", "mean", "", "",
+               r.pairwise_ratio, "", "", r.pace_ratio);
+    fmt::print(
+        "pace: the mean distance a pose moves per frame, generated over real (1: the data's "
+        "pace)\n");
     if (recognition) print_recognition(*recognition, opt.recogniser);
   }
   if (json.empty()) return;

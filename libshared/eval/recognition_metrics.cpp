@@ -43,7 +43,8 @@ std::vector<std::size_t> draw_indices(std::size_t n, int count, Rng& rng) {
 
 Eigen::MatrixXd rows_of(const Eigen::MatrixXd& F, std::size_t first, std::size_t step) {
   std::vector<Eigen::Index> idx;
-  for (auto i = static_cast<Eigen::Index>(first); i < F.rows(); i += static_cast<Eigen::Index>(step))
+  for (auto i = static_cast<Eigen::Index>(first); i < F.rows();
+       i += static_cast<Eigen::Index>(step))
     idx.push_back(i);
   return F(idx, Eigen::all);
 }
@@ -86,8 +87,9 @@ double mean_pair_distance(const Eigen::MatrixXd& F, const std::vector<std::size_
     throw Error("internal: mean_pair_distance of unequal or empty index lists");
   double sum = 0;
   for (std::size_t k = 0; k < first.size(); ++k)
-    sum += (F.row(static_cast<Eigen::Index>(first[k])) - F.row(static_cast<Eigen::Index>(second[k])))
-               .norm();
+    sum +=
+        (F.row(static_cast<Eigen::Index>(first[k])) - F.row(static_cast<Eigen::Index>(second[k])))
+            .norm();
   return sum / static_cast<double>(first.size());
 }
 

@@ -236,6 +236,20 @@ RowMatrixF frame_differences(const RowMatrixF& M, std::size_t frame_size) {
   return M.rightCols(M.cols() - cols) - M.leftCols(M.cols() - cols);
 }
 
+// The mean over rows and frames of the distance a pose moves from one frame to the next (NaN for
+// one frame).
+double mean_frame_motion(const RowMatrixF& M, std::size_t frame_size) {
+  if (M.cols() <= static_cast<Eigen::Index>(frame_size) || M.rows() == 0)
+    return std::numeric_limits<double>::quiet_NaN();
+  const RowMatrixF D = frame_differences(M, frame_size);
+  const auto cols = static_cast<Eigen::Index>(frame_size);
+  double sum = 0;
+  for (Eigen::Index r = 0; r < D.rows(); ++r)
+    for (Eigen::Index t = 0; t < D.cols() / cols; ++t)
+      sum += D.row(r).segment(t * cols, cols).cast<double>().norm();
+  return sum / static_cast<double>(D.rows() * (D.cols() / cols));
+}
+
 // MMD_seq (whole rows) and MMD_avg (per frame index, averaged) of X against Y; the bandwidth of
 // MMD_seq's maximum.
 double mmd_seq_avg(const RowMatrixF& X, const RowMatrixF& Y, std::size_t frame_size, double& seq,
@@ -285,6 +299,8 @@ ClassSkeletonMetrics skeleton_class_metrics(const RowMatrixF& X, const RowMatrix
     m.mmd_motion_seq = m.mmd_motion_avg =
         std::numeric_limits<double>::quiet_NaN();  // one frame: no motion
   spread(X, m.spread_mean, m.spread_sd);
+  m.motion_generated = mean_frame_motion(X, frame_size);
+  m.motion_real = mean_frame_motion(Y, frame_size);
   m.pairwise_generated = mean_pairwise_distance(X);
   m.pairwise_real = mean_pairwise_distance(Y);
   m.halves_generated = halves_mmd(X, seq_bandwidth);
@@ -358,6 +374,7 @@ SkeletonMetrics skeleton_metrics(const io::SkeletonFile& pred, const io::Skeleto
     out.mmd_motion_avg += m.mmd_motion_avg / n;
     out.mmd_motion_seq += m.mmd_motion_seq / n;
     out.pairwise_ratio += m.pairwise_generated / m.pairwise_real / n;
+    out.pace_ratio += m.motion_generated / m.motion_real / n;
   }
   return out;
 }

@@ -15,6 +15,9 @@
 //            between the even- and the odd-numbered halves of the set at the bandwidth where the
 //            class's MMD_seq peaked (the sampling noise of MMD_seq at that many sequences);
 //            generated clips as varied as the real ones have a distance ratio near 1
+//   pace     per class, of the generated and of the real sequences alike: the mean distance a
+//            pose moves from one frame to the next; generated clips that move at the data's
+//            pace have a ratio near 1
 #pragma once
 
 #include <Eigen/Core>
@@ -56,6 +59,8 @@ struct ClassSkeletonMetrics {
   double pairwise_generated = 0, pairwise_real = 0;  ///< mean distance between two sequences
   double halves_generated = 0,
          halves_real = 0;  ///< MMD_seq of one half against the other (NaN below 4)
+  double motion_generated = 0,
+         motion_real = 0;  ///< mean distance a pose moves per frame (NaN for 1-frame sequences)
 };
 
 struct SkeletonMetrics {
@@ -64,6 +69,7 @@ struct SkeletonMetrics {
   double mmd_avg = 0, mmd_seq = 0;  ///< averages over the classes both files have
   double mmd_motion_avg = 0, mmd_motion_seq = 0;
   double pairwise_ratio = 0;  ///< mean over the classes of pairwise_generated / pairwise_real
+  double pace_ratio = 0;      ///< mean over the classes of motion_generated / motion_real
 };
 
 /// The mean Euclidean distance between two different rows of X (double sums; 0 below 2 rows).

@@ -21,8 +21,7 @@ TEST_CASE("FID: hand-computed Gaussians", "[eval][recognition]") {
   P << 1, 0, -1, 0, 0, 2, 0, -2;  // variances a = 2/3, b = 8/3 about mean 0
   for (int i = 0; i < 4; ++i) Q.row(i) << -P(i, 1) + 3, P(i, 0) + 4;
   const double a = 2.0 / 3, b = 8.0 / 3;
-  CHECK(eval::frechet_distance(P, Q) ==
-        Approx(25 + 2 * std::pow(std::sqrt(a) - std::sqrt(b), 2)));
+  CHECK(eval::frechet_distance(P, Q) == Approx(25 + 2 * std::pow(std::sqrt(a) - std::sqrt(b), 2)));
   // Covariances that do not commute: S_P = diag(2/3, 8/3) (P above, mean 0) and R's
   // S_R = [[10/3, 2/3], [2/3, 4/3]] (mean 0). For 2 x 2, tr M^(1/2) = sqrt(tr M + 2 sqrt(det M)):
   // M = S_P S_R has trace 52/9 and determinant 64/9, so tr M^(1/2) = sqrt(52/9 + 16/3) = 10/3
@@ -35,7 +34,8 @@ TEST_CASE("FID: hand-computed Gaussians", "[eval][recognition]") {
   CHECK_THROWS_AS(eval::frechet_distance(one, R), InvalidInput);
 }
 
-TEST_CASE("Diversity and multimodality: the expected distance of random pairs", "[eval][recognition]") {
+TEST_CASE("Diversity and multimodality: the expected distance of random pairs",
+          "[eval][recognition]") {
   // Three points at distances 3, 4, 5: a uniform ordered pair (i, j), i = j allowed, has the mean
   // distance 2 (3 + 4 + 5) / 9 = 8/3.
   Eigen::MatrixXd F(3, 2);

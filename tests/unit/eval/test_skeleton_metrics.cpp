@@ -189,3 +189,23 @@ TEST_CASE("variety: mean distance between two sequences and MMD of a set's halve
   CHECK(copies.classes[0].pairwise_generated == Approx(0).margin(1e-6));
   CHECK(copies.pairwise_ratio < 0.01);
 }
+
+TEST_CASE("pace: the distance a pose moves per frame, generated over real", "[eval]") {
+  io::SkeletonFile real = actions({"walk", "wave"}, 8, 20, 1);
+  io::SkeletonFile gen = real;
+  const auto same = eval::skeleton_metrics(gen, real, {.all_truth = true});
+  CHECK(same.pace_ratio == Approx(1.0));
+  CHECK(same.classes[0].motion_real > 0);
+  // Every pose moved half as far from its sequence's first: x'_t = x_0 + (x_t - x_0) / 2, so
+  // every step from one frame to the next is half as long.
+  for (std::size_t s = 0; s < gen.sequences(); ++s) {
+    const auto first = static_cast<std::size_t>(gen.offsets[s]);
+    for (std::size_t t = first + 1; t < static_cast<std::size_t>(gen.offsets[s + 1]); ++t)
+      for (std::size_t k = 0; k < 60; ++k)
+        gen.poses[t * 60 + k] =
+            gen.poses[first * 60 + k] + (real.poses[t * 60 + k] - real.poses[first * 60 + k]) / 2;
+  }
+  const auto half = eval::skeleton_metrics(gen, real, {.all_truth = true});
+  CHECK(half.pace_ratio == Approx(0.5).epsilon(1e-4));
+  CHECK(half.classes[1].motion_generated == Approx(half.classes[1].motion_real / 2).epsilon(1e-4));
+}
