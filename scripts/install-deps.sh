@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev libopenmesh-dev libhdf5-dev hdf5-tools
   libcli11-dev libfmt-dev libtbb-dev catch2 libzstd-dev nlohmann-json3-dev
   libcairo2-dev fonts-dejavu-core libassimp-dev libtinygltf-dev
+  libminizip-dev  # .npz joint arrays (skel2h5); libassimp-dev depends on it too
   libsuitesparse-dev libopenblas0-pthread  # CHOLMOD factors the reconstruction system; OpenBLAS its dense kernels
   assimp-testmodels zstd gnuplot-nox
   libjs-three  # three.js and its glTF loader: the report pages play the animations (scripts/report)

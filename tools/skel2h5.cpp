@@ -18,11 +18,14 @@ int main(int argc, char** argv) {
       "  BVH                .bvh files (forward kinematics of their channels, through assimp),\n"
       "                     one sequence each, class --label or the file's stem\n"
       "  joint arrays       .npy files of [frames, joints, 3] positions, one sequence each\n"
-      "                     (HumanAct12, NTU's processed skeletons, AMASS-derived sets), or a\n"
-      "                     directory of them or of class folders; at --source-fps; classes\n"
-      "                     from --labels FILE, --label, or each file's folder; joints named by\n"
-      "                     --joints FILE or recognised by their count (22, 24: SMPL; 25:\n"
-      "                     Kinect v2)\n"
+      "                     (HumanAct12, NTU's processed skeletons, AMASS-derived sets), .npz\n"
+      "                     archives of them (np.savez: each member [frames, joints, 3] or\n"
+      "                     [n, frames, joints, 3] a sequence or n; a member 'label', 'labels',\n"
+      "                     'action' or 'y' their classes, 'subject(s)' their subjects, one per\n"
+      "                     sequence in the archive's order), or a directory of them or of class\n"
+      "                     folders; at --source-fps; classes from --labels FILE, --label, the\n"
+      "                     archive, or each file's folder; joints named by --joints FILE or\n"
+      "                     recognised by their count (22, 24: SMPL; 25: Kinect v2)\n"
       "  skeleton .h5       the project's files (synth-actions, an earlier skel2h5)\n"
       "Then: resampling to --fps (linear interpolation in time), a train/test split of whole\n"
       "sequences (--test-subjects, or --test-fraction of each class by --seed), clips of\n"
@@ -50,9 +53,11 @@ int main(int argc, char** argv) {
   app.add_option("--label", opt.label,
                  "BVH, npy: the class of every file (default: BVH the file's stem, npy its\n"
                  "folder's name)");
-  app.add_option("--labels", opt.arrays.labels_file,
-                 "npy: lines 'NAME CLASS [SUBJECT]', NAME a file's stem (# comments); every\n"
-                 "file needs one. SUBJECT (a positive integer) is what --test-subjects holds out");
+  app.add_option(
+      "--labels", opt.arrays.labels_file,
+      "npy: lines 'NAME CLASS [SUBJECT]', NAME a file's stem or, in a .npz of several\n"
+      "sequences, STEM/MEMBER (STEM/MEMBER_i of an [n, ...] member) (# comments); every\n"
+      "sequence needs one. SUBJECT (a positive integer) is what --test-subjects holds out");
   app.add_option("--joints", opt.arrays.joints_file,
                  "npy: lines 'NAME PARENT' in the arrays' joint order, PARENT an earlier joint's\n"
                  "name or - for the root (default: recognised by the count: 22 SMPL body joints,\n"

@@ -43,7 +43,7 @@ std::string format_of_file(const std::string& path) {
   if (is_msr_action3d_name(path)) return "msr";
   const std::string ext = lower_extension(path);
   if (ext == ".bvh") return "bvh";
-  if (ext == ".npy") return "npy";
+  if (ext == ".npy" || ext == ".npz") return "npy";
   if (ext == ".h5" || ext == ".hdf5") return "skeleton";
   return {};
 }
@@ -106,12 +106,13 @@ ResolvedInputs resolve_inputs(const Skel2h5Options& opt) {
     r.files.push_back(f.path);
   }
   if (kinds.empty())
-    throw InvalidInput(opt.format == "auto"
-                           ? "cannot tell the format (a UTKinect directory or actionLabel.txt, "
-                             "aXX_sYY_eZZ_skeleton3D.txt files or a directory of them, .bvh, .npy "
-                             "joint arrays, or a skeleton .h5); use --format"
-                           : fmt::format("no input file of --format {}", opt.format),
-                       files.front().path);
+    throw InvalidInput(
+        opt.format == "auto"
+            ? "cannot tell the format (a UTKinect directory or actionLabel.txt, "
+              "aXX_sYY_eZZ_skeleton3D.txt files or a directory of them, .bvh, .npy or "
+              ".npz joint arrays, or a skeleton .h5); use --format"
+            : fmt::format("no input file of --format {}", opt.format),
+        files.front().path);
   if (kinds.size() > 1)
     throw InvalidInput(fmt::format("inputs of more than one format ({}): give one kind at a time",
                                    fmt::join(kinds, ", ")),

@@ -16,6 +16,7 @@
 #include "core/log.h"
 #include "core/word_lines.h"
 #include "io/npy_file.h"
+#include "io/npz_file.h"
 #include "io/skeleton_file.h"
 
 namespace fs = std::filesystem;
@@ -384,6 +385,127 @@ void joint_layout(RawSkeletonCollection& c, std::size_t joints, const std::strin
 
 }  // namespace
 
+namespace {
+
+// One sequence's joint array and what its file says of it.
+struct ArraySequence {
+  std::string name;   ///< the file's stem, or STEM/KEY (and _i) inside a .npz of several
+  std::string where;  ///< for errors: the file, or "FILE (KEY)"
+  std::int64_t frames = 0, joints = 0;
+  std::vector<double> poses;  ///< [frames, joints, 3]
+  std::string label;          ///< from the archive ("" = none)
+  std::int32_t subject = 0;   ///< from the archive (0 = none)
+};
+
+bool is_sequence_array(const io::NpyArray& a) {
+  return !a.is_text() &&
+         ((a.shape.size() == 3 && a.shape[2] == 3) || (a.shape.size() == 4 && a.shape[3] == 3));
+}
+
+// A .npy file: one sequence, [frames, joints, 3].
+ArraySequence npy_sequence(const std::string& path) {
+  io::NpyArray a = io::read_npy(path);
+  if (a.is_text() || a.shape.size() != 3 || a.shape[2] != 3)
+    throw InvalidInput(fmt::format("an array of shape ({}): joint positions are [frames, "
+                                   "joints, 3]",
+                                   fmt::join(a.shape, ", ")),
+                       path);
+  ArraySequence q;
+  q.name = fs::path(path).stem().string();
+  q.where = path;
+  q.frames = a.shape[0];
+  q.joints = a.shape[1];
+  q.poses = std::move(a.values);
+  return q;
+}
+
+// An archive member's values as class names (integers as their decimal text) or subjects.
+std::vector<std::string> label_texts(const io::NpyArray& a, const std::string& where) {
+  if (a.is_text()) return a.strings;
+  std::vector<std::string> out;
+  for (const double v : a.values) {
+    if (v != std::floor(v) || std::abs(v) > 1e15)
+      throw InvalidInput(fmt::format("label {} is neither text nor an integer", v), where);
+    out.push_back(fmt::format("{}", static_cast<std::int64_t>(v)));
+  }
+  return out;
+}
+
+// A .npz archive (np.savez): each member [frames, joints, 3] one sequence, each [n, frames,
+// joints, 3] n of them; a member 'label' / 'labels' / 'action' / 'y' gives their classes and
+// 'subject' / 'subjects' their subjects, one per sequence in the archive's order.
+std::vector<ArraySequence> npz_sequences(const std::string& path) {
+  const std::vector<io::NpzMember> members = io::read_npz(path);
+  const std::string stem = fs::path(path).stem().string();
+  std::vector<ArraySequence> out;
+  const io::NpzMember *labels = nullptr, *subjects = nullptr;
+  std::vector<std::string> ignored;
+  for (const auto& m : members) {
+    const std::string where = fmt::format("{} ({})", path, m.name);
+    if (m.name == "label" || m.name == "labels" || m.name == "action" || m.name == "y") {
+      if (labels) throw InvalidInput("labels given by two members", where);
+      labels = &m;
+    } else if (m.name == "subject" || m.name == "subjects") {
+      if (subjects) throw InvalidInput("subjects given by two members", where);
+      subjects = &m;
+    } else if (!is_sequence_array(m.array)) {
+      ignored.push_back(fmt::format("{} ({})", m.name, fmt::join(m.array.shape, ", ")));
+    } else {
+      const auto& a = m.array;
+      const bool several = a.shape.size() == 4;
+      const std::int64_t n = several ? a.shape[0] : 1;
+      const auto size =
+          static_cast<std::size_t>(a.shape[several ? 1 : 0] * a.shape[several ? 2 : 1] * 3);
+      for (std::int64_t i = 0; i < n; ++i) {
+        ArraySequence q;
+        q.name =
+            several ? fmt::format("{}/{}_{}", stem, m.name, i) : fmt::format("{}/{}", stem, m.name);
+        q.where = where;
+        q.frames = a.shape[several ? 1 : 0];
+        q.joints = a.shape[several ? 2 : 1];
+        const auto first =
+            a.values.begin() + static_cast<std::ptrdiff_t>(i) * static_cast<std::ptrdiff_t>(size);
+        q.poses.assign(first, first + static_cast<std::ptrdiff_t>(size));
+        out.push_back(std::move(q));
+      }
+    }
+  }
+  if (out.empty())
+    throw InvalidInput(fmt::format("no member of shape [frames, joints, 3] (members: {})",
+                                   fmt::join(ignored, ", ")),
+                       path);
+  if (!ignored.empty())
+    log::warn("{}: members that are not joint arrays were left out: {}", path,
+              fmt::join(ignored, ", "));
+  if (out.size() == 1) out.front().name = stem;
+  const auto one_per_sequence = [&](const io::NpzMember& m) {
+    const std::string where = fmt::format("{} ({})", path, m.name);
+    std::vector<std::string> v = label_texts(m.array, where);
+    if (v.size() != out.size())
+      throw InvalidInput(
+          fmt::format("{} values for the archive's {} sequences", v.size(), out.size()), where);
+    return v;
+  };
+  if (labels) {
+    const auto v = one_per_sequence(*labels);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i].label = v[i];
+  }
+  if (subjects) {
+    const auto v = one_per_sequence(*subjects);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      std::int32_t s = 0;
+      const auto [stop, ec] = std::from_chars(v[i].data(), v[i].data() + v[i].size(), s);
+      if (ec != std::errc() || stop != v[i].data() + v[i].size() || s < 1)
+        throw InvalidInput(fmt::format("subject '{}' is not a positive integer", v[i]),
+                           fmt::format("{} ({})", path, subjects->name));
+      out[i].subject = s;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
                                         const std::string& label, const JointArrayOptions& opt) {
   if (!(opt.fps > 0)) throw UsageError("--source-fps must be positive");
@@ -410,43 +532,50 @@ RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
   RawSkeletonCollection c;
   c.frame_rate = opt.fps;
   for (const auto& path : files) {
-    const io::NpyArray a = io::read_npy(path);
-    if (a.shape.size() != 3 || a.shape[2] != 3 || a.shape[0] < 1 || a.shape[1] < 1)
-      throw InvalidInput(fmt::format("an array of shape ({}): joint positions are [frames, "
-                                     "joints, 3]",
-                                     fmt::join(a.shape, ", ")),
-                         path);
-    const auto joints = static_cast<std::size_t>(a.shape[1]);
-    if (c.joint_names.empty()) joint_layout(c, joints, opt.joints_file, path);
-    if (joints != c.joints())
-      throw InvalidInput(
-          fmt::format("{} joints per frame where {} had {}", joints, files.front(), c.joints()),
-          path);
-    for (std::size_t k = 0; k < a.values.size(); ++k)
-      if (!std::isfinite(a.values[k]))
-        throw InvalidInput(fmt::format("a non-finite coordinate at frame {} joint {}",
-                                       k / (joints * 3), k / 3 % joints),
-                           path);
-    RawSkeletonSequence q;
-    q.name = fs::path(path).stem().string();
-    if (!opt.labels_file.empty()) {
-      const auto it = labels.find(q.name);
-      if (it == labels.end())
-        throw InvalidInput(fmt::format("has no line '{} CLASS' in {}", q.name, opt.labels_file),
-                           path);
-      q.label = it->second.label, q.subject = it->second.subject;
-    } else {
-      q.label = label.empty() ? fs::path(path).parent_path().filename().string() : label;
-      if (q.label.empty() || q.label == "." || q.label == "..")
+    std::vector<ArraySequence> found;
+    if (fs::path(path).extension() == ".npz")
+      found = npz_sequences(path);
+    else
+      found.push_back(npy_sequence(path));
+    for (auto& a : found) {
+      if (a.frames < 1 || a.joints < 1)
+        throw InvalidInput(fmt::format("an array of {} frames of {} joints", a.frames, a.joints),
+                           a.where);
+      const auto joints = static_cast<std::size_t>(a.joints);
+      if (c.joint_names.empty()) joint_layout(c, joints, opt.joints_file, a.where);
+      if (joints != c.joints())
         throw InvalidInput(
-            "has no class: give --labels FILE or --label, or put each class's "
-            "files in a folder of its name",
-            path);
+            fmt::format("{} joints per frame where {} had {}", joints, files.front(), c.joints()),
+            a.where);
+      for (std::size_t k = 0; k < a.poses.size(); ++k)
+        if (!std::isfinite(a.poses[k]))
+          throw InvalidInput(fmt::format("a non-finite coordinate at frame {} joint {}",
+                                         k / (joints * 3), k / 3 % joints),
+                             a.where);
+      RawSkeletonSequence q;
+      q.name = a.name;
+      if (!opt.labels_file.empty()) {
+        const auto it = labels.find(q.name);
+        if (it == labels.end())
+          throw InvalidInput(fmt::format("has no line '{} CLASS' in {}", q.name, opt.labels_file),
+                             a.where);
+        q.label = it->second.label, q.subject = it->second.subject;
+      } else {
+        q.label = !label.empty()     ? label
+                  : !a.label.empty() ? a.label
+                                     : fs::path(path).parent_path().filename().string();
+        q.subject = a.subject;
+        if (q.label.empty() || q.label == "." || q.label == "..")
+          throw InvalidInput(
+              "has no class: give --labels FILE or --label, put each class's files in a folder "
+              "of its name, or (.npz) store a member 'label'",
+              a.where);
+      }
+      for (std::int64_t t = 0; t < a.frames; ++t)
+        q.times.push_back(static_cast<double>(t) / opt.fps);
+      q.poses.assign(a.poses.begin(), a.poses.end());
+      c.sequences.push_back(std::move(q));
     }
-    for (std::int64_t t = 0; t < a.shape[0]; ++t)
-      q.times.push_back(static_cast<double>(t) / opt.fps);
-    q.poses.assign(a.values.begin(), a.values.end());
-    c.sequences.push_back(std::move(q));
   }
   return c;
 }

@@ -73,12 +73,16 @@ struct JointArrayOptions {
 };
 
 /// Joint-position arrays, one .npy file per sequence ([frames, joints, 3], any float or integer
-/// type): every file must have the same joint count. A layout is recognised by its count: 22
+/// type), or .npz archives of them (np.savez; each member [frames, joints, 3] one sequence, each
+/// [n, frames, joints, 3] n, named STEM/MEMBER(_i) — the stem alone when the archive holds one;
+/// members 'label' / 'labels' / 'action' / 'y' (text or integers) and 'subject' / 'subjects' one
+/// value per sequence in the archive's order; other members left out with a warning): every
+/// sequence must have the same joint count. A layout is recognised by its count: 22
 /// (SMPL's body joints without the hands, as HumanML3D and other AMASS-derived sets keep them),
 /// 24 (SMPL, as HumanAct12 has them), 25 (Kinect v2, as NTU RGB+D has them); any other count needs
-/// `joints_file`. A file's class: its line in `labels_file`, else `label` (every file's), else its
-/// folder's name. InvalidInput naming the file (and line) on a malformed array or list, a file
-/// without a class, a parent that is not an earlier joint.
+/// `joints_file`. A sequence's class: its line in `labels_file`, else `label` (every file's), else
+/// its archive's label, else its folder's name. InvalidInput naming the file (and line) on a
+/// malformed array or list, a file without a class, a parent that is not an earlier joint.
 RawSkeletonCollection read_joint_arrays(const std::vector<std::string>& files,
                                         const std::string& label, const JointArrayOptions& opt);
 

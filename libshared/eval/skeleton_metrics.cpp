@@ -334,7 +334,8 @@ SkeletonPairing pair_skeleton_classes(const io::SkeletonFile& pred, const io::Sk
     const auto tc =
         std::find(truth.class_names.begin(), truth.class_names.end(), pred.class_names[c]);
     if (tc == truth.class_names.end()) continue;
-    SkeletonPairing::Class k{.name = pred.class_names[c]};
+    SkeletonPairing::Class k;
+    k.name = pred.class_names[c];
     for (std::size_t s = 0; s < pred.sequences(); ++s)
       if (pred_in[s] && pred.labels[s] == static_cast<std::int32_t>(c)) k.pred.push_back(s);
     for (std::size_t s = 0; s < truth.sequences(); ++s)

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <bit>
+#include <charconv>
 #include <cstring>
 #include <limits>
 #include <regex>
@@ -47,6 +48,51 @@ T load(const char* p) {
   return v;
 }
 
+// One code point as UTF-8.
+void append_utf8(std::string& out, std::uint32_t c) {
+  if (c < 0x80) {
+    out += static_cast<char>(c);
+  } else if (c < 0x800) {
+    out += static_cast<char>(0xC0 | (c >> 6));
+    out += static_cast<char>(0x80 | (c & 0x3F));
+  } else if (c < 0x10000) {
+    out += static_cast<char>(0xE0 | (c >> 12));
+    out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (c & 0x3F));
+  } else {
+    out += static_cast<char>(0xF0 | (c >> 18));
+    out += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
+    out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
+    out += static_cast<char>(0x80 | (c & 0x3F));
+  }
+}
+
+// numpy's unicode dtype '<U n': n UTF-32LE code units per element, NUL-padded; a scalar or a list.
+void read_strings(NpyArray& a, const std::string& kind, std::size_t count, const Header& h,
+                  std::string_view data, const std::string& name) {
+  std::size_t chars = 0;
+  const auto [stop, ec] = std::from_chars(kind.data() + 1, kind.data() + kind.size(), chars);
+  if (ec != std::errc() || stop != kind.data() + kind.size() || chars == 0 || chars > 4096)
+    throw InvalidInput(fmt::format("a .npy string dtype '{}' not understood", h.descr), name);
+  if (h.shape.size() > 1)
+    throw InvalidInput("a .npy array of strings with more than one dimension", name);
+  if (data.size() / (4 * chars) < count)
+    throw InvalidInput(fmt::format("a truncated .npy array: {} bytes of data for {} strings of {}",
+                                   data.size(), count, h.descr),
+                       name);
+  for (std::size_t k = 0; k < count; ++k) {
+    std::string text;
+    for (std::size_t i = 0; i < chars; ++i) {
+      const auto c = load<std::uint32_t>(data.data() + 4 * (k * chars + i));
+      if (c == 0) break;
+      if (c > 0x10FFFF || (c >= 0xD800 && c <= 0xDFFF))
+        throw InvalidInput(fmt::format("string {} has code point {:#x}, not unicode", k, c), name);
+      append_utf8(text, c);
+    }
+    a.strings.push_back(std::move(text));
+  }
+}
+
 }  // namespace
 
 NpyArray parse_npy(std::string_view bytes, const std::string& name) {
@@ -76,12 +122,17 @@ NpyArray parse_npy(std::string_view bytes, const std::string& name) {
   const char order = h.descr.empty() ? '?' : h.descr[0];
   const std::string kind = h.descr.size() > 1 ? h.descr.substr(1) : "";
   const bool little = order == '<' || order == '|' || order == '=';
+  if (little && kind.size() > 1 && kind[0] == 'U') {  // labels: fixed-width UTF-32 strings
+    read_strings(a, kind, count, h, bytes.substr(data_at), name);
+    return a;
+  }
   std::size_t width = 0;
   if (kind == "f4" || kind == "i4") width = 4;
   if (kind == "f8" || kind == "i8") width = 8;
   if (!little || width == 0)
     throw InvalidInput(fmt::format("a .npy array of dtype '{}': only little-endian float32, "
-                                   "float64, int32 and int64 numbers are read",
+                                   "float64, int32 and int64 numbers (and unicode strings) are "
+                                   "read",
                                    h.descr),
                        name);
   if (bytes.size() - data_at < count * width)

@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "io/npy_file.h"
+#include "io/npz_file.h"
 
 using namespace df;
 
@@ -77,11 +78,49 @@ TEST_CASE("npy: what is not read is an InvalidInput naming the file", "[io][npy]
       Catch::Contains("dtype '>f4'"));
   REQUIRE_THROWS_WITH(
       io::parse_npy(
-          npy(1, "{'descr': '<U3', 'fortran_order': False, 'shape': (1,), }", std::string(12, 'a')),
+          npy(1, "{'descr': '|S3', 'fortran_order': False, 'shape': (1,), }", std::string(12, 'a')),
           "x.npy"),
-      Catch::Contains("dtype '<U3'"));
+      Catch::Contains("dtype '|S3'"));
   REQUIRE_THROWS_WITH(
       io::parse_npy(npy(1, "{'descr': '<f4', 'shape': (1,), }", raw<float>({1})), "x.npy"),
       Catch::Contains("without 'fortran_order'"));
   REQUIRE_THROWS_WITH(io::parse_npy(npy(7, ok, ""), "x.npy"), Catch::Contains("version 7"));
+}
+
+TEST_CASE("npy: unicode strings (class labels) as UTF-8", "[io][npy]") {
+  // ['walk', 'héllo'] as '<U5': five UTF-32LE code units each, NUL-padded
+  const auto list =
+      io::parse_npy(npy(1, "{'descr': '<U5', 'fortran_order': False, 'shape': (2,), }",
+                        raw<std::uint32_t>({'w', 'a', 'l', 'k', 0, 'h', 0xE9, 'l', 'l', 'o'})),
+                    "list");
+  CHECK(list.is_text());
+  CHECK(list.values.empty());
+  CHECK(list.strings == std::vector<std::string>{"walk", "h\xC3\xA9llo"});
+  const auto scalar =
+      io::parse_npy(npy(1, "{'descr': '<U3', 'fortran_order': False, 'shape': (), }",
+                        raw<std::uint32_t>({'n', 'o', 'd'})),
+                    "scalar");
+  CHECK(scalar.strings == std::vector<std::string>{"nod"});
+  CHECK_THROWS_AS(io::parse_npy(npy(1, "{'descr': '<U3', 'fortran_order': False, 'shape': (2,), }",
+                                    raw<std::uint32_t>({'n', 'o', 'd'})),
+                                "short"),
+                  InvalidInput);  // 2 strings, data for 1
+  CHECK_THROWS_AS(io::parse_npy(npy(1, "{'descr': '<U1', 'fortran_order': False, 'shape': (1,), }",
+                                    raw<std::uint32_t>({0xD800})),
+                                "surrogate"),
+                  InvalidInput);
+  CHECK_THROWS_AS(
+      io::parse_npy(npy(1, "{'descr': '<U2', 'fortran_order': False, 'shape': (1, 1), }",
+                        raw<std::uint32_t>({'a', 'b'})),
+                    "2-D"),
+      InvalidInput);
+}
+
+TEST_CASE("npz: what is not a zip archive of .npy members is refused", "[io][npy]") {
+  CHECK_THROWS_WITH(io::parse_npz("", "empty.npz"), Catch::Contains("not a .npz archive"));
+  CHECK_THROWS_WITH(io::parse_npz("PK\x03\x04 and then nothing", "cut.npz"),
+                    Catch::Contains("not a .npz archive"));
+  // An empty zip archive (the end-of-central-directory record alone): minizip opens none
+  const std::string empty_zip("PK\x05\x06\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0\0", 22);
+  CHECK_THROWS_AS(io::parse_npz(empty_zip, "none.npz"), InvalidInput);
 }
