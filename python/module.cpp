@@ -282,17 +282,13 @@ PYBIND11_MODULE(deformflow, m) {
         auto p = doubles(pred, "pred", {t.shape(0), t.shape(1), 3});
         const py::ssize_t n = t.shape(0), V = t.shape(1);
         // the parts aligned one by one, as eval-metrics does (one part without faces)
-        std::vector<int> part(static_cast<std::size_t>(V), 0);
-        int parts = 1;
-        if (!faces.is_none())
-          part = geometry::connected_components(
-              geometry::mesh_topology(faces_of(faces.cast<py::array>(), V), static_cast<int>(V)), 0,
-              &parts);
+        const eval::MeshParts parts =
+            faces.is_none() ? eval::mesh_parts(Faces(0, 3), V)
+                            : eval::mesh_parts(faces_of(faces.cast<py::array>(), V), V);
         double sum = 0;
         for (py::ssize_t k = 0; k < n; ++k) {
           const Vertices T = vertices_of(t.data() + k * V * 3, V);
-          sum += eval::unit_ball_squared_error(
-              eval::align_translation(vertices_of(p.data() + k * V * 3, V), T, part, parts), T);
+          sum += eval::erms_share(vertices_of(p.data() + k * V * 3, V), T, parts);
         }
         return eval::erms_from_sum(sum, static_cast<double>(n), static_cast<double>(V));
       },

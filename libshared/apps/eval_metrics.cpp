@@ -228,14 +228,13 @@ void check_options(const EvalOptions& opt) {
 // The template's topology and parts, which every measure of one file pair shares.
 struct Shape {
   geometry::MeshTopology topo;
-  std::vector<int> component;  ///< connected part of each vertex
-  int n_components = 0;
+  MeshParts parts;
 };
 
 Shape shape_of(const FrameSet& pred) {
-  Shape sh{
-      geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())), {}, 0};
-  sh.component = geometry::connected_components(sh.topo, 0, &sh.n_components);
+  Shape sh{geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())),
+           {}};
+  sh.parts = mesh_parts(sh.topo);
   return sh;
 }
 
@@ -328,9 +327,8 @@ PairMeasures measure_pairs(FrameSet& pred, FrameSet& truth, const Shape& sh,
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
     const auto [i, j] = pairs[k];
     const Vertices& gt = truth.positions[j];
-    aligned[k] = opt.align == "rigid"
-                     ? align_rigid(pred.positions[i], gt, sh.component, sh.n_components)
-                     : align_translation(pred.positions[i], gt, sh.component, sh.n_components);
+    aligned[k] = align_parts(pred.positions[i], gt, sh.parts,
+                             opt.align == "rigid" ? Alignment::rigid : Alignment::translation);
     PairResult& r = pm.results[k];
     r.error = mean_vertex_error(aligned[k], gt);
     r.unit_ball = unit_ball_squared_error(aligned[k], gt);
@@ -385,7 +383,7 @@ std::pair<double, std::size_t> sample_spread(FrameSet& pred, const SampleGroups&
         for (std::size_t b = a + 1; b < seqs.size(); ++b) {
           const auto& pa = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[a]] + t)];
           const auto& pb = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[b]] + t)];
-          spread += mean_vertex_error(align_translation(pb, pa, sh.component, sh.n_components), pa);
+          spread += mean_vertex_error(align_parts(pb, pa, sh.parts), pa);
           ++n;
         }
     }

@@ -249,16 +249,13 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
   // What a colouring needs per input, computed once for all its rows.
   const std::size_t n_inputs = sets.size();
   std::vector<std::vector<std::vector<double>>> datasets(n_inputs);
-  std::vector<std::vector<int>> components(n_inputs);
-  std::vector<int> n_components(n_inputs, 0);
+  std::vector<eval::MeshParts> parts(n_inputs);
   std::vector<Eigen::VectorXd> identity(n_inputs);
   for (std::size_t k = 0; k < n_inputs; ++k) {
     const auto& s = sets[k];
     if (col.mode == "dataset") datasets[k] = dataset_values(s, col.dataset, col.units);
     if (col.mode == "error")
-      components[k] = geometry::connected_components(
-          geometry::mesh_topology(s.tmpl.faces, static_cast<int>(s.vertices())), 0,
-          &n_components[k]);
+      parts[k] = eval::mesh_parts(s.tmpl.faces, static_cast<Eigen::Index>(s.vertices()));
     if (col.mode == "deformation") {
       if (s.raw.rows() == 0)
         throw InvalidInput("has no ACAP features for --color deformation", s.path);
@@ -280,7 +277,7 @@ std::pair<double, double> prepare_meshes(std::vector<Row>& rows,
         // drawn in the plain mesh colour
       } else if (col.mode == "error") {
         const Vertices& gt = truth->positions[truth_frame(s, i, *truth)];
-        p = eval::align_translation(p, gt, components[r.input], n_components[r.input]);
+        p = eval::align_parts(p, gt, parts[r.input]);
         v.resize(s.vertices());
         for (Eigen::Index k = 0; k < p.rows(); ++k)
           v[static_cast<std::size_t>(k)] = (p.row(k) - gt.row(k)).norm() / truth_diag;

@@ -69,6 +69,27 @@ double unit_ball_squared_error(const Vertices& pred, const Vertices& truth) {
   return ((pred - truth) * s).squaredNorm();
 }
 
+MeshParts mesh_parts(const Faces& faces, Eigen::Index vertices) {
+  if (faces.rows() == 0) return {std::vector<int>(static_cast<std::size_t>(vertices), 0), 1};
+  return mesh_parts(geometry::mesh_topology(faces, static_cast<int>(vertices)));
+}
+
+MeshParts mesh_parts(const geometry::MeshTopology& topo) {
+  MeshParts p;
+  p.of_vertex = geometry::connected_components(topo, 0, &p.count);
+  return p;
+}
+
+Vertices align_parts(const Vertices& pred, const Vertices& truth, const MeshParts& parts,
+                     Alignment how) {
+  return how == Alignment::rigid ? align_rigid(pred, truth, parts.of_vertex, parts.count)
+                                 : align_translation(pred, truth, parts.of_vertex, parts.count);
+}
+
+double erms_share(const Vertices& pred, const Vertices& truth, const MeshParts& parts) {
+  return unit_ball_squared_error(align_parts(pred, truth, parts), truth);
+}
+
 double erms_from_sum(double unit_ball_sum, double frames, double vertices) {
   return 1000.0 * std::sqrt(unit_ball_sum / (3.0 * frames * vertices));
 }

@@ -25,6 +25,27 @@ Vertices align_translation(const Vertices& pred, const Vertices& truth,
 Vertices align_rigid(const Vertices& pred, const Vertices& truth, const std::vector<int>& component,
                      int n_components);
 
+/// A mesh's connected parts: the error measures align each on its own (a reconstruction from ACAP
+/// features is fixed up to one translation per part).
+struct MeshParts {
+  std::vector<int> of_vertex;  ///< the part of each vertex
+  int count = 1;
+};
+
+/// The connected parts of a mesh with these faces (no faces: one part of all `vertices`).
+MeshParts mesh_parts(const Faces& faces, Eigen::Index vertices);
+MeshParts mesh_parts(const geometry::MeshTopology& topo);
+
+enum class Alignment { translation, rigid };
+
+/// `pred` moved onto `truth` part by part: align_translation or align_rigid.
+Vertices align_parts(const Vertices& pred, const Vertices& truth, const MeshParts& parts,
+                     Alignment how = Alignment::translation);
+
+/// One frame's share of E_rms, as every E_rms here is measured: unit_ball_squared_error of `pred`
+/// aligned to `truth` part by part (translation). E_rms over frames: erms_from_sum of their sum.
+double erms_share(const Vertices& pred, const Vertices& truth, const MeshParts& parts);
+
 /// Mean over vertices of ‖pred_i − truth_i‖.
 double mean_vertex_error(const Vertices& pred, const Vertices& truth);
 

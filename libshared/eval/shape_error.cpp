@@ -23,8 +23,7 @@ ShapeErms::ShapeErms(const std::string& data, const std::vector<std::int64_t>& f
   for (auto f : wanted) truth_.push_back(fs.positions[f]);
   solver_ = std::make_unique<geometry::Reconstructor>(fs.tmpl.vertices, fs.tmpl.faces, 0,
                                                       geometry::ReconstructionSolver::gradients);
-  component_ = solver_->component_of();
-  n_components_ = solver_->components();
+  parts_ = {solver_->component_of(), solver_->components()};
 }
 
 ShapeErms::~ShapeErms() = default;
@@ -44,8 +43,7 @@ double ShapeErms::operator()(
           nz_.denormalize(static_cast<int>(c % geometry::kFeatureDims),
                           static_cast<double>(normalized(static_cast<Eigen::Index>(k), c)));
     const Vertices p = solver_->solve(raw.data());
-    squared[k] = unit_ball_squared_error(align_translation(p, truth_[k], component_, n_components_),
-                                         truth_[k]);
+    squared[k] = erms_share(p, truth_[k], parts_);
   });
   double sum = 0;
   for (double s : squared) sum += s;

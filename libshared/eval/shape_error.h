@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/mesh_metrics.h"
 #include "geometry/acap_features.h"
 #include "geometry/reconstruction.h"
 #include "io/mesh_io.h"
@@ -34,8 +35,7 @@ class ShapeErms {
   geometry::Normalization nz_;
   std::unique_ptr<geometry::Reconstructor> solver_;
   std::vector<Vertices> truth_;
-  std::vector<int> component_;
-  int n_components_ = 0;
+  MeshParts parts_;
 };
 
 }  // namespace df::eval
