@@ -69,9 +69,10 @@ using Archive = std::unique_ptr<void, CloseArchive>;
 // The current member's bytes (at most its declared size; the CRC checked on close).
 std::string member_bytes(unzFile zip, const unz_file_info64& info, const std::string& where) {
   if (unzOpenCurrentFile(zip) != UNZ_OK)
-    throw InvalidInput("a member that cannot be opened (an unknown compression or damaged "
-                       "header)",
-                       where);
+    throw InvalidInput(
+        "a member that cannot be opened (an unknown compression or damaged "
+        "header)",
+        where);
   std::string out;
   char chunk[1 << 16];
   int n = 0;
@@ -86,9 +87,9 @@ std::string member_bytes(unzFile zip, const unz_file_info64& info, const std::st
   if (n < 0) throw InvalidInput(fmt::format("a damaged member (zip error {})", n), where);
   if (closed == UNZ_CRCERROR) throw InvalidInput("a damaged member (CRC mismatch)", where);
   if (out.size() != info.uncompressed_size)
-    throw InvalidInput(fmt::format("a member of {} bytes, {} declared", out.size(),
-                                   info.uncompressed_size),
-                       where);
+    throw InvalidInput(
+        fmt::format("a member of {} bytes, {} declared", out.size(), info.uncompressed_size),
+        where);
   return out;
 }
 
