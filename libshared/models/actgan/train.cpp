@@ -404,6 +404,16 @@ ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
   return d;
 }
 
+void apply_learning_defaults(ActganConfig& net, ActganTraining& training) {
+  net.discriminator = "critic";
+  training.d_steps = 5;
+}
+
+void apply_paper_form(ActganConfig& net, ActganTraining& training) {
+  net.discriminator = "bilstm";
+  training.d_steps = 1;
+}
+
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   check_options(opt);
   const TrainingClaims claims =

@@ -57,6 +57,14 @@ struct ActganTrainOptions {
 LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape);
 LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<float>& tape);
 
+/// What train-actgan uses unless --paper-form, chosen on validation parts (docs/actgan.md): a
+/// Wasserstein critic of whole clips with the gradient penalty and 5 critic steps per iteration
+/// (the paper's BiLSTM discriminator moved the sequences away from the data in every setting
+/// tried). Omega keeps both terms, as the paper has it.
+void apply_learning_defaults(ActganConfig& net, ActganTraining& training);
+/// The paper's form: the BiLSTM discriminator on binary cross-entropy, one discriminator step.
+void apply_paper_form(ActganConfig& net, ActganTraining& training);
+
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common);
 
 }  // namespace df::models
