@@ -8,8 +8,8 @@
 #   $(AG)/S/mmd.md        MMD_avg and MMD_seq of 100 generated sequences per class against the
 #                         real test clips, and the same of their frame differences (motion): the
 #                         real training clips (the data's own level), ours, the direct-pose RNN
-#                         baseline, and the ablations of paper Tables 5-6 (smoothness none / latent
-#                         only / action only, direct latent, no classifier)
+#                         baseline, the ablations of paper Tables 5-6 (smoothness none / latent
+#                         only / both, direct latent, no classifier) and ours in the paper's form
 #   $(AG)/S/recognition.md  FID, diversity, multimodality and accuracy (Action2Motion / ACTOR / MDM)
 #                         in the features of a recogniser trained alone on the real training clips
 #                         (train-actgan --classifier-only, a 30-wide head): the real test clips'
@@ -35,9 +35,9 @@ AG_PRETRAIN ?= 1000
 # Wasserstein critic of whole clips with the gradient penalty holds them at the data's level and
 # its held-out curves stop improving at about 600 GAN iterations on synthetic actions (flat to
 # 2,300) and at 800 on UTKinect (subject 9 held out; every measure's minimum there). That critic
-# with 5 critic steps is train-actgan's default since stop 76 (--paper-form: the BiLSTM), so every
-# model here trains with the tool's defaults; the direct-pose baseline and the ablations against
-# the same critic. AG_GAN adds options to every model; AG_ITERATIONS, when set, overrides the
+# with 5 critic steps is train-actgan's default since stop 76 (with Omega's pose term only;
+# --paper-form: the BiLSTM, both terms), so every model here trains with the tool's defaults; the
+# direct-pose baseline and the ablations against the same critic. AG_GAN adds options to every model; AG_ITERATIONS, when set, overrides the
 # per-set counts.
 AG_CRITIC := --discriminator critic --d-steps 5
 AG_GAN ?=
@@ -48,11 +48,11 @@ gestures_AG_ITERATIONS := 800
 AG_ITERATIONS ?=
 AG_OPTIONS ?=
 AG_COUNT ?= 100
-AG_VARIANTS := pose no-smooth latent-only action-only direct no-cls paper
+AG_VARIANTS := pose no-smooth latent-only both-smooth direct no-cls paper
 pose_AG := --generator pose
 no-smooth_AG := --smoothness none
 latent-only_AG := --smoothness latent
-action-only_AG := --smoothness action
+both-smooth_AG := --smoothness both
 direct_AG := --direct-latent
 no-cls_AG := --no-classifier
 paper_AG := --paper-form
@@ -81,10 +81,10 @@ utkinect_MIX := walk:0.5,waveHands:0.5
 AG_LABEL_pose := direct-pose RNN baseline (no latent transitions, no decoder)
 AG_LABEL_no-smooth := ours, no smoothness (Table 5)
 AG_LABEL_latent-only := ours, smoothness on latents only (Table 5)
-AG_LABEL_action-only := ours, smoothness on poses only (Table 5)
+AG_LABEL_both-smooth := ours, smoothness on latents and poses (the paper's Omega; Table 5)
 AG_LABEL_direct := ours, direct latent (Table 6)
 AG_LABEL_no-cls := ours, no classifier (Table 2 ablation)
-AG_LABEL_paper := ours in the paper's form (--paper-form: the BiLSTM discriminator, 1 step)
+AG_LABEL_paper := ours in the paper's form (--paper-form: the BiLSTM discriminator, 1 step, smoothness on both)
 
 .PHONY: actgan
 actgan: $(foreach s,$(AG_SETS),$(AG)/$(s)/mmd.md $(if $(AG_SEEDS),$(AG)/$(s)/seeds.md) $(AG)/$(s)/recognition.md $(AG)/$(s)/accuracy.md $(AG)/$(s)/mixed.png \
@@ -151,10 +151,10 @@ $(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v)
 	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences; variety: see below the table. Every model but the paper's form trained against the same discriminator ($(or $(AG_GAN),train-actgan's default: a Wasserstein critic of whole clips, 5 critic steps)), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) GAN iterations."; echo; \
 	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | variety | pace |"; echo "|---|---:|---:|---:|---:|---:|---:|"; \
 	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) | $(call ag_variety,$(AG)/$*/real.mmd.json) | $(call ag_pace,$(AG)/$*/real.mmd.json) |"; \
-	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) | $(call ag_pace,$<) |"; \
+	  echo "| ours (the defaults: residual latent, smoothness on poses, classifier, the critic) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) | $(call ag_pace,$<) |"; \
 	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.mmd.json; \
 	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
-	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \
+	      both-smooth) l="$(AG_LABEL_both-smooth)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \
 	    echo "| $$l | $(call ag_mmd_row,$$f) | $(call ag_variety,$$f) | $(call ag_pace,$$f) |"; done; \
 	  echo; echo "variety: per class, the mean distance between two generated sequences over that of two real test clips, averaged over the classes (1: as varied as the data; per class in gen*.mmd.json, eval-metrics' variety table). pace: per class, the mean distance a pose moves from one frame to the next over the real test clips', averaged over the classes (1: the data's pace). The classifier's view of the same: accuracy.md."; \
 	} $(write_if_changed)
@@ -211,10 +211,10 @@ $(AG)/%/recognition.md: $(AG)/%/gen.rec.json $(foreach v,$(AG_VARIANTS),$(AG)/%/
 	  echo "| model | FID | diversity | multimodality | accuracy |"; echo "|---|---:|---:|---:|---:|"; \
 	  echo "| the real test clips (the reference: FID of one half against the other) | $(call ag_rec_row,$(AG)/$*/real.rec.json,real) |"; \
 	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS)) | $(call ag_rec_row,$(AG)/$*/real.rec.json,generated) |"; \
-	  echo "| ours (residual latent, smoothness on both, classifier) | $(call ag_rec_row,$<,generated) |"; \
+	  echo "| ours (the defaults: residual latent, smoothness on poses, classifier, the critic) | $(call ag_rec_row,$<,generated) |"; \
 	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.rec.json; \
 	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
-	      action-only) l="$(AG_LABEL_action-only)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \
+	      both-smooth) l="$(AG_LABEL_both-smooth)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \
 	    echo "| $$l | $(call ag_rec_row,$$f,generated) |"; done; \
 	} $(write_if_changed)
 

@@ -9,8 +9,8 @@ export HDF5_PLUGIN_PATH=$DF_PLUGIN_DIR
 
 synth-actions -q --classes walk,wave,squat --per-class 8 --frames 24 --seed 1 -o raw.h5
 skel2h5 -q raw.h5 --length 12 --clip-stride 6 --test-fraction 0.25 --seed 2 -o clips.h5
-# --paper-form: the sections below exercise the paper's BiLSTM discriminator, as before the
-# defaults changed (the defaults' own section follows)
+# --paper-form: the sections below exercise the paper's BiLSTM discriminator and both smoothness
+# terms, as before the defaults changed (the defaults' own section follows)
 tiny=(--paper-form --noise 4 --latent 3 --hidden 16 --fc 32 --batch 8 --pretrain-batch 16 --print-every 10 --seed 3)
 # A model's /config attribute: attr NAME FILE (a number), sattr NAME FILE (a string).
 attr() { h5dump -a /config/$1 $2 | grep -A1 DATA | tail -1 | sed 's/.*: *//'; }
@@ -32,16 +32,16 @@ run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --gamma 0
 expect_rc 1; expect_one_error_line train-actgan; expect_err "made with --gamma 0.1, this run has 0.5"
 echo "ok (threads, resume)"
 
-# --- the defaults (the critic, 5 critic steps) and --paper-form (the BiLSTM, 1 step), under which
-# options given explicitly still win
+# --- the defaults (the critic, 5 critic steps, Omega's pose term) and --paper-form (the BiLSTM, 1
+# step, both terms), under which options given explicitly still win
 small=(--noise 4 --latent 3 --hidden 16 --fc 32 --batch 8 --pretrain-batch 16 --seed 3 --pretrain-iterations 2 --iterations 2)
 train-actgan -q "${small[@]}" clips.h5 -o m-defaults.h5
 train-actgan -q "${small[@]}" --paper-form --d-steps 3 clips.h5 -o m-paper.h5
-[ "$(sattr discriminator m-defaults.h5) $(attr d_steps m-defaults.h5) $(sattr smoothness m-defaults.h5)" = "critic 5 both" ] ||
+[ "$(sattr discriminator m-defaults.h5) $(attr d_steps m-defaults.h5) $(sattr smoothness m-defaults.h5)" = "critic 5 action" ] ||
   fail "defaults: $(sattr discriminator m-defaults.h5) $(attr d_steps m-defaults.h5) $(sattr smoothness m-defaults.h5)"
 [ "$(sattr discriminator m-paper.h5) $(attr d_steps m-paper.h5) $(sattr smoothness m-paper.h5)" = "bilstm 3 both" ] ||
   fail "--paper-form --d-steps 3: $(sattr discriminator m-paper.h5) $(attr d_steps m-paper.h5) $(sattr smoothness m-paper.h5)"
-echo "ok (defaults: the critic, 5 steps; --paper-form: the BiLSTM)"
+echo "ok (defaults: the critic, 5 steps, smoothness of poses; --paper-form: the BiLSTM, both terms)"
 
 # --- --freeze-decoder: the GAN phase keeps the pre-trained decoder as it is
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 clips.h5 -o pretrained.h5

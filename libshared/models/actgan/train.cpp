@@ -407,11 +407,13 @@ ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
 void apply_learning_defaults(ActganConfig& net, ActganTraining& training) {
   net.discriminator = "critic";
   training.d_steps = 5;
+  net.smoothness = "action";
 }
 
 void apply_paper_form(ActganConfig& net, ActganTraining& training) {
   net.discriminator = "bilstm";
   training.d_steps = 1;
+  net.smoothness = "both";
 }
 
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
