@@ -35,9 +35,9 @@ AG_PRETRAIN ?= 1000
 # Wasserstein critic of whole clips with the gradient penalty holds them at the data's level and
 # its held-out curves stop improving at about 600 GAN iterations on synthetic actions (flat to
 # 2,300) and at 800 on UTKinect (subject 9 held out; every measure's minimum there). That critic
-# with 5 critic steps is train-actgan's default since stop 76 (with Omega's pose term only;
-# --paper-form: the BiLSTM, both terms), so every model here trains with the tool's defaults; the
-# direct-pose baseline and the ablations against the same critic. AG_GAN adds options to every model; AG_ITERATIONS, when set, overrides the
+# with 5 critic steps is train-actgan's default since stop 76 (with Omega's pose term only and
+# h_1 ~ N(0, I); --paper-form: the BiLSTM, both terms, U(-1, 1)), so every model here trains with
+# the tool's defaults; the direct-pose baseline and the ablations against the same critic. AG_GAN adds options to every model; AG_ITERATIONS, when set, overrides the
 # per-set counts.
 AG_CRITIC := --discriminator critic --d-steps 5
 AG_GAN ?=
@@ -84,7 +84,7 @@ AG_LABEL_latent-only := ours, smoothness on latents only (Table 5)
 AG_LABEL_both-smooth := ours, smoothness on latents and poses (the paper's Omega; Table 5)
 AG_LABEL_direct := ours, direct latent (Table 6)
 AG_LABEL_no-cls := ours, no classifier (Table 2 ablation)
-AG_LABEL_paper := ours in the paper's form (--paper-form: the BiLSTM discriminator, 1 step, smoothness on both)
+AG_LABEL_paper := ours in the paper's form (--paper-form: the BiLSTM discriminator, 1 step, smoothness on both, h_1 ~ U(-1, 1))
 
 .PHONY: actgan
 actgan: $(foreach s,$(AG_SETS),$(AG)/$(s)/mmd.md $(if $(AG_SEEDS),$(AG)/$(s)/seeds.md) $(AG)/$(s)/recognition.md $(AG)/$(s)/accuracy.md $(AG)/$(s)/mixed.png \
@@ -151,7 +151,7 @@ $(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v)
 	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences; variety: see below the table. Every model but the paper's form trained against the same discriminator ($(or $(AG_GAN),train-actgan's default: a Wasserstein critic of whole clips, 5 critic steps)), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) GAN iterations."; echo; \
 	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | variety | pace |"; echo "|---|---:|---:|---:|---:|---:|---:|"; \
 	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) | $(call ag_variety,$(AG)/$*/real.mmd.json) | $(call ag_pace,$(AG)/$*/real.mmd.json) |"; \
-	  echo "| ours (the defaults: residual latent, smoothness on poses, classifier, the critic) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) | $(call ag_pace,$<) |"; \
+	  echo "| ours (the defaults: residual latent from h_1 ~ N(0, I), smoothness on poses, classifier, the critic) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) | $(call ag_pace,$<) |"; \
 	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.mmd.json; \
 	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
 	      both-smooth) l="$(AG_LABEL_both-smooth)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \
@@ -211,7 +211,7 @@ $(AG)/%/recognition.md: $(AG)/%/gen.rec.json $(foreach v,$(AG_VARIANTS),$(AG)/%/
 	  echo "| model | FID | diversity | multimodality | accuracy |"; echo "|---|---:|---:|---:|---:|"; \
 	  echo "| the real test clips (the reference: FID of one half against the other) | $(call ag_rec_row,$(AG)/$*/real.rec.json,real) |"; \
 	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS)) | $(call ag_rec_row,$(AG)/$*/real.rec.json,generated) |"; \
-	  echo "| ours (the defaults: residual latent, smoothness on poses, classifier, the critic) | $(call ag_rec_row,$<,generated) |"; \
+	  echo "| ours (the defaults: residual latent from h_1 ~ N(0, I), smoothness on poses, classifier, the critic) | $(call ag_rec_row,$<,generated) |"; \
 	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.rec.json; \
 	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
 	      both-smooth) l="$(AG_LABEL_both-smooth)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \

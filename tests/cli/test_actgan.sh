@@ -32,16 +32,15 @@ run train-actgan "${tiny[@]}" --pretrain-iterations 10 --iterations 20 --gamma 0
 expect_rc 1; expect_one_error_line train-actgan; expect_err "made with --gamma 0.1, this run has 0.5"
 echo "ok (threads, resume)"
 
-# --- the defaults (the critic, 5 critic steps, Omega's pose term) and --paper-form (the BiLSTM, 1
-# step, both terms), under which options given explicitly still win
+# --- the defaults (the critic, 5 critic steps, Omega's pose term, h_1 ~ N(0, I)) and --paper-form
+# (the BiLSTM, 1 step, both terms, uniform), under which options given explicitly still win
 small=(--noise 4 --latent 3 --hidden 16 --fc 32 --batch 8 --pretrain-batch 16 --seed 3 --pretrain-iterations 2 --iterations 2)
 train-actgan -q "${small[@]}" clips.h5 -o m-defaults.h5
 train-actgan -q "${small[@]}" --paper-form --d-steps 3 clips.h5 -o m-paper.h5
-[ "$(sattr discriminator m-defaults.h5) $(attr d_steps m-defaults.h5) $(sattr smoothness m-defaults.h5)" = "critic 5 action" ] ||
-  fail "defaults: $(sattr discriminator m-defaults.h5) $(attr d_steps m-defaults.h5) $(sattr smoothness m-defaults.h5)"
-[ "$(sattr discriminator m-paper.h5) $(attr d_steps m-paper.h5) $(sattr smoothness m-paper.h5)" = "bilstm 3 both" ] ||
-  fail "--paper-form --d-steps 3: $(sattr discriminator m-paper.h5) $(attr d_steps m-paper.h5) $(sattr smoothness m-paper.h5)"
-echo "ok (defaults: the critic, 5 steps, smoothness of poses; --paper-form: the BiLSTM, both terms)"
+form_of() { echo "$(sattr discriminator $1) $(attr d_steps $1) $(sattr smoothness $1) $(sattr start $1)"; }
+[ "$(form_of m-defaults.h5)" = "critic 5 action normal" ] || fail "defaults: $(form_of m-defaults.h5)"
+[ "$(form_of m-paper.h5)" = "bilstm 3 both uniform" ] || fail "--paper-form --d-steps 3: $(form_of m-paper.h5)"
+echo "ok (defaults: the critic, 5 steps, smoothness of poses, h_1 ~ N(0, I); --paper-form: the BiLSTM, both terms, uniform)"
 
 # --- --freeze-decoder: the GAN phase keeps the pre-trained decoder as it is
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 clips.h5 -o pretrained.h5
@@ -74,7 +73,7 @@ echo "ok (step init)"
 # --resume, refused when unknown
 train-actgan -q "${tiny[@]}" --pretrain-iterations 10 --iterations 0 --start normal clips.h5 -o m-normal.h5
 [ "$(sattr start m-normal.h5)" = normal ] || fail "start not stored"
-[ "$(sattr start m1.h5)" = uniform ] || fail "start is not uniform by default"
+[ "$(sattr start m1.h5)" = uniform ] || fail "start is not uniform under --paper-form"
 beyond_one() { awk -F'\t' '!/^#/ && $2 == 0 { for (i = 3; i <= NF; ++i) n += ($i > 1 || $i < -1) } END { print n + 0 }' "$1"; }
 gen-actgan -q --count 20 --latents lat-normal.tsv m-normal.h5 -o gen-normal.h5
 gen-actgan -q --count 20 --latents lat-uniform.tsv m1.h5 -o gen-uniform.h5

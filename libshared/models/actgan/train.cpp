@@ -408,12 +408,14 @@ void apply_learning_defaults(ActganConfig& net, ActganTraining& training) {
   net.discriminator = "critic";
   training.d_steps = 5;
   net.smoothness = "action";
+  net.start = "normal";
 }
 
 void apply_paper_form(ActganConfig& net, ActganTraining& training) {
   net.discriminator = "bilstm";
   training.d_steps = 1;
   net.smoothness = "both";
+  net.start = "uniform";
 }
 
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
