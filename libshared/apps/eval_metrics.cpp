@@ -53,7 +53,7 @@ Recognition recognition_of(const io::SkeletonFile& pred, const io::SkeletonFile&
   const SkeletonPairing pairs = pair_skeleton_classes(pred, truth, select);
   Recognition out;
   std::vector<std::size_t> gen, real;
-  std::vector<int> gen_labels, real_labels;
+  std::vector<int> gen_labels, real_labels, class_labels;
   for (const auto& k : pairs.classes) {
     const auto it = std::find(m.class_names.begin(), m.class_names.end(), k.name);
     if (it == m.class_names.end())
@@ -62,6 +62,7 @@ Recognition recognition_of(const io::SkeletonFile& pred, const io::SkeletonFile&
                          model_path);
     const int label = static_cast<int>(it - m.class_names.begin());
     out.classes.push_back(k.name);
+    class_labels.push_back(label);
     gen.insert(gen.end(), k.pred.begin(), k.pred.end());
     gen_labels.insert(gen_labels.end(), k.pred.size(), label);
     real.insert(real.end(), k.truth.begin(), k.truth.end());
@@ -89,9 +90,7 @@ Recognition recognition_of(const io::SkeletonFile& pred, const io::SkeletonFile&
         one.labels.push_back(label), one.predicted.push_back(c.predicted[i]);
     return accuracy(one);
   };
-  for (const auto& name : out.classes) {
-    const auto label = static_cast<int>(
-        std::find(m.class_names.begin(), m.class_names.end(), name) - m.class_names.begin());
+  for (const int label : class_labels) {
     out.accuracy_generated.push_back(class_accuracy(g, label));
     out.accuracy_real.push_back(class_accuracy(t, label));
   }

@@ -189,8 +189,7 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
 
 Recognised recognise(const ActganModel& m, const io::SkeletonFile& s,
                      const std::vector<std::size_t>& seqs, std::size_t length) {
-  if (!m.config.classifier)
-    throw InvalidInput("the model was trained without a classifier (--no-classifier)");
+  if (!m.config.classifier) throw Error("internal: recognise() with a model without a classifier");
   if (s.joints * 3 != static_cast<std::size_t>(m.config.pose) || s.dims != 3)
     throw InvalidInput(fmt::format("{} joints x {}: the model was trained on {} values per pose",
                                    s.joints, s.dims, m.config.pose));
@@ -223,8 +222,9 @@ Recognised recognise(const ActganModel& m, const io::SkeletonFile& s,
     const auto rows = [&](nn::Matrix<float>& M) {
       return M.middleRows(static_cast<Eigen::Index>(r0), static_cast<Eigen::Index>(n));
     };
-    rows(out.features) = m.cls->features(p, x).value();
-    rows(out.prob) = nn::softmax<float>((*m.cls)(p, x).value());
+    const nn::Var<float> f = m.cls->features(p, x);  // the BiLSTM once, for both
+    rows(out.features) = f.value();
+    rows(out.prob) = nn::softmax<float>(m.cls->output(p, f).value());
   }
   return out;
 }

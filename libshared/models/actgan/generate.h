@@ -49,7 +49,7 @@ struct Recognised {
 
 /// The classifier on the sequences `seqs` of `s` (the same skeleton; poses brought into the
 /// model's coordinates), each read for its first `length` frames (0: each batch of 64 to its
-/// shortest sequence). InvalidInput when the model has no classifier.
+/// shortest sequence). The model must have a classifier (callers check, naming its file).
 Recognised recognise(const ActganModel& m, const io::SkeletonFile& s,
                      const std::vector<std::size_t>& seqs, std::size_t length = 0);
 

@@ -97,7 +97,7 @@ nn::Var<T> SequenceNet<T>::pooled(const nn::Bound<T>& p, const std::vector<Var>&
 
 template <class T>
 nn::Var<T> SequenceNet<T>::operator()(const nn::Bound<T>& p, const std::vector<Var>& x) const {
-  return head_(p, pooled(p, x));
+  return output(p, features(p, x));
 }
 
 template <class T>
@@ -106,6 +106,11 @@ nn::Var<T> SequenceNet<T>::features(const nn::Bound<T>& p, const std::vector<Var
   for (std::size_t k = 0; k + 1 < head_.layers.size(); ++k)
     f = nn::activate(head_.layers[k](p, f), head_.hidden, head_.leaky_slope);
   return f;
+}
+
+template <class T>
+nn::Var<T> SequenceNet<T>::output(const nn::Bound<T>& p, Var features) const {
+  return head_.layers.back()(p, features);
 }
 
 template <class T>

@@ -113,6 +113,8 @@ class SequenceNet {
   /// What the head's output layer reads: its hidden layer's activations [B, fc] (a recogniser's
   /// features, for FID, diversity and multimodality of generated actions).
   Var features(const nn::Bound<T>& p, const std::vector<Var>& x) const;
+  /// The head's output layer on features(): operator() is output(features(x)).
+  Var output(const nn::Bound<T>& p, Var features) const;
 
  private:
   /// The BiLSTM's states the head reads: [B, 2H] or [B, T·2H].
