@@ -63,10 +63,8 @@ int main(int argc, char** argv) {
     if (paper_form) {  // options given explicitly still win
       auto paper = opt;
       df::models::apply_paper_form(paper.net, paper.training);
-      df::models::take_settings_not_given(
-          df::models::bdlstm_settings(paper.net, paper.training),
-          df::models::bdlstm_settings(opt.net, opt.training),
-          [&](const std::string& option) { return app.count(option) > 0; });
+      df::models::take_settings_not_given(df::models::bdlstm_settings(paper.net, paper.training),
+                                          df::models::bdlstm_settings(opt.net, opt.training), app);
     }
     df::models::train_bdlstm(opt, tool.common());
   });

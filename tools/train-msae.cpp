@@ -71,10 +71,8 @@ int main(int argc, char** argv) {
     if (paper_form) {  // options given explicitly still win
       df::models::MsaeConfig paper_net;
       df::models::MsaeTraining paper_training;
-      df::models::take_settings_not_given(
-          df::models::msae_settings(paper_net, paper_training),
-          df::models::msae_settings(opt.net, opt.training),
-          [&](const std::string& option) { return app.count(option) > 0; });
+      df::models::take_settings_not_given(df::models::msae_settings(paper_net, paper_training),
+                                          df::models::msae_settings(opt.net, opt.training), app);
     }
     if (levels < 0) throw df::UsageError("--levels must be positive");
     if (levels > 0) {

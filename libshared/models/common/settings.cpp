@@ -187,4 +187,9 @@ void take_settings_not_given(const Settings& from, const Settings& to,
   }
 }
 
+void take_settings_not_given(const Settings& from, const Settings& to, const CLI::App& app) {
+  take_settings_not_given(from, to,
+                          [&](const std::string& option) { return app.count(option) > 0; });
+}
+
 }  // namespace df::models

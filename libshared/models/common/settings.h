@@ -16,8 +16,9 @@
 #include "io/h5.h"
 
 namespace CLI {
+class App;
 class Option_group;
-}
+}  // namespace CLI
 
 namespace df::models {
 
@@ -73,5 +74,7 @@ void require_same_settings(const Settings& checkpoint, const Settings& now,
 /// are not options (no help, e.g. the seed) keep their values.
 void take_settings_not_given(const Settings& from, const Settings& to,
                              const std::function<bool(const std::string&)>& given);
+/// The same for the options `app` was not given (a tool's --paper-form).
+void take_settings_not_given(const Settings& from, const Settings& to, const CLI::App& app);
 
 }  // namespace df::models
