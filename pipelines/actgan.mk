@@ -28,6 +28,7 @@
 AG := $(OUT)/actgan
 HAVE_UTK := $(wildcard $(DATA)/skeleton/UTKinect.tar.zst)
 AG_SETS ?= synthetic gestures $(if $(HAVE_UTK),utkinect)
+# train-actgan's default pre-training (the count of the curve's pre-training part below)
 AG_PRETRAIN ?= 1000
 # The GAN's discriminator and iteration count, chosen on the validation part (actgan-validation,
 # synthetic, subject 4 held out; README): with the paper's BiLSTM discriminator (binary
@@ -37,15 +38,15 @@ AG_PRETRAIN ?= 1000
 # 2,300) and at 800 on UTKinect (subject 9 held out; every measure's minimum there). That critic
 # with 5 critic steps is train-actgan's default since stop 76 (with Omega's pose term only and
 # h_1 ~ N(0, I); --paper-form: the BiLSTM, both terms, U(-1, 1)), so every model here trains with
-# the tool's defaults; the direct-pose baseline and the ablations against the same critic. AG_GAN adds options to every model; AG_ITERATIONS, when set, overrides the
-# per-set counts.
+# the tool's defaults; the direct-pose baseline and the ablations against the same critic. So is
+# the GAN's iteration count since stop 76: 800 on every set (the count issue 71's three
+# validation sets measured the defaults at; synthetic actions had 600 here before). AG_GAN adds
+# options to every model; AG_ITERATIONS, when set, is every model's GAN iteration count.
 AG_CRITIC := --discriminator critic --d-steps 5
 AG_GAN ?=
-synthetic_AG_ITERATIONS := 600
-utkinect_AG_ITERATIONS := 800
-# gestures: the real-data count (UTKinect's, which the MSR-Action3D run of issue 71 used)
-gestures_AG_ITERATIONS := 800
 AG_ITERATIONS ?=
+# what the tables say of the count
+ag_iterations = $(or $(AG_ITERATIONS),train-actgan's default number of)
 AG_OPTIONS ?=
 AG_COUNT ?= 100
 AG_VARIANTS := pose no-smooth latent-only both-smooth direct no-cls paper
@@ -70,7 +71,7 @@ $(foreach n,$(AG_SEEDS),$(eval seed$(n)_AG := --seed $(n))$(eval pose-seed$(n)_A
 # decoder to train,
 # and the recogniser, an instrument, keeps its own size when AG_OPTIONS shrinks the models)
 ag_train = --pretrain-iterations $(if $(filter pose% cls-alone recogniser,$(1)),0,$(AG_PRETRAIN)) \
-  --iterations $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) $(AG_GAN) $(if $(filter recogniser,$(1)),,$(AG_OPTIONS)) $(if $(1),$($(1)_AG))
+  $(if $(AG_ITERATIONS),--iterations $(AG_ITERATIONS)) $(AG_GAN) $(if $(filter recogniser,$(1)),,$(AG_OPTIONS)) $(if $(1),$($(1)_AG))
 # The training subjects (the data's own level in mmd.md: their real clips against the test clips)
 synthetic_TRAIN_SUBJECTS := 1,2,3,4
 gestures_TRAIN_SUBJECTS := 1,3,5,7,9
@@ -78,6 +79,7 @@ utkinect_TRAIN_SUBJECTS := 1,3,5,7,9
 synthetic_MIX := walk:0.5,wave:0.5
 gestures_MIX := wave:0.5,punch:0.5
 utkinect_MIX := walk:0.5,waveHands:0.5
+AG_LABEL_ours := ours (the defaults: residual latent from h_1 ~ N(0, I), smoothness on poses, classifier, the critic)
 AG_LABEL_pose := direct-pose RNN baseline (no latent transitions, no decoder)
 AG_LABEL_no-smooth := ours, no smoothness (Table 5)
 AG_LABEL_latent-only := ours, smoothness on latents only (Table 5)
@@ -136,26 +138,30 @@ $(AG)/%/gen-$(1).h5: $(AG)/%/model-$(1).h5
 	$$(call launch,generate) $$(BIN)/gen-actgan -q -f --count $$(AG_COUNT) --seed 7 $$< -o $$@
 endef
 $(foreach v,$(AG_VARIANTS) $(AG_SEED_MODELS),$(eval $(call AG_GEN_RULES,$(v))))
-$(AG)/%.mmd.json: $(AG)/%.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $(dir $<)data.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
+# S/NAME.mmd.json: every measure of S/NAME.h5 against the real test clips in one eval-metrics run
+# — MMD, motion, variety, pace and the recogniser's (mmd.md and recognition.md read it); real: the
+# real training clips (the data's own level)
+define AG_EVAL_RULES
+$(AG)/$(1)/%.mmd.json: $(AG)/$(1)/%.h5 $(AG)/$(1)/model-recogniser.h5 $(AG)/$(1)/data.h5
+	$$(call launch,eval) $$(BIN)/eval-metrics -q -f $$< $(AG)/$(1)/data.h5 --recogniser $(AG)/$(1)/model-recogniser.h5 --json $$@.tmp > /dev/null && mv $$@.tmp $$@
+$(AG)/$(1)/real.mmd.json: $(AG)/$(1)/data.h5 $(AG)/$(1)/model-recogniser.h5
+	$$(call launch,eval) $$(BIN)/eval-metrics -q -f $$< $$< --pred-subjects $$($(1)_TRAIN_SUBJECTS) --recogniser $(AG)/$(1)/model-recogniser.h5 --json $$@.tmp > /dev/null && mv $$@.tmp $$@
+endef
+$(foreach s,$(AG_SETS),$(eval $(call AG_EVAL_RULES,$(s))))
 ag_mmd = $(call json_values,$(1),mmd_$(2)) | awk '{ printf "%.4f", $$1 }'
-$(AG)/%/real.mmd.json: $(AG)/%/data.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $< --pred-subjects $($*_TRAIN_SUBJECTS) --json $@.tmp > /dev/null && mv $@.tmp $@
 ag_mmd_row = $$($(call ag_mmd,$(1),avg)) | $$($(call ag_mmd,$(1),seq)) | $$($(call ag_mmd,$(1),motion_avg)) | $$($(call ag_mmd,$(1),motion_seq))
 # variety: the mean distance between two sequences of a class over the real test clips' (1: as
 # varied as the data; eval-metrics' pairwise_ratio, averaged over the classes)
 ag_variety = $$($(call json_values,$(1),pairwise_ratio) | awk '{ printf "%.3f", $$1 }')
 # pace: the distance a pose moves per frame over the real test clips' (eval-metrics' pace_ratio)
 ag_pace = $$($(call json_values,$(1),pace_ratio) | awk '{ printf "%.3f", $$1 }')
+# $(call ag_gen_json,SET,MODEL): the measures of a model's generated sequences (ours: gen.mmd.json)
+ag_gen_json = $(AG)/$(1)/gen$(if $(filter ours,$(2)),,-$(2)).mmd.json
 $(AG)/%/mmd.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json) $(AG)/%/real.mmd.json
-	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences; variety: see below the table. Every model but the paper's form trained against the same discriminator ($(or $(AG_GAN),train-actgan's default: a Wasserstein critic of whole clips, 5 critic steps)), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) GAN iterations."; echo; \
+	{ echo "$* — MMD_u^2 (max over bandwidths) of $(AG_COUNT) generated sequences per class against the real test clips (lower is closer; paper Tables 1, 5, 6); motion: the same of frame differences; variety: see below the table. Every model but the paper's form trained against the same discriminator ($(or $(AG_GAN),train-actgan's default: a Wasserstein critic of whole clips, 5 critic steps)), $(ag_iterations) GAN iterations."; echo; \
 	  echo "| model | MMD_avg | MMD_seq | motion MMD_avg | motion MMD_seq | variety | pace |"; echo "|---|---:|---:|---:|---:|---:|---:|"; \
 	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS): the data's own level) | $(call ag_mmd_row,$(AG)/$*/real.mmd.json) | $(call ag_variety,$(AG)/$*/real.mmd.json) | $(call ag_pace,$(AG)/$*/real.mmd.json) |"; \
-	  echo "| ours (the defaults: residual latent from h_1 ~ N(0, I), smoothness on poses, classifier, the critic) | $(call ag_mmd_row,$<) | $(call ag_variety,$<) | $(call ag_pace,$<) |"; \
-	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.mmd.json; \
-	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
-	      both-smooth) l="$(AG_LABEL_both-smooth)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \
-	    echo "| $$l | $(call ag_mmd_row,$$f) | $(call ag_variety,$$f) | $(call ag_pace,$$f) |"; done; \
+	  $(foreach v,ours $(AG_VARIANTS),echo "| $(AG_LABEL_$(v)) | $(call ag_mmd_row,$(call ag_gen_json,$*,$(v))) | $(call ag_variety,$(call ag_gen_json,$*,$(v))) | $(call ag_pace,$(call ag_gen_json,$*,$(v))) |";) \
 	  echo; echo "variety: per class, the mean distance between two generated sequences over that of two real test clips, averaged over the classes (1: as varied as the data; per class in gen*.mmd.json, eval-metrics' variety table). pace: per class, the mean distance a pose moves from one frame to the next over the real test clips', averaged over the classes (1: the data's pace). The classifier's view of the same: accuracy.md."; \
 	} $(write_if_changed)
 # seeds.md: ours against the baseline at training seed 1 (the models above) and AG_SEEDS, then per
@@ -192,30 +198,18 @@ $(AG)/%/accuracy.md: $(AG)/%/model.h5 $(AG)/%/model-cls-alone.h5 $(AG)/%/gen.h5 
 	    echo "| $$c | $$($(call ag_acc_of,$(AG)/$*/acc-alone-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-alone-gen.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-real.json,$$c)) | $$($(call ag_acc_of,$(AG)/$*/acc-ours-gen.json,$$c)) |"; \
 	  done; } $(write_if_changed)
 
-# recognition.md: the measures of the field (Action2Motion, ACTOR, MDM) in the recogniser's features.
-# $(AG)/S/NAME.rec.json: eval-metrics --recogniser of gen-*.h5 (or the real training clips, real)
-# against the real test clips.
-define AG_REC_RULES
-$(AG)/%/$(1).rec.json: $(AG)/%/$(1).h5 $(AG)/%/model-recogniser.h5 $(AG)/%/data.h5
-	$$(call launch,eval) $$(BIN)/eval-metrics -q -f $$< $(AG)/$$*/data.h5 --recogniser $(AG)/$$*/model-recogniser.h5 --json $$@.tmp > /dev/null && mv $$@.tmp $$@
-endef
-$(foreach g,gen $(AG_VARIANTS:%=gen-%),$(eval $(call AG_REC_RULES,$(g))))
-$(AG)/%/real.rec.json: $(AG)/%/data.h5 $(AG)/%/model-recogniser.h5
-	$(call launch,eval) $(BIN)/eval-metrics -q -f $< $< --pred-subjects $($*_TRAIN_SUBJECTS) --recogniser $(AG)/$*/model-recogniser.h5 --json $@.tmp > /dev/null && mv $@.tmp $@
+# recognition.md: the measures of the field (Action2Motion, ACTOR, MDM) in the recogniser's features,
+# from the same JSON files as mmd.md.
 # $(call ag_rec_row,JSON,WHICH): FID | diversity | multimodality | accuracy of WHICH (generated: PRED,
 # real: the real test clips themselves, FID one half against the other)
 ag_rec_row = $$($(call json_values,$(1),recognition.$(2).fid recognition.$(2).diversity recognition.$(2).multimodality recognition.$(2).accuracy) | \
   awk '{ printf "%.3f | %.3f | %.3f | %.3f", $$1, $$2, $$3, $$4 }')
-$(AG)/%/recognition.md: $(AG)/%/gen.rec.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).rec.json) $(AG)/%/real.rec.json
-	{ echo "$* — in the features of a recogniser trained alone on the real training clips (train-actgan $(recogniser_AG), $(or $(AG_ITERATIONS),$($*_AG_ITERATIONS)) iterations; its 30 features are what its output layer reads): FID of $(AG_COUNT) generated sequences per class against the real test clips, diversity (mean feature distance of 200 random pairs), multimodality (of 20 random pairs within a class, averaged over the classes) and the recogniser's accuracy, as Action2Motion, ACTOR and MDM report them (each pair measure the mean of 10 draws; eval-metrics --recogniser). Lower FID is closer to the data; diversity and multimodality are closest to the real test clips' own."; echo; \
+$(AG)/%/recognition.md: $(AG)/%/gen.mmd.json $(foreach v,$(AG_VARIANTS),$(AG)/%/gen-$(v).mmd.json) $(AG)/%/real.mmd.json
+	{ echo "$* — in the features of a recogniser trained alone on the real training clips (train-actgan $(recogniser_AG), $(ag_iterations) iterations; its 30 features are what its output layer reads): FID of $(AG_COUNT) generated sequences per class against the real test clips, diversity (mean feature distance of 200 random pairs), multimodality (of 20 random pairs within a class, averaged over the classes) and the recogniser's accuracy, as Action2Motion, ACTOR and MDM report them (each pair measure the mean of 10 draws; eval-metrics --recogniser). Lower FID is closer to the data; diversity and multimodality are closest to the real test clips' own."; echo; \
 	  echo "| model | FID | diversity | multimodality | accuracy |"; echo "|---|---:|---:|---:|---:|"; \
-	  echo "| the real test clips (the reference: FID of one half against the other) | $(call ag_rec_row,$(AG)/$*/real.rec.json,real) |"; \
-	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS)) | $(call ag_rec_row,$(AG)/$*/real.rec.json,generated) |"; \
-	  echo "| ours (the defaults: residual latent from h_1 ~ N(0, I), smoothness on poses, classifier, the critic) | $(call ag_rec_row,$<,generated) |"; \
-	  for v in $(AG_VARIANTS); do f=$(AG)/$*/gen-$$v.rec.json; \
-	    case $$v in pose) l="$(AG_LABEL_pose)";; no-smooth) l="$(AG_LABEL_no-smooth)";; latent-only) l="$(AG_LABEL_latent-only)";; \
-	      both-smooth) l="$(AG_LABEL_both-smooth)";; direct) l="$(AG_LABEL_direct)";; no-cls) l="$(AG_LABEL_no-cls)";; paper) l="$(AG_LABEL_paper)";; esac; \
-	    echo "| $$l | $(call ag_rec_row,$$f,generated) |"; done; \
+	  echo "| the real test clips (the reference: FID of one half against the other) | $(call ag_rec_row,$(AG)/$*/real.mmd.json,real) |"; \
+	  echo "| the real training clips (subjects $($*_TRAIN_SUBJECTS)) | $(call ag_rec_row,$(AG)/$*/real.mmd.json,generated) |"; \
+	  $(foreach v,ours $(AG_VARIANTS),echo "| $(AG_LABEL_$(v)) | $(call ag_rec_row,$(call ag_gen_json,$*,$(v)),generated) |";) \
 	} $(write_if_changed)
 
 # A generated sequence (the first class's first) and a mixture's, as animated joints for the report page.
@@ -268,7 +262,7 @@ $(AG)/%/curve.png: $(AG)/%/model.h5
 # log gets the MMD_avg / MMD_seq of 100 generated sequences per class against those clips.
 # $(AG)/S/validation.md: per model the minimum of each (and where), the last value, and the
 # size of its generated poses at the first and the last frame (scripts/pose-norms);
-# $(AG)/S/validation.png: the curves. S_AG_ITERATIONS (above) is then set from where they stop falling.
+# $(AG)/S/validation.png: the curves. train-actgan's GAN iteration count is set from where they stop falling.
 AG_VAL_ITERATIONS ?= 1000
 AG_VAL_MODELS := ours ours-frozen ours-frozen-s1.6 ours-s6.4 ours-frozen-s6.4 ours-small ours-small-s6.4 \
   ours-lr2e-5 ours-small-lr2e-5 ours-dmotion ours-dmotion-lr2e-5 ours-dall ours-dauthors ours-dauthors-lr2e-5 \
