@@ -152,8 +152,13 @@ chmod +x fakebin/train-actgan
 mkdir -p out/actgan/tiny
 touch out/actgan/tiny/data.h5
 agmake() { make -s -C "$DF_SOURCE" -f Makefile.data BIN="$DF_TMP/fakebin" OUT="$DF_TMP/out" DATA="$DF_TMP/data" \
-             tiny_AG_ITERATIONS=7 AG_SEEDS=2 "$@" >/dev/null || fail "ActGAN seed rules failed: $*"; }
-agmake "$DF_TMP/out/actgan/tiny/model-seed2.h5" "$DF_TMP/out/actgan/tiny/model-pose-seed2.h5"
+             AG_SEEDS=2 "$@" >/dev/null || fail "ActGAN seed rules failed: $*"; }
+# every set trains at train-actgan's iteration count unless AG_ITERATIONS says otherwise
+mkdir -p out/actgan/tiny2 && touch out/actgan/tiny2/data.h5
+agmake "$DF_TMP/out/actgan/tiny2/model-seed2.h5"
+! grep -q -- "--iterations" out/actgan/tiny2/model-seed2.h5.argv ||
+  fail "the default count was overridden: $(cat out/actgan/tiny2/model-seed2.h5.argv)"
+agmake AG_ITERATIONS=7 "$DF_TMP/out/actgan/tiny/model-seed2.h5" "$DF_TMP/out/actgan/tiny/model-pose-seed2.h5"
 grep -qE -- "--pretrain-iterations 1000 --iterations 7 .*--seed 2 " out/actgan/tiny/model-seed2.h5.argv ||
   fail "seed 2's model: $(cat out/actgan/tiny/model-seed2.h5.argv)"
 grep -qE -- "--pretrain-iterations 0 --iterations 7 .*--generator pose --seed 2 " out/actgan/tiny/model-pose-seed2.h5.argv ||
