@@ -193,7 +193,9 @@ TEST_CASE("variety: mean distance between two sequences and MMD of a set's halve
 TEST_CASE("pace: the distance a pose moves per frame, generated over real", "[eval]") {
   io::SkeletonFile real = actions({"walk", "wave"}, 8, 20, 1);
   io::SkeletonFile gen = real;
-  const auto same = eval::skeleton_metrics(gen, real, {.all_truth = true});
+  eval::SkeletonSelection all;
+  all.all_truth = true;
+  const auto same = eval::skeleton_metrics(gen, real, all);
   CHECK(same.pace_ratio == Approx(1.0));
   CHECK(same.classes[0].motion_real > 0);
   // Every pose moved half as far from its sequence's first: x'_t = x_0 + (x_t - x_0) / 2, so
@@ -205,7 +207,7 @@ TEST_CASE("pace: the distance a pose moves per frame, generated over real", "[ev
         gen.poses[t * 60 + k] =
             gen.poses[first * 60 + k] + (real.poses[t * 60 + k] - real.poses[first * 60 + k]) / 2;
   }
-  const auto half = eval::skeleton_metrics(gen, real, {.all_truth = true});
+  const auto half = eval::skeleton_metrics(gen, real, all);
   CHECK(half.pace_ratio == Approx(0.5).epsilon(1e-4));
   CHECK(half.classes[1].motion_generated == Approx(half.classes[1].motion_real / 2).epsilon(1e-4));
 }
