@@ -56,6 +56,23 @@ train-msae -q --iterations 1 --batch 4 --no-centre-features data.h5 -o uncentred
 [ "$(cfg uncentred.h5 centre_features)" = 0 ] || fail "--no-centre-features kept the mean centring"
 echo "ok (defaults, --paper-form, --no-centre-features)"
 
+# --- --init local: level 0 starts as the training shapes' SPLOCS components (orthonormalised),
+# so before any step AE0 reconstructs the test shapes near SPLOCS-on-ACAP's least squares with as
+# many components, where the random start reconstructs little more than the mean.
+erms_of() { sed -n 's/^ *"erms": \([0-9.e+-]*\).*/\1/p' "$1"; }
+for init in local glorot; do
+  train-msae -q "${tiny[@]}" --init "$init" --iterations 0 data.h5 -o start-$init.h5
+  recon-msae -q --levels 1 start-$init.h5 data.h5 -o start-$init-r.h5
+  eval-metrics -q start-$init-r.h5 data.h5 --json start-$init.json >/dev/null
+done
+[ "$(cfg start-local.h5 init)" = local ] || fail "--init local not recorded: $(cfg start-local.h5 init)"
+fit-baseline -q --method splocs-acap --components 3 start-local.h5 data.h5 -o splocs3.h5
+eval-metrics -q splocs3.h5 data.h5 --json splocs3.json >/dev/null
+local0=$(erms_of start-local.json) random0=$(erms_of start-glorot.json) splocs3=$(erms_of splocs3.json)
+awk -v l="$local0" -v r="$random0" -v s="$splocs3" 'BEGIN { exit !(l < 0.7 * r && l < 1.4 * s) }' ||
+  fail "--init local at iteration 0: E_rms $local0 (random start $random0, SPLOCS on ACAP features $splocs3)"
+echo "ok (--init local: E_rms $local0 before training; random start $random0, SPLOCS $splocs3)"
+
 # --- resume: any model file is a checkpoint; the result equals an uninterrupted run
 train-msae -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
 train-msae -q "${tiny[@]}" --iterations 30 --resume --checkpoint m20.h5 data.h5 -o resumed.h5

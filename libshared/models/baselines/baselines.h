@@ -17,6 +17,7 @@
 #include <string>
 
 #include "core/common_options.h"
+#include "models/common/splocs.h"
 #include "nn/tape.h"
 
 namespace df::models {
@@ -26,23 +27,6 @@ struct Pca {
   nn::Matrix<double> mean, directions;
 };
 Pca fit_pca(const nn::Matrix<double>& x, int k);
-
-struct SplocsOptions {
-  int components = 50;
-  int iterations = 10;  ///< outer iterations (the reference code's default)
-  int admm_iterations = 10;
-  double lambda = 2.0, rho = 10.0;
-  double d_min = 0.1, d_max = 0.7;  ///< support map ramps over these normalized geodesic distances
-};
-/// Components [K, gV] of rows x [n, gV], `group` numbers per vertex (3: positions; 9: ACAP
-/// features), mean removed and scaled by their standard deviation (`mean` [1, gV] and `scale`
-/// come back); `distance(i)` gives vertex i's normalized geodesic row.
-struct Splocs {
-  nn::Matrix<double> mean, components;
-  double scale = 1;
-};
-Splocs fit_splocs(const nn::Matrix<double>& x, const SplocsOptions& opt,
-                  const std::function<Eigen::VectorXf(int)>& distance, int group = 3);
 
 /// Least-squares coefficients [m, k] of rows y [m, D] (mean removed) on `basis` [k, D].
 nn::Matrix<double> coefficients_on(const nn::Matrix<double>& y, const nn::Matrix<double>& mean,

@@ -28,8 +28,9 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--decoder-fc must be tanh or linear");
   if (config_.decoder_conv != "transposed" && config_.decoder_conv != "shared")
     throw UsageError("--decoder-conv must be transposed or shared");
-  if (config_.init != "glorot" && config_.init != "normal" && config_.init != "small")
-    throw UsageError("--init must be glorot, normal or small");
+  if (config_.init != "glorot" && config_.init != "normal" && config_.init != "small" &&
+      config_.init != "local")
+    throw UsageError("--init must be glorot, normal, small or local");
   if (config_.centres != "random" && config_.centres != "spread")
     throw UsageError("--centres must be random or spread");
   if (config_.support != "soft" && config_.support != "hard" && config_.support != "proximal")
@@ -86,6 +87,18 @@ void MsaeNet<T>::set_offset(const Matrix& mean) {
   if (mean.rows() != 1 || mean.cols() != frame_size())
     throw Error("internal: set_offset needs [1, 9V]");
   store_.value(offset_) = mean;
+}
+
+template <class T>
+void MsaeNet<T>::start_level0(const Matrix& components) {
+  const Block& b = blocks_.front();
+  if (components.rows() != b.kz || components.cols() != frame_size())
+    throw Error("internal: start_level0 needs [K_z(0), 9V]");
+  store_.value(b.c) = components;
+  store_.value(b.conv.w_point).setIdentity();
+  store_.value(b.conv.w_nb).setZero();
+  store_.value(b.conv.b).setZero();
+  store_.value(b.b_dec).setZero();
 }
 
 template <class T>

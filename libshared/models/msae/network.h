@@ -59,9 +59,10 @@ struct MsaeConfig {
   /// encoder's weights as they are, as the convMesh code reuses them; both are 9 × 9)
   std::string decoder_conv = "transposed";
   /// Initial weights: "glorot" (uniform ±sqrt(6 / (fan_in + fan_out))), "normal" (N(0, 0.02²)
-  /// for C and the convolutions, as the convMesh code) or "small" (C at Glorot × 0.01: a
+  /// for C and the convolutions, as the convMesh code), "small" (C at Glorot × 0.01: a
   /// component that no training shape asks for stays near zero instead of projecting unseen
-  /// shapes onto a random direction)
+  /// shapes onto a random direction) or "local" ("glorot", then train-msae starts level 0 from
+  /// the training shapes' SPLOCS components: start_level0)
   std::string init = "glorot";
   /// Where the components' centres start: "random" (wherever the initial weights peak; the
   /// reconstruction gradient then draws them to the most deforming vertices, often all to one)
@@ -215,6 +216,12 @@ class MsaeNet {
   void place_centres(const std::vector<std::vector<int>>& vertices);
   /// With config().centre_features: sets the offset AE₀ subtracts and adds back ([1, 9V]).
   void set_offset(const Matrix& mean);
+  /// --init local: level 0's components become `components` [K_z(0), 9V] (rows of a linear
+  /// basis of the centred features) and its convolutions the identity (point weights I, neighbour
+  /// weights and biases 0), so that AE₀ starts as the tied linear autoencoder of that basis up to
+  /// its two tanh; the levels below keep their initial weights. Needs attention or one level-0
+  /// block, as every network has.
+  void start_level0(const Matrix& components);
   /// The attention masks AM [kz, V] of a block from its C (eq. 5-6): each column sums to 1.
   Matrix attention_masks(int block) const;
   /// Input of `child` from its parent's residual [B, 9V]: diag(AM_slot)·residual with the parent's

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +16,7 @@
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
 #include "io/acap_file.h"
+#include "models/common/splocs.h"
 #include "models/common/training.h"
 #include "models/msae/diagnosis.h"
 #include "models/msae/settings.h"
@@ -340,6 +342,46 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
   return geodesic;
 }
 
+// --init local: level 0's components start as the training shapes' local decomposition — SPLOCS
+// on their features with K_z(0) components whose support maps end at level 0's radius d, the
+// algorithm of the local linear reference (fit-baseline --method splocs-acap) — orthonormalised
+// symmetrically (Löwdin: of all orthonormal bases of their span, the one nearest the components,
+// so that each stays where it was and AE₀'s tied weights start as the projection onto their
+// span). A component SPLOCS leaves empty keeps its random row: a zero row of C is a stationary
+// point that no gradient leaves.
+void start_from_local_decomposition(MsaeModel& m, const nn::Matrix<float>& train,
+                                    geometry::GeodesicRows& geodesic) {
+  SplocsOptions o;
+  o.components = m.config.kz.front();
+  o.d_max = m.config.d.front();
+  o.d_min = o.d_max / 4;
+  log::info(
+      "--init local: level 0's {} components from SPLOCS on the {} training shapes (radius "
+      "{})",
+      o.components, train.rows(), o.d_max);
+  const Splocs local = fit_splocs(
+      train.cast<double>(), o, [&](int i) -> Eigen::VectorXf { return geodesic.row(i); }, 9);
+  std::vector<Eigen::Index> live;
+  for (Eigen::Index k = 0; k < local.components.rows(); ++k)
+    if (local.components.row(k).squaredNorm() > 0) live.push_back(k);
+  const auto n = static_cast<Eigen::Index>(live.size());
+  nn::Matrix<double> basis(n, local.components.cols());
+  for (Eigen::Index r = 0; r < n; ++r)
+    basis.row(r) = local.components.row(live[static_cast<std::size_t>(r)]);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(basis * basis.transpose());
+  const Eigen::VectorXd inv_sqrt = gram.eigenvalues().cwiseMax(1e-12).cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd lowdin =
+      gram.eigenvectors() * inv_sqrt.asDiagonal() * gram.eigenvectors().transpose();
+  nn::Matrix<float> C = m.net->store().value(m.net->blocks().front().c);
+  const nn::Matrix<double> orthonormal = lowdin * basis;
+  for (Eigen::Index r = 0; r < n; ++r)
+    C.row(live[static_cast<std::size_t>(r)]) = orthonormal.row(r).cast<float>();
+  if (n < C.rows())
+    log::warn("--init local: SPLOCS found {} of {} components; the others start random", n,
+              C.rows());
+  m.net->start_level0(C);
+}
+
 // Ω's masks around the current centres (their geodesic rows solved first, in parallel).
 std::vector<nn::Matrix<float>> current_sparsity_masks(const MsaeModel& m,
                                                       geometry::GeodesicRows& geodesic) {
@@ -397,6 +439,8 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   const nn::Matrix<float> validation = gather(data, m.split.validation);
   if (m.config.centre_features && m.iteration == 0)  // a fresh model: the training shapes' mean
     m.net->set_offset(gather(data, m.split.train).colwise().mean());
+  if (m.config.init == "local" && m.iteration == 0)
+    start_from_local_decomposition(m, gather(data, m.split.train), *geodesic);
   log::info(
       "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "
       "blocks in {} levels (K_z {}), {} parameters, {} training",

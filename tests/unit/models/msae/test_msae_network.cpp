@@ -579,3 +579,30 @@ TEST_CASE(
   bad.lambda_whole = -1;
   CHECK_THROWS_AS(MsaeNet<double>(bad, 9, grid_edges(), 7), UsageError);
 }
+
+TEST_CASE("MSAE: start_level0 makes AE0 the tied projection onto the components given",
+          "[models][msae]") {
+  MsaeConfig config = tiny({2, 2}, true);
+  config.init = "local";
+  MsaeNet<double> net(config, 9, grid_edges(), 5);
+  // Two orthonormal components on disjoint vertices (0-2 and 6-8), as --init local gives AE0.
+  Rng rng(4, 1);
+  nn::Matrix<double> C = nn::Matrix<double>::Zero(2, 81);
+  C.row(0).segment(0, 27) = nn::random_matrix(1, 27, rng, -1, 1);
+  C.row(1).segment(54, 27) = nn::random_matrix(1, 27, rng, -1, 1);
+  C.row(0).normalize();
+  C.row(1).normalize();
+  net.start_level0(C);
+  // Small shapes in their span come back through level 0 up to tanh's cubic term (|u|³/3 of
+  // |u| ≤ 0.01, twice), and a shape outside it (vertices 3-5 only) comes back as nothing.
+  const nn::Matrix<double> codes = nn::random_matrix(3, 2, rng, -0.01, 0.01);
+  const nn::Matrix<double> inside = codes * C;
+  CHECK((net.reconstruct(inside, 1) - inside).cwiseAbs().maxCoeff() <
+        1e-4 * inside.cwiseAbs().maxCoeff());
+  nn::Matrix<double> outside = nn::Matrix<double>::Zero(1, 81);
+  outside.row(0).segment(27, 27) = nn::random_matrix(1, 27, rng, -0.01, 0.01);
+  CHECK(net.reconstruct(outside, 1).cwiseAbs().maxCoeff() < 1e-12);
+  // Level 1 keeps its initial weights, and a matrix of the wrong size is refused.
+  CHECK(net.store().value(net.blocks()[1].c).cwiseAbs().maxCoeff() > 0);
+  CHECK_THROWS(net.start_level0(C.topRows(1)));
+}
