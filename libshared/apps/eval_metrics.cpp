@@ -1,16 +1,13 @@
 #include "apps/eval_metrics.h"
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <nlohmann/json.hpp>
-#include <numeric>
 #include <optional>
 #include <sstream>
 
@@ -19,12 +16,10 @@
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "core/log.h"
-#include "core/progress.h"
 #include "eval/mesh_metrics.h"
 #include "eval/recognition_metrics.h"
+#include "eval/sequence_measures.h"
 #include "eval/skeleton_metrics.h"
-#include "geometry/acap_features.h"
-#include "geometry/reconstruction.h"
 #include "io/h5.h"
 #include "io/schema.h"
 #include "models/actgan/generate.h"
@@ -205,16 +200,8 @@ void eval_skeletons(const EvalOptions& opt, bool force) {
   write_text_output(json, js.dump(2) + "\n", force, {pred_path, truth_path});
 }
 
-using geometry::kFeatureDims;
-
 using convert::FrameSet;
-using convert::normalized_features;
 using convert::read_frame_set;
-using convert::reconstruct;
-
-struct PairResult {
-  double error = 0, unit_ball = 0, sted_s = 0, rse = -1;
-};
 
 void check_options(const EvalOptions& opt) {
   if (opt.sted_rings < 1) throw UsageError("--sted-rings must be at least 1");
@@ -224,283 +211,12 @@ void check_options(const EvalOptions& opt) {
     throw UsageError("--align must be translation or rigid");
 }
 
-// The template's topology and parts, which every measure of one file pair shares.
-struct Shape {
-  geometry::MeshTopology topo;
-  MeshParts parts;
-};
-
-Shape shape_of(const FrameSet& pred) {
-  Shape sh{geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())),
-           {}};
-  sh.parts = mesh_parts(sh.topo);
-  return sh;
-}
-
-// Feature change between frames `span` apart in each PRED sequence, by index in the sequence
-// (index t: frames t and t + span).
-struct FeatureChange {
-  std::vector<double> by_index;
-  double total = 0;
-  std::size_t n = 0;
-};
-
-FeatureChange feature_change_of(const FrameSet& pred, int change_span) {
-  FeatureChange fc;
-  if (!pred.raw.rows()) return fc;
-  const auto span = static_cast<std::int64_t>(change_span);
-  std::vector<double> sum;
-  std::vector<int> count;
-  // Each frame is normalized once; the last span + 1 stay in a ring.
-  std::vector<Eigen::VectorXd> ring(static_cast<std::size_t>(span + 1));
-  auto slot = [&](std::int64_t t) -> Eigen::VectorXd& {
-    return ring[static_cast<std::size_t>(t % (span + 1))];
-  };
-  for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
-    const std::int64_t begin = pred.offsets[s], n = pred.offsets[s + 1] - begin;
-    for (std::int64_t t = 0; t < n; ++t) {
-      slot(t) = normalized_features(pred, static_cast<std::size_t>(begin + t), pred.normalization);
-      if (t < span) continue;
-      const auto i = static_cast<std::size_t>(t - span);
-      const double c = feature_change(slot(t - span), slot(t));
-      if (sum.size() <= i) sum.resize(i + 1), count.resize(i + 1);
-      sum[i] += c, count[i] += 1, fc.total += c, ++fc.n;
-    }
-  }
-  for (std::size_t t = 0; t < sum.size(); ++t) fc.by_index.push_back(sum[t] / count[t]);
-  return fc;
-}
-
-// Which PRED frame is measured against which TRUTH frame: /frames/source, else frame by frame.
-std::vector<std::pair<std::size_t, std::size_t>> pair_frames(const FrameSet& pred,
-                                                             const FrameSet& truth,
-                                                             const EvalOptions& opt) {
-  if (truth.tmpl.vertices.rows() != pred.tmpl.vertices.rows() ||
-      truth.tmpl.faces != pred.tmpl.faces)
-    throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)",
-                                   truth.tmpl.vertices.rows(), opt.pred, pred.tmpl.vertices.rows()),
-                       opt.truth);
-  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (pred frame, truth frame)
-  if (!pred.source.empty()) {
-    for (std::size_t i = 0; i < pred.size(); ++i)
-      if (pred.source[i] >= 0) {
-        if (static_cast<std::size_t>(pred.source[i]) >= truth.size())
-          throw InvalidInput(
-              fmt::format("frame {} pairs with frame {} of the truth, which has {} frames", i,
-                          pred.source[i], truth.size()),
-              opt.pred + "/frames/source");
-        pairs.emplace_back(i, static_cast<std::size_t>(pred.source[i]));
-      }
-  } else {
-    if (pred.size() != truth.size())
-      throw InvalidInput(fmt::format("has {} frames and no /frames/source; the truth has {}",
-                                     pred.size(), truth.size()),
-                         opt.pred);
-    for (std::size_t i = 0; i < pred.size(); ++i) pairs.emplace_back(i, i);
-  }
-  if (pairs.empty()) throw InvalidInput("no frame pairs with the truth", opt.pred);
-  return pairs;
-}
-
-// Every pair's errors (positions aligned per part as --align says) and STED's temporal part over
-// consecutive PRED frames of one sequence that both have truth.
-struct PairMeasures {
-  std::vector<PairResult> results;
-  double diag = 0, sted_t = 0;
-  std::size_t sted_t_n = 0;
-};
-
-PairMeasures measure_pairs(FrameSet& pred, FrameSet& truth, const Shape& sh,
-                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
-                           const EvalOptions& opt) {
-  PairMeasures pm;
-  reconstruct(pred);
-  reconstruct(truth);
-  const auto& T = truth.tmpl.vertices;
-  pm.diag = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();
-  const auto hoods = edge_neighbourhoods(sh.topo, opt.sted_rings);
-  const auto& nz = truth.normalization ? truth.normalization : pred.normalization;
-  const bool features = pred.raw.rows() && truth.raw.rows();
-  pm.results.resize(pairs.size());
-  std::vector<Vertices> aligned(pairs.size());
-  tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
-    const auto [i, j] = pairs[k];
-    const Vertices& gt = truth.positions[j];
-    aligned[k] = align_parts(pred.positions[i], gt, sh.parts,
-                             opt.align == "rigid" ? Alignment::rigid : Alignment::translation);
-    PairResult& r = pm.results[k];
-    r.error = mean_vertex_error(aligned[k], gt);
-    r.unit_ball = unit_ball_squared_error(aligned[k], gt);
-    r.sted_s = sted_spatial(aligned[k], gt, sh.topo, hoods);
-    if (features)
-      r.rse = relative_squared_error(normalized_features(truth, j, nz),
-                                     normalized_features(pred, i, nz));
-  });
-  for (std::size_t k = 0; k + 1 < pairs.size(); ++k) {
-    const auto [i0, j0] = pairs[k];
-    const auto [i1, j1] = pairs[k + 1];
-    const auto s =
-        std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i0));
-    if (i1 != i0 + 1 || static_cast<std::int64_t>(i1) >= *s) continue;
-    pm.sted_t += sted_temporal(aligned[k], aligned[k + 1], truth.positions[j0], truth.positions[j1],
-                               sh.topo, opt.sted_dt);
-    ++pm.sted_t_n;
-  }
-  return pm;
-}
-
-// Diverse samples: sequences NAME~k (at least two), by NAME.
-using SampleGroups = std::map<std::string, std::vector<std::size_t>>;
-
-SampleGroups sample_groups(const FrameSet& pred) {
-  SampleGroups groups;
-  for (std::size_t s = 0; s < pred.sequences.size(); ++s) {
-    const auto tilde = pred.sequences[s].rfind('~');
-    if (tilde != std::string::npos) groups[pred.sequences[s].substr(0, tilde)].push_back(s);
-  }
-  std::erase_if(groups, [](const auto& g) { return g.second.size() < 2; });
-  return groups;
-}
-
-// Spread of diverse samples: samples of equal length compared frame by frame (given frames,
-// identical in every sample, left out). Returns the sum and the count of compared pairs.
-std::pair<double, std::size_t> sample_spread(FrameSet& pred, const SampleGroups& groups,
-                                             const Shape& sh, const std::string& pred_path) {
-  double spread = 0;
-  std::size_t n = 0;
-  if (groups.empty()) return {spread, n};
-  reconstruct(pred);
-  for (const auto& [name, seqs] : groups) {
-    const auto len = pred.offsets[seqs[0] + 1] - pred.offsets[seqs[0]];
-    for (auto s : seqs)
-      if (pred.offsets[s + 1] - pred.offsets[s] != len)
-        throw InvalidInput("samples of '" + name + "' have different lengths", pred_path);
-    for (std::int64_t t = 0; t < len; ++t) {
-      const auto i0 = static_cast<std::size_t>(pred.offsets[seqs[0]] + t);
-      if (!pred.step.empty() && pred.step[i0] == 0) continue;
-      for (std::size_t a = 0; a < seqs.size(); ++a)
-        for (std::size_t b = a + 1; b < seqs.size(); ++b) {
-          const auto& pa = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[a]] + t)];
-          const auto& pb = pred.positions[static_cast<std::size_t>(pred.offsets[seqs[b]] + t)];
-          spread += mean_vertex_error(align_parts(pb, pa, sh.parts), pa);
-          ++n;
-        }
-    }
-  }
-  return {spread, n};
-}
-
-// The pairs' totals. Given frames (step 0 of generated files) are copies of the truth: the totals
-// leave them out; the per-step table keeps them.
-struct Totals {
-  double err = 0, ub = 0, sted_s = 0, rse_max = 0, rse_mean = 0;
-  std::size_t rse_n = 0, counted = 0;
-  bool skip_given = false;
-  std::map<int, std::pair<double, int>> by_step;  ///< step -> (error sum, frames)
-};
-
-Totals totals_of(const FrameSet& pred,
-                 const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
-                 const std::vector<PairResult>& results) {
-  Totals t;
-  t.skip_given =
-      std::any_of(pred.step.begin(), pred.step.end(), [](std::int32_t s) { return s > 0; });
-  for (std::size_t k = 0; k < results.size(); ++k) {
-    const auto& r = results[k];
-    const int step =
-        pred.step.empty() ? static_cast<int>(pairs[k].first) : pred.step[pairs[k].first];
-    t.by_step[step].first += r.error, t.by_step[step].second += 1;
-    if (t.skip_given && step == 0) continue;
-    ++t.counted;
-    t.err += r.error, t.ub += r.unit_ball, t.sted_s += r.sted_s;
-    if (r.rse >= 0) t.rse_max = std::max(t.rse_max, r.rse), t.rse_mean += r.rse, ++t.rse_n;
-  }
-  return t;
-}
-
-// Diverse samples against the truth, each sample on its own: the mean error of each sample's
-// generated frames, then per case the best of its K samples and their mean (a fair comparison
-// with a single deterministic answer is the mean of K; best of K is what a user who picks gets).
-struct SamplesVsTruth {
-  double best = 0, mean = 0, worst = 0;
-  std::size_t cases = 0;
-};
-
-SamplesVsTruth samples_vs_truth(const FrameSet& pred, const SampleGroups& groups,
-                                const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
-                                const std::vector<PairResult>& results, bool skip_given) {
-  SamplesVsTruth v;
-  if (groups.empty()) return v;
-  std::vector<double> seq_sum(pred.sequences.size(), 0.0);
-  std::vector<std::size_t> seq_n(pred.sequences.size(), 0);
-  for (std::size_t k = 0; k < results.size(); ++k) {
-    const std::size_t i = pairs[k].first;
-    if (skip_given && pred.step[i] == 0) continue;
-    const auto s = static_cast<std::size_t>(
-        std::upper_bound(pred.offsets.begin(), pred.offsets.end(), static_cast<std::int64_t>(i)) -
-        pred.offsets.begin() - 1);
-    seq_sum[s] += results[k].error, ++seq_n[s];
-  }
-  for (const auto& [name, seqs] : groups) {
-    std::vector<double> e;
-    for (auto s : seqs)
-      if (seq_n[s]) e.push_back(seq_sum[s] / static_cast<double>(seq_n[s]));
-    if (e.empty()) continue;
-    v.best += *std::min_element(e.begin(), e.end());
-    v.worst += *std::max_element(e.begin(), e.end());
-    v.mean += std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(e.size());
-    ++v.cases;
-  }
-  if (v.cases) v.best /= v.cases, v.worst /= v.cases, v.mean /= v.cases;
-  return v;
-}
-
-// The pace of a prediction: over the first kPaceSteps frames after the given ones, how far each
-// frame moves from the one before (mean vertex distance, each frame's centroid removed), the
-// prediction's against the data's at the same times, summed over the cases (sequences). 1: the
-// data's pace; near 0: frozen; above 1: moving where the data stands still.
-constexpr int kPaceSteps = 5;
-struct PaceCase {
-  std::string name;                 ///< PRED's sequence
-  double predicted = 0, truth = 0;  ///< motion summed over the kPaceSteps frames
-};
-
-double motion_between(const Vertices& a, const Vertices& b) {
-  const Eigen::RowVector3d shift = a.colwise().mean() - b.colwise().mean();
-  return ((a.rowwise() - shift) - b).rowwise().norm().mean();
-}
-
-// The cases whose first kPaceSteps predicted frames (and the given frame before them) all have a
-// data frame of the same time.
-std::vector<PaceCase> pace_of(const FrameSet& pred, const FrameSet& truth) {
-  std::vector<PaceCase> cases;
-  if (pred.step.empty() || pred.source.empty()) return cases;
-  for (std::size_t s = 0; s + 1 < pred.offsets.size(); ++s) {
-    const auto begin = static_cast<std::size_t>(pred.offsets[s]),
-               end = static_cast<std::size_t>(pred.offsets[s + 1]);
-    std::size_t last_given = end;  // the frame before step 1
-    for (std::size_t i = begin; i + 1 < end; ++i)
-      if (pred.step[i] == 0 && pred.step[i + 1] == 1) last_given = i;
-    if (last_given + kPaceSteps >= end) continue;  // (also: no step 1)
-    const auto first = pred.source.begin() + static_cast<std::ptrdiff_t>(last_given);
-    if (std::any_of(first, first + kPaceSteps + 1, [](std::int64_t j) { return j < 0; })) continue;
-    PaceCase c{pred.sequences[s]};
-    for (std::size_t k = last_given + 1; k <= last_given + kPaceSteps; ++k) {
-      c.predicted += motion_between(pred.positions[k], pred.positions[k - 1]);
-      c.truth += motion_between(truth.positions[static_cast<std::size_t>(pred.source[k])],
-                                truth.positions[static_cast<std::size_t>(pred.source[k - 1])]);
-    }
-    cases.push_back(std::move(c));
-  }
-  return cases;
-}
-
 // Everything measured on one file pair (or on PRED alone), as the JSON, the TSV and the table
 // show it.
 struct MeshMeasures {
   bool has_truth = false;
   std::vector<PaceCase> pace;
-  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  FramePairs pairs;
   PairMeasures pm;
   Totals totals;
   SamplesVsTruth samples;
@@ -697,18 +413,20 @@ std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const
 // eval-metrics on mesh files: PRED alone (feature change, samples' spread) or against TRUTH.
 void eval_meshes(const EvalOptions& opt, bool force) {
   FrameSet pred = read_frame_set(opt.pred);
-  const Shape sh = shape_of(pred);
+  const SequenceShape sh = shape_of(pred);
   MeshMeasures m;
   m.change = feature_change_of(pred, opt.change_span);
   std::optional<FrameSet> truth;
   if (!opt.truth.empty()) {
     truth = read_frame_set(opt.truth);
     m.has_truth = true;
-    m.pairs = pair_frames(pred, *truth, opt);
-    m.pm = measure_pairs(pred, *truth, sh, m.pairs, opt);
+    m.pairs = pair_frames(pred, *truth);
+    m.pm = measure_pairs(pred, *truth, sh, m.pairs,
+                         {opt.sted_rings, opt.sted_dt,
+                          opt.align == "rigid" ? Alignment::rigid : Alignment::translation});
   }
   const SampleGroups groups = sample_groups(pred);
-  std::tie(m.spread, m.spread_n) = sample_spread(pred, groups, sh, opt.pred);
+  std::tie(m.spread, m.spread_n) = sample_spread(pred, groups, sh);
   m.spread_cases = groups.size();
   const auto& T = truth ? truth->tmpl.vertices : pred.tmpl.vertices;
   m.spread_diag = (T.colwise().maxCoeff() - T.colwise().minCoeff()).norm();

@@ -41,7 +41,6 @@ Index strongest_vertex(const Eigen::RowVectorXd& c, Index g) {
   return best;
 }
 
-
 Splocs fit_splocs(const Mat& x, const SplocsOptions& o,
                   const std::function<Eigen::VectorXf(int)>& distance, int group) {
   const Index g = group, F = x.rows(), D = x.cols(), V = D / g, K = o.components;
