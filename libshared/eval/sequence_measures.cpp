@@ -15,8 +15,8 @@ using convert::normalized_features;
 using convert::reconstruct;
 
 SequenceShape shape_of(const FrameSet& pred) {
-  SequenceShape sh{geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())),
-           {}};
+  SequenceShape sh{
+      geometry::mesh_topology(pred.tmpl.faces, static_cast<int>(pred.tmpl.vertices.rows())), {}};
   sh.parts = mesh_parts(sh.topo);
   return sh;
 }
@@ -51,9 +51,10 @@ FeatureChange feature_change_of(const FrameSet& pred, int change_span) {
 FramePairs pair_frames(const FrameSet& pred, const FrameSet& truth) {
   if (truth.tmpl.vertices.rows() != pred.tmpl.vertices.rows() ||
       truth.tmpl.faces != pred.tmpl.faces)
-    throw InvalidInput(fmt::format("its template ({} vertices) differs from {}'s ({} vertices)",
-                                   truth.tmpl.vertices.rows(), pred.path, pred.tmpl.vertices.rows()),
-                       truth.path);
+    throw InvalidInput(
+        fmt::format("its template ({} vertices) differs from {}'s ({} vertices)",
+                    truth.tmpl.vertices.rows(), pred.path, pred.tmpl.vertices.rows()),
+        truth.path);
   FramePairs pairs;
   if (!pred.source.empty()) {
     for (std::size_t i = 0; i < pred.size(); ++i)
@@ -91,8 +92,7 @@ PairMeasures measure_pairs(FrameSet& pred, FrameSet& truth, const SequenceShape&
   tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
     const auto [i, j] = pairs[k];
     const Vertices& gt = truth.positions[j];
-    aligned[k] = align_parts(pred.positions[i], gt, sh.parts,
-                             opt.align);
+    aligned[k] = align_parts(pred.positions[i], gt, sh.parts, opt.align);
     PairResult& r = pm.results[k];
     r.error = mean_vertex_error(aligned[k], gt);
     r.unit_ball = unit_ball_squared_error(aligned[k], gt);
@@ -113,7 +113,6 @@ PairMeasures measure_pairs(FrameSet& pred, FrameSet& truth, const SequenceShape&
   }
   return pm;
 }
-
 
 SampleGroups sample_groups(const FrameSet& pred) {
   SampleGroups groups;
@@ -151,8 +150,7 @@ std::pair<double, std::size_t> sample_spread(FrameSet& pred, const SampleGroups&
   return {spread, n};
 }
 
-Totals totals_of(const FrameSet& pred,
-                 const FramePairs& pairs,
+Totals totals_of(const FrameSet& pred, const FramePairs& pairs,
                  const std::vector<PairResult>& results) {
   Totals t;
   t.skip_given =
@@ -171,8 +169,8 @@ Totals totals_of(const FrameSet& pred,
 }
 
 SamplesVsTruth samples_vs_truth(const FrameSet& pred, const SampleGroups& groups,
-                                const FramePairs& pairs,
-                                const std::vector<PairResult>& results, bool skip_given) {
+                                const FramePairs& pairs, const std::vector<PairResult>& results,
+                                bool skip_given) {
   SamplesVsTruth v;
   if (groups.empty()) return v;
   std::vector<double> seq_sum(pred.sequences.size(), 0.0);

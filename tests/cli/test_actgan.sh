@@ -311,3 +311,24 @@ run train-actgan "${tiny[@]}" --validation-subjects 9 clips.h5 -o bad.h5
 expect_rc 2; expect_one_error_line train-actgan; expect_err "validation subject 9 performs none of the training sequences of clips.h5"
 [ -f bad.h5 ] && fail "output written after an error"
 echo "ok (validation subjects)"
+
+# --- inspect-actgan: the frame decoder's reach. Poses the decoder itself made (gen-actgan) are
+# reached almost exactly by fitted latent codes, far nearer than from h = 0 or by the nearest pose
+# of another sequence; real poses get the same table; the baseline has no decoder.
+gen-actgan -q --count 4 m1.h5 -o own.h5
+inspect-actgan -q m1.h5 own.h5 --all --json own.json > own.txt
+grep -q "decoder, fitted codes" own.txt || fail "no table: $(cat own.txt)"
+read -r fitted start nearest poses < <(/usr/bin/python3 -c "
+import json; j = json.load(open('own.json'))
+print(j['decoder']['fitted']['rms'], j['decoder']['start']['rms'], j['nearest_pose']['rms'], j['poses'])")
+[ "$poses" = 144 ] || fail "expected 3 classes x 4 sequences x 12 frames, got $poses"
+awk -v f="$fitted" -v s="$start" -v n="$nearest" 'BEGIN { exit !(f < 0.05 * s && f < 0.05 * n) }' ||
+  fail "the decoder's own poses: fitted RMS $fitted, from h = 0 $start, nearest pose $nearest"
+inspect-actgan -q m1.h5 clips.h5 --json real.json > /dev/null
+grep -q '"part": "test"' real.json && grep -q '"by_class"' real.json || fail "real poses: $(head -c 300 real.json)"
+train-actgan -q "${tiny[@]}" --generator pose --pretrain-iterations 0 --iterations 2 clips.h5 -o pose-only.h5
+run inspect-actgan pose-only.h5 clips.h5
+expect_rc 1; expect_one_error_line inspect-actgan; expect_err "has no frame decoder"
+run inspect-actgan m1.h5 clips.h5 --subjects 77
+expect_rc 1; expect_one_error_line inspect-actgan; expect_err "of those subjects"
+echo "ok (inspect-actgan: the decoder's own poses at RMS $fitted, from h = 0 $start)"

@@ -68,8 +68,7 @@ eval::FramePairs identity_pairs(std::size_t n) {
 
 }  // namespace
 
-TEST_CASE("pair_frames: by /frames/source, else frame by frame; errors name the file",
-          "[eval]") {
+TEST_CASE("pair_frames: by /frames/source, else frame by frame; errors name the file", "[eval]") {
   FrameSet truth = frames({{"t", {square(), lifted(0.1), lifted(0.2)}}});
   truth.path = "truth.h5";
   FrameSet pred = frames({{"p", {square(), lifted(0.1), lifted(0.2)}}});
