@@ -52,8 +52,7 @@ PoseSets pose_sets(const ActganModel& m, const io::SkeletonFile& s,
     throw InvalidInput("--subjects: the file records no subjects (skel2h5 --subject-pattern)",
                        path);
   auto chosen = [&](std::size_t q) {
-    return std::find(opt.subjects.begin(), opt.subjects.end(), s.subjects[q]) !=
-           opt.subjects.end();
+    return std::find(opt.subjects.begin(), opt.subjects.end(), s.subjects[q]) != opt.subjects.end();
   };
   auto in_test = [&](std::size_t q) { return has_test && s.test[q] == 1; };
   const std::vector<float> poses = io::poses_normalized_as(s, m.normalization);
@@ -85,8 +84,9 @@ PoseSets pose_sets(const ActganModel& m, const io::SkeletonFile& s,
   }
   if (out.queries.x.rows() == 0)
     throw InvalidInput(
-        "no pose of a class the model knows" +
-            std::string(by_subject ? " of those subjects" : split ? " in the test part" : ""),
+        "no pose of a class the model knows" + std::string(by_subject ? " of those subjects"
+                                                           : split    ? " in the test part"
+                                                                      : ""),
         path);
   return out;
 }
@@ -103,8 +103,7 @@ PoseError pose_error(const ActganModel& m, const nn::Matrix<float>& a, const nn:
       double d2 = 0;
       for (Eigen::Index k = 0; k < 3; ++k) {
         const Eigen::Index c = 3 * j + k;
-        const double unit =
-            nz.present() ? nz.std[static_cast<std::size_t>(c)] * nz.scale : 1.0;
+        const double unit = nz.present() ? nz.std[static_cast<std::size_t>(c)] * nz.scale : 1.0;
         d2 += std::pow(static_cast<double>(a(r, c) - b(r, c)) * unit, 2);
       }
       joints += std::sqrt(d2);
@@ -194,8 +193,7 @@ void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common
   const nn::Matrix<float> fitted =
       fit_latent_codes(m, ps.queries.x, ps.queries.label, opt.steps, opt.lr);
   const nn::Matrix<float> start = fit_latent_codes(m, ps.queries.x, ps.queries.label, 0, opt.lr);
-  const nn::Matrix<float> mean =
-      ps.references.x.colwise().mean().replicate(ps.queries.x.rows(), 1);
+  const nn::Matrix<float> mean = ps.references.x.colwise().mean().replicate(ps.queries.x.rows(), 1);
   const nn::Matrix<float> nearest = nearest_references(ps);
   d.fitted = pose_error(m, fitted, ps.queries.x);
   d.start = pose_error(m, start, ps.queries.x);
@@ -245,8 +243,8 @@ void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common
       "{} poses of {} ({} part; references: {} poses{}), latent codes fitted in {} steps\n"
       "{:<34} {:>10} {:>16}\n",
       d.poses, opt.input, js["part"].get<std::string>(), d.training_poses,
-      js["part"] == "all" ? " of other sequences" : " of the training part", opt.steps, "",
-      "RMS", "joint distance");
+      js["part"] == "all" ? " of other sequences" : " of the training part", opt.steps, "", "RMS",
+      "joint distance");
   auto line = [&](const std::string& what, const PoseError& e) {
     out += fmt::format("{:<34} {:>10.4g} {:>16.4g}\n", what, e.rms, e.joint_distance);
   };

@@ -16,13 +16,13 @@ namespace df::models {
 
 struct ActganInspectOptions {
   std::string model, input;
-  bool all = false;   ///< every sequence's poses, not only the test part
+  bool all = false;  ///< every sequence's poses, not only the test part
   /// The poses of these subjects instead (a validation part: the test part stays unseen); the
   /// references then come from the other subjects outside the test part
   std::vector<int> subjects;
-  int steps = 300;    ///< Adam steps per batch of poses
-  double lr = 0.05;   ///< Adam's initial rate (decays tenfold over the steps)
-  std::string json;   ///< "" or a file (or "-")
+  int steps = 300;   ///< Adam steps per batch of poses
+  double lr = 0.05;  ///< Adam's initial rate (decays tenfold over the steps)
+  std::string json;  ///< "" or a file (or "-")
 };
 
 /// One way of reaching the poses: the RMS over every coordinate in the model's normalized
@@ -33,10 +33,10 @@ struct PoseError {
 
 struct DecoderReach {
   std::size_t poses = 0, training_poses = 0;
-  PoseError fitted;        ///< Dec(h*, y), h* fitted
-  PoseError start;         ///< Dec(0, y), where the fit starts
-  PoseError mean_pose;     ///< the mean training pose
-  PoseError nearest;       ///< the nearest training pose of the same class
+  PoseError fitted;     ///< Dec(h*, y), h* fitted
+  PoseError start;      ///< Dec(0, y), where the fit starts
+  PoseError mean_pose;  ///< the mean training pose
+  PoseError nearest;    ///< the nearest training pose of the same class
   std::vector<std::string> classes;
   std::vector<PoseError> fitted_by_class, nearest_by_class;
   std::vector<std::size_t> poses_by_class;
