@@ -176,18 +176,16 @@ nn::Matrix<float> fit_latent_codes(const ActganModel& m, const nn::Matrix<float>
   return recon;
 }
 
-void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common) {
-  const auto claims = claim_outputs({opt.json}, common.force, {opt.model, opt.input});
-  if (opt.steps < 0) throw UsageError("--steps must not be negative");
-  if (!(opt.lr > 0)) throw UsageError("--lr must be positive");
-  const ActganModel m = load_actgan_model(opt.model);
+DecoderReach decoder_reach(const ActganModel& m, const io::SkeletonFile& s,
+                           const ActganInspectOptions& opt) {
   if (m.config.generator == "pose")
     throw InvalidInput(
         "the direct-pose baseline (--generator pose) has no frame decoder to inspect", opt.model);
-  const io::SkeletonFile s = io::read_skeleton_file(opt.input);
   const PoseSets ps = pose_sets(m, s, opt);
-
   DecoderReach d;
+  d.part = !opt.subjects.empty()                                         ? "subjects"
+           : opt.all || std::count(s.test.begin(), s.test.end(), 1) == 0 ? "all"
+                                                                         : "test";
   d.poses = static_cast<std::size_t>(ps.queries.x.rows());
   d.training_poses = static_cast<std::size_t>(ps.references.x.rows());
   const nn::Matrix<float> fitted =
@@ -215,13 +213,16 @@ void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common
     d.fitted_by_class.push_back(pose_error(m, pick(fitted), pick(ps.queries.x)));
     d.nearest_by_class.push_back(pose_error(m, pick(nearest), pick(ps.queries.x)));
   }
+  return d;
+}
 
+namespace {
+
+nlohmann::ordered_json reach_json(const DecoderReach& d, const ActganInspectOptions& opt) {
   nlohmann::ordered_json js;
   js["model"] = opt.model;
   js["input"] = opt.input;
-  js["part"] = !opt.subjects.empty()                                         ? "subjects"
-               : opt.all || std::count(s.test.begin(), s.test.end(), 1) == 0 ? "all"
-                                                                             : "test";
+  js["part"] = d.part;
   if (!opt.subjects.empty()) js["subjects"] = opt.subjects;
   js["poses"] = d.poses;
   js["reference_poses"] = d.training_poses;
@@ -235,15 +236,15 @@ void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common
                               {"poses", d.poses_by_class[k]},
                               {"fitted", to_json(d.fitted_by_class[k])},
                               {"nearest_pose", to_json(d.nearest_by_class[k])}});
-  if (opt.json == "-") {
-    std::cout << js.dump(2) << "\n";
-    return;
-  }
+  return js;
+}
+
+std::string reach_table(const DecoderReach& d, const ActganInspectOptions& opt) {
   std::string out = fmt::format(
       "{} poses of {} ({} part; references: {} poses{}), latent codes fitted in {} steps\n"
       "{:<34} {:>10} {:>16}\n",
-      d.poses, opt.input, js["part"].get<std::string>(), d.training_poses,
-      js["part"] == "all" ? " of other sequences" : " of the training part", opt.steps, "", "RMS",
+      d.poses, opt.input, d.part, d.training_poses,
+      d.part == "all" ? " of other sequences" : " of the training part", opt.steps, "", "RMS",
       "joint distance");
   auto line = [&](const std::string& what, const PoseError& e) {
     out += fmt::format("{:<34} {:>10.4g} {:>16.4g}\n", what, e.rms, e.joint_distance);
@@ -252,11 +253,28 @@ void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common
   line("decoder at h = 0", d.start);
   line("nearest pose of the class", d.nearest);
   line("mean pose", d.mean_pose);
-  out += fmt::format("{:<34} {:>10} {:>16}\n", "per class: fitted / nearest", "RMS", "");
+  out += "per class, RMS: fitted / nearest pose\n";
   for (std::size_t k = 0; k < d.classes.size(); ++k)
     out += fmt::format("  {:<32} {:>10.4g} / {:.4g}\n", d.classes[k], d.fitted_by_class[k].rms,
                        d.nearest_by_class[k].rms);
-  std::cout << out << std::flush;
+  return out;
+}
+
+}  // namespace
+
+void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common) {
+  const auto claims = claim_outputs({opt.json}, common.force, {opt.model, opt.input});
+  if (opt.steps < 0) throw UsageError("--steps must not be negative");
+  if (!(opt.lr > 0)) throw UsageError("--lr must be positive");
+  const ActganModel m = load_actgan_model(opt.model);
+  const io::SkeletonFile s = io::read_skeleton_file(opt.input);
+  const DecoderReach d = decoder_reach(m, s, opt);
+  const nlohmann::ordered_json js = reach_json(d, opt);
+  if (opt.json == "-") {
+    std::cout << js.dump(2) << "\n";
+    return;
+  }
+  std::cout << reach_table(d, opt) << std::flush;
   if (!opt.json.empty())
     write_text_output(opt.json, js.dump(2) + "\n", common.force, {opt.model, opt.input});
 }

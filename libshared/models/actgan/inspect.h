@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/common_options.h"
+#include "io/skeleton_file.h"
 #include "models/actgan/model.h"
 
 namespace df::models {
@@ -32,6 +33,7 @@ struct PoseError {
 };
 
 struct DecoderReach {
+  std::string part;  ///< "test", "subjects" or "all"
   std::size_t poses = 0, training_poses = 0;
   PoseError fitted;     ///< Dec(h*, y), h* fitted
   PoseError start;      ///< Dec(0, y), where the fit starts
@@ -46,6 +48,11 @@ struct DecoderReach {
 /// indices): the decoder's reconstructions [N, P].
 nn::Matrix<float> fit_latent_codes(const ActganModel& m, const nn::Matrix<float>& poses,
                                    const std::vector<int>& labels, int steps, double lr);
+
+/// The decoder's reach of the poses `opt` selects from `s` (opt.all, opt.subjects, opt.steps,
+/// opt.lr), with the references; InvalidInput for the direct-pose baseline or no pose to fit.
+DecoderReach decoder_reach(const ActganModel& m, const io::SkeletonFile& s,
+                           const ActganInspectOptions& opt);
 
 void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common);
 
