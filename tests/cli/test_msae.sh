@@ -71,7 +71,20 @@ eval-metrics -q splocs3.h5 data.h5 --json splocs3.json >/dev/null
 local0=$(erms_of start-local.json) random0=$(erms_of start-glorot.json) splocs3=$(erms_of splocs3.json)
 awk -v l="$local0" -v r="$random0" -v s="$splocs3" 'BEGIN { exit !(l < 0.7 * r && l < 1.4 * s) }' ||
   fail "--init local at iteration 0: E_rms $local0 (random start $random0, SPLOCS on ACAP features $splocs3)"
-echo "ok (--init local: E_rms $local0 before training; random start $random0, SPLOCS $splocs3)"
+# --init local-all starts level 1's blocks the same way, each on its share of level 0's residual:
+# level 0 as with local, and the two levels together nearer the shapes than local's random level 1.
+train-msae -q "${tiny[@]}" --init local-all --iterations 0 data.h5 -o start-all.h5
+for m in local all; do
+  recon-msae -q --levels 2 start-$m.h5 data.h5 -o start-$m-2.h5
+  eval-metrics -q start-$m-2.h5 data.h5 --json start-$m-2.json >/dev/null
+done
+recon-msae -q --levels 1 start-all.h5 data.h5 -o start-all-1.h5
+eval-metrics -q start-all-1.h5 data.h5 --json start-all-1.json >/dev/null
+[ "$(erms_of start-all-1.json)" = "$local0" ] || fail "local-all's level 0 differs from local's: $(erms_of start-all-1.json) vs $local0"
+two_local=$(erms_of start-local-2.json) two_all=$(erms_of start-all-2.json)
+awk -v a="$two_all" -v l="$two_local" 'BEGIN { exit !(a < 0.95 * l) }' ||
+  fail "--init local-all, two levels at iteration 0: E_rms $two_all, local's $two_local"
+echo "ok (--init local: E_rms $local0 before training; random start $random0, SPLOCS $splocs3; two levels: local $two_local, local-all $two_all)"
 
 # --- resume: any model file is a checkpoint; the result equals an uninterrupted run
 train-msae -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5

@@ -29,8 +29,8 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
   if (config_.decoder_conv != "transposed" && config_.decoder_conv != "shared")
     throw UsageError("--decoder-conv must be transposed or shared");
   if (config_.init != "glorot" && config_.init != "normal" && config_.init != "small" &&
-      config_.init != "local")
-    throw UsageError("--init must be glorot, normal, small or local");
+      config_.init != "local" && config_.init != "local-all")
+    throw UsageError("--init must be glorot, normal, small, local or local-all");
   if (config_.centres != "random" && config_.centres != "spread")
     throw UsageError("--centres must be random or spread");
   if (config_.support != "soft" && config_.support != "hard" && config_.support != "proximal")
@@ -90,15 +90,15 @@ void MsaeNet<T>::set_offset(const Matrix& mean) {
 }
 
 template <class T>
-void MsaeNet<T>::start_level0(const Matrix& components) {
-  const Block& b = blocks_.front();
-  if (components.rows() != b.kz || components.cols() != frame_size())
-    throw Error("internal: start_level0 needs [K_z(0), 9V]");
-  store_.value(b.c) = components;
-  store_.value(b.conv.w_point).setIdentity();
-  store_.value(b.conv.w_nb).setZero();
-  store_.value(b.conv.b).setZero();
-  store_.value(b.b_dec).setZero();
+void MsaeNet<T>::start_block(int b, const Matrix& components) {
+  const Block& bl = blocks_.at(static_cast<std::size_t>(b));
+  if (components.rows() != bl.kz || components.cols() != frame_size())
+    throw Error("internal: start_block needs [K_z, 9V]");
+  store_.value(bl.c) = components;
+  store_.value(bl.conv.w_point).setIdentity();
+  store_.value(bl.conv.w_nb).setZero();
+  store_.value(bl.conv.b).setZero();
+  store_.value(bl.b_dec).setZero();
 }
 
 template <class T>
@@ -441,11 +441,13 @@ MsaeLossTerms MsaeNet<T>::loss_and_gradient(const Matrix& x, const std::vector<M
 
 template <class T>
 typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels,
-                                                    std::vector<Matrix>* codes) const {
+                                                    std::vector<Matrix>* codes,
+                                                    std::vector<Matrix>* inputs) const {
   if (levels < 1 || levels > config_.levels())
     throw UsageError(fmt::format("the model has levels 1..{}, not {}", config_.levels(), levels));
   Matrix sum = Matrix::Zero(x.rows(), x.cols());
   if (codes) codes->assign(blocks_.size(), Matrix());
+  if (inputs) inputs->assign(blocks_.size(), Matrix());
   // Depth first, each block on its own small tape (constants only: no gradients are kept).
   std::vector<std::pair<int, Matrix>> todo = {{0, x}};
   while (!todo.empty()) {
@@ -454,6 +456,7 @@ typename MsaeNet<T>::Matrix MsaeNet<T>::reconstruct(const Matrix& x, int levels,
     const Block& bl = blocks_[static_cast<std::size_t>(b)];
     nn::Tape<T> tape;
     const nn::Bound<T> p = bind_block(tape, b, false);
+    if (inputs) (*inputs)[static_cast<std::size_t>(b)] = input;
     Var in = tape.constant(std::move(input));
     BlockOutput out = forward_block(p, b, in, nullptr, nullptr, nullptr);
     sum += out.xhat.value();

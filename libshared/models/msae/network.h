@@ -61,8 +61,9 @@ struct MsaeConfig {
   /// Initial weights: "glorot" (uniform ±sqrt(6 / (fan_in + fan_out))), "normal" (N(0, 0.02²)
   /// for C and the convolutions, as the convMesh code), "small" (C at Glorot × 0.01: a
   /// component that no training shape asks for stays near zero instead of projecting unseen
-  /// shapes onto a random direction) or "local" ("glorot", then train-msae starts level 0 from
-  /// the training shapes' SPLOCS components: start_level0)
+  /// shapes onto a random direction), "local" ("glorot", then train-msae starts level 0 from
+  /// the training shapes' SPLOCS components: start_block) or "local-all" (every level so, each
+  /// block from SPLOCS on what it is fed)
   std::string init = "glorot";
   /// Where the components' centres start: "random" (wherever the initial weights peak; the
   /// reconstruction gradient then draws them to the most deforming vertices, often all to one)
@@ -216,12 +217,11 @@ class MsaeNet {
   void place_centres(const std::vector<std::vector<int>>& vertices);
   /// With config().centre_features: sets the offset AE₀ subtracts and adds back ([1, 9V]).
   void set_offset(const Matrix& mean);
-  /// --init local: level 0's components become `components` [K_z(0), 9V] (rows of a linear
-  /// basis of the centred features) and its convolutions the identity (point weights I, neighbour
-  /// weights and biases 0), so that AE₀ starts as the tied linear autoencoder of that basis up to
-  /// its two tanh; the levels below keep their initial weights. Needs attention or one level-0
-  /// block, as every network has.
-  void start_level0(const Matrix& components);
+  /// --init local: block b's components become `components` [K_z, 9V] (rows of a linear basis
+  /// of its inputs) and its convolutions the identity (point weights I, neighbour weights and
+  /// biases 0), so that the block starts as the tied linear autoencoder of that basis up to its
+  /// two tanh; the other blocks keep their weights.
+  void start_block(int b, const Matrix& components);
   /// The attention masks AM [kz, V] of a block from its C (eq. 5-6): each column sums to 1.
   Matrix attention_masks(int block) const;
   /// Input of `child` from its parent's residual [B, 9V]: diag(AM_slot)·residual with the parent's
@@ -245,7 +245,10 @@ class MsaeNet {
 
   /// The reconstruction of x [B, 9V] through the first `levels` levels (1..levels()) and the
   /// latent codes of every block ([B, kz] each; blocks beyond `levels` are left empty).
-  Matrix reconstruct(const Matrix& x, int levels, std::vector<Matrix>* codes = nullptr) const;
+  /// `inputs`, when given, gets what every block run was fed (x for AE₀; a child's masked share
+  /// of its parent's residual), empty for the blocks not run.
+  Matrix reconstruct(const Matrix& x, int levels, std::vector<Matrix>* codes = nullptr,
+                     std::vector<Matrix>* inputs = nullptr) const;
   /// The decoder of one block applied to latent codes z [rows, kz] → [rows, 9V].
   Matrix decode(int block, const Matrix& z) const;
   /// `count` shapes [count, 9V] the decoders of every level make from recombined codes of x

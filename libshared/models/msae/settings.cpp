@@ -44,8 +44,9 @@ Settings msae_network_settings(MsaeConfig& c) {
                "instead of projecting unseen shapes onto random directions) or local (glorot,\n"
                "then level 0's components from SPLOCS on the training shapes' features, within\n"
                "radius d, orthonormalised, and its convolutions the identity: AE0 starts as\n"
-               "the projection onto the shapes' local linear components)",
-       .choices = {"glorot", "normal", "small", "local"},
+               "the projection onto the shapes' local linear components) or local-all (every\n"
+               "level so, each block from SPLOCS on what it is fed, level by level)",
+       .choices = {"glorot", "normal", "small", "local", "local-all"},
        .optional = true},
       {.name = "centres",
        .target = &c.centres,

@@ -342,25 +342,22 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
   return geodesic;
 }
 
-// --init local: level 0's components start as the training shapes' local decomposition — SPLOCS
-// on their features with K_z(0) components whose support maps end at level 0's radius d, the
-// algorithm of the local linear reference (fit-baseline --method splocs-acap) — orthonormalised
-// symmetrically (Löwdin: of all orthonormal bases of their span, the one nearest the components,
-// so that each stays where it was and AE₀'s tied weights start as the projection onto their
-// span). A component SPLOCS leaves empty keeps its random row: a zero row of C is a stationary
-// point that no gradient leaves.
-void start_from_local_decomposition(MsaeModel& m, const nn::Matrix<float>& train,
-                                    geometry::GeodesicRows& geodesic) {
+// --init local: a block's components start as the local decomposition of what it is fed — SPLOCS
+// on those rows (for AE₀ the training shapes' features) with K_z components whose support maps end
+// at the block's radius d, the algorithm of the local linear reference (fit-baseline --method
+// splocs-acap) — orthonormalised symmetrically (Löwdin: of all orthonormal bases of their span,
+// the one nearest the components, so that each stays where it was and the block's tied weights
+// start as the projection onto their span). A component SPLOCS leaves empty keeps its random
+// row: a zero row of C is a stationary point that no gradient leaves.
+void start_block_locally(MsaeModel& m, int b, const nn::Matrix<float>& input,
+                         geometry::GeodesicRows& geodesic) {
+  const auto& block = m.net->blocks()[static_cast<std::size_t>(b)];
   SplocsOptions o;
-  o.components = m.config.kz.front();
-  o.d_max = m.config.d.front();
+  o.components = block.kz;
+  o.d_max = m.config.d[static_cast<std::size_t>(block.level)];
   o.d_min = o.d_max / 4;
-  log::info(
-      "--init local: level 0's {} components from SPLOCS on the {} training shapes (radius "
-      "{})",
-      o.components, train.rows(), o.d_max);
   const Splocs local = fit_splocs(
-      train.cast<double>(), o, [&](int i) -> Eigen::VectorXf { return geodesic.row(i); }, 9);
+      input.cast<double>(), o, [&](int i) -> Eigen::VectorXf { return geodesic.row(i); }, 9);
   std::vector<Eigen::Index> live;
   for (Eigen::Index k = 0; k < local.components.rows(); ++k)
     if (local.components.row(k).squaredNorm() > 0) live.push_back(k);
@@ -372,14 +369,31 @@ void start_from_local_decomposition(MsaeModel& m, const nn::Matrix<float>& train
   const Eigen::VectorXd inv_sqrt = gram.eigenvalues().cwiseMax(1e-12).cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd lowdin =
       gram.eigenvectors() * inv_sqrt.asDiagonal() * gram.eigenvectors().transpose();
-  nn::Matrix<float> C = m.net->store().value(m.net->blocks().front().c);
+  nn::Matrix<float> C = m.net->store().value(block.c);
   const nn::Matrix<double> orthonormal = lowdin * basis;
   for (Eigen::Index r = 0; r < n; ++r)
     C.row(live[static_cast<std::size_t>(r)]) = orthonormal.row(r).cast<float>();
   if (n < C.rows())
-    log::warn("--init local: SPLOCS found {} of {} components; the others start random", n,
-              C.rows());
-  m.net->start_level0(C);
+    log::warn("--init {}: SPLOCS found {} of block {}'s {} components; the others start random",
+              m.config.init, n, b, C.rows());
+  m.net->start_block(b, C);
+}
+
+// --init local: AE₀ from the training shapes; local-all: then every level in turn, each block
+// from the training shapes' inputs to it through the levels already started.
+void start_from_local_decomposition(MsaeModel& m, const nn::Matrix<float>& train,
+                                    geometry::GeodesicRows& geodesic) {
+  const int levels = m.config.init == "local-all" ? m.config.levels() : 1;
+  log::info("--init {}: {} from SPLOCS on the {} training shapes", m.config.init,
+            levels == 1 ? "level 0's components" : "every block's components", train.rows());
+  start_block_locally(m, 0, train, geodesic);
+  for (int l = 1; l < levels; ++l) {
+    std::vector<nn::Matrix<float>> inputs;
+    m.net->reconstruct(train, l + 1, nullptr, &inputs);
+    for (int b = m.net->level_begin()[static_cast<std::size_t>(l)];
+         b < m.net->level_begin()[static_cast<std::size_t>(l) + 1]; ++b)
+      start_block_locally(m, b, inputs[static_cast<std::size_t>(b)], geodesic);
+  }
 }
 
 // Ω's masks around the current centres (their geodesic rows solved first, in parallel).
@@ -439,7 +453,7 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   const nn::Matrix<float> validation = gather(data, m.split.validation);
   if (m.config.centre_features && m.iteration == 0)  // a fresh model: the training shapes' mean
     m.net->set_offset(gather(data, m.split.train).colwise().mean());
-  if (m.config.init == "local" && m.iteration == 0)
+  if ((m.config.init == "local" || m.config.init == "local-all") && m.iteration == 0)
     start_from_local_decomposition(m, gather(data, m.split.train), *geodesic);
   log::info(
       "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "

@@ -580,7 +580,7 @@ TEST_CASE(
   CHECK_THROWS_AS(MsaeNet<double>(bad, 9, grid_edges(), 7), UsageError);
 }
 
-TEST_CASE("MSAE: start_level0 makes AE0 the tied projection onto the components given",
+TEST_CASE("MSAE: start_block makes a block the tied projection onto the components given",
           "[models][msae]") {
   MsaeConfig config = tiny({2, 2}, true);
   config.init = "local";
@@ -592,7 +592,7 @@ TEST_CASE("MSAE: start_level0 makes AE0 the tied projection onto the components 
   C.row(1).segment(54, 27) = nn::random_matrix(1, 27, rng, -1, 1);
   C.row(0).normalize();
   C.row(1).normalize();
-  net.start_level0(C);
+  net.start_block(0, C);
   // Small shapes in their span come back through level 0 up to tanh's cubic term (|u|³/3 of
   // |u| ≤ 0.01, twice), and a shape outside it (vertices 3-5 only) comes back as nothing.
   const nn::Matrix<double> codes = nn::random_matrix(3, 2, rng, -0.01, 0.01);
@@ -604,5 +604,6 @@ TEST_CASE("MSAE: start_level0 makes AE0 the tied projection onto the components 
   CHECK(net.reconstruct(outside, 1).cwiseAbs().maxCoeff() < 1e-12);
   // Level 1 keeps its initial weights, and a matrix of the wrong size is refused.
   CHECK(net.store().value(net.blocks()[1].c).cwiseAbs().maxCoeff() > 0);
-  CHECK_THROWS(net.start_level0(C.topRows(1)));
+  CHECK_THROWS(net.start_block(0, C.topRows(1)));
+  CHECK_THROWS(net.start_block(9, C));
 }
