@@ -49,8 +49,10 @@ PoseSets pose_sets(const ActganModel& m, const io::SkeletonFile& s,
   const bool split = has_test && !opt.all;
   const bool by_subject = !opt.subjects.empty();
   if (by_subject && s.subjects.size() != s.sequences())
-    throw InvalidInput("--subjects: the file records no subjects (skel2h5 --subject-pattern)",
-                       path);
+    throw InvalidInput(
+        "--subjects: the file records no subjects (skel2h5 takes them from the recordings' names "
+        "or --labels)",
+        path);
   auto chosen = [&](std::size_t q) {
     return std::find(opt.subjects.begin(), opt.subjects.end(), s.subjects[q]) != opt.subjects.end();
   };
