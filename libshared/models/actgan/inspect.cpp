@@ -115,20 +115,22 @@ PoseError pose_error(const ActganModel& m, const nn::Matrix<float>& a, const nn:
   return e;
 }
 
-// Each query's nearest reference pose of the same class from another sequence (the pose itself
-// when none is left).
-nn::Matrix<float> nearest_references(const PoseSets& ps) {
+// Each query's nearest reference pose of the same class from another sequence; a query without
+// one keeps itself (error 0) and is counted in *alone, which the report prints.
+nn::Matrix<float> nearest_references(const PoseSets& ps, std::size_t* alone) {
   const Poses &q = ps.queries, &r = ps.references;
   nn::Matrix<float> out = q.x;
   const Eigen::VectorXf r_norm = r.x.rowwise().squaredNorm();
   for (Eigen::Index i = 0; i < q.x.rows(); ++i) {
     float best = std::numeric_limits<float>::max();
+    bool found = false;
     for (Eigen::Index j = 0; j < r.x.rows(); ++j) {
       const auto jj = static_cast<std::size_t>(j), ii = static_cast<std::size_t>(i);
       if (r.label[jj] != q.label[ii] || r.sequence[jj] == q.sequence[ii]) continue;
       const float d = r_norm[j] - 2 * r.x.row(j).dot(q.x.row(i));
-      if (d < best) best = d, out.row(i) = r.x.row(j);
+      if (d < best) best = d, found = true, out.row(i) = r.x.row(j);
     }
+    if (!found) ++*alone;
   }
   return out;
 }
@@ -194,7 +196,7 @@ DecoderReach decoder_reach(const ActganModel& m, const io::SkeletonFile& s,
       fit_latent_codes(m, ps.queries.x, ps.queries.label, opt.steps, opt.lr);
   const nn::Matrix<float> start = fit_latent_codes(m, ps.queries.x, ps.queries.label, 0, opt.lr);
   const nn::Matrix<float> mean = ps.references.x.colwise().mean().replicate(ps.queries.x.rows(), 1);
-  const nn::Matrix<float> nearest = nearest_references(ps);
+  const nn::Matrix<float> nearest = nearest_references(ps, &d.without_reference);
   d.fitted = pose_error(m, fitted, ps.queries.x);
   d.start = pose_error(m, start, ps.queries.x);
   d.mean_pose = pose_error(m, mean, ps.queries.x);
@@ -232,6 +234,7 @@ nlohmann::ordered_json reach_json(const DecoderReach& d, const ActganInspectOpti
   js["decoder"] = {{"fitted", to_json(d.fitted)}, {"start", to_json(d.start)}};
   js["mean_pose"] = to_json(d.mean_pose);
   js["nearest_pose"] = to_json(d.nearest);
+  js["nearest_pose"]["without_reference"] = d.without_reference;
   js["by_class"] = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < d.classes.size(); ++k)
     js["by_class"].push_back({{"class", d.classes[k]},
@@ -255,6 +258,9 @@ std::string reach_table(const DecoderReach& d, const ActganInspectOptions& opt) 
   line("decoder at h = 0", d.start);
   line("nearest pose of the class", d.nearest);
   line("mean pose", d.mean_pose);
+  if (d.without_reference)
+    out += fmt::format("({} poses have no pose of their class in another sequence: counted at 0)\n",
+                       d.without_reference);
   out += "per class, RMS: fitted / nearest pose\n";
   for (std::size_t k = 0; k < d.classes.size(); ++k)
     out += fmt::format("  {:<32} {:>10.4g} / {:.4g}\n", d.classes[k], d.fitted_by_class[k].rms,

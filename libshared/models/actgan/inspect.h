@@ -35,10 +35,11 @@ struct PoseError {
 struct DecoderReach {
   std::string part;  ///< "test", "subjects" or "all"
   std::size_t poses = 0, training_poses = 0;
-  PoseError fitted;     ///< Dec(h*, y), h* fitted
-  PoseError start;      ///< Dec(0, y), where the fit starts
-  PoseError mean_pose;  ///< the mean training pose
-  PoseError nearest;    ///< the nearest training pose of the same class
+  PoseError fitted;                   ///< Dec(h*, y), h* fitted
+  PoseError start;                    ///< Dec(0, y), where the fit starts
+  PoseError mean_pose;                ///< the mean training pose
+  PoseError nearest;                  ///< the nearest training pose of the same class
+  std::size_t without_reference = 0;  ///< poses with no reference of their class (nearest: 0)
   std::vector<std::string> classes;
   std::vector<PoseError> fitted_by_class, nearest_by_class;
   std::vector<std::size_t> poses_by_class;

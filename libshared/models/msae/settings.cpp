@@ -39,9 +39,9 @@ Settings msae_network_settings(MsaeConfig& c) {
        .optional = true},
       {.name = "init",
        .target = &c.init,
-       .help = "Initial weights: glorot (uniform), normal (N(0, 0.02^2), as the convMesh code) or\n"
+       .help = "Initial weights: glorot (uniform), normal (N(0, 0.02^2), as the convMesh code),\n"
                "small (C at glorot x 0.01: components no training shape asks for stay near zero\n"
-               "instead of projecting unseen shapes onto random directions) or local (glorot,\n"
+               "instead of projecting unseen shapes onto random directions), local (glorot,\n"
                "then level 0's components from SPLOCS on the training shapes' features, within\n"
                "radius d, orthonormalised, and its convolutions the identity: AE0 starts as\n"
                "the projection onto the shapes' local linear components) or local-all (every\n"
