@@ -25,9 +25,10 @@ int main(int argc, char** argv) {
       "extract-components. Split as in the paper: sequences train on every 10th shape (1:9),\n"
       "collections (--split collection) on a random half; or explicit --train/--test lists.\n"
       "\n"
-      "The defaults are not the paper's form (--paper-form): mean-centred features, Omega as a\n"
-      "proximal step, second-level blocks of 50 components and 16 recombined shapes per batch,\n"
-      "chosen by their worst case over every shared set (docs/msae.md). A loss line warns when\n"
+      "The defaults are not the paper's form (--paper-form): level 0 started from the training\n"
+      "shapes' SPLOCS components (--init local), mean-centred features, Omega as a proximal\n"
+      "step, second-level blocks of 50 components and 16 recombined shapes per batch, chosen by\n"
+      "their worst case over every shared set (docs/msae.md). A loss line warns when\n"
       "level 0's components collapse (few distinct centres, supports spanning the mesh, a\n"
       "near-constant code).");
   tool.with_seed(1).with_force().with_stop_requests();
@@ -54,10 +55,10 @@ int main(int argc, char** argv) {
                 "Hold out the shapes of this list (default: every shape not trained on)");
   bool paper_form = false;
   g->add_flag("--paper-form", paper_form,
-              "The paper's exact form: --kz 10,5 --support soft --no-centre-features\n"
-              "--synthetic 0, every other setting at the paper's value too (options given\n"
-              "explicitly still win). The defaults differ in those four, chosen by their worst\n"
-              "case over the shared sets' validation shapes (docs/msae.md)");
+              "The paper's exact form: --init glorot --kz 10,5 --support soft\n"
+              "--no-centre-features --synthetic 0, every other setting at the paper's value too\n"
+              "(options given explicitly still win). The defaults differ in those five, chosen\n"
+              "by their worst case over the shared sets' validation shapes (docs/msae.md)");
   df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"

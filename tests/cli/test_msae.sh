@@ -46,12 +46,12 @@ echo "ok (collapse: $n warnings, recorded; none at the end when centred)"
 cfg() { h5dump -a "/config/$2" "$1" | sed -n 's/^ *(0): \(.*\)$/\1/p' | tr -d '"' | paste -sd' '; }
 train-msae -q --iterations 1 --batch 4 data.h5 -o defaults.h5
 train-msae -q --iterations 1 --batch 4 --paper-form --synthetic 4 data.h5 -o paper.h5
-[ "$(cfg defaults.h5 centre_features) $(cfg defaults.h5 support) $(cfg defaults.h5 synthetic)" = "1 proximal 16" ] &&
+[ "$(cfg defaults.h5 init) $(cfg defaults.h5 centre_features) $(cfg defaults.h5 support) $(cfg defaults.h5 synthetic)" = "local 1 proximal 16" ] &&
   h5dump -a /config/kz defaults.h5 | grep -q "10, 50" ||
-  fail "the defaults: $(cfg defaults.h5 centre_features) $(cfg defaults.h5 support) $(cfg defaults.h5 synthetic)"
-[ "$(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)" = "0 soft 4" ] &&
+  fail "the defaults: $(cfg defaults.h5 init) $(cfg defaults.h5 centre_features) $(cfg defaults.h5 support) $(cfg defaults.h5 synthetic)"
+[ "$(cfg paper.h5 init) $(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)" = "glorot 0 soft 4" ] &&
   h5dump -a /config/kz paper.h5 | grep -q "10, 5$" ||
-  fail "--paper-form (an explicit --synthetic kept): $(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)"
+  fail "--paper-form (an explicit --synthetic kept): $(cfg paper.h5 init) $(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)"
 train-msae -q --iterations 1 --batch 4 --no-centre-features data.h5 -o uncentred.h5
 [ "$(cfg uncentred.h5 centre_features)" = 0 ] || fail "--no-centre-features kept the mean centring"
 echo "ok (defaults, --paper-form, --no-centre-features)"

@@ -362,11 +362,24 @@ void start_block_locally(MsaeModel& m, int b, const nn::Matrix<float>& input,
   for (Eigen::Index k = 0; k < local.components.rows(); ++k)
     if (local.components.row(k).squaredNorm() > 0) live.push_back(k);
   const auto n = static_cast<Eigen::Index>(live.size());
+  if (n == 0) {
+    log::warn("--init {}: SPLOCS found none of block {}'s components; it starts random",
+              m.config.init, b);
+    return;
+  }
   nn::Matrix<double> basis(n, local.components.cols());
   for (Eigen::Index r = 0; r < n; ++r)
     basis.row(r) = local.components.row(live[static_cast<std::size_t>(r)]);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(basis * basis.transpose());
-  const Eigen::VectorXd inv_sqrt = gram.eigenvalues().cwiseMax(1e-12).cwiseSqrt().cwiseInverse();
+  // Two components nearly parallel leave an eigenvalue near zero; floored relative to the largest
+  // (the components' scale is the data's), their difference is not blown up to a unit row of noise.
+  const double floor = 1e-10 * std::max(gram.eigenvalues().maxCoeff(), 1e-300);
+  log::debug("--init {}: block {}'s {} SPLOCS components, Gram eigenvalues {:.3g} to {:.3g}",
+             m.config.init, b, n, gram.eigenvalues().minCoeff(), gram.eigenvalues().maxCoeff());
+  if (gram.eigenvalues().minCoeff() < floor)
+    log::warn("--init {}: block {}'s SPLOCS components are nearly linearly dependent",
+              m.config.init, b);
+  const Eigen::VectorXd inv_sqrt = gram.eigenvalues().cwiseMax(floor).cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd lowdin =
       gram.eigenvectors() * inv_sqrt.asDiagonal() * gram.eigenvectors().transpose();
   nn::Matrix<float> C = m.net->store().value(block.c);
@@ -431,6 +444,7 @@ void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training) {
   net.support = "proximal";    // Omega's weights outside each radius exactly zero
   net.kz = {10, 50};           // second-level blocks as wide as the residual needs
   training.synthetic = 16;  // the encoder learns to invert the decoders beyond the training codes
+  net.init = "local";       // AE₀ starts as the training shapes' local components (SPLOCS)
 }
 
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
