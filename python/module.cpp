@@ -130,46 +130,8 @@ F64 solve_frames(const geometry::Reconstructor& rec, const py::array& features) 
   return one ? array({V, 3}, out.data()) : array({n, V, 3}, out.data());
 }
 
-}  // namespace
-
-PYBIND11_MODULE(deformflow, m) {
-  m.doc() =
-      "deformflow: exact ACAP deformation features (Gao et al. 2019) and their reconstruction on\n"
-      "numpy arrays, the deformflow file kinds (acap, components, skeleton, models) as dicts of\n"
-      "arrays, and the papers' error measures. The same code as the command-line tools\n"
-      "(obj2acap, acap2obj, eval-metrics): equal results.\n"
-      "\n"
-      "Arrays: float64 C-contiguous (numpy.ascontiguousarray(x, dtype=numpy.float64)); vertices\n"
-      "[F, V, 3] or [V, 3]; faces [T, 3] integer; features [F, V, 9] per vertex the rotation's\n"
-      "log (L01, L02, L12 of the skew matrix) then the stretch's upper triangle (S00, S01, S02,\n"
-      "S11, S12, S22). Importing the module registers the zstd filter with HDF5, so h5py reads\n"
-      "deformflow files in the same process.";
-  h5::initialize();
-  h5::register_zstd_filter();
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const IOError& e) {
-      PyErr_SetString(PyExc_OSError, e.message().c_str());
-    } catch (const Error& e) {
-      PyErr_SetString(PyExc_ValueError, e.message().c_str());
-    }
-  });
-
-  m.def(
-      "set_threads",
-      [](int n) {
-        static std::unique_ptr<tbb::global_control> limit;
-        if (n < 0) throw py::value_error("threads must be >= 0");
-        limit.reset();
-        if (n > 0)
-          limit = std::make_unique<tbb::global_control>(
-              tbb::global_control::max_allowed_parallelism, n);
-      },
-      py::arg("threads"),
-      "Worker threads of the module's parallel calls (0 = all cores, the default). Results do not\n"
-      "depend on it.");
-
+// ACAP features of meshes and the meshes back from them.
+void bind_features(py::module_& m) {
   m.def(
       "acap_features",
       [](const py::array& verts, const py::array& faces, int reference, bool consistency) {
@@ -240,7 +202,10 @@ PYBIND11_MODULE(deformflow, m) {
       py::arg("solver") = "gradients",
       "Positions from features [V, 9] or [F, V, 9] on template [V, 3] (acap2obj's solve; for many\n"
       "calls on one template make a Reconstructor once).");
+}
 
+// The features' normalization (obj2acap's) both ways.
+void bind_normalization(py::module_& m) {
   m.def(
       "normalization",
       [](const py::array& features, const std::string& mode) {
@@ -274,7 +239,10 @@ PYBIND11_MODULE(deformflow, m) {
       },
       py::arg("features"), py::arg("min"), py::arg("max"), py::arg("inverse") = false,
       "x_norm = -0.95 + 1.9 (x - min) / (max - min) per number of the 9 (inverse=True undoes it).");
+}
 
+// The papers' shape errors: E_rms and the per-vertex error.
+void bind_shape_errors(py::module_& m) {
   m.def(
       "erms",
       [](const py::array& pred, const py::array& truth, const py::object& faces) {
@@ -310,7 +278,10 @@ PYBIND11_MODULE(deformflow, m) {
       },
       py::arg("pred"), py::arg("truth"),
       "Mean per-vertex distance per frame [F] (BD-LSTM paper, Tables 1-2; no alignment).");
+}
 
+// acap files into dicts of arrays.
+void bind_acap_reader(py::module_& m) {
   m.def(
       "read_acap",
       [](const std::string& path) {
@@ -358,7 +329,10 @@ PYBIND11_MODULE(deformflow, m) {
       "offsets [S+1], and what it holds of positions [N,V,3] (float32), features [N,V,9] (raw,\n"
       "float64), normalized [N,V,9] (float32), normalization {min, max, mode}, source [N], labels\n"
       "and class_names, history.");
+}
 
+// acap files from arrays.
+void bind_acap_writer(py::module_& m) {
   m.def(
       "write_acap",
       [](const std::string& path, const py::array& tmpl, const py::array& faces,
@@ -409,7 +383,10 @@ PYBIND11_MODULE(deformflow, m) {
       py::arg("features") = py::none(),
       "Writes an acap file (one sequence) from template [V,3], faces [T,3] and positions [N,V,3]\n"
       "and/or raw features [N,V,9] (normalized as obj2acap does, 'group' mode), atomically.");
+}
 
+// components files.
+void bind_component_files(py::module_& m) {
   m.def(
       "read_components",
       [](const std::string& path) {
@@ -440,7 +417,10 @@ PYBIND11_MODULE(deformflow, m) {
       "A components file: space ('acap' or 'positions'), template, levels (each: features\n"
       "[K,V,9] normalized ACAP features or [K,V,3] displacements, strength, center, kept),\n"
       "normalization, mean (positions only), model.");
+}
 
+// skeleton files both ways.
+void bind_skeleton_files(py::module_& m) {
   m.def(
       "read_skeleton",
       [](const std::string& path) {
@@ -464,6 +444,53 @@ PYBIND11_MODULE(deformflow, m) {
       "normalization undone, root-centred), offsets [S+1], labels [S], class_names,\n"
       "sequence_names, parents [J], joint_names, frame_rate.");
 
+  m.def(
+      "write_skeleton",
+      [](const std::string& path, const py::array& poses, const std::vector<std::int64_t>& offsets,
+         const std::vector<std::int32_t>& labels, const std::vector<std::string>& class_names,
+         const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names,
+         double frame_rate) {
+        const auto J = static_cast<py::ssize_t>(parents.size());
+        auto p = doubles(poses, "poses", {-1, J, 3});
+        io::SkeletonFile s;
+        s.frames = static_cast<std::size_t>(p.shape(0));
+        s.joints = static_cast<std::size_t>(J);
+        s.poses.assign(p.data(), p.data() + p.size());
+        s.offsets = offsets;
+        if (s.offsets.size() < 2 || s.offsets.front() != 0 ||
+            s.offsets.back() != static_cast<std::int64_t>(s.frames) ||
+            !std::is_sorted(s.offsets.begin(), s.offsets.end()))
+          throw py::value_error("offsets must run from 0 to the number of frames, non-decreasing");
+        s.labels = labels;
+        s.class_names = class_names;
+        s.parents = parents;
+        s.joint_names = joint_names;
+        s.frame_rate = frame_rate;
+        s.sequence_names.assign(s.sequences(), "");
+        if (s.labels.size() != s.sequences()) throw py::value_error("labels: one per sequence");
+        for (auto l : s.labels)
+          if (l < 0 || static_cast<std::size_t>(l) >= class_names.size())
+            throw py::value_error("labels: a class index out of range");
+        if (joint_names.size() != parents.size())
+          throw py::value_error("joint_names: one per joint");
+        AtomicOutput out(path, AtomicOutput::Kind::file, true);
+        {
+          h5::File f(out.temp_path(), h5::File::Mode::create, path);
+          io::write_header(f, "skeleton");
+          io::write_skeleton_data(f, s);
+        }
+        out.commit();
+      },
+      py::arg("path"), py::arg("poses"), py::arg("offsets"), py::arg("labels"),
+      py::arg("class_names"), py::arg("parents"), py::arg("joint_names"),
+      py::arg("frame_rate") = 30.0,
+      "Writes a skeleton file (raw coordinates, no normalization) that skel2h5, render-mesh and\n"
+      "export-gltf read: poses [T, J, 3] of all sequences concatenated, offsets [S+1], labels [S]\n"
+      "(class indices), class_names, parents [J] (-1 for a root), joint_names [J], frame_rate.");
+}
+
+// Any model file's kind and settings.
+void bind_model_info(py::module_& m) {
   m.def(
       "read_model_info",
       [](const std::string& path) {
@@ -498,7 +525,10 @@ PYBIND11_MODULE(deformflow, m) {
       py::arg("path"),
       "A model file's (bdlstm-model, msae-model, actgan-model) kind, its settings (/config) and\n"
       "its training log [rows, columns] with the columns' names.");
+}
 
+// MSAE's reconstruction.
+void bind_msae(py::module_& m) {
   m.def(
       "msae_reconstruct",
       [](const std::string& model, const py::array& features, int levels) {
@@ -534,7 +564,10 @@ PYBIND11_MODULE(deformflow, m) {
       "An MSAE model (train-msae) on raw features [N, V, 9] of its template: (the reconstruction\n"
       "[N, V, 9] through the first `levels` levels (0: all), raw; every block's codes [N, kz]),\n"
       "as recon-msae computes them.");
+}
 
+// ActGAN's generation.
+void bind_actgan(py::module_& m) {
   m.def(
       "actgan_generate",
       [](const std::string& model, const std::vector<std::string>& classes, const std::string& mix,
@@ -583,7 +616,10 @@ PYBIND11_MODULE(deformflow, m) {
       "normalized\n"
       "coordinates, raw_poses (normalization undone, root-centred), latents [n, T, Z], names,\n"
       "joint_names, parents, frame_rate.");
+}
 
+// BD-LSTM's prediction.
+void bind_bdlstm(py::module_& m) {
   m.def(
       "bdlstm_generate",
       [](const std::string& model, const std::string& data, const std::vector<std::string>& from,
@@ -642,51 +678,10 @@ PYBIND11_MODULE(deformflow, m) {
       "`seed`). A dict: features [N, V, 9] raw (acap_reconstruct makes meshes), offsets and\n"
       "sequence_names (one sequence per case and sample), source (the data frame of each), steps\n"
       "(frames after the last given one), template.");
+}
 
-  m.def(
-      "write_skeleton",
-      [](const std::string& path, const py::array& poses, const std::vector<std::int64_t>& offsets,
-         const std::vector<std::int32_t>& labels, const std::vector<std::string>& class_names,
-         const std::vector<std::int32_t>& parents, const std::vector<std::string>& joint_names,
-         double frame_rate) {
-        const auto J = static_cast<py::ssize_t>(parents.size());
-        auto p = doubles(poses, "poses", {-1, J, 3});
-        io::SkeletonFile s;
-        s.frames = static_cast<std::size_t>(p.shape(0));
-        s.joints = static_cast<std::size_t>(J);
-        s.poses.assign(p.data(), p.data() + p.size());
-        s.offsets = offsets;
-        if (s.offsets.size() < 2 || s.offsets.front() != 0 ||
-            s.offsets.back() != static_cast<std::int64_t>(s.frames) ||
-            !std::is_sorted(s.offsets.begin(), s.offsets.end()))
-          throw py::value_error("offsets must run from 0 to the number of frames, non-decreasing");
-        s.labels = labels;
-        s.class_names = class_names;
-        s.parents = parents;
-        s.joint_names = joint_names;
-        s.frame_rate = frame_rate;
-        s.sequence_names.assign(s.sequences(), "");
-        if (s.labels.size() != s.sequences()) throw py::value_error("labels: one per sequence");
-        for (auto l : s.labels)
-          if (l < 0 || static_cast<std::size_t>(l) >= class_names.size())
-            throw py::value_error("labels: a class index out of range");
-        if (joint_names.size() != parents.size())
-          throw py::value_error("joint_names: one per joint");
-        AtomicOutput out(path, AtomicOutput::Kind::file, true);
-        {
-          h5::File f(out.temp_path(), h5::File::Mode::create, path);
-          io::write_header(f, "skeleton");
-          io::write_skeleton_data(f, s);
-        }
-        out.commit();
-      },
-      py::arg("path"), py::arg("poses"), py::arg("offsets"), py::arg("labels"),
-      py::arg("class_names"), py::arg("parents"), py::arg("joint_names"),
-      py::arg("frame_rate") = 30.0,
-      "Writes a skeleton file (raw coordinates, no normalization) that skel2h5, render-mesh and\n"
-      "export-gltf read: poses [T, J, 3] of all sequences concatenated, offsets [S+1], labels [S]\n"
-      "(class indices), class_names, parents [J] (-1 for a root), joint_names [J], frame_rate.");
-
+// The sequence and distribution measures: STED and MMD.
+void bind_sequence_measures(py::module_& m) {
   m.def(
       "sted",
       [](const py::array& pred, const py::array& truth, const py::array& faces, int rings,
@@ -745,4 +740,58 @@ PYBIND11_MODULE(deformflow, m) {
       "(MMD_u^2, bandwidth): the unbiased squared MMD between the rows of x [m, D] and y [n, D]\n"
       "with a Gaussian kernel, maximised over bandwidths 1e-4 ... 1e9 (ActGAN's MMD_avg / MMD_seq\n"
       "when the rows are poses / flattened sequences), as eval-metrics computes it (float).");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(deformflow, m) {
+  m.doc() =
+      "deformflow: exact ACAP deformation features (Gao et al. 2019) and their reconstruction on\n"
+      "numpy arrays, the deformflow file kinds (acap, components, skeleton, models) as dicts of\n"
+      "arrays, and the papers' error measures. The same code as the command-line tools\n"
+      "(obj2acap, acap2obj, eval-metrics): equal results.\n"
+      "\n"
+      "Arrays: float64 C-contiguous (numpy.ascontiguousarray(x, dtype=numpy.float64)); vertices\n"
+      "[F, V, 3] or [V, 3]; faces [T, 3] integer; features [F, V, 9] per vertex the rotation's\n"
+      "log (L01, L02, L12 of the skew matrix) then the stretch's upper triangle (S00, S01, S02,\n"
+      "S11, S12, S22). Importing the module registers the zstd filter with HDF5, so h5py reads\n"
+      "deformflow files in the same process.";
+  h5::initialize();
+  h5::register_zstd_filter();
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const IOError& e) {
+      PyErr_SetString(PyExc_OSError, e.message().c_str());
+    } catch (const Error& e) {
+      PyErr_SetString(PyExc_ValueError, e.message().c_str());
+    }
+  });
+
+  m.def(
+      "set_threads",
+      [](int n) {
+        static std::unique_ptr<tbb::global_control> limit;
+        if (n < 0) throw py::value_error("threads must be >= 0");
+        limit.reset();
+        if (n > 0)
+          limit = std::make_unique<tbb::global_control>(
+              tbb::global_control::max_allowed_parallelism, n);
+      },
+      py::arg("threads"),
+      "Worker threads of the module's parallel calls (0 = all cores, the default). Results do not\n"
+      "depend on it.");
+
+  bind_features(m);
+  bind_normalization(m);
+  bind_shape_errors(m);
+  bind_acap_reader(m);
+  bind_acap_writer(m);
+  bind_component_files(m);
+  bind_skeleton_files(m);
+  bind_model_info(m);
+  bind_msae(m);
+  bind_actgan(m);
+  bind_bdlstm(m);
+  bind_sequence_measures(m);
 }

@@ -54,6 +54,18 @@ class AcapConsistency {
   double angle_spread(const std::vector<double>& phi) const;
 
  private:
+  std::vector<int> initial_signs(const std::vector<AxisAngle>& rot,
+                                 const std::vector<Eigen::Vector3d>* previous,
+                                 const std::vector<int>& s) const;
+  void improve_signs(const std::vector<int>& s, std::vector<int>& o, ConsistencyReport& rep) const;
+  std::vector<long> initial_turns(const std::vector<double>& base,
+                                  const std::vector<Eigen::Vector3d>& axis,
+                                  const std::vector<Eigen::Vector3d>* previous) const;
+  void improve_turns(const std::vector<double>& base, std::vector<long>& k,
+                     std::vector<double>& phi, ConsistencyReport& rep) const;
+  long global_turn(const std::vector<Eigen::Vector3d>& axis, const std::vector<double>& phi,
+                   const std::vector<Eigen::Vector3d>* previous) const;
+
   const MeshTopology& topo_;
   ConsistencyOptions opt_;
 };
