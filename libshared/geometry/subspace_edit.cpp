@@ -85,6 +85,29 @@ Eigen::Matrix3d SubspaceEditor::transform_derivative(const Eigen::VectorXd& w, i
   return transform_change(rotation_exp(r), right_jacobian(r), S, dr, dS);
 }
 
+struct SubspaceEditor::Transforms {
+  std::vector<Eigen::Matrix3d> R, S, J;
+};
+
+SubspaceEditor::Transforms SubspaceEditor::transforms(const std::vector<double>& f) const {
+  const int V = rec_.n_vertices();
+  Transforms t{std::vector<Eigen::Matrix3d>(static_cast<std::size_t>(V)),
+               std::vector<Eigen::Matrix3d>(static_cast<std::size_t>(V)),
+               std::vector<Eigen::Matrix3d>(static_cast<std::size_t>(V))};
+  tbb::parallel_for(0, V, [&](int i) {
+    Eigen::Vector3d r;
+    unpack_features(f.data() + kFeatureDims * i, r, t.S[static_cast<std::size_t>(i)]);
+    t.R[static_cast<std::size_t>(i)] = rotation_exp(r);
+    t.J[static_cast<std::size_t>(i)] = right_jacobian(r);
+  });
+  return t;
+}
+
+Eigen::Vector3d SubspaceEditor::edge_vector(Eigen::Index e) const {
+  auto [i, j] = rec_.topology().edges[static_cast<std::size_t>(e)];
+  return reference_.row(i) - reference_.row(j);
+}
+
 SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const Vertices& pinned,
                                       const SubspaceEditOptions& reg, EnergyParts parts) const {
   constexpr double eps = 1e-3;  // the sparsity term's smoothing
@@ -92,72 +115,87 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const Vertices& 
   const auto f = features(w);
   SubspaceEnergy out;
   out.positions = rec_.solve(f.data(), &pinned);
-  const int V = rec_.n_vertices();
-  const auto K = directions_.rows();
-  std::vector<Eigen::Matrix3d> R(static_cast<std::size_t>(V)), S(static_cast<std::size_t>(V)),
-      J(static_cast<std::size_t>(V));
-  tbb::parallel_for(0, V, [&](int i) {
-    Eigen::Vector3d r;
-    unpack_features(f.data() + kFeatureDims * i, r, S[static_cast<std::size_t>(i)]);
-    R[static_cast<std::size_t>(i)] = rotation_exp(r);
-    J[static_cast<std::size_t>(i)] = right_jacobian(r);
-  });
+  const Transforms t = transforms(f);
+  Eigen::MatrixXd residual;
+  out.fit = fit(t, out.positions, residual) / scale_;
+  out.value = out.fit + reg.l2 * w.squaredNorm() + reg.l1 * (root - eps).sum();
+  if (parts == EnergyParts::value) return out;
+
+  out.gradient = directions_ * feature_gradient(t, residual) + 2 * reg.l2 * w;
+  out.gradient.array() += reg.l1 * w.array() / root;
+  if (parts == EnergyParts::gradient) return out;
+
+  const Eigen::MatrixXd JCJ = fit_gauss_newton(t);
+  out.gauss_newton = 2 / scale_ * 0.5 * (JCJ + JCJ.transpose());
+  out.gauss_newton.diagonal().array() += 2 * reg.l2 + reg.l1 * eps * eps / root.cube();
+  return out;
+}
+
+// r_e = (p_i − p_j) − ½(T_i + T_j) q_e; the fit summed in fixed chunks of edges, then in order:
+// the same sum at any thread count.
+double SubspaceEditor::fit(const Transforms& t, const Vertices& positions,
+                           Eigen::MatrixXd& residual) const {
   const auto& edges = rec_.topology().edges;
   const auto& c = rec_.edge_weights();
   const auto E = static_cast<Eigen::Index>(edges.size());
-  const auto q = [&](Eigen::Index e) -> Eigen::Vector3d {
-    auto [i, j] = edges[static_cast<std::size_t>(e)];
-    return reference_.row(i) - reference_.row(j);
-  };
-  // r_e = (p_i − p_j) − ½(T_i + T_j) q_e; the fit summed in fixed chunks of edges, then in order:
-  // the same sum at any thread count.
-  Eigen::MatrixXd residual(E, 3);
+  residual.resize(E, 3);
   const Eigen::Index chunks = (E + kChunk - 1) / kChunk;
-  std::vector<double> fit(static_cast<std::size_t>(chunks), 0.0);
+  std::vector<double> sums(static_cast<std::size_t>(chunks), 0.0);
   tbb::parallel_for(Eigen::Index{0}, chunks, [&](Eigen::Index ch) {
     for (Eigen::Index e = ch * kChunk; e < std::min(E, (ch + 1) * kChunk); ++e) {
       auto [i, j] = edges[static_cast<std::size_t>(e)];
       const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(j);
-      const Eigen::Vector3d d = (out.positions.row(i) - out.positions.row(j)).transpose() -
-                                0.5 * (R[a] * S[a] + R[b] * S[b]) * q(e);
+      const Eigen::Vector3d d = (positions.row(i) - positions.row(j)).transpose() -
+                                0.5 * (t.R[a] * t.S[a] + t.R[b] * t.S[b]) * edge_vector(e);
       residual.row(e) = d.transpose();
-      fit[static_cast<std::size_t>(ch)] += c[static_cast<std::size_t>(e)] * d.squaredNorm();
+      sums[static_cast<std::size_t>(ch)] += c[static_cast<std::size_t>(e)] * d.squaredNorm();
     }
   });
-  for (double x : fit) out.fit += x;
-  out.fit /= scale_;
-  out.value = out.fit + reg.l2 * w.squaredNorm() + reg.l1 * (root - eps).sum();
-  if (parts == EnergyParts::value) return out;
+  double total = 0;
+  for (double x : sums) total += x;
+  return total;
+}
 
-  // The gradient by the adjoint: p* is stationary, so dE/dw_k = Σ_i ⟨∂E/∂T_i, dT_i/dw_k⟩ + 2λw_k
-  // with ∂E/∂T_i = −M_i / s, M_i = Σ_(e∋i) c_e r_e q_eᵀ; ⟨M_i, dT_i/dw_k⟩ is linear in direction
-  // k's 9 numbers at i, so the gradient is D h for one vector h of 9 numbers per vertex.
+// The gradient by the adjoint: p* is stationary, so dE/dw_k = Σ_i ⟨∂E/∂T_i, dT_i/dw_k⟩ + 2λw_k
+// with ∂E/∂T_i = −M_i / s, M_i = Σ_(e∋i) c_e r_e q_eᵀ; ⟨M_i, dT_i/dw_k⟩ is linear in direction
+// k's 9 numbers at i, so the gradient is D h for one vector h of 9 numbers per vertex.
+Eigen::VectorXd SubspaceEditor::feature_gradient(const Transforms& t,
+                                                 const Eigen::MatrixXd& residual) const {
+  const int V = rec_.n_vertices();
   const auto& topo = rec_.topology();
+  const auto& c = rec_.edge_weights();
   Eigen::VectorXd h(static_cast<Eigen::Index>(kFeatureDims) * V);
   tbb::parallel_for(0, V, [&](int i) {
     Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
     for (int n = topo.ring_offsets[i]; n < topo.ring_offsets[i + 1]; ++n) {
       const auto e = static_cast<Eigen::Index>(topo.ring_edges[n]);
-      M += c[static_cast<std::size_t>(e)] * residual.row(e).transpose() * q(e).transpose();
+      M +=
+          c[static_cast<std::size_t>(e)] * residual.row(e).transpose() * edge_vector(e).transpose();
     }
     const auto v = static_cast<std::size_t>(i);
-    const Eigen::Matrix3d N = R[v].transpose() * M, NS = N * S[v];
+    const Eigen::Matrix3d N = t.R[v].transpose() * M, NS = N * t.S[v];
     // ⟨N, [x]× S⟩ = x · (NS₂₁ − NS₁₂, NS₀₂ − NS₂₀, NS₁₀ − NS₀₁); x = J dr
     const Eigen::Vector3d a =
-        J[v].transpose() *
+        t.J[v].transpose() *
         Eigen::Vector3d(NS(2, 1) - NS(1, 2), NS(0, 2) - NS(2, 0), NS(1, 0) - NS(0, 1));
     for (int m = 0; m < kFeatureDims; ++m)
       h[kFeatureDims * i + m] =
           -(a.dot(unit_rotation_[m]) + (N.array() * unit_stretch_[m].array()).sum()) / scale_;
   });
-  out.gradient = directions_ * h + 2 * reg.l2 * w;
-  out.gradient.array() += reg.l1 * w.array() / root;
-  if (parts == EnergyParts::gradient) return out;
+  return h;
+}
 
-  // The Gauss-Newton matrix. G: dg_e/dw_k in rows 3e..3e+2 (CG: times c_e), g_e = ½(T_i + T_j)q_e;
-  // B = Aᵀ C G, the right-hand sides' change, in three blocks of K columns (one per coordinate).
-  // With p eliminated J = A L⁻¹ B − G, and since the residual is orthogonal to A's range at p*,
-  // JᵀCJ = GᵀCG − (L⁻¹B)ᵀB.
+// The Gauss-Newton matrix. G: dg_e/dw_k in rows 3e..3e+2 (CG: times c_e), g_e = ½(T_i + T_j)q_e;
+// B = Aᵀ C G, the right-hand sides' change, in three blocks of K columns (one per coordinate).
+// With p eliminated J = A L⁻¹ B − G, and since the residual is orthogonal to A's range at p*,
+// JᵀCJ = GᵀCG − (L⁻¹B)ᵀB.
+Eigen::MatrixXd SubspaceEditor::fit_gauss_newton(const Transforms& t) const {
+  const int V = rec_.n_vertices();
+  const auto K = directions_.rows();
+  const auto& topo = rec_.topology();
+  const auto& edges = topo.edges;
+  const auto& c = rec_.edge_weights();
+  const auto E = static_cast<Eigen::Index>(edges.size());
   std::vector<Eigen::Matrix3d> dT(static_cast<std::size_t>(V * K));  // dT_i/dw_k at i * K + k
   tbb::parallel_for(0, V, [&](int i) {
     const auto v = static_cast<std::size_t>(i);
@@ -165,13 +203,13 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const Vertices& 
     Eigen::Matrix3d dS;
     for (Eigen::Index k = 0; k < K; ++k) {
       unpack_features(directions_.row(k).data() + kFeatureDims * i, dr, dS);
-      dT[static_cast<std::size_t>(i * K + k)] = transform_change(R[v], J[v], S[v], dr, dS);
+      dT[static_cast<std::size_t>(i * K + k)] = transform_change(t.R[v], t.J[v], t.S[v], dr, dS);
     }
   });
   RowMatrix G(3 * E, K), CG(3 * E, K);
   tbb::parallel_for(Eigen::Index{0}, E, [&](Eigen::Index e) {
     auto [i, j] = edges[static_cast<std::size_t>(e)];
-    const Eigen::Vector3d qe = q(e);
+    const Eigen::Vector3d qe = edge_vector(e);
     for (Eigen::Index k = 0; k < K; ++k) {
       const Eigen::Vector3d g =
           0.5 *
@@ -196,6 +234,7 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const Vertices& 
   Eigen::MatrixXd X(free, 3 * K);
   tbb::parallel_for(Eigen::Index{0}, 3 * K,
                     [&](Eigen::Index col) { X.col(col) = rec_.solve_reduced(B.col(col)); });
+  const Eigen::Index chunks = (E + kChunk - 1) / kChunk;
   std::vector<Eigen::MatrixXd> part(static_cast<std::size_t>(chunks));  // GᵀCG by fixed chunks
   tbb::parallel_for(Eigen::Index{0}, chunks, [&](Eigen::Index ch) {
     const Eigen::Index first = 3 * ch * kChunk,
@@ -207,9 +246,7 @@ SubspaceEnergy SubspaceEditor::energy(const Eigen::VectorXd& w, const Vertices& 
   for (const auto& m : part) JCJ += m;
   for (int a = 0; a < 3; ++a)
     JCJ.noalias() -= X.middleCols(a * K, K).transpose() * B.middleCols(a * K, K);
-  out.gauss_newton = 2 / scale_ * 0.5 * (JCJ + JCJ.transpose());
-  out.gauss_newton.diagonal().array() += 2 * reg.l2 + reg.l1 * eps * eps / root.cube();
-  return out;
+  return JCJ;
 }
 
 SubspaceEditResult SubspaceEditor::edit(const Eigen::VectorXd& start, const Vertices& pinned,

@@ -81,6 +81,16 @@ class SubspaceEditor {
   double factor_seconds() const { return rec_.factor_seconds(); }
 
  private:
+  struct Transforms;  // each vertex's R = exp(ρ), S and J_r(ρ) at one w
+  Transforms transforms(const std::vector<double>& f) const;
+  Eigen::Vector3d edge_vector(Eigen::Index e) const;  // q_e on the reference
+  /// The weighted fit Σ c_e ‖r_e‖² (unscaled), r_e per edge into `residual` [E, 3].
+  double fit(const Transforms& t, const Vertices& positions, Eigen::MatrixXd& residual) const;
+  /// ∂E/∂f by the adjoint: the 9 numbers per vertex that D maps to E's gradient (without Ω).
+  Eigen::VectorXd feature_gradient(const Transforms& t, const Eigen::MatrixXd& residual) const;
+  /// JᵀCJ [K, K] of the fit with the positions eliminated.
+  Eigen::MatrixXd fit_gauss_newton(const Transforms& t) const;
+
   Reconstructor rec_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> directions_;  // [K, 9V]
   std::vector<double> base_;
