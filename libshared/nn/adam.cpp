@@ -1,5 +1,6 @@
 #include "nn/adam.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -8,8 +9,7 @@ namespace df::nn {
 
 namespace {
 
-double rate_at(const AdamOptions& opt, long step) {
-  const double t = static_cast<double>(step);
+double scheduled_rate(const AdamOptions& opt, double t) {
   switch (opt.schedule) {
     case AdamOptions::Schedule::exponential:
       return opt.lr * std::pow(opt.decay_rate, t / opt.decay_steps);
@@ -18,6 +18,12 @@ double rate_at(const AdamOptions& opt, long step) {
     default:
       return opt.lr;
   }
+}
+
+double rate_at(const AdamOptions& opt, long step) {
+  const double t = static_cast<double>(step);
+  const double rate = scheduled_rate(opt, t);
+  return opt.warmup_steps > 0 ? rate * std::min(1.0, (t + 1) / opt.warmup_steps) : rate;
 }
 
 }  // namespace

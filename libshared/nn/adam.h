@@ -18,6 +18,8 @@ struct AdamOptions {
   double decay_rate =
       1.0;  ///< exponential: lr·rate^(step/decay_steps); step: lr·rate^⌊step/decay_steps⌋
   double decay_steps = 1.0;
+  /// 0 = none; else the rate rises linearly over the first N steps: × min(1, (step + 1) / N)
+  double warmup_steps = 0;
 };
 
 template <class T>

@@ -54,7 +54,14 @@ train-msae -q --iterations 1 --batch 4 --paper-form --synthetic 4 data.h5 -o pap
   fail "--paper-form (an explicit --synthetic kept): $(cfg paper.h5 init) $(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)"
 train-msae -q --iterations 1 --batch 4 --no-centre-features data.h5 -o uncentred.h5
 [ "$(cfg uncentred.h5 centre_features)" = 0 ] || fail "--no-centre-features kept the mean centring"
-echo "ok (defaults, --paper-form, --no-centre-features)"
+# --lr-warmup: recorded (an older file reads 0), the first step at lr/N, a negative one refused
+train-msae -q --iterations 1 --batch 4 --lr-warmup 100 data.h5 -o warm.h5
+[ "$(cfg warm.h5 lr_warmup)" = 100 ] || fail "--lr-warmup not recorded: $(cfg warm.h5 lr_warmup)"
+[ "$(cfg defaults.h5 lr_warmup)" = 0 ] || fail "the default warm-up: $(cfg defaults.h5 lr_warmup)"
+run h5diff -q defaults.h5 warm.h5 /params; expect_rc 1  # the first step 100 times smaller
+run train-msae -q --iterations 1 --lr-warmup -1 data.h5 -o bad.h5
+expect_rc 2; expect_err "lr-warmup"
+echo "ok (defaults, --paper-form, --no-centre-features, --lr-warmup)"
 
 # --- --init local: level 0 starts as the training shapes' SPLOCS components (orthonormalised),
 # so before any step AE0 reconstructs the test shapes near SPLOCS-on-ACAP's least squares with as

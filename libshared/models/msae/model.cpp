@@ -41,6 +41,7 @@ std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam(std::int64_t start) const 
   ao.schedule = nn::AdamOptions::Schedule::exponential;
   ao.decay_rate = training.lr_decay;
   ao.decay_steps = training.lr_decay_steps;
+  ao.warmup_steps = training.lr_warmup;
   return std::make_unique<nn::Adam<float>>(net->store().size(), ao);
 }
 

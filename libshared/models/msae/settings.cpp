@@ -123,6 +123,11 @@ Settings msae_training_settings(MsaeTraining& t) {
       {.name = "lr_decay_steps",
        .target = &t.lr_decay_steps,
        .help = "Iterations per factor --lr-decay"},
+      {.name = "lr_warmup",
+       .target = &t.lr_warmup,
+       .help = "The rate rises linearly from lr/N to lr over the first N iterations (0: none, the\n"
+               "paper), so that Adam's first steps do not replace a started level 0 (--init local)",
+       .optional = true},
       {.name = "separate",
        .target = &t.separate,
        .help =

@@ -28,8 +28,11 @@ void check_options(const MsaeTrainOptions& opt) {
   const auto& t = opt.training;
   if (t.batch < 1 || t.iterations < 0)
     throw UsageError("--batch must be positive, --iterations not negative");
-  if (!(t.lr > 0) || !(t.lr_decay > 0 && t.lr_decay <= 1) || !(t.lr_decay_steps > 0))
-    throw UsageError("--lr must be positive, --lr-decay in (0, 1], --lr-decay-steps positive");
+  if (!(t.lr > 0) || !(t.lr_decay > 0 && t.lr_decay <= 1) || !(t.lr_decay_steps > 0) ||
+      !(t.lr_warmup >= 0))
+    throw UsageError(
+        "--lr must be positive, --lr-decay in (0, 1], --lr-decay-steps positive, --lr-warmup not "
+        "negative");
   if (t.every < 2) throw UsageError("--every must be at least 2");
   if (!(t.train_fraction > 0 && t.train_fraction < 1))
     throw UsageError("--train-fraction must be in (0, 1)");

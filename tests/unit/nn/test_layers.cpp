@@ -210,7 +210,7 @@ TEST_CASE("nn layers: critic input gradient is ∇ₓD, and the GP penalty's wei
   }
 }
 
-TEST_CASE("Adam: first step, bias correction, schedules, L2 penalty, clipping", "[nn]") {
+TEST_CASE("Adam: first step, bias correction, schedules, warm-up, L2 penalty, clipping", "[nn]") {
   Vector<double> theta(3), g(3);
   theta << 1, -2, 3;
   g << 0.5, -0.1, 0;
@@ -233,6 +233,22 @@ TEST_CASE("Adam: first step, bias correction, schedules, L2 penalty, clipping", 
   Adam<double> st(1, e);
   st.set_steps(19);
   CHECK(st.learning_rate() == Approx(0.5e-3));
+  // Warm-up: lr/N at the first step, rising linearly, the schedule's rate from step N - 1 on.
+  AdamOptions w = e;
+  w.schedule = AdamOptions::Schedule::exponential;
+  w.warmup_steps = 4;
+  Adam<double> warm(1, w);
+  CHECK(warm.learning_rate() == Approx(1e-3 / 4));
+  warm.set_steps(1);
+  CHECK(warm.learning_rate() == Approx(1e-3 * std::pow(0.5, 0.1) * 2 / 4));
+  warm.set_steps(20);
+  CHECK(warm.learning_rate() == Approx(0.25e-3));
+  Vector<double> one(1), grad(1);
+  one << 0;
+  grad << 7;
+  Adam<double> first(1, w);
+  first.step(one, grad);
+  CHECK(one(0) == Approx(-1e-3 / 4 * 7 / (7 + 1e-8)));  // the first step a quarter of the rate
   AdamOptions c;
   c.clip_norm = 1;
   c.weight_decay = 0.1;
