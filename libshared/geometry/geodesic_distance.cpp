@@ -197,11 +197,12 @@ Eigen::VectorXd HeatMethodDistance::from(int source) const {
   return phi;
 }
 
-GeodesicRows::GeodesicRows(const Vertices& V, const Faces& F) : heat_(V, F), n_vertices_(V.rows()) {
+GeodesicRows::GeodesicRows(const Vertices& V, const Faces& F)
+    : heat_(V, F), vertices_(V), n_vertices_(V.rows()) {
   // Farthest-point sweeps: each solve starts from the vertex farthest from the previous source.
   int source = 0;
   for (int sweep = 0; sweep < 8; ++sweep) {
-    const Eigen::VectorXd d = heat_.from(source);
+    const Eigen::VectorXd d = bridged(source);
     int far = source;
     double best = 0;
     for (Eigen::Index i = 0; i < d.size(); ++i)
@@ -215,8 +216,15 @@ GeodesicRows::GeodesicRows(const Vertices& V, const Faces& F) : heat_(V, F), n_v
 }
 
 GeodesicRows::GeodesicRows(const Vertices& V, const Faces& F, double diameter)
-    : heat_(V, F), n_vertices_(V.rows()), diameter_(diameter) {
+    : heat_(V, F), vertices_(V), n_vertices_(V.rows()), diameter_(diameter) {
   if (!(diameter_ > 0)) throw InvalidInput("geodesic diameter must be positive");
+}
+
+Eigen::VectorXd GeodesicRows::bridged(int source) const {
+  Eigen::VectorXd d = heat_.from(source);
+  for (Eigen::Index i = 0; i < d.size(); ++i)
+    if (!std::isfinite(d[i])) d[i] = (vertices_.row(i) - vertices_.row(source)).norm();
+  return d;
 }
 
 Eigen::VectorXf GeodesicRows::normalized(const Eigen::VectorXd& d) const {
@@ -238,13 +246,13 @@ void GeodesicRows::prepare(const std::vector<int>& sources) {
     rows_.clear();
   std::vector<Eigen::VectorXf> solved(missing.size());
   tbb::parallel_for(std::size_t{0}, missing.size(),
-                    [&](std::size_t k) { solved[k] = normalized(heat_.from(missing[k])); });
+                    [&](std::size_t k) { solved[k] = normalized(bridged(missing[k])); });
   for (std::size_t k = 0; k < missing.size(); ++k) rows_[missing[k]] = std::move(solved[k]);
 }
 
 const Eigen::VectorXf& GeodesicRows::row(int source) {
   auto it = rows_.find(source);
-  if (it == rows_.end()) it = rows_.emplace(source, normalized(heat_.from(source))).first;
+  if (it == rows_.end()) it = rows_.emplace(source, normalized(bridged(source))).first;
   return it->second;
 }
 

@@ -42,9 +42,11 @@ class HeatMethodDistance {
 /// masks need d(i, c_k) only from the current component centres c_k, and the all-pairs matrix of
 /// a 12,500-vertex mesh would take 600 MB. Rows are divided by the mesh's diameter, estimated by
 /// farthest-point sweeps (from vertex 0 to its farthest vertex a, from a to its farthest b, ...
-/// until the distance stops growing; exact on a plane or a sphere up to the heat method's error);
-/// vertices on other connected parts read 1. Deterministic: a row does not depend on the thread
-/// count or on which rows were solved before.
+/// until the distance stops growing; exact on a plane or a sphere up to the heat method's error).
+/// A vertex on another connected part than the source is as far as the straight line between
+/// them (a mesh of separate pieces — a character's eyes, a bird's feathers — keeps its pieces
+/// near each other instead of at the diameter; the sweeps use the same distances). Deterministic: a
+/// row does not depend on the thread count or on which rows were solved before.
 class GeodesicRows {
  public:
   GeodesicRows(const Vertices& V, const Faces& F);
@@ -61,9 +63,12 @@ class GeodesicRows {
   void keep(int source, Eigen::VectorXf row) { rows_[source] = std::move(row); }
 
  private:
+  /// Mesh units from `source`: geodesic on its part, straight-line to the other parts.
+  Eigen::VectorXd bridged(int source) const;
   Eigen::VectorXf normalized(const Eigen::VectorXd& d) const;
 
   HeatMethodDistance heat_;
+  Vertices vertices_;
   Eigen::Index n_vertices_;
   double diameter_ = 0;
   std::map<int, Eigen::VectorXf> rows_;

@@ -125,8 +125,9 @@ TEST_CASE("geodesics: distances on a sphere follow great circles", "[geometry][g
   }
 }
 
-TEST_CASE("geodesics: normalized rows lie in [0, 1], nearly symmetric; other parts are at 1",
-          "[geometry][geodesic]") {
+TEST_CASE(
+    "geodesics: normalized rows lie in [0, 1], nearly symmetric; other parts as the crow flies",
+    "[geometry][geodesic]") {
   auto m = grid(9);
   // A second, disconnected copy shifted away.
   df::Mesh two;
@@ -145,10 +146,16 @@ TEST_CASE("geodesics: normalized rows lie in [0, 1], nearly symmetric; other par
   CHECK(D.diagonal().cwiseAbs().maxCoeff() < 1e-6);
   CHECK(D.maxCoeff() == 1);
   CHECK(D.minCoeff() >= 0);
-  CHECK(D(0, n) == 1);  // different parts
-  // Opposite corners of one grid are the farthest pair within a part (2√2 on a plane): the
-  // farthest-point sweeps from vertex 0 find them.
-  CHECK(std::max({D(0, n - 1), D(n - 1, 0), D(8, n - 9), D(n - 9, 8)}) == Approx(1).epsilon(1e-6));
+  // Other parts are as far as the straight line: vertex 0 at (−1, −1) and its copy at (4, −1) are
+  // 5 apart; the farthest pair is a corner of one grid and the far corner of the other, (−1, −1)
+  // and (6, 1), √53 apart, which the sweeps from vertex 0 find.
+  const double diameter = std::sqrt(53.0);
+  CHECK(rows.diameter() == Approx(diameter).epsilon(1e-9));
+  CHECK(D(0, n) == Approx(5 / diameter).epsilon(1e-6));
+  CHECK(D(0, 2 * n - 1) == Approx(1).epsilon(1e-6));
+  CHECK(D(2 * n - 1, 0) == Approx(1).epsilon(1e-6));
+  // Within a part the distances stay geodesic: opposite corners of one grid are 2√2 apart.
+  CHECK(D(0, n - 1) == Approx(2 * std::sqrt(2.0) / diameter).epsilon(0.05));
   HeatMethodDistance heat(two.vertices, two.faces);
   CHECK(std::isinf(heat.from(0)[n]));
   CHECK_THROWS_AS(heat.from(-1), df::InvalidInput);
