@@ -236,11 +236,18 @@ std::int64_t read_count(const std::string& text, std::size_t pos, int size, bool
   return static_cast<std::int64_t>(v);
 }
 
-void check_ply(const std::string& path, const std::string& text) {
-  Lines lines(text);
-  std::string_view line;
+struct PlyHeader {
   std::string format;
   std::vector<PlyElement> elements;
+  std::size_t end = 0;  // where 'end_header' starts
+};
+
+// The header: its format, elements and properties, each line checked; where it ends.
+PlyHeader read_ply_header(const std::string& path, const std::string& text, Lines& lines) {
+  std::string_view line;
+  PlyHeader h;
+  auto& format = h.format;
+  auto& elements = h.elements;
   if (!lines.next(line) || split(line) != std::vector<std::string_view>{"ply"})
     throw InvalidInput("not a PLY file (no 'ply' line)", path);
   bool ended = false;
@@ -290,49 +297,54 @@ void check_ply(const std::string& path, const std::string& text) {
   if (!ended) throw InvalidInput("PLY header without end_header", path);
   // OpenMesh's header parser loops forever when a token does not parse (a NUL byte, a form
   // feed inside a name, a version other than 1.0): the header must be plain text
-  const std::size_t header_end = text.find("end_header");
-  refuse_control_characters(text, header_end, "a PLY header", path);
+  h.end = text.find("end_header");
+  refuse_control_characters(text, h.end, "a PLY header", path);
   if (format.empty()) throw InvalidInput("PLY header without a format line", path);
   for (const auto& e : elements)
     if (e.count > 0 && e.properties.empty())
       throw InvalidInput(fmt::format("PLY element '{}' has no properties", e.name), path);
+  return h;
+}
 
-  if (format == "ascii") {
-    for (const auto& e : elements)
-      for (std::int64_t r = 0; r < e.count; ++r) {
-        std::vector<std::string_view> t;
-        do {
-          if (!lines.next(line))
-            throw InvalidInput(
-                fmt::format("file ends after {} of {} '{}' records", r, e.count, e.name), path);
-          t = split(line);
-        } while (t.empty());
-        std::size_t k = 0;
-        for (const auto& p : e.properties) {
-          std::int64_t n = 1;
-          if (p.count_size) {
-            if (k >= t.size() || !parse_int(t[k], n) || n < 0)
-              throw InvalidInput("PLY list without a count", lines.where(path));
-            ++k;
-          }
-          if (n > static_cast<std::int64_t>(t.size() - k))
-            throw InvalidInput(
-                fmt::format("PLY '{}' record has fewer values than its properties call for",
-                            e.name),
-                lines.where(path));
-          for (std::int64_t i = 0; i < n; ++i, ++k)
-            if (!is_coordinate(t[k], lines, path))
-              throw InvalidInput(fmt::format("'{}' is not a number", t[k]), lines.where(path));
-        }
-        if (k != t.size())
+// An ASCII body: every record has as many numbers as its properties call for.
+void check_ply_ascii(const std::string& path, Lines& lines,
+                     const std::vector<PlyElement>& elements) {
+  std::string_view line;
+  for (const auto& e : elements)
+    for (std::int64_t r = 0; r < e.count; ++r) {
+      std::vector<std::string_view> t;
+      do {
+        if (!lines.next(line))
           throw InvalidInput(
-              fmt::format("PLY '{}' record has more values than its properties call for", e.name),
+              fmt::format("file ends after {} of {} '{}' records", r, e.count, e.name), path);
+        t = split(line);
+      } while (t.empty());
+      std::size_t k = 0;
+      for (const auto& p : e.properties) {
+        std::int64_t n = 1;
+        if (p.count_size) {
+          if (k >= t.size() || !parse_int(t[k], n) || n < 0)
+            throw InvalidInput("PLY list without a count", lines.where(path));
+          ++k;
+        }
+        if (n > static_cast<std::int64_t>(t.size() - k))
+          throw InvalidInput(
+              fmt::format("PLY '{}' record has fewer values than its properties call for", e.name),
               lines.where(path));
+        for (std::int64_t i = 0; i < n; ++i, ++k)
+          if (!is_coordinate(t[k], lines, path))
+            throw InvalidInput(fmt::format("'{}' is not a number", t[k]), lines.where(path));
       }
-    return;
-  }
-  // binary: walk every record within the file
-  const bool big = format == "binary_big_endian";
+      if (k != t.size())
+        throw InvalidInput(
+            fmt::format("PLY '{}' record has more values than its properties call for", e.name),
+            lines.where(path));
+    }
+}
+
+// A binary body: walk every record within the file.
+void check_ply_binary(const std::string& path, const std::string& text, std::size_t header_end,
+                      const std::vector<PlyElement>& elements, bool big) {
   std::size_t pos = text.find('\n', header_end) + 1;
   for (const auto& e : elements)
     for (std::int64_t r = 0; r < e.count; ++r)
@@ -353,6 +365,15 @@ void check_ply(const std::string& path, const std::string& text) {
               fmt::format("file ends inside '{}' record {} of {}", e.name, r, e.count), path);
         pos += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.size);
       }
+}
+
+void check_ply(const std::string& path, const std::string& text) {
+  Lines lines(text);
+  const PlyHeader h = read_ply_header(path, text, lines);
+  if (h.format == "ascii")
+    check_ply_ascii(path, lines, h.elements);
+  else
+    check_ply_binary(path, text, h.end, h.elements, h.format == "binary_big_endian");
 }
 
 }  // namespace
