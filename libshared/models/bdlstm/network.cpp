@@ -180,24 +180,13 @@ std::vector<typename BdlstmNet<T>::Var> BdlstmNet<T>::run_chain(const nn::Bound<
 }
 
 template <class T>
-typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p,
-                                              const std::vector<Matrix>& window, Rng& rng,
-                                              BdlstmLossTerms* terms, int given,
-                                              T kl_weight) const {
+void BdlstmNet<T>::run_window(nn::Tape<T>& tape, const nn::Bound<T>& p,
+                              const std::vector<Matrix>& window, int given, Rng& rng,
+                              KlSum<T>& kl_sum, std::vector<Var>& fwd,
+                              std::vector<Var>& bwd) const {
   const int n = static_cast<int>(window.size());
-  if (n < 2) throw UsageError("a training window needs at least 2 frames");
-  if (given < 1 || given >= n)
-    throw UsageError("the given frames must be at least 1 and fewer than the window");
   const Index batch = window[0].rows(), v9 = frame_size();
-  for (const auto& w : window)
-    if (w.rows() != batch || w.cols() != v9)
-      throw Error("internal: window frames of different shapes");
   const T init = static_cast<T>(config_.init_state);
-  const T inv_batch = T(1) / static_cast<T>(batch);
-  auto frame_norms = [&](Var a) { return nn::sum(nn::group_norm(a, v9)); };  // Σ_rows ‖row‖₂
-
-  KlSum<T> kl_sum;            // Σ over steps and rows
-  std::vector<Var> fwd, bwd;  // fwd[t] ≈ X_t, bwd[t] ≈ X_{n−1−t}, each [batch, 9V]
   if (config_.directions == Directions::shared) {
     // Both chains as one batch of 2B rows: forward rows first.
     std::vector<Var> inputs;
@@ -216,16 +205,64 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
       fwd.push_back(nn::slice_rows(f, 0, batch));
       bwd.push_back(nn::slice_rows(f, batch, batch));
     }
-  } else {
-    std::vector<Var> f_in, b_in;
-    for (int t = 0; t < given; ++t) {
-      f_in.push_back(tape.constant(window[static_cast<std::size_t>(t)]));
-      b_in.push_back(tape.constant(window[static_cast<std::size_t>(n - 1 - t)]));
-    }
-    fwd = run_chain(p, 0, f_in, constant_states(tape, batch, init), n - 1, rng, &kl_sum);
-    if (config_.directions == Directions::standard)
-      bwd = run_chain(p, 1, b_in, constant_states(tape, batch, -init), n - 1, rng, &kl_sum);
+    return;
   }
+  std::vector<Var> f_in, b_in;
+  for (int t = 0; t < given; ++t) {
+    f_in.push_back(tape.constant(window[static_cast<std::size_t>(t)]));
+    b_in.push_back(tape.constant(window[static_cast<std::size_t>(n - 1 - t)]));
+  }
+  fwd = run_chain(p, 0, f_in, constant_states(tape, batch, init), n - 1, rng, &kl_sum);
+  if (config_.directions == Directions::standard)
+    bwd = run_chain(p, 1, b_in, constant_states(tape, batch, -init), n - 1, rng, &kl_sum);
+}
+
+template <class T>
+typename BdlstmNet<T>::Var BdlstmNet<T>::l2_penalty(const nn::Bound<T>& p) const {
+  std::vector<Var> squares;
+  const auto& views = store_.views();
+  // "tf": every trainable value, but each LSTM forget-gate bias measured from its initial 1
+  // (TensorFlow's LSTM cells add forget_bias = 1 as a constant outside the trainable bias, so
+  // decaying that bias decays towards 1): Σ b_f² − 2 Σ b_f + H = Σ (b_f − 1)².
+  std::vector<int> lstm_biases;
+  if (config_.l2_scope == "tf")
+    for (const auto& ch : chains_)
+      for (const auto& cell : ch.lstm.cells) lstm_biases.push_back(cell.b);
+  for (std::size_t k = 0; k < p.vars.size(); ++k) {
+    if (config_.l2_scope == "weights" && views[k].name.ends_with(".bias")) continue;
+    Var sq = nn::sum(nn::square(p.vars[k]));
+    if (std::find(lstm_biases.begin(), lstm_biases.end(), static_cast<int>(k)) !=
+        lstm_biases.end()) {
+      const Index h = config_.hidden;
+      sq = nn::add_scalar(nn::add(sq, nn::scale(nn::sum(nn::slice_cols(p.vars[k], h, h)), T(-2))),
+                          static_cast<T>(h));
+    }
+    squares.push_back(sq);
+  }
+  Var s = squares[0];
+  for (std::size_t k = 1; k < squares.size(); ++k) s = nn::add(s, squares[k]);
+  return s;
+}
+
+template <class T>
+typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound<T>& p,
+                                              const std::vector<Matrix>& window, Rng& rng,
+                                              BdlstmLossTerms* terms, int given,
+                                              T kl_weight) const {
+  const int n = static_cast<int>(window.size());
+  if (n < 2) throw UsageError("a training window needs at least 2 frames");
+  if (given < 1 || given >= n)
+    throw UsageError("the given frames must be at least 1 and fewer than the window");
+  const Index batch = window[0].rows(), v9 = frame_size();
+  for (const auto& w : window)
+    if (w.rows() != batch || w.cols() != v9)
+      throw Error("internal: window frames of different shapes");
+  const T inv_batch = T(1) / static_cast<T>(batch);
+  auto frame_norms = [&](Var a) { return nn::sum(nn::group_norm(a, v9)); };  // Σ_rows ‖row‖₂
+
+  KlSum<T> kl_sum;            // Σ over steps and rows
+  std::vector<Var> fwd, bwd;  // fwd[t] ≈ X_t, bwd[t] ≈ X_{n−1−t}, each [batch, 9V]
+  run_window(tape, p, window, given, rng, kl_sum, fwd, bwd);
 
   // L_recon (eq. 4): frame 0 of each chain is its ground-truth seed, so its term is 0; frames
   // 1..given−1 are one-step predictions from ground truth.
@@ -243,14 +280,11 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
     for (int t = 0; t < n; ++t)
       bidir.push_back(frame_norms(
           nn::sub(fwd[static_cast<std::size_t>(t)], bwd[static_cast<std::size_t>(n - 1 - t)])));
-  auto sum_of = [](const std::vector<Var>& parts) {
+  auto total_of = [&](const std::vector<Var>& parts) {  // per window
     Var s = parts[0];
     for (std::size_t k = 1; k < parts.size(); ++k) s = nn::add(s, parts[k]);
-    return s;
+    return nn::scale(s, inv_batch);
   };
-  auto total_of = [&](const std::vector<Var>& parts) {
-    return nn::scale(sum_of(parts), inv_batch);
-  };  // per window
   Var l_recon = total_of(recon);
   Var total = l_recon;
   Var l_bidir, l_kl, l_2;
@@ -264,27 +298,7 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::loss(nn::Tape<T>& tape, const nn::Bound
     reg = kl_weight == T(1) ? l_kl : nn::scale(l_kl, kl_weight);
   }
   if (config_.l2) {
-    std::vector<Var> squares;
-    const auto& views = store_.views();
-    // "tf": every trainable value, but each LSTM forget-gate bias measured from its initial 1
-    // (TensorFlow's LSTM cells add forget_bias = 1 as a constant outside the trainable bias, so
-    // decaying that bias decays towards 1): Σ b_f² − 2 Σ b_f + H = Σ (b_f − 1)².
-    std::vector<int> lstm_biases;
-    if (config_.l2_scope == "tf")
-      for (const auto& ch : chains_)
-        for (const auto& cell : ch.lstm.cells) lstm_biases.push_back(cell.b);
-    for (std::size_t k = 0; k < p.vars.size(); ++k) {
-      if (config_.l2_scope == "weights" && views[k].name.ends_with(".bias")) continue;
-      Var sq = nn::sum(nn::square(p.vars[k]));
-      if (std::find(lstm_biases.begin(), lstm_biases.end(), static_cast<int>(k)) !=
-          lstm_biases.end()) {
-        const Index h = config_.hidden;
-        sq = nn::add_scalar(nn::add(sq, nn::scale(nn::sum(nn::slice_cols(p.vars[k], h, h)), T(-2))),
-                            static_cast<T>(h));
-      }
-      squares.push_back(sq);
-    }
-    l_2 = sum_of(squares);  // Σ w², not per window
+    l_2 = l2_penalty(p);
     const Var weighted =
         config_.l2_weight == 1 ? l_2 : nn::scale(l_2, static_cast<T>(config_.l2_weight));
     reg = reg.tape ? nn::add(reg, weighted) : weighted;

@@ -168,6 +168,13 @@ class BdlstmNet {
   /// outputs; returns the frames (given[0] first, then every step's output).
   std::vector<Var> run_chain(const nn::Bound<T>& p, int chain, const std::vector<Var>& given,
                              States states, int steps, Rng& rng, KlSum<T>* kl_sum) const;
+  /// Both chains over a window from its first / last `given` frames: fwd[t] ≈ X_t,
+  /// bwd[t] ≈ X_{n−1−t} (bwd empty with one direction).
+  void run_window(nn::Tape<T>& tape, const nn::Bound<T>& p, const std::vector<Matrix>& window,
+                  int given, Rng& rng, KlSum<T>& kl_sum, std::vector<Var>& fwd,
+                  std::vector<Var>& bwd) const;
+  /// Σ w² over the weights l2_scope names (not per window).
+  Var l2_penalty(const nn::Bound<T>& p) const;
 
   BdlstmConfig config_;
   int n_vertices_;
