@@ -60,6 +60,121 @@ double mean_of(const std::vector<double>& v) {
   return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
 }
 
+// 1. The training log's first and last rows.
+void print_training_log(const std::string& path, const BdlstmModel& m) {
+  const auto columns = m.log_columns();
+  const std::size_t cols = columns.size();
+  std::cout << fmt::format("{}: {} iterations, latent {} ({})\n", path, m.iteration,
+                           m.config.latent,
+                           m.config.kl ? "VAE encoder with KL" : "deterministic encoder");
+  if (m.log.size() < cols) return;
+  auto row = [&](std::size_t r) {
+    std::string s;
+    for (std::size_t k = 0; k < cols; ++k)
+      s += fmt::format("{} {:.4g}  ", columns[k], m.log[r * cols + k]);
+    return s;
+  };
+  std::cout << "  training log, first row: " << row(0)
+            << "\n  training log, last row:  " << row(m.log.size() / cols - 1) << "\n";
+}
+
+// The frames of a part (training frames: those of no held-out range), in order.
+std::vector<std::int64_t> frames_of_part(const BdlstmSplit& split, const std::string& part) {
+  std::vector<std::int64_t> frames;
+  for (std::size_t s = 0; s < split.train_begin.size(); ++s) {
+    const bool train = part == "train", test = part == "test";
+    const std::int64_t b = train  ? split.train_begin[s]
+                           : test ? split.test_begin[s]
+                                  : split.validation_begin[s];
+    const std::int64_t e = train  ? split.train_end[s]
+                           : test ? split.test_end[s]
+                                  : split.validation_end[s];
+    auto outside = [](std::int64_t f, std::int64_t lo, std::int64_t hi) {
+      return f < lo || f >= hi;
+    };
+    for (std::int64_t f = b; f < e; ++f)
+      if (!train || (outside(f, split.test_begin[s], split.test_end[s]) &&
+                     outside(f, split.validation_begin[s], split.validation_end[s])))
+        frames.push_back(f);
+  }
+  return frames;
+}
+
+// 2. KL per latent dimension over the frames, printed; returned largest first.
+std::vector<double> report_kl(const BdlstmModel& m, const GenerationData& d,
+                              const std::vector<std::int64_t>& frames, const std::string& part) {
+  const std::vector<double> kl = kl_per_dimension(m, d.features, frames);
+  std::vector<double> sorted = kl;
+  std::sort(sorted.rbegin(), sorted.rend());
+  const auto active = std::count_if(kl.begin(), kl.end(), [](double v) { return v > 0.01; });
+  std::cout << fmt::format(
+                   "  KL(q(z|x) || N(0,I)) over {} frames of the {} part: {:.4g} nats in all, {} "
+                   "of {} dimensions above 0.01 nats; largest {:.3g}",
+                   frames.size(), part, std::accumulate(kl.begin(), kl.end(), 0.0), active,
+                   kl.size(),
+                   fmt::join(
+                       std::vector<double>(sorted.begin(), sorted.begin() + std::min<std::size_t>(
+                                                                                5, sorted.size())),
+                       " "))
+            << (m.config.kl ? "" : " (no KL in training: the log-variance is untrained)") << "\n";
+  return sorted;
+}
+
+// 3. What z carries: the same windows predicted with z = mean, prior draws, zero; zero motion.
+// Each one's relative feature error per step, printed at steps 1, 5, 10 and the last.
+std::vector<std::vector<double>> report_latent_probe(const BdlstmInspectOptions& opt,
+                                                     const BdlstmModel& m, const GenerationData& d,
+                                                     const std::vector<std::int64_t>& starts,
+                                                     std::uint64_t seed) {
+  const std::int64_t q = m.training.stride;
+  Rng rng(seed, 7);
+  const LatentInput modes[] = {LatentInput::mean, LatentInput::prior, LatentInput::zero};
+  const char* names[] = {"z = encoder mean", "z ~ prior N(0, I)", "z = 0", "zero motion"};
+  std::vector<std::vector<double>> errors;
+  for (const auto& mode : modes)
+    errors.push_back(
+        probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, &mode, rng));
+  errors.push_back(
+      probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, nullptr, rng));
+  std::vector<int> shown{1};  // steps in the table: 1, 5, 10 (those that exist) and the last
+  for (int k : {5, 10, opt.length})
+    if (k <= opt.length && k > shown.back()) shown.push_back(k);
+  std::cout << fmt::format(
+      "  {} windows of the {} part, {} given frames: relative feature error |X^ - X| / |X| at step "
+      "{} and mean over 1..{}\n",
+      starts.size(), opt.part, opt.initial, fmt::join(shown, " / "), opt.length);
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    std::vector<std::string> at;
+    for (int step : shown)
+      at.push_back(fmt::format("{:.4f}", errors[k][static_cast<std::size_t>(step - 1)]));
+    std::cout << fmt::format("    {:<20} {}   mean {:.4f}\n", names[k], fmt::join(at, " / "),
+                             mean_of(errors[k]));
+  }
+  return errors;
+}
+
+void write_inspection_tsv(const BdlstmInspectOptions& opt, const BdlstmModel& m,
+                          const std::vector<double>& kl_sorted,
+                          const std::vector<std::vector<double>>& errors, bool force) {
+  const auto columns = m.log_columns();
+  const std::size_t cols = columns.size();
+  std::ostringstream out;
+  out << "# kl_per_dimension: rank, nats (largest first)\n";
+  for (std::size_t j = 0; j < kl_sorted.size(); ++j) out << j + 1 << "\t" << kl_sorted[j] << "\n";
+  out << "\n\n# error_by_step: step, z_mean, z_prior, z_zero, zero_motion\n";
+  for (int k = 0; k < opt.length; ++k) {
+    out << k + 1;
+    for (const auto& e : errors) out << "\t" << e[static_cast<std::size_t>(k)];
+    out << "\n";
+  }
+  out << "\n\n# training_log: " << fmt::format("{}", fmt::join(columns, ", ")) << "\n";
+  for (std::size_t r = 0; r + cols <= m.log.size(); r += cols) {
+    for (std::size_t k = 0; k < cols; ++k) out << (k ? "\t" : "") << m.log[r + k];
+    out << "\n";
+  }
+  write_text_output(opt.tsv, out.str(), force, {opt.model, opt.data});
+}
+
 }  // namespace
 
 void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common) {
@@ -84,99 +199,12 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
                     opt.part, span, opt.initial, opt.length, q),
         opt.data);
 
-  // 1. The training log.
-  const auto columns = m.log_columns();
-  const std::size_t cols = columns.size();
-  std::cout << fmt::format("{}: {} iterations, latent {} ({})\n", opt.model, m.iteration,
-                           m.config.latent,
-                           m.config.kl ? "VAE encoder with KL" : "deterministic encoder");
-  if (m.log.size() >= cols) {
-    auto row = [&](std::size_t r) {
-      std::string s;
-      for (std::size_t k = 0; k < cols; ++k)
-        s += fmt::format("{} {:.4g}  ", columns[k], m.log[r * cols + k]);
-      return s;
-    };
-    std::cout << "  training log, first row: " << row(0)
-              << "\n  training log, last row:  " << row(m.log.size() / cols - 1) << "\n";
-  }
-
-  // 2. KL per latent dimension over frames of the part.
-  std::vector<std::int64_t> frames;
-  for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
-    const bool train = opt.part == "train", test = opt.part == "test";
-    const std::int64_t b = train  ? m.split.train_begin[s]
-                           : test ? m.split.test_begin[s]
-                                  : m.split.validation_begin[s];
-    const std::int64_t e = train  ? m.split.train_end[s]
-                           : test ? m.split.test_end[s]
-                                  : m.split.validation_end[s];
-    auto outside = [](std::int64_t f, std::int64_t lo, std::int64_t hi) {
-      return f < lo || f >= hi;
-    };
-    for (std::int64_t f = b; f < e; ++f)
-      if (!train || (outside(f, m.split.test_begin[s], m.split.test_end[s]) &&
-                     outside(f, m.split.validation_begin[s], m.split.validation_end[s])))
-        frames.push_back(f);
-  }
-  frames = evenly(frames, static_cast<std::size_t>(opt.max_frames));
-  const std::vector<double> kl = kl_per_dimension(m, d.features, frames);
-  std::vector<double> sorted = kl;
-  std::sort(sorted.rbegin(), sorted.rend());
-  const auto active = std::count_if(kl.begin(), kl.end(), [](double v) { return v > 0.01; });
-  std::cout << fmt::format(
-                   "  KL(q(z|x) || N(0,I)) over {} frames of the {} part: {:.4g} nats in all, {} "
-                   "of {} dimensions above 0.01 nats; largest {:.3g}",
-                   frames.size(), opt.part, std::accumulate(kl.begin(), kl.end(), 0.0), active,
-                   kl.size(),
-                   fmt::join(
-                       std::vector<double>(sorted.begin(), sorted.begin() + std::min<std::size_t>(
-                                                                                5, sorted.size())),
-                       " "))
-            << (m.config.kl ? "" : " (no KL in training: the log-variance is untrained)") << "\n";
-
-  // 3. What z carries: the same windows predicted with z = mean, prior draws, zero; zero motion.
-  Rng rng(common.seed, 7);
-  const LatentInput modes[] = {LatentInput::mean, LatentInput::prior, LatentInput::zero};
-  const char* names[] = {"z = encoder mean", "z ~ prior N(0, I)", "z = 0", "zero motion"};
-  std::vector<std::vector<double>> errors;
-  for (const auto& mode : modes)
-    errors.push_back(
-        probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, &mode, rng));
-  errors.push_back(
-      probe_prediction_error(*m.net, d.features, starts, opt.initial, opt.length, q, nullptr, rng));
-  std::vector<int> shown{1};  // steps in the table: 1, 5, 10 (those that exist) and the last
-  for (int k : {5, 10, opt.length})
-    if (k <= opt.length && k > shown.back()) shown.push_back(k);
-  std::cout << fmt::format(
-      "  {} windows of the {} part, {} given frames: relative feature error |X^ - X| / |X| at step "
-      "{} and mean over 1..{}\n",
-      starts.size(), opt.part, opt.initial, fmt::join(shown, " / "), opt.length);
-  for (std::size_t k = 0; k < errors.size(); ++k) {
-    std::vector<std::string> at;
-    for (int step : shown)
-      at.push_back(fmt::format("{:.4f}", errors[k][static_cast<std::size_t>(step - 1)]));
-    std::cout << fmt::format("    {:<20} {}   mean {:.4f}\n", names[k], fmt::join(at, " / "),
-                             mean_of(errors[k]));
-  }
-
-  if (!opt.tsv.empty()) {
-    std::ostringstream out;
-    out << "# kl_per_dimension: rank, nats (largest first)\n";
-    for (std::size_t j = 0; j < sorted.size(); ++j) out << j + 1 << "\t" << sorted[j] << "\n";
-    out << "\n\n# error_by_step: step, z_mean, z_prior, z_zero, zero_motion\n";
-    for (int k = 0; k < opt.length; ++k) {
-      out << k + 1;
-      for (const auto& e : errors) out << "\t" << e[static_cast<std::size_t>(k)];
-      out << "\n";
-    }
-    out << "\n\n# training_log: " << fmt::format("{}", fmt::join(columns, ", ")) << "\n";
-    for (std::size_t r = 0; r + cols <= m.log.size(); r += cols) {
-      for (std::size_t k = 0; k < cols; ++k) out << (k ? "\t" : "") << m.log[r + k];
-      out << "\n";
-    }
-    write_text_output(opt.tsv, out.str(), common.force, {opt.model, opt.data});
-  }
+  print_training_log(opt.model, m);
+  const auto frames =
+      evenly(frames_of_part(m.split, opt.part), static_cast<std::size_t>(opt.max_frames));
+  const auto kl_sorted = report_kl(m, d, frames, opt.part);
+  const auto errors = report_latent_probe(opt, m, d, starts, common.seed);
+  if (!opt.tsv.empty()) write_inspection_tsv(opt, m, kl_sorted, errors, common.force);
 }
 
 }  // namespace df::models
