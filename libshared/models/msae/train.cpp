@@ -440,6 +440,58 @@ void remember_geodesics(MsaeModel& m, geometry::GeodesicRows& geodesic) {
       }
 }
 
+// One iteration: a batch of training shapes drawn with the model's RNG, Ω's masks around the
+// current centres, the gradient block by block, one Adam step (of the level in training when
+// separate: a new Adam at each level's start, the other levels' gradients dropped).
+LossTerms training_step(MsaeModel& m, const nn::Matrix<float>& data,
+                        geometry::GeodesicRows& geodesic, std::int64_t done,
+                        nn::Matrix<float>& batch, nn::Matrix<float>& weights) {
+  draw_batch(data, m.split.train, m.training.batch, m.rng, batch, weights);
+  if (m.training.synthetic > 0)
+    add_synthetic_shapes(*m.net, m.training.synthetic, m.training.synthetic_weight, m.rng, batch,
+                         weights);
+  const auto lambda = current_sparsity_masks(m, geodesic);
+  const int stage = stage_of(m, done);
+  if (stage > 0 && stage_of(m, done - 1) != stage) {
+    m.adam = m.make_adam(done - 1);
+    log::info("separate training: level {} from iteration {} (levels below it frozen; rate {:.3g})",
+              stage, done, m.adam->learning_rate());
+  }
+  m.net->store().zero_grad();
+  const MsaeLossTerms terms = m.net->loss_and_gradient(
+      batch, lambda, stage < 0 ? std::vector<int>{} : std::vector<int>{stage}, &weights);
+  if (stage > 0)
+    for (int l = 0; l < stage; ++l)
+      for (int p : m.net->level_parameters(l)) m.net->store().grad(p).setZero();
+  m.adam->step(m.net->store().values(), m.net->store().grads());
+  if (m.config.support == "hard") m.net->project_onto_support(lambda);
+  if (m.config.support == "proximal")
+    m.net->proximal_sparsity(lambda, m.adam->last_step_sizes(),
+                             stage < 0 ? std::vector<int>{} : std::vector<int>{stage});
+  return {terms.total, terms.recon, terms.sparsity, terms.latent};
+}
+
+// The loss lines' validation columns: the validation shapes' feature error and, for a fresh run
+// or a checkpoint taken before the first loss line (its log has no columns yet), their E_rms; a
+// log that began without it goes on without it. None without validation shapes.
+std::function<LossTerms()> validation_measure(const MsaeTrainOptions& opt, MsaeModel& m,
+                                              const nn::Matrix<float>& validation,
+                                              MsaeShapeMeasure& erms,
+                                              std::vector<std::string>& names) {
+  if (validation.rows() == 0) return {};
+  if (opt.position_error && (m.log.empty() || m.log_validation_erms)) {
+    m.log_validation_erms = true;
+    erms = opt.position_error(m, m.split.validation);
+    names.push_back("validation_erms");
+  }
+  return [&m, &validation, &erms]() -> LossTerms {
+    nn::Matrix<float> recon;
+    LossTerms values = {reconstruction_error(*m.net, validation, &recon)};
+    if (erms) values.push_back(erms(recon));
+    return values;
+  };
+}
+
 }  // namespace
 
 void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training) {
@@ -481,57 +533,18 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
       m.training.separate ? "separate" : "joint");
 
   nn::Matrix<float> batch, weights;
-  // One iteration: a batch of training shapes drawn with the model's RNG, Ω's masks around the
-  // current centres, the gradient block by block, one Adam step (of the level in training when
-  // separate: a new Adam at each level's start, the other levels' gradients dropped).
-  auto step = [&](std::int64_t done) -> LossTerms {
-    draw_batch(data, m.split.train, m.training.batch, m.rng, batch, weights);
-    if (m.training.synthetic > 0)
-      add_synthetic_shapes(*m.net, m.training.synthetic, m.training.synthetic_weight, m.rng, batch,
-                           weights);
-    const auto lambda = current_sparsity_masks(m, *geodesic);
-    const int stage = stage_of(m, done);
-    if (stage > 0 && stage_of(m, done - 1) != stage) {
-      m.adam = m.make_adam(done - 1);
-      log::info(
-          "separate training: level {} from iteration {} (levels below it frozen; rate {:.3g})",
-          stage, done, m.adam->learning_rate());
-    }
-    m.net->store().zero_grad();
-    const MsaeLossTerms terms = m.net->loss_and_gradient(
-        batch, lambda, stage < 0 ? std::vector<int>{} : std::vector<int>{stage}, &weights);
-    if (stage > 0)
-      for (int l = 0; l < stage; ++l)
-        for (int p : m.net->level_parameters(l)) m.net->store().grad(p).setZero();
-    m.adam->step(m.net->store().values(), m.net->store().grads());
-    if (m.config.support == "hard") m.net->project_onto_support(lambda);
-    if (m.config.support == "proximal")
-      m.net->proximal_sparsity(lambda, m.adam->last_step_sizes(),
-                               stage < 0 ? std::vector<int>{} : std::vector<int>{stage});
-    return {terms.total, terms.recon, terms.sparsity, terms.latent};
+  auto step = [&](std::int64_t done) {
+    return training_step(m, data, *geodesic, done, batch, weights);
   };
   auto checkpoint = [&] {
     remember_geodesics(m, *geodesic);
     save_msae_model(ckpt, m, {opt.input}, true);
     log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
   };
-  std::function<LossTerms()> evaluate;
   std::vector<std::string> evaluate_names = {"validation"};
   MsaeShapeMeasure erms;
-  // A fresh run, or a checkpoint taken before the first loss line (its log has no columns yet),
-  // logs the validation shapes' E_rms; a log that began without it goes on without it.
-  if (validation.rows() > 0 && opt.position_error && (m.log.empty() || m.log_validation_erms)) {
-    m.log_validation_erms = true;
-    erms = opt.position_error(m, m.split.validation);
-    evaluate_names.push_back("validation_erms");
-  }
-  if (validation.rows() > 0)
-    evaluate = [&]() -> LossTerms {
-      nn::Matrix<float> recon;
-      LossTerms values = {reconstruction_error(*m.net, validation, &recon)};
-      if (erms) values.push_back(erms(recon));
-      return values;
-    };
+  const std::function<LossTerms()> evaluate =
+      validation_measure(opt, m, validation, erms, evaluate_names);
   // Level 0's collapse, measured on the training shapes at every loss line: a warning while it
   // lasts, and the last one in the model file.
   const std::string report =
