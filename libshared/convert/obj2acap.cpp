@@ -99,6 +99,37 @@ std::vector<std::string> write_layout(io::AcapWriter& f, const FrameReader& read
   return frame_names;
 }
 
+// A block of frames: read, then decomposed by the parallel stage; written by the in-order one.
+struct Block {
+  std::size_t first = 0, count = 0;
+  std::vector<Vertices> positions;
+  std::vector<geometry::FrameDecomposition> dec;
+  std::exception_ptr error;  // the block's first bad frame, thrown by the in-order stage
+};
+
+// The parallel stage: each frame of the block read (frame 0 is the template when no --reference
+// names another) and decomposed T = RS, log R; the first bad frame kept for the in-order stage.
+void decompose_block(Block& b, FrameReader& reader, const Mesh& reference,
+                     const std::string& reference_name, const Obj2AcapOptions& opt,
+                     const geometry::AcapFeatureExtractor& extractor) {
+  b.positions.resize(b.count);
+  b.dec.resize(b.count);
+  std::vector<std::exception_ptr> errors(b.count);
+  tbb::parallel_for(std::size_t{0}, b.count, [&](std::size_t k) {
+    const std::size_t i = b.first + k;
+    try {
+      b.positions[k] = (i == 0 && opt.reference.empty())
+                           ? reference.vertices
+                           : reader.read_positions(i, reference, reference_name);
+      extractor.decompose(b.positions[k], b.dec[k]);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (auto& e : errors)
+    if (e && !b.error) b.error = e;
+}
+
 // Every frame's positions and raw features, written in order; returns their normalization.
 // A pipeline over blocks of frames: read + decompose T = RS, log R (parallel) -> consistency in
 // time order (the first frame of each sequence without a temporal prior), pack, write (in order).
@@ -115,12 +146,6 @@ geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
   std::vector<char> starts(n, 0);
   for (const auto& s : l.sequences)
     if (s.count) starts[s.first] = 1;
-  struct Block {
-    std::size_t first = 0, count = 0;
-    std::vector<Vertices> positions;
-    std::vector<geometry::FrameDecomposition> dec;
-    std::exception_ptr error;  // the block's first bad frame, thrown by the in-order stage
-  };
   geometry::NormalizationBuilder norm(opt.normalize);
   Progress progress("computing features", n);
   const std::size_t block = std::max<std::size_t>(1, opt.block_frames);
@@ -146,22 +171,7 @@ geometry::Normalization extract_features(FrameReader& reader, const Labelled& l,
            next_first += b->count;
            return b;
          }) & tbb::make_filter<Block*, Block*>(tbb::filter_mode::parallel, [&](Block* b) {
-           b->positions.resize(b->count);
-           b->dec.resize(b->count);
-           std::vector<std::exception_ptr> errors(b->count);
-           tbb::parallel_for(std::size_t{0}, b->count, [&](std::size_t k) {
-             const std::size_t i = b->first + k;
-             try {
-               b->positions[k] = (i == 0 && opt.reference.empty())
-                                     ? reference.vertices
-                                     : reader.read_positions(i, reference, reference_name);
-               extractor.decompose(b->positions[k], b->dec[k]);
-             } catch (...) {
-               errors[k] = std::current_exception();
-             }
-           });
-           for (auto& e : errors)
-             if (e && !b->error) b->error = e;
+           decompose_block(*b, reader, reference, reference_name, opt, extractor);
            return b;
          }) & tbb::make_filter<Block*, void>(tbb::filter_mode::serial_in_order, [&](Block* b) {
            if (b->error) std::rethrow_exception(b->error);
