@@ -142,18 +142,15 @@ bool is_mesh_file(const std::string& path) {
   return e == ".obj" || e == ".off" || e == ".ply";
 }
 
-Mesh read_mesh(const std::string& path, MeshReadReport* report) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw IOError("no such file", path);
-  if (fs::is_directory(path, ec)) throw InvalidInput("is a directory, not a mesh file", path);
-  if (!is_mesh_file(path))
-    throw InvalidInput("unknown mesh format (expected .obj, .off or .ply)", path);
-  if (fs::file_size(path, ec) == 0) throw InvalidInput("empty file", path);
-  const std::string ext = lower_extension(path);
-  // what OpenMesh's readers cannot survive, and the OBJ line counts they hide
-  const MeshTextScan scan = check_mesh_structure(path, ext);
+namespace {
 
-  VerbatimImporter importer;
+std::string first_line(const std::string& s) {
+  return s.substr(0, s.find('\n'));
+}
+
+// OpenMesh's reader into `importer`; its messages (empty when it said nothing). Throws when it
+// fails or finds no vertices or no faces.
+std::string import_with_openmesh(const std::string& path, VerbatimImporter& importer) {
   std::string messages;
   bool ok = false;
   {
@@ -164,7 +161,6 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
     ok = OpenMesh::IO::IOManager().read(path, importer, opt);
     messages = capture.take();
   }
-  auto first_line = [](const std::string& s) { return s.substr(0, s.find('\n')); };
   if (!ok)
     throw InvalidInput(messages.empty() ? "cannot read as a mesh"
                                         : "cannot read as a mesh: " + first_line(messages),
@@ -172,31 +168,28 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   if (importer.points.empty()) throw InvalidInput("no vertices found; not a mesh file?", path);
   if (importer.polygons.empty())
     throw InvalidInput("no faces found (a point cloud is not a mesh)", path);
+  return messages;
+}
 
+Vertices finite_vertices(const VerbatimImporter& importer, const std::string& path) {
   const auto nv = importer.points.size();
-  if (ext == ".obj" && scan.obj_vertex_lines != nv)
-    throw InvalidInput(
-        fmt::format("{} of {} vertex lines could not be read (non-numeric coordinates?)",
-                    scan.obj_vertex_lines - std::min(scan.obj_vertex_lines, nv),
-                    scan.obj_vertex_lines),
-        path);
-
-  Mesh mesh;
-  mesh.vertices.resize(static_cast<Eigen::Index>(nv), 3);
+  Vertices v(static_cast<Eigen::Index>(nv), 3);
   for (std::size_t i = 0; i < nv; ++i) {
     for (int k = 0; k < 3; ++k) {
       double x = importer.points[i][k];
       if (!std::isfinite(x))
         throw InvalidInput(fmt::format("vertex {} has a non-finite coordinate ({})", i + 1, x),
                            path);
-      mesh.vertices(static_cast<Eigen::Index>(i), k) = x;
+      v(static_cast<Eigen::Index>(i), k) = x;
     }
   }
+  return v;
+}
 
-  MeshReadReport rep;
-  if (ext == ".obj" && scan.obj_face_lines > importer.polygons.size())
-    rep.dropped_faces = scan.obj_face_lines - importer.polygons.size();
-  if (!messages.empty()) log::debug("{}: OpenMesh: {}", path, first_line(messages));
+// The polygons as triangle fans, each checked; counts the polygons it split.
+std::vector<std::array<int, 3>> fan_triangles(const VerbatimImporter& importer,
+                                              const std::string& path, MeshReadReport& rep) {
+  const auto nv = importer.points.size();
   std::vector<std::array<int, 3>> tris;
   tris.reserve(importer.polygons.size());
   for (std::size_t f = 0; f < importer.polygons.size(); ++f) {
@@ -211,8 +204,14 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
     for (std::size_t k = 1; k + 1 < poly.size(); ++k)
       tris.push_back({poly[0], poly[k], poly[k + 1]});
   }
+  return tris;
+}
+
+// The mesh's faces from `tris`, counting degenerate faces, edges of more than two faces and
+// vertices of none.
+void set_faces(Mesh& mesh, const std::vector<std::array<int, 3>>& tris, MeshReadReport& rep) {
   mesh.faces.resize(static_cast<Eigen::Index>(tris.size()), 3);
-  std::vector<char> used(nv, 0);
+  std::vector<char> used(static_cast<std::size_t>(mesh.vertices.rows()), 0);
   std::map<std::pair<int, int>, int> edge_faces;
   for (std::size_t f = 0; f < tris.size(); ++f) {
     const auto& t = tris[f];
@@ -229,9 +228,41 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   }
   for (const auto& [edge, count] : edge_faces)
     if (count > 2) ++rep.nonmanifold_edges;
+  rep.isolated_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::string& path, MeshReadReport* report) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IOError("no such file", path);
+  if (fs::is_directory(path, ec)) throw InvalidInput("is a directory, not a mesh file", path);
+  if (!is_mesh_file(path))
+    throw InvalidInput("unknown mesh format (expected .obj, .off or .ply)", path);
+  if (fs::file_size(path, ec) == 0) throw InvalidInput("empty file", path);
+  const std::string ext = lower_extension(path);
+  // what OpenMesh's readers cannot survive, and the OBJ line counts they hide
+  const MeshTextScan scan = check_mesh_structure(path, ext);
+
+  VerbatimImporter importer;
+  const std::string messages = import_with_openmesh(path, importer);
+  const auto nv = importer.points.size();
+  if (ext == ".obj" && scan.obj_vertex_lines != nv)
+    throw InvalidInput(
+        fmt::format("{} of {} vertex lines could not be read (non-numeric coordinates?)",
+                    scan.obj_vertex_lines - std::min(scan.obj_vertex_lines, nv),
+                    scan.obj_vertex_lines),
+        path);
+  Mesh mesh;
+  mesh.vertices = finite_vertices(importer, path);
+
+  MeshReadReport rep;
+  if (ext == ".obj" && scan.obj_face_lines > importer.polygons.size())
+    rep.dropped_faces = scan.obj_face_lines - importer.polygons.size();
+  if (!messages.empty()) log::debug("{}: OpenMesh: {}", path, first_line(messages));
+  set_faces(mesh, fan_triangles(importer, path, rep), rep);
   // OpenMesh's OBJ reader parses coordinates as float; take them again in double precision.
   if (ext == ".obj") mesh.vertices = read_obj_frame(path, mesh, path);
-  rep.isolated_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
   if (report) *report = rep;
   return mesh;
 }
