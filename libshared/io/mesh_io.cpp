@@ -267,6 +267,79 @@ Mesh read_mesh(const std::string& path, MeshReadReport* report) {
   return mesh;
 }
 
+namespace {
+
+void skip_blank(const char*& q, const char* e) {
+  while (q < e && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
+}
+
+// A "v x y z" line's coordinates (q after the "v ") into row v.
+void parse_vertex(const char* q, const char* eol, Vertices& V, Eigen::Index v,
+                  const std::string& path, std::size_t line) {
+  for (int k = 0; k < 3; ++k) {
+    skip_blank(q, eol);
+    double x = 0;
+    if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+') ++q;  // "+1.5", as strtod
+    auto [ptr, ec] = std::from_chars(q, eol, x);
+    if (ec != std::errc() || !std::isfinite(x))
+      throw InvalidInput(
+          ec != std::errc() ? "unreadable vertex coordinate" : "non-finite coordinate (NaN or Inf)",
+          path + ":" + std::to_string(line));
+    q = ptr;
+    V(v, k) = x;
+  }
+}
+
+// An "f ..." line's corners (q after the "f "), 0-based, `read` vertices read so far; a corner
+// that repeats an earlier one is left out, as the general reader (OpenMesh) takes a face.
+void parse_face(const char* q, const char* eol, Eigen::Index read, std::vector<int>& poly,
+                const std::string& path, std::size_t line) {
+  auto where = [&] { return path + ":" + std::to_string(line); };
+  poly.clear();
+  while (true) {
+    skip_blank(q, eol);
+    if (q >= eol) break;
+    long idx = 0;
+    if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+') ++q;
+    auto [ptr, ec] = std::from_chars(q, eol, idx);
+    if (ec != std::errc()) throw InvalidInput("unreadable face", where());
+    // 1-based; negative = relative to the vertices read so far
+    poly.push_back(static_cast<int>(idx > 0 ? idx - 1 : read + idx));
+    q = ptr;
+    while (q < eol && *q != ' ' && *q != '\t' && *q != '\r') ++q;  // skip /vt/vn
+  }
+  if (poly.size() < 3)
+    throw InvalidInput(fmt::format("face with {} corners", poly.size()), where());
+  for (std::size_t k = 1; k < poly.size();) {
+    if (std::find(poly.begin(), poly.begin() + static_cast<std::ptrdiff_t>(k), poly[k]) !=
+        poly.begin() + static_cast<std::ptrdiff_t>(k))
+      poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(k));
+    else
+      ++k;
+  }
+}
+
+// The face's fan against the reference's triangles from `tri` on; advances `tri`.
+void match_fan(const std::vector<int>& poly, const Mesh& reference,
+               const std::string& reference_name, Eigen::Index& tri, const std::string& path) {
+  for (std::size_t k = 1; k + 1 < poly.size(); ++k, ++tri) {
+    if (tri >= reference.faces.rows())
+      throw InvalidInput(fmt::format("has more triangles than the reference {} ({})",
+                                     reference_name, reference.faces.rows()),
+                         path);
+    if (reference.faces(tri, 0) != poly[0] || reference.faces(tri, 1) != poly[k] ||
+        reference.faces(tri, 2) != poly[k + 1])
+      throw InvalidInput(fmt::format("connectivity differs from the reference {} first at "
+                                     "triangle {}: ({} {} {}) instead of ({} {} {})",
+                                     reference_name, tri + 1, poly[0] + 1, poly[k] + 1,
+                                     poly[k + 1] + 1, reference.faces(tri, 0) + 1,
+                                     reference.faces(tri, 1) + 1, reference.faces(tri, 2) + 1),
+                         path);
+  }
+}
+
+}  // namespace
+
 Vertices read_obj_frame(const std::string& path, const Mesh& reference,
                         const std::string& reference_name) {
   const std::string text = read_file_bytes(path);
@@ -279,9 +352,6 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference,
   const char* p = text.data();
   const char* end = p + text.size();
   auto where = [&] { return path + ":" + std::to_string(lineno); };
-  auto skip_blank = [&](const char*& q, const char* e) {
-    while (q < e && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
-  };
   for (const char* eol = p; p < end; p = eol + 1) {
     ++lineno;
     eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
@@ -291,63 +361,11 @@ Vertices read_obj_frame(const std::string& path, const Mesh& reference,
     if (q + 1 < eol && q[0] == 'v' && (q[1] == ' ' || q[1] == '\t')) {
       if (v >= nv)
         throw InvalidInput(fmt::format("more than the reference's {} vertices", nv), where());
-      q += 2;
-      for (int k = 0; k < 3; ++k) {
-        skip_blank(q, eol);
-        double x = 0;
-        if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+')
-          ++q;  // "+1.5", as strtod reads it
-        auto [ptr, ec] = std::from_chars(q, eol, x);
-        if (ec != std::errc() || !std::isfinite(x))
-          throw InvalidInput(ec != std::errc() ? "unreadable vertex coordinate"
-                                               : "non-finite coordinate (NaN or Inf)",
-                             where());
-        q = ptr;
-        V(v, k) = x;
-      }
+      parse_vertex(q + 2, eol, V, v, path, lineno);
       ++v;
     } else if (q + 1 < eol && q[0] == 'f' && (q[1] == ' ' || q[1] == '\t')) {
-      q += 2;
-      poly.clear();
-      while (true) {
-        skip_blank(q, eol);
-        if (q >= eol) break;
-        long idx = 0;
-        if (q + 1 < eol && q[0] == '+' && q[1] != '-' && q[1] != '+') ++q;
-        auto [ptr, ec] = std::from_chars(q, eol, idx);
-        if (ec != std::errc()) throw InvalidInput("unreadable face", where());
-        // 1-based; negative = relative to the vertices read so far
-        poly.push_back(static_cast<int>(idx > 0 ? idx - 1 : v + idx));
-        q = ptr;
-        while (q < eol && *q != ' ' && *q != '\t' && *q != '\r') ++q;  // skip /vt/vn
-      }
-      if (poly.size() < 3)
-        throw InvalidInput(fmt::format("face with {} corners", poly.size()), where());
-      // As the general reader (OpenMesh) takes a face: a corner that repeats an earlier one is
-      // left out (a polygon that returns to a vertex), a face of fewer than 3 corners then skipped.
-      for (std::size_t k = 1; k < poly.size();) {
-        if (std::find(poly.begin(), poly.begin() + static_cast<std::ptrdiff_t>(k), poly[k]) !=
-            poly.begin() + static_cast<std::ptrdiff_t>(k))
-          poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(k));
-        else
-          ++k;
-      }
-      if (poly.size() < 3) continue;
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k, ++tri) {
-        if (tri >= reference.faces.rows() || reference.faces(tri, 0) != poly[0] ||
-            reference.faces(tri, 1) != poly[k] || reference.faces(tri, 2) != poly[k + 1]) {
-          if (tri >= reference.faces.rows())
-            throw InvalidInput(fmt::format("has more triangles than the reference {} ({})",
-                                           reference_name, reference.faces.rows()),
-                               path);
-          throw InvalidInput(fmt::format("connectivity differs from the reference {} first at "
-                                         "triangle {}: ({} {} {}) instead of ({} {} {})",
-                                         reference_name, tri + 1, poly[0] + 1, poly[k] + 1,
-                                         poly[k + 1] + 1, reference.faces(tri, 0) + 1,
-                                         reference.faces(tri, 1) + 1, reference.faces(tri, 2) + 1),
-                             path);
-        }
-      }
+      parse_face(q + 2, eol, v, poly, path, lineno);
+      if (poly.size() >= 3) match_fan(poly, reference, reference_name, tri, path);
     }
   }
   if (v != nv)
