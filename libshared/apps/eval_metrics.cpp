@@ -226,6 +226,52 @@ struct MeshMeasures {
   double spread_diag = 0;
 };
 
+// The vertex error: its mean, per step after the given frames (gen-bdlstm's predictions; else
+// per_frame says it all) and per frame pair.
+nlohmann::ordered_json vertex_error_json(const MeshMeasures& m, const FrameSet& pred, double np,
+                                         double diag) {
+  const auto& t = m.totals;
+  nlohmann::ordered_json js = {{"mean", t.err / np}, {"mean_relative", t.err / np / diag}};
+  if (!pred.step.empty()) {
+    nlohmann::ordered_json steps = nlohmann::ordered_json::array();
+    for (const auto& [s, v] : t.by_step)
+      steps.push_back({{"step", s},
+                       {"frames", v.second},
+                       {"mean", v.first / v.second},
+                       {"relative", v.first / v.second / diag}});
+    js["per_step"] = steps;
+  }
+  nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < m.pm.results.size(); ++k)
+    frames.push_back({{"pred", m.pairs[k].first},
+                      {"truth", m.pairs[k].second},
+                      {"error", m.pm.results[k].error},
+                      {"sted_spatial", m.pm.results[k].sted_s}});
+  js["per_frame"] = frames;
+  return js;
+}
+
+// The pace over the first kPaceSteps predicted frames: in all and per case.
+nlohmann::ordered_json pace_json(const std::vector<eval::PaceCase>& pace, double diag) {
+  double predicted = 0, truth = 0;
+  for (const auto& c : pace) predicted += c.predicted, truth += c.truth;
+  const double n = static_cast<double>(pace.size() * kPaceSteps);
+  nlohmann::ordered_json js = {{"steps", kPaceSteps},
+                               {"cases", pace.size()},
+                               {"predicted_per_frame", predicted / n},
+                               {"true_per_frame", truth / n},
+                               {"predicted_per_frame_relative", predicted / n / diag},
+                               {"true_per_frame_relative", truth / n / diag},
+                               {"ratio", truth > 0 ? predicted / truth : 0.0}};
+  nlohmann::ordered_json cases = nlohmann::ordered_json::array();
+  for (const auto& c : pace)
+    cases.push_back({{"case", c.name},
+                     {"predicted_relative", c.predicted / kPaceSteps / diag},
+                     {"true_relative", c.truth / kPaceSteps / diag}});
+  js["per_case"] = cases;
+  return js;
+}
+
 nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred,
                                const EvalOptions& opt) {
   nlohmann::ordered_json js;
@@ -239,24 +285,7 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred,
     if (opt.align != "translation") js["align"] = opt.align;
     js["frames_measured"] = t.counted;
     js["diagonal"] = diag;
-    js["vertex_error"] = {{"mean", t.err / np}, {"mean_relative", t.err / np / diag}};
-    if (!pred.step
-             .empty()) {  // steps after the given frames (gen-bdlstm); else per_frame says it all
-      nlohmann::ordered_json steps = nlohmann::ordered_json::array();
-      for (const auto& [s, v] : t.by_step)
-        steps.push_back({{"step", s},
-                         {"frames", v.second},
-                         {"mean", v.first / v.second},
-                         {"relative", v.first / v.second / diag}});
-      js["vertex_error"]["per_step"] = steps;
-    }
-    nlohmann::ordered_json frames = nlohmann::ordered_json::array();
-    for (std::size_t k = 0; k < m.pm.results.size(); ++k)
-      frames.push_back({{"pred", m.pairs[k].first},
-                        {"truth", m.pairs[k].second},
-                        {"error", m.pm.results[k].error},
-                        {"sted_spatial", m.pm.results[k].sted_s}});
-    js["vertex_error"]["per_frame"] = frames;
+    js["vertex_error"] = vertex_error_json(m, pred, np, diag);
     js["erms"] = erms_from_sum(t.ub, np, static_cast<double>(nv));
     const double st = m.pm.sted_t_n ? m.pm.sted_t / static_cast<double>(m.pm.sted_t_n) : 0.0;
     js["sted"] = {{"spatial", t.sted_s / np}, {"rings", opt.sted_rings}};
@@ -270,24 +299,7 @@ nlohmann::ordered_json to_json(const MeshMeasures& m, const FrameSet& pred,
     if (t.rse_n)
       js["relative_squared_error"] = {{"max", t.rse_max},
                                       {"mean", t.rse_mean / static_cast<double>(t.rse_n)}};
-    if (!m.pace.empty()) {
-      double predicted = 0, truth = 0;
-      for (const auto& c : m.pace) predicted += c.predicted, truth += c.truth;
-      const double n = static_cast<double>(m.pace.size() * kPaceSteps);
-      js["pace"] = {{"steps", kPaceSteps},
-                    {"cases", m.pace.size()},
-                    {"predicted_per_frame", predicted / n},
-                    {"true_per_frame", truth / n},
-                    {"predicted_per_frame_relative", predicted / n / diag},
-                    {"true_per_frame_relative", truth / n / diag},
-                    {"ratio", truth > 0 ? predicted / truth : 0.0}};
-      nlohmann::ordered_json cases = nlohmann::ordered_json::array();
-      for (const auto& c : m.pace)
-        cases.push_back({{"case", c.name},
-                         {"predicted_relative", c.predicted / kPaceSteps / diag},
-                         {"true_relative", c.truth / kPaceSteps / diag}});
-      js["pace"]["per_case"] = cases;
-    }
+    if (!m.pace.empty()) js["pace"] = pace_json(m.pace, diag);
     const auto& v = m.samples;
     if (v.cases)
       js["samples_vs_truth"] = {{"cases", v.cases},
