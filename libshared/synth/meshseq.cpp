@@ -74,92 +74,100 @@ MeshSequenceGenerator::MeshSequenceGenerator(const MeshSeqParams& p) : params_(p
   }
 
   if (p.kind == MeshSeqKind::finger) {
-    const int seg = p.resolution, rings = 4 * p.resolution;
-    const double radius = 0.5;
-    const int nv = seg * (rings + 1) + 2;
-    rest_.vertices.resize(nv, 3);
-    for (int r = 0; r <= rings; ++r)
-      for (int k = 0; k < seg; ++k) {
-        double a = 2 * kPi * k / seg;
-        int v = r * seg + k;
-        s_.push_back(length_ * r / rings);
-        x_.push_back(radius * std::cos(a));
-        y_.push_back(radius * std::sin(a));
-        rest_.vertices.row(v) << x_.back(), y_.back(), s_.back();
-      }
-    const int bottom = seg * (rings + 1), top = bottom + 1;
-    for (double s : {0.0, length_}) {
-      s_.push_back(s);
-      x_.push_back(0);
-      y_.push_back(0);
-    }
-    rest_.vertices.row(bottom) << 0, 0, 0;
-    rest_.vertices.row(top) << 0, 0, length_;
-    rest_.faces.resize(2 * seg * rings + 2 * seg, 3);
-    int f = 0;
-    for (int r = 0; r < rings; ++r)
-      for (int k = 0; k < seg; ++k) {
-        int a = r * seg + k, b = r * seg + (k + 1) % seg, c = a + seg, d = b + seg;
-        rest_.faces.row(f++) << a, b, d;
-        rest_.faces.row(f++) << a, d, c;
-      }
-    for (int k = 0; k < seg; ++k) {
-      rest_.faces.row(f++) << bottom, (k + 1) % seg, k;
-      rest_.faces.row(f++) << top, rings * seg + k, rings * seg + (k + 1) % seg;
-    }
+    build_finger();
   } else if (p.kind == MeshSeqKind::flag) {
     rest_ = grid(3 * p.resolution / 2, p.resolution, 0.0, 3.0, 0.0, 2.0);
   } else {
     rest_ = grid(p.resolution, p.resolution, -1.0, 1.0, -1.0, 1.0);
-    // Planted regions: 2 coarse (radius 0.45), --fine-regions fine (radius 0.15), centres apart.
-    // Each region's draws follow the previous ones', so adding fine regions leaves the first
-    // ones (and their weights in every frame) as they were.
-    Rng rng(p.seed, 1000003);
-    struct C {
-      double x, y, r;
-      int scale;
-    };
-    std::vector<C> centers;
-    for (auto [count, radius, scale] :
-         {std::tuple{2, 0.45, 0}, std::tuple{p.fine_regions, 0.15, 1}}) {
-      for (int n = 0; n < count; ++n) {
-        for (int attempt = 0;; ++attempt) {
-          if (attempt == 100000)
-            throw UsageError(
-                fmt::format("--fine-regions {}: no room for region {} of {} apart from the "
-                            "others (seed {}); ask for fewer or try another seed",
-                            p.fine_regions, centers.size() + 1, 2 + p.fine_regions, p.seed));
-          C c{rng.uniform(-1 + radius, 1 - radius), rng.uniform(-1 + radius, 1 - radius), radius,
-              scale};
-          bool ok = true;
-          for (const auto& o : centers)  // a little apart first, then touching at most
-            ok = ok &&
-                 std::hypot(c.x - o.x, c.y - o.y) > (c.r + o.r) * (attempt < 1000 ? 1.05 : 1.0);
-          if (ok) {
-            centers.push_back(c);
-            break;
-          }
+    plant_regions();
+  }
+}
+
+// The finger: a capped cylinder along z, `resolution` around and 4 × as many rings.
+void MeshSequenceGenerator::build_finger() {
+  const int seg = params_.resolution, rings = 4 * params_.resolution;
+  const double radius = 0.5;
+  const int nv = seg * (rings + 1) + 2;
+  rest_.vertices.resize(nv, 3);
+  for (int r = 0; r <= rings; ++r)
+    for (int k = 0; k < seg; ++k) {
+      double a = 2 * kPi * k / seg;
+      int v = r * seg + k;
+      s_.push_back(length_ * r / rings);
+      x_.push_back(radius * std::cos(a));
+      y_.push_back(radius * std::sin(a));
+      rest_.vertices.row(v) << x_.back(), y_.back(), s_.back();
+    }
+  const int bottom = seg * (rings + 1), top = bottom + 1;
+  for (double s : {0.0, length_}) {
+    s_.push_back(s);
+    x_.push_back(0);
+    y_.push_back(0);
+  }
+  rest_.vertices.row(bottom) << 0, 0, 0;
+  rest_.vertices.row(top) << 0, 0, length_;
+  rest_.faces.resize(2 * seg * rings + 2 * seg, 3);
+  int f = 0;
+  for (int r = 0; r < rings; ++r)
+    for (int k = 0; k < seg; ++k) {
+      int a = r * seg + k, b = r * seg + (k + 1) % seg, c = a + seg, d = b + seg;
+      rest_.faces.row(f++) << a, b, d;
+      rest_.faces.row(f++) << a, d, c;
+    }
+  for (int k = 0; k < seg; ++k) {
+    rest_.faces.row(f++) << bottom, (k + 1) % seg, k;
+    rest_.faces.row(f++) << top, rings * seg + k, rings * seg + (k + 1) % seg;
+  }
+}
+
+void MeshSequenceGenerator::plant_regions() {
+  // Planted regions: 2 coarse (radius 0.45), --fine-regions fine (radius 0.15), centres apart.
+  // Each region's draws follow the previous ones', so adding fine regions leaves the first
+  // ones (and their weights in every frame) as they were.
+  Rng rng(params_.seed, 1000003);
+  struct C {
+    double x, y, r;
+    int scale;
+  };
+  std::vector<C> centers;
+  for (auto [count, radius, scale] :
+       {std::tuple{2, 0.45, 0}, std::tuple{params_.fine_regions, 0.15, 1}}) {
+    for (int n = 0; n < count; ++n) {
+      for (int attempt = 0;; ++attempt) {
+        if (attempt == 100000)
+          throw UsageError(fmt::format(
+              "--fine-regions {}: no room for region {} of {} apart from the "
+              "others (seed {}); ask for fewer or try another seed",
+              params_.fine_regions, centers.size() + 1, 2 + params_.fine_regions, params_.seed));
+        C c{rng.uniform(-1 + radius, 1 - radius), rng.uniform(-1 + radius, 1 - radius), radius,
+            scale};
+        bool ok = true;
+        for (const auto& o : centers)  // a little apart first, then touching at most
+          ok = ok && std::hypot(c.x - o.x, c.y - o.y) > (c.r + o.r) * (attempt < 1000 ? 1.05 : 1.0);
+        if (ok) {
+          centers.push_back(c);
+          break;
         }
       }
     }
-    const auto nv = rest_.vertices.rows();
-    for (const auto& c : centers) {
-      Region reg;
-      reg.scale = c.scale;
-      reg.radius = c.r;
-      reg.height = c.scale == 0 ? 0.35 : 0.12;
-      reg.mask.assign(static_cast<std::size_t>(nv), 0);
-      double best = 1e300;
-      for (Eigen::Index v = 0; v < nv; ++v) {
-        double d = std::hypot(rest_.vertices(v, 0) - c.x, rest_.vertices(v, 1) - c.y);
-        if (d < c.r) reg.mask[static_cast<std::size_t>(v)] = 1;
-        if (d < best) {
-          best = d;
-          reg.center = static_cast<int>(v);
-        }
+  }
+  const auto nv = rest_.vertices.rows();
+  for (const auto& c : centers) {
+    Region reg;
+    reg.scale = c.scale;
+    reg.radius = c.r;
+    reg.height = c.scale == 0 ? 0.35 : 0.12;
+    reg.mask.assign(static_cast<std::size_t>(nv), 0);
+    double best = 1e300;
+    for (Eigen::Index v = 0; v < nv; ++v) {
+      double d = std::hypot(rest_.vertices(v, 0) - c.x, rest_.vertices(v, 1) - c.y);
+      if (d < c.r) reg.mask[static_cast<std::size_t>(v)] = 1;
+      if (d < best) {
+        best = d;
+        reg.center = static_cast<int>(v);
       }
-      regions_.push_back(std::move(reg));
     }
+    regions_.push_back(std::move(reg));
   }
 }
 

@@ -62,6 +62,8 @@ class MeshSequenceGenerator {
   const MeshSeqParams& params() const { return params_; }
 
  private:
+  void build_finger();   // rest_ and the finger's cylinder coordinates
+  void plant_regions();  // the bumps surface's coarse and fine regions
   Vertices finger(int seq, double phase) const;
   Vertices flag(int seq, double phase) const;
   Vertices bumps(int t) const;
