@@ -26,9 +26,9 @@ struct MsaeTraining {
   /// Exponential decay: lr · decay^(step / decay_steps) (the paper: "exponential decay").
   double lr_decay = 0.5;
   double lr_decay_steps = 1000;
-  /// The rate rises linearly from lr / N to lr over the first N iterations (0: none, the paper):
-  /// Adam's first steps move every weight by about the rate, which replaces a started block
-  /// (--init local) before its gradients have been measured (docs/msae.md).
+  /// The rate rises linearly from lr / N to lr over the first N iterations (0: none, the paper).
+  /// Tried because Adam's first steps move every weight by about the rate and so replace a
+  /// started block (--init local); measured, it only delays that (docs/msae.md).
   double lr_warmup = 0;
   /// sequence: every `every`-th shape of each sequence trains, the rest is held out (paper 1:9);
   /// collection: a random `train_fraction` of the shapes trains (paper 1:1); lists: given files.

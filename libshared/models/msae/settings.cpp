@@ -126,7 +126,8 @@ Settings msae_training_settings(MsaeTraining& t) {
       {.name = "lr_warmup",
        .target = &t.lr_warmup,
        .help = "The rate rises linearly from lr/N to lr over the first N iterations (0: none, the\n"
-               "paper), so that Adam's first steps do not replace a started level 0 (--init local)",
+               "paper). Tried against Adam's first steps replacing a started level 0 (--init\n"
+               "local); on chickenCrossing it only delays that (docs/msae.md)",
        .optional = true},
       {.name = "separate",
        .target = &t.separate,
