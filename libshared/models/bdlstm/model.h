@@ -34,6 +34,10 @@ struct BdlstmTraining {
   /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
   /// chains run free (1 = the paper: only the seed frame).
   int teacher_frames = 1;
+  /// Each training window plays its frames at a speed drawn uniformly from this list: frame t of
+  /// the window is the data at first + t × stride × speed, linearly interpolated between frames
+  /// (0: the first frame held still). {1} = the data's own pace (no draw; the paper).
+  std::vector<double> speeds = {1};
   /// The KL weight rises linearly from 0 to 1 over this many iterations (0 = always 1, the
   /// paper), a common remedy when the latent collapses to the prior.
   std::int64_t kl_warmup = 0;

@@ -101,6 +101,13 @@ Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
                "it runs free, so the network learns to use gen-bdlstm's --initial frames\n"
                "(1 = the paper: only the seed frame)",
        .optional = true},
+      {.name = "speeds",
+       .target = &t.speeds,
+       .help = "Play each training window at a speed drawn from this list (comma-separated; 0:\n"
+               "the first frame held still, 0.5: half the data's pace, frames interpolated), so\n"
+               "that the pace of a prediction must be read off the given frames (1 = the data's\n"
+               "own pace, the paper)",
+       .optional = true},
       {.name = "kl_warmup",
        .target = &t.kl_warmup,
        .help = "Raise the KL weight linearly from 0 to 1 over N iterations (0 = the paper: 1\n"

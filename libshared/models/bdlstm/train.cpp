@@ -133,6 +133,18 @@ std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t s
   return starts;
 }
 
+void play_window(const nn::Matrix<float>& data, std::int64_t first, int stride, double speed,
+                 std::vector<nn::Matrix<float>>& window, Eigen::Index row) {
+  for (std::size_t t = 0; t < window.size(); ++t) {
+    const double at = static_cast<double>(t) * stride * speed;
+    const auto whole = static_cast<std::int64_t>(std::floor(at));
+    const auto part = static_cast<float>(at - static_cast<double>(whole));
+    auto out = window[t].row(row);
+    out = data.row(first + whole);
+    if (part > 0) out += part * (data.row(first + whole + 1) - data.row(first + whole));
+  }
+}
+
 std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
                                       std::int64_t span) {
   if (part == "train") return window_starts(split, span);
@@ -194,6 +206,9 @@ void check_options(const BdlstmTrainOptions& opt) {
   if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
   if (!(opt.training.collapse_threshold >= 0))
     throw UsageError("--collapse-threshold must not be negative");
+  const std::vector<double>& v = opt.training.speeds;
+  if (v.empty() || std::any_of(v.begin(), v.end(), [](double x) { return !(x >= 0 && x <= 8); }))
+    throw UsageError("--speeds needs one or more speeds in [0, 8] (1 = the data's own pace)");
   if (!(opt.net.carry_fade >= 0 && opt.net.carry_fade <= 1))
     throw UsageError("--carry-fade must lie in [0, 1] (1 = the carry never fades)");
 }
@@ -218,9 +233,17 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
 
 // Windows: every start in a training part that leaves room for the whole window; none is an
 // InvalidInput that names the longest run of training frames there is.
+// The frames a training window spans at the fastest of --speeds (every start leaves room for
+// any speed drawn).
+std::int64_t window_span(const BdlstmTraining& t) {
+  const double fastest = *std::max_element(t.speeds.begin(), t.speeds.end());
+  return static_cast<std::int64_t>(
+             std::ceil(static_cast<double>(t.window - 1) * t.stride * fastest - 1e-9)) +
+         1;
+}
+
 std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::string& input) {
-  const std::int64_t span =
-      static_cast<std::int64_t>(m.training.window - 1) * m.training.stride + 1;
+  const std::int64_t span = window_span(m.training);
   std::vector<std::int64_t> starts = window_starts(m.split, span);
   if (!starts.empty()) return starts;
   std::int64_t longest = 0;  // the longest run of training frames (clear of test and validation)
@@ -234,10 +257,23 @@ std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::stri
     }
   }
   throw InvalidInput(
-      fmt::format("no sequence has a training part of {} frames (window {}, stride {}); the "
+      fmt::format("no sequence has a training part of {} frames (window {}, stride {}{}); the "
                   "longest has {}: use a smaller --window, --stride or --validation-fraction",
-                  span, m.training.window, m.training.stride, longest),
+                  span, m.training.window, m.training.stride,
+                  m.training.speeds == std::vector<double>{1} ? "" : ", the fastest of --speeds",
+                  longest),
       input);
+}
+
+// Row b of the batch: a window from a random start, at a speed drawn from --speeds (no draw at
+// the data's own pace alone).
+void fill_window(BdlstmModel& m, const nn::Matrix<float>& data,
+                 const std::vector<std::int64_t>& starts, int b,
+                 std::vector<nn::Matrix<float>>& window) {
+  const std::int64_t first = starts[m.rng.below(starts.size())];
+  const std::vector<double>& speeds = m.training.speeds;
+  const double speed = speeds.size() == 1 ? speeds[0] : speeds[m.rng.below(speeds.size())];
+  play_window(data, first, m.training.stride, speed, window, b);
 }
 
 // The motion input's scale: 1 / the RMS, per feature, of the change from a training frame to the
@@ -315,11 +351,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   // One iteration: a batch of windows and the number of teacher frames drawn with the model's
   // RNG, the KL weight of the warm-up, one Adam step.
   auto step = [&](std::int64_t done) -> LossTerms {
-    for (int b = 0; b < m.training.batch; ++b) {
-      const std::int64_t first = starts[m.rng.below(starts.size())];
-      for (int t = 0; t < m.training.window; ++t)
-        window[static_cast<std::size_t>(t)].row(b) = data.row(first + t * m.training.stride);
-    }
+    for (int b = 0; b < m.training.batch; ++b) fill_window(m, data, starts, b, window);
     const int given = m.training.teacher_frames > 1
                           ? 1 + static_cast<int>(m.rng.below(
                                     static_cast<std::uint64_t>(m.training.teacher_frames)))

@@ -38,6 +38,12 @@ std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t s
 std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
                                       std::int64_t span);
 
+/// Frame t of a window played at `speed` from frame `first` of `data` (one frame per row): the
+/// data at first + t × stride × speed, interpolated linearly between frames (speed 0: the first
+/// frame held still), written to row `row` of window[t] for every t of the window.
+void play_window(const nn::Matrix<float>& data, std::int64_t first, int stride, double speed,
+                 std::vector<nn::Matrix<float>>& window, Eigen::Index row);
+
 /// Predicted steps of train-bdlstm's validation error (Table 1's horizon), fewer when the
 /// validation part is shorter.
 inline constexpr int kValidationSteps = 15;

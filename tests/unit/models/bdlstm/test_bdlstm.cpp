@@ -318,6 +318,30 @@ TEST_CASE("BD-LSTM split: a contiguous held-out part per sequence", "[models][bd
   }());
 }
 
+TEST_CASE("BD-LSTM windows played at other speeds (--speeds)", "[models][bdlstm]") {
+  // Frame f of the data holds (f, 10 f): a window's frame is where its speed puts it.
+  nn::Matrix<float> data(20, 2);
+  for (Eigen::Index f = 0; f < 20; ++f) data.row(f) << float(f), 10.0f * float(f);
+  std::vector<nn::Matrix<float>> window(5, nn::Matrix<float>::Zero(2, 2));
+  auto frames = [&](Eigen::Index row) {
+    std::vector<float> v;
+    for (const auto& w : window) v.push_back(w(row, 0));
+    return v;
+  };
+  play_window(data, 3, 1, 1.0, window, 0);  // the data's own pace: frames 3..7 as they are
+  REQUIRE(frames(0) == std::vector<float>{3, 4, 5, 6, 7});
+  play_window(data, 3, 2, 1.0, window, 1);  // stride 2
+  REQUIRE(frames(1) == std::vector<float>{3, 5, 7, 9, 11});
+  play_window(data, 3, 1, 0.0, window, 0);  // held still at the first frame
+  REQUIRE(frames(0) == std::vector<float>{3, 3, 3, 3, 3});
+  play_window(data, 2, 1, 0.5, window, 1);  // half the pace: halfway frames interpolated
+  REQUIRE(frames(1) == std::vector<float>{2, 2.5f, 3, 3.5f, 4});
+  REQUIRE(window[1](1, 1) == 25.0f);  // every feature interpolated alike
+  play_window(data, 0, 2, 1.5, window, 0);  // 3 frames a step at stride 2: 0, 3, 6, 9, 12
+  REQUIRE(frames(0) == std::vector<float>{0, 3, 6, 9, 12});
+  REQUIRE(window[4](1, 0) == 4.0f);  // the other row keeps its own window
+}
+
 TEST_CASE("BD-LSTM split: a held-out part inside the sequence", "[models][bdlstm]") {
   BdlstmSplit m;
   split_sequences({0, 100}, 0.2, "middle", 1, m);
