@@ -32,8 +32,8 @@ int main(int argc, char** argv) {
     m.config.classes = 10;
     m.length = 50;
     if (which == "gan-all") {
-      m.config.disc_input = "motion";
-      m.config.disc_pool = "all";
+      m.config.disc_input = df::models::DiscInput::motion;
+      m.config.disc_pool = df::models::DiscPool::all;
     }
     m.initialize();
     df::models::ActionClips clips;

@@ -1,4 +1,5 @@
 // fit-baseline: PCA or SPLOCS fitted on an MSAE model's training shapes, for paper 2's tables.
+#include "core/choice_option.h"
 #include "core/tool.h"
 #include "models/baselines/baselines.h"
 
@@ -24,9 +25,7 @@ int main(int argc, char** argv) {
   app.add_option("MODEL", opt.model, "msae-model .h5 (for its split)")->required();
   app.add_option("DATA", opt.data, "the acap .h5 the model was trained on")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
-  app.add_option("--method", opt.method, "pca, splocs or splocs-acap")
-      ->default_val(opt.method)
-      ->check(CLI::IsMember({"pca", "splocs", "splocs-acap"}));
+  df::add_choice(app, "--method", opt.method, "pca, splocs or splocs-acap");
   app.add_option("--components-out", opt.components_out,
                  "Also write the fitted basis as a components file, for edit-shape and (pca,\n"
                  "splocs-acap) prune-components, render-mesh (via --acap of prune-components) and\n"
@@ -36,10 +35,9 @@ int main(int argc, char** argv) {
   app.add_option("--components", opt.components,
                  "Number of components (default: as many as the MSAE model)")
       ->default_str("model's");
-  app.add_option("--part", opt.part,
-                 "Which shapes to reconstruct: the model's test, validation or train part")
-      ->default_val(opt.part)
-      ->check(CLI::IsMember({"train", "validation", "test"}));
+  df::add_choice(app, "--part", opt.part,
+                 "Which shapes to reconstruct: the model's test, validation or train part",
+                 {"train", "validation", "test"});
   auto* s = app.add_option_group("SPLOCS (the reference code's defaults)");
   s->add_option("--splocs-iterations", opt.splocs.iterations, "Outer iterations")
       ->default_val(opt.splocs.iterations);

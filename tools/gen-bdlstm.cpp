@@ -1,4 +1,5 @@
 // gen-bdlstm: predict, complete and diversify mesh sequences with a trained BD-LSTM (paper 1).
+#include "core/choice_option.h"
 #include "core/tool.h"
 #include "models/bdlstm/generate.h"
 
@@ -39,11 +40,10 @@ int main(int argc, char** argv) {
   app.add_option("MODEL", opt.model, "bdlstm-model .h5 from train-bdlstm")->required();
   app.add_option("DATA", opt.data, "acap .h5 holding the given frames")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
-  app.add_option("--mode", opt.mode, "predict or complete")->default_val(opt.mode);
-  app.add_option("--method", opt.method,
+  df::add_choice(app, "--mode", opt.mode, "predict or complete");
+  df::add_choice(app, "--method", opt.method,
                  "bdlstm, linear (feature-space baseline), or static (predict: the last given\n"
-                 "frame repeated, the zero-motion reference)")
-      ->default_val(opt.method);
+                 "frame repeated, the zero-motion reference)");
   app.add_option("--from", opt.from,
                  "predict: last given frame of a case (repeatable, or comma-separated: 5,walk:12)")
       ->delimiter(',')
@@ -56,11 +56,10 @@ int main(int argc, char** argv) {
                  "Cases at every K-th frame of the model's held-out test parts (instead of\n"
                  "--from / --keyframes)")
       ->default_val(opt.test_every);
-  app.add_option("--part", opt.part,
+  df::add_choice(app, "--part", opt.part,
                  "Where --test-every cases lie: test (the held-out part) or validation (the part\n"
-                 "train-bdlstm --validation-fraction carved out of the training frames)")
-      ->default_val(opt.part)
-      ->check(CLI::IsMember({"test", "validation"}));
+                 "train-bdlstm --validation-fraction carved out of the training frames)",
+                 {"test", "validation"});
   app.add_option("--test-context", opt.test_context,
                  "predict with --test-every: the first predicted frame is at least C frames into\n"
                  "the held-out part (0 = --initial), so that runs with different --initial and\n"
@@ -86,35 +85,28 @@ int main(int argc, char** argv) {
   app.add_option("--window", opt.window,
                  "predict: frames per chained run (0 = the training window)")
       ->default_val(opt.window);
-  app.add_option(
-         "--restart", opt.restart,
-         "predict: window = restart the chain every --window frames from the last u frames\n"
-         "with fresh states (the paper's chaining); never = one chain carries its LSTM state\n"
-         "over the whole length")
-      ->default_val(opt.restart)
-      ->check(CLI::IsMember({"window", "never"}));
-  app.add_option(
-         "--latent", opt.latent,
-         "z fed to the LSTM: mean (the encoder's) or sample (a draw from q(z|x), as in training)")
-      ->default_val(opt.latent)
-      ->check(CLI::IsMember({"mean", "sample"}));
-  app.add_option(
-         "--merge", opt.merge,
-         "complete: closest = switch chains at their closest pair of frames (the paper);\n"
-         "weighted = mix them at every step, the forward chain's weight falling from 1 to 0\n"
-         "over the gap (no threshold, no retries)")
-      ->default_val(opt.merge)
-      ->check(CLI::IsMember({"closest", "weighted"}));
+  df::add_choice(
+      app, "--restart", opt.restart,
+      "predict: window = restart the chain every --window frames from the last u frames\n"
+      "with fresh states (the paper's chaining); never = one chain carries its LSTM state\n"
+      "over the whole length");
+  df::add_choice(
+      app, "--latent", opt.latent,
+      "z fed to the LSTM: mean (the encoder's) or sample (a draw from q(z|x), as in training)",
+      {"mean", "sample"});
+  df::add_choice(
+      app, "--merge", opt.merge,
+      "complete: closest = switch chains at their closest pair of frames (the paper);\n"
+      "weighted = mix them at every step, the forward chain's weight falling from 1 to 0\n"
+      "over the gap (no threshold, no retries)");
   app.add_option("--blend", opt.blend,
                  "complete: cross-fade the forward and backward chains over N frames around the\n"
                  "merge (0 = switch at the merge, the paper)")
       ->default_val(opt.blend);
-  app.add_option(
-         "--merge-scale", opt.merge_scale,
-         "complete: --threshold relative to the frame's feature norm (features, the paper) or\n"
-         "to the chains' mean change per step (motion)")
-      ->default_val(opt.merge_scale)
-      ->check(CLI::IsMember({"features", "motion"}));
+  df::add_choice(
+      app, "--merge-scale", opt.merge_scale,
+      "complete: --threshold relative to the frame's feature norm (features, the paper) or\n"
+      "to the chains' mean change per step (motion)");
   app.add_option(
          "--stride", opt.stride,
          "Data frames per generated frame (0 = the model's training --stride): given frames,\n"

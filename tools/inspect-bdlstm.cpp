@@ -1,4 +1,5 @@
 // inspect-bdlstm: what a trained BD-LSTM's latent carries (diagnosing training).
+#include "core/choice_option.h"
 #include "core/tool.h"
 #include "models/bdlstm/inspect.h"
 
@@ -21,8 +22,8 @@ int main(int argc, char** argv) {
   app.add_option("DATA", opt.data, "acap .h5 the model was trained on")->required();
   app.add_option("--tsv", opt.tsv,
                  "Also write the KL per dimension and the errors per step (gnuplot blocks)");
-  app.add_option("--part", opt.part, "train, validation or test: which frames to probe")
-      ->default_val(opt.part);
+  df::add_choice(app, "--part", opt.part, "train, validation or test: which frames to probe",
+                 {"train", "validation", "test"});
   app.add_option("--initial", opt.initial, "Given frames per probe window")
       ->default_val(opt.initial);
   app.add_option("--length", opt.length, "Predicted steps per probe window")

@@ -1,4 +1,5 @@
 // recon-msae: encode and decode shapes through a trained MSAE (paper 2).
+#include "core/choice_option.h"
 #include "core/tool.h"
 #include "models/msae/recon.h"
 
@@ -20,10 +21,8 @@ int main(int argc, char** argv) {
   app.add_option("MODEL", opt.model, "msae-model .h5")->required();
   app.add_option("DATA", opt.data, "acap .h5 with normalized features")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
-  app.add_option("--part", opt.part,
-                 "Which shapes: the model's train, validation or test part, or all of DATA")
-      ->default_val(opt.part)
-      ->check(CLI::IsMember({"train", "validation", "test", "all"}));
+  df::add_choice(app, "--part", opt.part,
+                 "Which shapes: the model's train, validation or test part, or all of DATA");
   app.add_option("--levels", opt.levels, "Decode through the first L levels, or all of them")
       ->transform(
           [](std::string s) { return s == "all" ? std::string("0") : s; })  // 0: every level

@@ -260,8 +260,11 @@ run gen-bdlstm m.h5 other-acap.h5 --from 5 -o x.h5
 expect_rc 1; expect_one_error_line gen-bdlstm; expect_err "share the template"
 run gen-bdlstm m.h5 data.h5 --from 1 --initial 3 -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "only 2 frames"
+# A mode's names are its choices: an unknown one is the option parser's error, naming them
 run gen-bdlstm m.h5 data.h5 --mode sideways --from 5 -o x.h5
-expect_rc 2; expect_one_error_line gen-bdlstm
+expect_rc 2; expect_err "^gen-bdlstm: error: --mode: sideways not in [{]predict,complete[}]"
+run gen-bdlstm m.h5 data.h5 --from 5 --latent prior -o x.h5
+expect_rc 2; expect_err "^gen-bdlstm: error: --latent: prior not in [{]mean,sample[}]"
 run gen-bdlstm m.h5 data.h5 --keyframes 5,9 -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "mode complete"
 run gen-bdlstm m.h5 data.h5 --from 5 --method linear -o x.h5

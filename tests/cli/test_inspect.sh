@@ -49,7 +49,7 @@ run gen-bdlstm m.h5 data.h5 --test-every 1 --part validation -o x.h5
 expect_rc 1; expect_one_error_line gen-bdlstm; expect_err "no validation part"
 
 run inspect-bdlstm m.h5 data.h5 --part middle
-expect_rc 2; expect_one_error_line inspect-bdlstm; expect_err "train, test or validation"
+expect_rc 2; expect_err "^inspect-bdlstm: error: --part: middle not in [{]train,validation,test[}]"
 synth-meshseq -q --frames 20 --resolution 4 --periods 2 -o short.h5
 obj2acap -q short.h5 -o short-acap.h5
 run inspect-bdlstm m.h5 short-acap.h5

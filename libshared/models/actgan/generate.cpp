@@ -150,7 +150,7 @@ void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common) {
   const ActganModel m = load_actgan_model(opt.model);
   const int length = opt.length > 0 ? opt.length : m.length;
   if (length < 1) throw UsageError("--length must be positive");
-  if (!opt.latents.empty() && m.config.generator == "pose")
+  if (!opt.latents.empty() && m.config.generator == Generator::pose)
     throw UsageError("the direct-pose baseline has no latent trajectories (--latents)");
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force, {opt.model});
   std::vector<std::string> names;

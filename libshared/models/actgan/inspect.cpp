@@ -143,7 +143,7 @@ nlohmann::ordered_json to_json(const PoseError& e) {
 
 nn::Matrix<float> fit_latent_codes(const ActganModel& m, const nn::Matrix<float>& poses,
                                    const std::vector<int>& labels, int steps, double lr) {
-  if (m.config.generator == "pose")
+  if (m.config.generator == Generator::pose)
     throw Error("internal: fit_latent_codes on the direct-pose baseline");
   nn::Matrix<float> recon(poses.rows(), poses.cols());
   const Eigen::Index Z = m.config.latent, C = m.config.classes;
@@ -182,7 +182,7 @@ nn::Matrix<float> fit_latent_codes(const ActganModel& m, const nn::Matrix<float>
 
 DecoderReach decoder_reach(const ActganModel& m, const io::SkeletonFile& s,
                            const ActganInspectOptions& opt) {
-  if (m.config.generator == "pose")
+  if (m.config.generator == Generator::pose)
     throw InvalidInput(
         "the direct-pose baseline (--generator pose) has no frame decoder to inspect", opt.model);
   const PoseSets ps = pose_sets(m, s, opt);

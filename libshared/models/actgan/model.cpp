@@ -95,7 +95,7 @@ void ActganModel::initialize() {
   gen = std::make_unique<ActganGenerator<float>>(config, init);
   disc.reset();
   clip_critic.reset();
-  if (config.discriminator == "critic")
+  if (config.discriminator == Discriminator::critic)
     clip_critic =
         std::make_unique<Critic<float>>(config, Eigen::Index{length} * config.pose, "disc", init);
   else

@@ -13,26 +13,21 @@ using nn::Activation;
 
 template <class T>
 ActganGenerator<T>::ActganGenerator(const ActganConfig& c, Rng& rng) : config_(c) {
-  if (c.generator != "latent" && c.generator != "pose")
-    throw UsageError("the generator must be 'latent' or 'pose'");
-  if (c.start != "uniform" && c.start != "normal")
-    throw UsageError("--start must be uniform or normal");
   lstm_ = nn::LstmCell<T>(store_, "gen.lstm", c.noise + c.classes, c.hidden, rng);
-  if (c.generator == "pose") {
+  if (c.generator == Generator::pose) {
     to_latent_ = nn::Linear<T>(store_, "gen.to_pose", c.hidden, c.pose, rng);
     return;
   }
   to_latent_ = nn::Linear<T>(store_, "gen.to_latent", c.hidden, c.latent, rng);
-  if (c.step_init != "glorot" && c.step_init != "small")
-    throw UsageError("--step-init must be glorot or small");
-  if (c.step_init == "small") store_.value(to_latent_.w) *= T(0.01);
+  if (c.step_init == StepInit::small) store_.value(to_latent_.w) *= T(0.01);
   decoder_ = nn::Mlp<T>(store_, "gen.decoder", {c.latent + c.classes, c.fc, c.pose},
                         Activation::relu, rng);
 }
 
 template <class T>
 nn::Var<T> ActganGenerator<T>::decode(const nn::Bound<T>& p, Var h, Var y) const {
-  if (config_.generator == "pose") throw Error("internal: the pose baseline has no decoder");
+  if (config_.generator == Generator::pose)
+    throw Error("internal: the pose baseline has no decoder");
   return decoder_(p, nn::concat_cols<T>({h, y}));
 }
 
@@ -52,7 +47,7 @@ GeneratedSequences<T> ActganGenerator<T>::generate(const nn::Bound<T>& p, Var y,
     return nn::slice_rows(out, static_cast<Eigen::Index>(t) * batch, batch);
   };
   GeneratedSequences<T> g;
-  if (config_.generator == "pose") {
+  if (config_.generator == Generator::pose) {
     for (std::size_t t = 0; t < noise.size(); ++t) g.frames.push_back(step(t));
     return g;
   }
@@ -115,12 +110,10 @@ nn::Var<T> SequenceNet<T>::output(const nn::Bound<T>& p, Var features) const {
 
 template <class T>
 std::unique_ptr<SequenceNet<T>> make_discriminator(const ActganConfig& c, int length, Rng& rng) {
-  if (c.disc_pool != "last" && c.disc_pool != "all")
-    throw UsageError("--disc-pool must be last or all");
-  if (c.disc_pool == "all" && length < 1)
+  if (c.disc_pool == DiscPool::all && length < 1)
     throw Error("internal: a discriminator over all steps needs the length");
   return std::make_unique<SequenceNet<T>>(c, discriminator_width(c), 1, "disc", rng,
-                                          c.disc_pool == "all" ? length : 0);
+                                          c.disc_pool == DiscPool::all ? length : 0);
 }
 
 template <class T>
@@ -159,10 +152,10 @@ template <class T>
 GeneratorNoise<T> draw_generator_noise(const ActganConfig& c, Eigen::Index n, int length,
                                        Rng& rng) {
   GeneratorNoise<T> g{nn::Matrix<T>(n, c.latent), {}};
-  const bool normal = c.start == "normal";
+  const bool normal = c.start == LatentStart::normal;
   for (Eigen::Index k = 0; k < g.h1.size(); ++k)
     g.h1.data()[k] = static_cast<T>(normal ? rng.normal() : rng.uniform(-1, 1));
-  for (int t = c.generator == "pose" ? 0 : 1; t < length; ++t) {
+  for (int t = c.generator == Generator::pose ? 0 : 1; t < length; ++t) {
     nn::Matrix<T> m(n, c.noise);
     for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<T>(rng.normal());
     g.xi.push_back(std::move(m));
@@ -187,16 +180,13 @@ std::vector<nn::Var<T>> with_label(const std::vector<nn::Var<T>>& x, nn::Var<T> 
 }
 
 Eigen::Index discriminator_width(const ActganConfig& c) {
-  if (c.disc_input != "frames" && c.disc_input != "motion")
-    throw UsageError("--disc-input must be frames or motion");
-  return (c.disc_input == "motion" ? 2 * c.pose : c.pose) + c.classes;
+  return (c.disc_input == DiscInput::motion ? 2 * c.pose : c.pose) + c.classes;
 }
 
 template <class T>
 std::vector<nn::Var<T>> discriminator_input(const ActganConfig& c, const std::vector<nn::Var<T>>& x,
                                             nn::Var<T> y) {
-  if (c.disc_input != "motion")
-    return with_label(x, y);  // "frames" (discriminator_width refuses others)
+  if (c.disc_input == DiscInput::frames) return with_label(x, y);
   std::vector<nn::Var<T>> out;
   for (std::size_t t = 0; t < x.size(); ++t)
     out.push_back(nn::concat_cols<T>({x[t], nn::sub(x[t], x[t == 0 ? 0 : t - 1]), y}));
@@ -207,8 +197,9 @@ template <class T>
 nn::Var<T> smoothness(const ActganConfig& c, const GeneratedSequences<T>& g) {
   nn::Tape<T>& tape = *g.frames.front().tape;
   const T per_sequence = T(1) / static_cast<T>(g.frames.front().rows());
-  const bool latent = (c.smoothness == "both" || c.smoothness == "latent") && !g.latents.empty();
-  const bool action = c.smoothness == "both" || c.smoothness == "action";
+  const bool latent = (c.smoothness == Smoothness::both || c.smoothness == Smoothness::latent) &&
+                      !g.latents.empty();
+  const bool action = c.smoothness == Smoothness::both || c.smoothness == Smoothness::action;
   nn::Var<T> total = tape.constant(nn::Matrix<T>::Zero(1, 1));
   for (std::size_t t = 1; t < g.frames.size(); ++t) {
     if (latent)

@@ -15,13 +15,61 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "core/choice.h"
 #include "core/rng.h"
 #include "nn/layers.h"
 
 namespace df::models {
+
+/// The modes of ActganConfig, each with its names (core/choice.h; the names are the model file's).
+enum class Generator { latent, pose };
+inline constexpr Named<Generator> kGeneratorNames[] = {{"latent", Generator::latent},
+                                                       {"pose", Generator::pose}};
+constexpr std::span<const Named<Generator>> names_of(Generator) {
+  return kGeneratorNames;
+}
+enum class StepInit { glorot, small };
+inline constexpr Named<StepInit> kStepInitNames[] = {{"glorot", StepInit::glorot},
+                                                     {"small", StepInit::small}};
+constexpr std::span<const Named<StepInit>> names_of(StepInit) {
+  return kStepInitNames;
+}
+enum class LatentStart { uniform, normal };
+inline constexpr Named<LatentStart> kLatentStartNames[] = {{"uniform", LatentStart::uniform},
+                                                           {"normal", LatentStart::normal}};
+constexpr std::span<const Named<LatentStart>> names_of(LatentStart) {
+  return kLatentStartNames;
+}
+enum class Smoothness { both, latent, action, none };
+inline constexpr Named<Smoothness> kSmoothnessNames[] = {{"both", Smoothness::both},
+                                                         {"latent", Smoothness::latent},
+                                                         {"action", Smoothness::action},
+                                                         {"none", Smoothness::none}};
+constexpr std::span<const Named<Smoothness>> names_of(Smoothness) {
+  return kSmoothnessNames;
+}
+enum class DiscInput { frames, motion };
+inline constexpr Named<DiscInput> kDiscInputNames[] = {{"frames", DiscInput::frames},
+                                                       {"motion", DiscInput::motion}};
+constexpr std::span<const Named<DiscInput>> names_of(DiscInput) {
+  return kDiscInputNames;
+}
+enum class DiscPool { last, all };
+inline constexpr Named<DiscPool> kDiscPoolNames[] = {{"last", DiscPool::last},
+                                                     {"all", DiscPool::all}};
+constexpr std::span<const Named<DiscPool>> names_of(DiscPool) {
+  return kDiscPoolNames;
+}
+enum class Discriminator { bilstm, critic };
+inline constexpr Named<Discriminator> kDiscriminatorNames[] = {{"bilstm", Discriminator::bilstm},
+                                                               {"critic", Discriminator::critic}};
+constexpr std::span<const Named<Discriminator>> names_of(Discriminator) {
+  return kDiscriminatorNames;
+}
 
 /// Every hyper-parameter of the networks and losses (stored in the model file's /config);
 /// each is declared once, for the command line, the model file and the resume check, in
@@ -34,34 +82,34 @@ struct ActganConfig {
   int hidden = 256;  ///< LSTM hidden size (generator, discriminator, classifier)
   int fc = 1024;     ///< hidden layer of the decoder, the heads and the critic
   /// "latent": the paper's generator; "pose": the direct-pose RNN baseline (no decoder)
-  std::string generator = "latent";
+  Generator generator = Generator::latent;
   bool residual = true;  ///< h_{t+1} = h_t + v_t; false: the direct latent of paper Table 6
   /// The generator's output layer (v_t) at its Glorot draw ("glorot") or that draw x 0.01
   /// ("small"): with Glorot weights the untrained generator's steps add up, the latent's RMS
   /// growing from 0.57 to 2.5 over 30 frames before any training, out of the N(0, I) range the
   /// decoder was pre-trained on (its poses grow with the latent's radius)
-  std::string step_init = "glorot";
+  StepInit step_init = StepInit::glorot;
   /// Where each sequence's latent starts: h_1 ~ "uniform" U(-1, 1) per dimension (the authors'
   /// code; RMS 0.58, inside the range the decoder was pre-trained on, so the first poses are
   /// less varied than the data's) or "normal" N(0, I), the decoder's pre-training distribution.
   /// The direct-pose baseline draws it too and does not use it.
-  std::string start = "uniform";
+  LatentStart start = LatentStart::uniform;
   /// Omega = sigma1 sum |h_t - h_{t-1}|^2 + sigma2 sum |x_t - x_{t-1}|^2 per sequence; which
   /// terms: "both", "latent", "action" or "none" (paper Table 5)
-  std::string smoothness = "both";
+  Smoothness smoothness = Smoothness::both;
   double sigma1 = 0.05, sigma2 = 5e-5;
   /// What the discriminator sees per frame: "frames" [x_t, y] or "motion" [x_t, x_t - x_{t-1}, y]
   /// (the first frame's difference 0), the frames and their differences as the authors' code
-  std::string disc_input = "frames";
+  DiscInput disc_input = DiscInput::frames;
   /// What the discriminator's head reads: "last", the last forward and backward states of its
   /// BiLSTM [B, 2H], or "all", every step's forward and backward outputs [B, T·2H] (the authors'
   /// code; the head's size then fixes the sequence length T). The classifier stays "last".
-  std::string disc_pool = "last";
+  DiscPool disc_pool = DiscPool::last;
   /// The GAN's discriminator: "bilstm", the paper's bidirectional LSTM trained on binary
   /// cross-entropy (disc_input, disc_pool), or "critic", a Wasserstein critic MLP on the whole
   /// clip [x_1 .. x_T, y] trained with the gradient penalty (gp_lambda) as the pre-training's
   /// (its gradient tells the generator where the data lies even where the two do not overlap)
-  std::string discriminator = "bilstm";
+  Discriminator discriminator = Discriminator::bilstm;
   double gamma = 0.1;      ///< weight of the classifier's cross-entropy (cycle loss, eq. 6)
   bool classifier = true;  ///< false: no classifier, no cycle loss (paper Table 2's ablation)
   double gp_lambda = 10;   ///< WGAN-GP gradient penalty

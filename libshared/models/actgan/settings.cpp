@@ -15,54 +15,49 @@ Settings actgan_network_settings(ActganConfig& c) {
        .target = &c.fc,
        .help = "Hidden layer of the decoder, the heads and the critic"},
       {.name = "step_init",
-       .target = &c.step_init,
+       .target = choice(c.step_init),
        .help = "The generator's output layer v_t = FC(o_t) at its Glorot draw or x 0.01 (small:\n"
                "the untrained generator stays where h_1 starts instead of drifting out of the\n"
                "decoder's N(0, I) range)",
-       .choices = {"glorot", "small"},
        .optional = true},
       {.name = "start",
-       .target = &c.start,
+       .target = choice(c.start),
        .help = "Where each sequence's latent starts: uniform (h_1 ~ U(-1, 1) per dimension, the\n"
                "authors' code) or normal (h_1 ~ N(0, I), the distribution the decoder was\n"
                "pre-trained on); gen-actgan draws as the model was trained",
-       .choices = {"uniform", "normal"},
        .optional = true},
       {.name = "discriminator",
-       .target = &c.discriminator,
+       .target = choice(c.discriminator),
        .help =
            "The GAN's discriminator: bilstm (the paper's bidirectional LSTM, binary\n"
            "cross-entropy) or critic (a Wasserstein critic MLP on the whole clip [x_1..x_T, y]\n"
            "with the gradient penalty --gp-lambda, as the pre-training's; fixes the clip length)",
-       .choices = {"bilstm", "critic"},
        .optional = true},
       {.name = "disc_input",
-       .target = &c.disc_input,
+       .target = choice(c.disc_input),
        .help = "What the discriminator sees per frame: frames [x_t, y], or motion [x_t,\n"
                "x_t - x_{t-1}, y] (frames and their differences, as the authors' code)",
-       .choices = {"frames", "motion"},
        .optional = true},
       {.name = "disc_pool",
-       .target = &c.disc_pool,
+       .target = choice(c.disc_pool),
        .help = "What the discriminator's head reads: last (the BiLSTM's last forward and backward\n"
                "states) or all (every step's outputs, as the authors' code; fixes the clip length)",
-       .choices = {"last", "all"},
        .optional = true},
       {.name = "generator",
-       .target = &c.generator,
+       .target = choice(c.generator),
        .help = "latent: the paper's generator; pose: the baseline RNN whose LSTM output is the\n"
                "pose itself (no latent transitions, no shared decoder; --pretrain-iterations 0)",
-       .choices = {"latent", "pose"},
        .optional = true},
   };
 }
 
 Settings actgan_loss_settings(ActganConfig& c) {
   return {
-      {.name = "smoothness",
-       .target = &c.smoothness,
-       .help = "Omega's terms: both, latent, action or none",
-       .choices = {"both", "latent", "action", "none"}},
+      {
+          .name = "smoothness",
+          .target = choice(c.smoothness),
+          .help = "Omega's terms: both, latent, action or none",
+      },
       {.name = "sigma1", .target = &c.sigma1, .help = "Omega's weight on |h_t - h_{t-1}|^2"},
       {.name = "sigma2", .target = &c.sigma2, .help = "Omega's weight on |x_t - x_{t-1}|^2"},
       {.name = "gamma",

@@ -29,19 +29,20 @@ void check_options(const ActganTrainOptions& opt) {
         "least 1, learning rates positive (--disc-lr 0: --lr), --disc-noise not negative");
   if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
     throw UsageError("--noise, --latent, --hidden and --fc must be positive");
-  if (c.generator == "pose" && t.pretrain_iterations > 0)
+  if (c.generator == Generator::pose && t.pretrain_iterations > 0)
     throw UsageError(
         "the direct-pose baseline (--generator pose) has no decoder to pre-train: use "
         "--pretrain-iterations 0");
-  if (c.generator == "pose" && c.step_init != "glorot")
+  if (c.generator == Generator::pose && c.step_init != StepInit::glorot)
     throw UsageError(
         "--step-init sets the latent generator's steps v_t: the direct-pose baseline (--generator "
         "pose) has none");
-  if (c.generator == "pose" && !t.train_decoder)
+  if (c.generator == Generator::pose && !t.train_decoder)
     throw UsageError(
         "the direct-pose baseline (--generator pose) has no decoder to freeze: leave out "
         "--freeze-decoder");
-  if (c.discriminator == "critic" && (c.disc_input != "frames" || c.disc_pool != "last"))
+  if (c.discriminator == Discriminator::critic &&
+      (c.disc_input != DiscInput::frames || c.disc_pool != DiscPool::last))
     throw UsageError(
         "--disc-input and --disc-pool shape the BiLSTM discriminator: the critic (--discriminator "
         "critic) reads whole clips");
@@ -405,17 +406,17 @@ ActionData training_clips(const io::SkeletonFile& s, const std::string& path,
 }
 
 void apply_learning_defaults(ActganConfig& net, ActganTraining& training) {
-  net.discriminator = "critic";
+  net.discriminator = Discriminator::critic;
   training.d_steps = 5;
-  net.smoothness = "action";
-  net.start = "normal";
+  net.smoothness = Smoothness::action;
+  net.start = LatentStart::normal;
 }
 
 void apply_paper_form(ActganConfig& net, ActganTraining& training) {
-  net.discriminator = "bilstm";
+  net.discriminator = Discriminator::bilstm;
   training.d_steps = 1;
-  net.smoothness = "both";
-  net.start = "uniform";
+  net.smoothness = Smoothness::both;
+  net.start = LatentStart::uniform;
 }
 
 void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {

@@ -166,13 +166,13 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
   if (k == 0)
     for (const auto& b : m.net->blocks()) k += b.kz;
   if (k < 1) throw UsageError("--components must be positive");
-  const MsaeShapes train = read_msae_shapes(m, opt.data, "train");
+  const MsaeShapes train = read_msae_shapes(m, opt.data, FramePart::train);
   const MsaeShapes held = read_msae_shapes(m, opt.data, opt.part);
   if (held.frames.empty())
     throw InvalidInput(fmt::format("the model's {} part is empty", opt.part), opt.model);
   const Index V = m.tmpl.vertices.rows();
   Index fitted = k;  // PCA of fewer shapes than components has fewer
-  if (opt.method == "splocs") {
+  if (opt.method == BaselineMethod::splocs) {
     SplocsOptions so = opt.splocs;
     so.components = k;
     geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
@@ -194,21 +194,19 @@ void fit_baseline(const BaselineOptions& opt, const CommonOptions& common) {
     // algorithm on 9 numbers per vertex (local linear components in the space MSAE works in).
     const Mat x = train.x.cast<double>();
     Mat mean, basis;
-    if (opt.method == "pca") {
+    if (opt.method == BaselineMethod::pca) {
       Pca p = fit_pca(x, k);
       if (p.directions.rows() < k)
         log::warn("PCA of {} training shapes has {} components, not {}", train.frames.size(),
                   p.directions.rows(), k);
       mean = std::move(p.mean), basis = std::move(p.directions);
-    } else if (opt.method == "splocs-acap") {
+    } else {
       SplocsOptions so = opt.splocs;
       so.components = k;
       geometry::GeodesicRows geodesic(m.tmpl.vertices, m.tmpl.faces);
       Splocs s = fit_splocs(
           x, so, [&](int i) { return geodesic.row(i); }, 9);
       mean = std::move(s.mean), basis = std::move(s.components);
-    } else {
-      throw UsageError("--method must be pca, splocs or splocs-acap");
     }
     fitted = basis.rows();
     const nn::Matrix<float> recon = project_onto(held.x.cast<double>(), mean, basis).cast<float>();

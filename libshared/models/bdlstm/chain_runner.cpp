@@ -29,11 +29,11 @@ ChainRunner::ChainRunner(const BdlstmGenerateOptions& opt, const BdlstmModel& m,
       d_(d),
       q_(stride),
       window_(opt.window ? opt.window : m.training.window),
-      restart_(opt.restart == "window"),
-      latent_(opt.latent == "sample" ? LatentInput::sample : LatentInput::mean),
-      threshold_(opt.threshold > 0             ? opt.threshold
-                 : opt.merge_scale == "motion" ? 1.0
-                                               : 0.05),
+      restart_(opt.restart == Restart::window),
+      latent_(opt.latent),
+      threshold_(opt.threshold > 0                       ? opt.threshold
+                 : opt.merge_scale == MergeScale::motion ? 1.0
+                                                         : 0.05),
       rng_(seed, 2),
       forward_(std::make_unique<ChainStepper>(*m.net, 0)) {
   if (window_ < 2) throw UsageError("--window must be at least 2");
@@ -111,10 +111,10 @@ std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
     for (std::int64_t t = 0; t < u; ++t)
       push(s, X.row(c.frames[static_cast<std::size_t>(t)]), c.frames[static_cast<std::size_t>(t)],
            0);
-  if (opt_.method == "static") {  // zero motion: the last given frame, repeated
+  if (opt_.method == GenerateMethod::still) {  // zero motion: the last given frame, repeated
     for (auto& s : g)
       for (int k = 1; k <= opt_.length; ++k) push(s, X.row(last), source_of(last, k), k);
-  } else if (opt_.method == "linear") {
+  } else if (opt_.method == GenerateMethod::linear) {
     const Matrix a = X.row(c.frames[static_cast<std::size_t>(u - 2)]), b = X.row(last);
     for (auto& s : g)
       for (int k = 1; k <= opt_.length; ++k)
@@ -152,7 +152,7 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
   const auto& X = d_.features;
   const std::int64_t L = (b - a) / q_;                                 // steps
   std::vector<std::vector<Matrix>> path(static_cast<std::size_t>(K));  // steps 1 .. L
-  if (opt_.method == "linear") {
+  if (opt_.method == GenerateMethod::linear) {
     for (int k = 0; k < K; ++k)
       for (std::int64_t t = 1; t <= L; ++t)
         path[static_cast<std::size_t>(k)].push_back(
@@ -169,7 +169,8 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
     backward_->reset(K, -init, rnd ? opt_.state_sigma : 0, rng_);
     std::vector<Matrix> B{Matrix(X.row(b)).replicate(K, 1)};
     for (std::int64_t t = 0; t < L; ++t) B.push_back(backward_->step(B.back(), latent_, rng_));
-    if (opt_.merge == "weighted") {  // no merge point: each chain weighs most near its keyframe
+    if (opt_.merge ==
+        Merge::weighted) {  // no merge point: each chain weighs most near its keyframe
       for (int k = 0; k < K; ++k) path[static_cast<std::size_t>(k)] = weighted_path(F, B, k);
       return path;
     }
@@ -179,7 +180,7 @@ std::vector<std::vector<Matrix>> ChainRunner::complete_gap(std::int64_t a, std::
       if (bk < threshold_) continue;
       // --merge-scale motion: differences relative to the two chains' mean change per step.
       float motion = 0;
-      if (opt_.merge_scale == "motion") {
+      if (opt_.merge_scale == MergeScale::motion) {
         for (std::int64_t t = 0; t < L; ++t)
           motion +=
               (F[static_cast<std::size_t>(t + 1)].row(k) - F[static_cast<std::size_t>(t)].row(k))

@@ -45,37 +45,25 @@ std::int64_t parse_frame(const std::string& s, const GenerationData& d) {
 }
 
 void check_options(const BdlstmGenerateOptions& opt) {
-  if (opt.mode != "predict" && opt.mode != "complete")
-    throw UsageError("--mode must be predict or complete, not '" + opt.mode + "'");
-  if (opt.method != "bdlstm" && opt.method != "linear" && opt.method != "static")
-    throw UsageError("--method must be bdlstm, linear or static");
-  if (opt.method == "static" && opt.mode != "predict")
+  if (opt.method == GenerateMethod::still && opt.mode != GenerateMode::predict)
     throw UsageError("--method static is a prediction baseline");
   if (opt.initial < 1) throw UsageError("--initial must be at least 1");
   if (opt.length < 1 || opt.gap < 1 || opt.samples < 1 || opt.retries < 1)
     throw UsageError("--length, --gap, --samples and --retries must be positive");
-  if (opt.method == "linear" && opt.mode == "predict" && opt.initial < 2)
+  if (opt.method == GenerateMethod::linear && opt.mode == GenerateMode::predict && opt.initial < 2)
     throw UsageError(
         "linear extrapolation needs --initial 2 or more (it continues the last two frames)");
-  if (opt.mode == "predict" && !opt.keyframes.empty())
+  if (opt.mode == GenerateMode::predict && !opt.keyframes.empty())
     throw UsageError("--keyframes is for --mode complete");
-  if (opt.mode == "complete" && !opt.from.empty()) throw UsageError("--from is for --mode predict");
-  const auto& frames = opt.mode == "predict" ? opt.from : opt.keyframes;
+  if (opt.mode == GenerateMode::complete && !opt.from.empty())
+    throw UsageError("--from is for --mode predict");
+  const auto& frames = opt.mode == GenerateMode::predict ? opt.from : opt.keyframes;
   if (frames.empty() == (opt.test_every == 0))
-    throw UsageError(opt.mode == "predict" ? "give --from or --test-every, one of them"
-                                           : "give --keyframes or --test-every, one of them");
+    throw UsageError(opt.mode == GenerateMode::predict
+                         ? "give --from or --test-every, one of them"
+                         : "give --keyframes or --test-every, one of them");
   if (opt.stride < 0) throw UsageError("--stride must not be negative");
-  if (opt.part != "test" && opt.part != "validation")
-    throw UsageError("--part must be test or validation");
-  if (opt.restart != "window" && opt.restart != "never")
-    throw UsageError("--restart must be window or never");
-  if (opt.latent != "mean" && opt.latent != "sample")
-    throw UsageError("--latent must be mean or sample");
-  if (opt.merge_scale != "features" && opt.merge_scale != "motion")
-    throw UsageError("--merge-scale must be features or motion");
   if (opt.blend < 0) throw UsageError("--blend must not be negative");
-  if (opt.merge != "closest" && opt.merge != "weighted")
-    throw UsageError("--merge must be closest or weighted");
   if (!(opt.state_sigma >= 0)) throw UsageError("--state-sigma must not be negative");
   if (!(opt.threshold >= 0)) throw UsageError("--threshold must not be negative");
 }
@@ -101,7 +89,7 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
                                        const GenerationData& d, std::int64_t q) {
   std::vector<GenerationCase> cases;
   const std::int64_t u = opt.initial;
-  const auto& frames = opt.mode == "predict" ? opt.from : opt.keyframes;
+  const auto& frames = opt.mode == GenerateMode::predict ? opt.from : opt.keyframes;
   if (opt.test_every) {
     // Cases inside the model's held-out parts of the data's sequences (matched by name).
     for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
@@ -111,18 +99,19 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
       const std::int64_t shift =
           d.offsets[s] - (m.split.train_begin[k] < m.split.test_begin[k] ? m.split.train_begin[k]
                                                                          : m.split.test_begin[k]);
-      const bool validation = opt.part == "validation";
+      const bool validation = opt.part == FramePart::validation;
       const std::int64_t b =
           (validation ? m.split.validation_begin[k] : m.split.test_begin[k]) + shift;
       const std::int64_t e = (validation ? m.split.validation_end[k] : m.split.test_end[k]) + shift;
       // In steps of q frames: predict: the first predicted frame runs from b + context; the
       // given frames are the u before it. complete: keyframes a and a + gap + 1.
       const std::int64_t context =
-          opt.mode == "predict" ? std::max<std::int64_t>(opt.test_context, u) : 0;
-      const std::int64_t need = opt.mode == "predict" ? context + opt.length : opt.gap + 2;
+          opt.mode == GenerateMode::predict ? std::max<std::int64_t>(opt.test_context, u) : 0;
+      const std::int64_t need =
+          opt.mode == GenerateMode::predict ? context + opt.length : opt.gap + 2;
       for (std::int64_t a = b; a + (need - 1) * q < e; a += opt.test_every) {
         GenerationCase c;
-        if (opt.mode == "predict")
+        if (opt.mode == GenerateMode::predict)
           for (std::int64_t t = context - u; t < context; ++t) c.frames.push_back(a + t * q);
         else
           c.frames = {a, a + (opt.gap + 1) * q};
@@ -133,13 +122,13 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
     if (cases.empty())
       throw InvalidInput(
           fmt::format("no {} part of the model's split is long enough for a case of {} frames{}",
-                      opt.part == "validation" ? "validation" : "held-out",
-                      opt.mode == "predict"
+                      opt.part == FramePart::validation ? "validation" : "held-out",
+                      opt.mode == GenerateMode::predict
                           ? std::max<std::int64_t>(opt.test_context, u) + opt.length
                           : opt.gap + 2,
                       q > 1 ? fmt::format(" {} apart", q) : ""),
           opt.data);
-  } else if (opt.mode == "predict") {
+  } else if (opt.mode == GenerateMode::predict) {
     for (const auto& spec : frames) {
       const std::int64_t last = parse_frame(spec, d);
       const std::size_t s = d.sequence_of(last);
@@ -211,7 +200,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
   check_options(opt);
   const OutputClaim claim = claim_output(opt.output, common.force, {opt.model, opt.data});
   BdlstmModel m = load_bdlstm_model(opt.model);
-  if (opt.mode == "complete" && opt.method == "bdlstm" &&
+  if (opt.mode == GenerateMode::complete && opt.method == GenerateMethod::bdlstm &&
       m.config.directions == Directions::unidirectional)
     throw UsageError(
         "the model was trained unidirectional; completion needs a bidirectional model");
@@ -221,9 +210,9 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
 
   ChainRunner runner(opt, m, d, q, common.seed);
   std::vector<GeneratedSequence> out;
-  Progress progress(opt.mode == "predict" ? "predicting" : "completing", cases.size());
+  Progress progress(opt.mode == GenerateMode::predict ? "predicting" : "completing", cases.size());
   for (const auto& c : cases) {
-    for (auto& s : opt.mode == "predict" ? runner.predict(c) : runner.complete(c))
+    for (auto& s : opt.mode == GenerateMode::predict ? runner.predict(c) : runner.complete(c))
       out.push_back(std::move(s));
     progress.advance();
   }
@@ -233,7 +222,7 @@ void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& comm
         "{} completion(s) did not merge below --threshold {} after {} attempts (worst relative "
         "difference {:.3g}); the closest pair was used",
         runner.unmerged(), runner.threshold(), opt.retries, runner.worst_merge());
-  else if (opt.mode == "complete" && opt.method == "bdlstm")
+  else if (opt.mode == GenerateMode::complete && opt.method == GenerateMethod::bdlstm)
     log::info("every completion merged (worst relative difference {:.3g})", runner.worst_merge());
 
   write_generated(out, opt, m, d, common);

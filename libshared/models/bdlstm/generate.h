@@ -22,21 +22,55 @@
 #include "core/rng.h"
 #include "models/bdlstm/chain.h"
 #include "models/bdlstm/model.h"
+#include "models/common/frame_part.h"
 
 namespace df::models {
 
+/// gen-bdlstm's modes (names as core/choice.h).
+enum class GenerateMode { predict, complete };
+inline constexpr Named<GenerateMode> kGenerateModeNames[] = {{"predict", GenerateMode::predict},
+                                                             {"complete", GenerateMode::complete}};
+constexpr std::span<const Named<GenerateMode>> names_of(GenerateMode) {
+  return kGenerateModeNames;
+}
+enum class GenerateMethod { bdlstm, linear, still };
+inline constexpr Named<GenerateMethod> kGenerateMethodNames[] = {{"bdlstm", GenerateMethod::bdlstm},
+                                                                 {"linear", GenerateMethod::linear},
+                                                                 {"static", GenerateMethod::still}};
+constexpr std::span<const Named<GenerateMethod>> names_of(GenerateMethod) {
+  return kGenerateMethodNames;
+}
+enum class Restart { never, window };
+inline constexpr Named<Restart> kRestartNames[] = {{"never", Restart::never},
+                                                   {"window", Restart::window}};
+constexpr std::span<const Named<Restart>> names_of(Restart) {
+  return kRestartNames;
+}
+enum class Merge { closest, weighted };
+inline constexpr Named<Merge> kMergeNames[] = {{"closest", Merge::closest},
+                                               {"weighted", Merge::weighted}};
+constexpr std::span<const Named<Merge>> names_of(Merge) {
+  return kMergeNames;
+}
+enum class MergeScale { features, motion };
+inline constexpr Named<MergeScale> kMergeScaleNames[] = {{"features", MergeScale::features},
+                                                         {"motion", MergeScale::motion}};
+constexpr std::span<const Named<MergeScale>> names_of(MergeScale) {
+  return kMergeScaleNames;
+}
+
 struct BdlstmGenerateOptions {
   std::string model, data, output;
-  std::string mode = "predict";  ///< predict | complete
-  std::string method =
-      "bdlstm";  ///< bdlstm | linear (the feature-space baseline) | static (predict: no motion)
+  GenerateMode mode = GenerateMode::predict;
+  /// bdlstm | linear (the feature-space baseline) | static (predict: no motion)
+  GenerateMethod method = GenerateMethod::bdlstm;
   /// A frame is a global index of DATA or SEQUENCE:K (K-th frame of that sequence).
   std::vector<std::string> from;       ///< predict: the last given frame of each case
   std::vector<std::string> keyframes;  ///< complete: keyframes of one case, in time order
   /// > 0: cases at every K-th frame of each sequence's held-out part (the model's split)
   int test_every = 0;
   /// which part of the model's split --test-every cases come from: test | validation
-  std::string part = "test";
+  FramePart part = FramePart::test;
   /// predict with --test-every: the first predicted frame of a case is at least this many frames
   /// into the held-out part (0 = --initial), so runs with different --initial predict the same
   /// frames
@@ -57,19 +91,19 @@ struct BdlstmGenerateOptions {
   /// predict: "window" restarts the chain every window from the last u frames with fresh
   /// states (the paper's chaining of fixed-length networks); "never" carries one chain's LSTM
   /// state over the whole length
-  std::string restart = "never";
+  Restart restart = Restart::never;
   /// z fed to the LSTM: the encoder's "mean", or a "sample" of q(z|x) as in training
-  std::string latent = "mean";
+  LatentInput latent = LatentInput::mean;
   /// complete: "closest" (the paper: switch from the forward to the backward chain at their
   /// closest pair of frames, retrying random states until it is below --threshold) or
   /// "weighted" (every step a mix, the forward chain's weight falling linearly over the gap)
-  std::string merge = "closest";
+  Merge merge = Merge::closest;
   /// complete: frames over which the forward and backward chains are cross-faded around the
   /// merge (0 = switch at the merge, the paper)
   int blend = 0;
   /// complete: --threshold is relative to the forward frame's feature norm ("features", the
   /// paper) or to the chains' mean change per step ("motion")
-  std::string merge_scale = "features";
+  MergeScale merge_scale = MergeScale::features;
   /// Data frames per generated frame (0 = the model's training --stride): a model trained on
   /// every q-th frame steps q frames at a time, so given frames, keyframes and /frames/source
   /// are q apart.

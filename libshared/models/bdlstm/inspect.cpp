@@ -79,10 +79,10 @@ void print_training_log(const std::string& path, const BdlstmModel& m) {
 }
 
 // The frames of a part (training frames: those of no held-out range), in order.
-std::vector<std::int64_t> frames_of_part(const BdlstmSplit& split, const std::string& part) {
+std::vector<std::int64_t> frames_of_part(const BdlstmSplit& split, FramePart part) {
   std::vector<std::int64_t> frames;
   for (std::size_t s = 0; s < split.train_begin.size(); ++s) {
-    const bool train = part == "train", test = part == "test";
+    const bool train = part == FramePart::train, test = part == FramePart::test;
     const std::int64_t b = train  ? split.train_begin[s]
                            : test ? split.test_begin[s]
                                   : split.validation_begin[s];
@@ -102,7 +102,7 @@ std::vector<std::int64_t> frames_of_part(const BdlstmSplit& split, const std::st
 
 // 2. KL per latent dimension over the frames, printed; returned largest first.
 std::vector<double> report_kl(const BdlstmModel& m, const GenerationData& d,
-                              const std::vector<std::int64_t>& frames, const std::string& part) {
+                              const std::vector<std::int64_t>& frames, FramePart part) {
   const std::vector<double> kl = kl_per_dimension(m, d.features, frames);
   std::vector<double> sorted = kl;
   std::sort(sorted.rbegin(), sorted.rend());
@@ -179,8 +179,7 @@ void write_inspection_tsv(const BdlstmInspectOptions& opt, const BdlstmModel& m,
 
 void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common) {
   const auto claims = claim_outputs({opt.tsv}, common.force, {opt.model, opt.data});
-  if (opt.part != "train" && opt.part != "test" && opt.part != "validation")
-    throw UsageError("--part must be train, test or validation");
+  if (opt.part == FramePart::all) throw UsageError("--part must be train, validation or test");
   if (opt.initial < 1 || opt.length < 1 || opt.cases < 1 || opt.max_frames < 1)
     throw UsageError("--initial, --length, --cases and --max-frames must be positive");
   const BdlstmModel m = load_bdlstm_model(opt.model);

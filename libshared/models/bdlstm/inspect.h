@@ -8,17 +8,18 @@
 #include <string>
 
 #include "core/common_options.h"
+#include "models/common/frame_part.h"
 
 namespace df::models {
 
 struct BdlstmInspectOptions {
   std::string model, data;
-  std::string tsv;             ///< optional: KL per dimension and the error per step, for plots
-  std::string part = "train";  ///< train | validation | test: the frames probed
-  int initial = 3;             ///< given frames of each probe window
-  int length = 10;             ///< predicted steps of each probe window
-  int cases = 64;              ///< probe windows, evenly spaced over the part
-  int max_frames = 1024;       ///< frames encoded for the KL per dimension (evenly spaced)
+  std::string tsv;  ///< optional: KL per dimension and the error per step, for plots
+  FramePart part = FramePart::train;  ///< train | validation | test: the frames probed
+  int initial = 3;                    ///< given frames of each probe window
+  int length = 10;                    ///< predicted steps of each probe window
+  int cases = 64;                     ///< probe windows, evenly spaced over the part
+  int max_frames = 1024;              ///< frames encoded for the KL per dimension (evenly spaced)
 };
 
 void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common);

@@ -16,6 +16,16 @@
 
 namespace df::models {
 
+/// Where train-bdlstm's held-out part of each sequence lies (names as core/choice.h).
+enum class TestPart { end, start, middle, random };
+inline constexpr Named<TestPart> kTestPartNames[] = {{"end", TestPart::end},
+                                                     {"start", TestPart::start},
+                                                     {"middle", TestPart::middle},
+                                                     {"random", TestPart::random}};
+constexpr std::span<const Named<TestPart>> names_of(TestPart) {
+  return kTestPartNames;
+}
+
 /// How the model was trained (recorded in /config; checked on --resume; declared in
 /// models/bdlstm/settings.cpp).
 struct BdlstmTraining {
@@ -25,8 +35,8 @@ struct BdlstmTraining {
   std::int64_t iterations = 7000;
   double lr =
       1e-4;  // 1e-3 (common default) diverges on 2,904-vertex pcow within 6 iterations (KL 3e11)
-  double test_fraction = 0.2;     ///< held-out contiguous part of each sequence
-  std::string test_part = "end";  ///< where the held-out part lies: end | start | middle | random
+  double test_fraction = 0.2;          ///< held-out contiguous part of each sequence
+  TestPart test_part = TestPart::end;  ///< where the held-out part lies
   /// A validation part of round(fraction × length) frames carved out of each sequence's training
   /// frames, placed by the seed (0 = none): no training window crosses it; remedies and iteration
   /// counts are chosen on it, never on the test part.

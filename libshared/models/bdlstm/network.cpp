@@ -10,25 +10,6 @@ namespace df::models {
 
 using Eigen::Index;
 
-const char* directions_name(Directions d) {
-  switch (d) {
-    case Directions::shared:
-      return "shared";
-    case Directions::standard:
-      return "standard";
-    case Directions::unidirectional:
-      return "unidirectional";
-  }
-  return "?";
-}
-
-Directions directions_from_name(const std::string& name) {
-  if (name == "shared") return Directions::shared;
-  if (name == "standard") return Directions::standard;
-  if (name == "unidirectional") return Directions::unidirectional;
-  throw UsageError("directions must be shared, standard or unidirectional, not '" + name + "'");
-}
-
 double BdlstmConfig::carry_at(int t) const {
   return t < 1 || carry == 0 ? 0 : carry * std::pow(carry_fade, t - 1);
 }
@@ -39,10 +20,6 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     : config_(config), n_vertices_(n_vertices) {
   if (config.conv_layers < 1 || config.latent < 1 || config.hidden < 1 || config.lstm_layers < 1)
     throw UsageError("BD-LSTM sizes must be positive");
-  if (config.l2_scope != "all" && config.l2_scope != "weights" && config.l2_scope != "tf")
-    throw UsageError("--l2-scope must be all, weights or tf");
-  if (config.decoder_init != "zero" && config.decoder_init != "small")
-    throw UsageError("--decoder-init must be zero or small");
   if (!(config.l2_weight >= 0)) throw UsageError("--l2-weight must not be negative");
   if (!(config.free_bits >= 0)) throw UsageError("--kl-free-bits must not be negative");
   if (!(config.motion_scale > 0 && std::isfinite(config.motion_scale)))
@@ -65,7 +42,7 @@ BdlstmNet<T>::BdlstmNet(const BdlstmConfig& config, int n_vertices,
     // δX starts at 0: with Glorot weights the last convolution's initial output is O(1) per
     // feature while real frame-to-frame changes are ~0.01, and Adam (steps of ~lr per weight)
     // took thousands of iterations to shrink it.
-    if (config.decoder_init == "zero") {
+    if (config.decoder_init == DecoderInit::zero) {
       store_.constant(ch.dec.back().w_point, T(0));
       store_.constant(ch.dec.back().w_nb, T(0));
     } else {  // small: the Glorot draw scaled down, so the encoder gets a gradient from the start
@@ -225,11 +202,11 @@ typename BdlstmNet<T>::Var BdlstmNet<T>::l2_penalty(const nn::Bound<T>& p) const
   // (TensorFlow's LSTM cells add forget_bias = 1 as a constant outside the trainable bias, so
   // decaying that bias decays towards 1): Σ b_f² − 2 Σ b_f + H = Σ (b_f − 1)².
   std::vector<int> lstm_biases;
-  if (config_.l2_scope == "tf")
+  if (config_.l2_scope == L2Scope::tf)
     for (const auto& ch : chains_)
       for (const auto& cell : ch.lstm.cells) lstm_biases.push_back(cell.b);
   for (std::size_t k = 0; k < p.vars.size(); ++k) {
-    if (config_.l2_scope == "weights" && views[k].name.ends_with(".bias")) continue;
+    if (config_.l2_scope == L2Scope::weights && views[k].name.ends_with(".bias")) continue;
     Var sq = nn::sum(nn::square(p.vars[k]));
     if (std::find(lstm_biases.begin(), lstm_biases.end(), static_cast<int>(k)) !=
         lstm_biases.end()) {

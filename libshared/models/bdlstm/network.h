@@ -17,22 +17,49 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "core/choice.h"
 #include "core/rng.h"
 #include "nn/layers.h"
 
 namespace df::models {
 
+/// The modes of BdlstmConfig, each with its names (core/choice.h; the names are the model file's).
 enum class Directions { shared, standard, unidirectional };
+inline constexpr Named<Directions> kDirectionsNames[] = {
+    {"shared", Directions::shared},
+    {"standard", Directions::standard},
+    {"unidirectional", Directions::unidirectional}};
+constexpr std::span<const Named<Directions>> names_of(Directions) {
+  return kDirectionsNames;
+}
+enum class L2Scope { all, weights, tf };
+inline constexpr Named<L2Scope> kL2ScopeNames[] = {
+    {"all", L2Scope::all}, {"weights", L2Scope::weights}, {"tf", L2Scope::tf}};
+constexpr std::span<const Named<L2Scope>> names_of(L2Scope) {
+  return kL2ScopeNames;
+}
+enum class DecoderInit { zero, small };
+inline constexpr Named<DecoderInit> kDecoderInitNames[] = {{"zero", DecoderInit::zero},
+                                                           {"small", DecoderInit::small}};
+constexpr std::span<const Named<DecoderInit>> names_of(DecoderInit) {
+  return kDecoderInitNames;
+}
 /// What z is when generating or probing a trained network: the encoder's mean (the default), a
 /// draw from q(z|x) as in training (sample), a draw from the prior N(0, I) that ignores the
 /// encoder, or zero. If "prior" or "zero" predict as well as "mean", the latent carries no
 /// information (posterior collapse).
 enum class LatentInput { mean, sample, prior, zero };
-const char* directions_name(Directions d);
-Directions directions_from_name(const std::string& name);  ///< UsageError if unknown
+inline constexpr Named<LatentInput> kLatentInputNames[] = {{"mean", LatentInput::mean},
+                                                           {"sample", LatentInput::sample},
+                                                           {"prior", LatentInput::prior},
+                                                           {"zero", LatentInput::zero}};
+constexpr std::span<const Named<LatentInput>> names_of(LatentInput) {
+  return kLatentInputNames;
+}
 
 /// Every hyper-parameter of the network and of its loss (stored in the model file's /config);
 /// each is declared once, for the command line, the model file and the resume check, in
@@ -53,11 +80,11 @@ struct BdlstmConfig {
   /// ("weights": no biases, so the LSTM's forget-gate bias of 1 is not pulled to 0), or every
   /// value with the forget-gate biases measured from 1 ("tf": what the paper's TensorFlow cells
   /// do, whose forget_bias = 1 is a constant outside the trainable bias)
-  std::string l2_scope = "all";
+  L2Scope l2_scope = L2Scope::all;
   double l2_weight = 1;  ///< L_2's factor inside α₂ (L_KL + l2_weight · L_2)
   /// The last decoder convolution starts at "zero" (δX = 0, no reconstruction gradient reaches
   /// the encoder at first) or "small" (Glorot × 0.01)
-  std::string decoder_init = "zero";
+  DecoderInit decoder_init = DecoderInit::zero;
   /// Free bits (Kingma et al. 2016): nats per latent dimension and frame that the KL term does not
   /// penalise — per step, each dimension's KL averaged over the rows counts as max(free_bits,
   /// KL_d). Below it the encoder may carry information at no cost (0 = the paper: every nat

@@ -4,13 +4,12 @@ namespace df::models {
 
 Settings bdlstm_network_settings(BdlstmConfig& c) {
   return {
-      {.name = "directions",
-       .target =
-           Setting::Text{[&c] { return std::string(directions_name(c.directions)); },
-                         [&c](const std::string& v) { c.directions = directions_from_name(v); }},
-       .help = "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"
-               "direction has its own weights; unidirectional: forward chain only",
-       .choices = {"shared", "standard", "unidirectional"}},
+      {
+          .name = "directions",
+          .target = choice(c.directions),
+          .help = "shared: one network runs both chains (the paper's BD-LSTM); standard: each\n"
+                  "direction has its own weights; unidirectional: forward chain only",
+      },
       {.name = "kl",
        .target = &c.kl,
        .help = "Deterministic encoder (z = mean), no KL term",
@@ -25,22 +24,20 @@ Settings bdlstm_network_settings(BdlstmConfig& c) {
       {.name = "alpha_bidir", .target = &c.alpha_bidir, .help = "Weight of L_bidir"},
       {.name = "alpha_reg", .target = &c.alpha_reg, .help = "Weight of L_KL + L_2"},
       {.name = "l2_scope",
-       .target = &c.l2_scope,
+       .target = choice(c.l2_scope),
        .help =
            "L_2 over all trainable values (the paper's sum w^2), the weights only (no biases,\n"
            "so the forget-gate bias keeps its 1), or tf: all values, the LSTM forget-gate\n"
            "biases measured from 1 (TensorFlow's forget_bias is a constant outside the weights)",
-       .choices = {"all", "weights", "tf"},
        .optional = true},
       {.name = "l2_weight",
        .target = &c.l2_weight,
        .help = "Factor of L_2 inside alpha-reg (L_KL + w L_2)",
        .optional = true},
       {.name = "decoder_init",
-       .target = &c.decoder_init,
+       .target = choice(c.decoder_init),
        .help = "Last decoder convolution at zero (dX = 0 at first) or small (Glorot x 0.01: the\n"
                "encoder gets a reconstruction gradient from the start)",
-       .choices = {"zero", "small"},
        .optional = true},
       {.name = "init_state",
        .target = &c.init_state,
@@ -91,10 +88,11 @@ Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
            "training frames at a place drawn from --seed; no window crosses it. Choose options\n"
            "and iteration counts on it (gen-bdlstm --part validation), never on the test part",
        .optional = true},
-      {.name = "test_part",
-       .target = &t.test_part,
-       .help = "Where the held-out part lies: end, start, middle, or random (placed by --seed)",
-       .choices = {"end", "start", "middle", "random"}},
+      {
+          .name = "test_part",
+          .target = choice(t.test_part),
+          .help = "Where the held-out part lies: end, start, middle, or random (placed by --seed)",
+      },
       {.name = "teacher_frames",
        .target = &t.teacher_frames,
        .help = "Feed each chain u ground-truth frames (u uniform in 1..N per iteration) before\n"

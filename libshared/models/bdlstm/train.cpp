@@ -43,8 +43,8 @@ std::function<LossTerms()> validation_evaluation(const BdlstmModel& m,
   std::vector<std::int64_t> starts;
   int length = kValidationSteps;
   for (; length >= 1 && starts.empty(); --length)
-    starts =
-        part_starts(m.split, "validation", static_cast<std::int64_t>(given + length - 1) * q + 1);
+    starts = part_starts(m.split, FramePart::validation,
+                         static_cast<std::int64_t>(given + length - 1) * q + 1);
   ++length;
   if (starts.empty())
     throw InvalidInput(fmt::format("the validation parts are too short for {} given frames and one "
@@ -71,32 +71,29 @@ std::function<LossTerms()> validation_evaluation(const BdlstmModel& m,
 
 }  // namespace
 
-void split_sequences(const std::vector<std::int64_t>& offsets, double fraction,
-                     const std::string& part, std::uint64_t seed, BdlstmSplit& split,
-                     double validation_fraction) {
+void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, TestPart part,
+                     std::uint64_t seed, BdlstmSplit& split, double validation_fraction) {
   if (!(fraction >= 0 && fraction < 1)) throw UsageError("--test-fraction must be in [0, 1)");
   if (!(validation_fraction >= 0 && fraction + validation_fraction < 1))
     throw UsageError(
         "--validation-fraction must be at least 0 and leave training frames beside "
         "--test-fraction");
-  if (part != "end" && part != "start" && part != "middle" && part != "random")
-    throw UsageError("--test-part must be end, start, middle or random");
   Rng rng(seed, 0x5e9117);  // its own stream: the placement does not shift the training draws
   Rng validation_rng(seed, 0x7a1);  // and the validation part's does not move the test part
   for (std::size_t s = 0; s + 1 < offsets.size(); ++s) {
     const std::int64_t b = offsets[s], e = offsets[s + 1];
     const auto n_test =
         static_cast<std::int64_t>(std::llround(fraction * static_cast<double>(e - b)));
-    if (part == "end") {
+    if (part == TestPart::end) {
       split.train_begin.push_back(b), split.train_end.push_back(e - n_test);
       split.test_begin.push_back(e - n_test), split.test_end.push_back(e);
-    } else if (part == "start") {
+    } else if (part == TestPart::start) {
       split.test_begin.push_back(b), split.test_end.push_back(b + n_test);
       split.train_begin.push_back(b + n_test), split.train_end.push_back(e);
     } else {  // inside: the training part is the sequence minus the held-out part
       const std::int64_t room = e - b - n_test;
       const std::int64_t at =
-          part == "middle"
+          part == TestPart::middle
               ? room / 2
               : static_cast<std::int64_t>(rng.below(static_cast<std::uint64_t>(room + 1)));
       split.train_begin.push_back(b), split.train_end.push_back(e);
@@ -145,10 +142,9 @@ void play_window(const nn::Matrix<float>& data, std::int64_t first, int stride, 
   }
 }
 
-std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
-                                      std::int64_t span) {
-  if (part == "train") return window_starts(split, span);
-  const bool test = part == "test";
+std::vector<std::int64_t> part_starts(const BdlstmSplit& split, FramePart part, std::int64_t span) {
+  if (part == FramePart::train) return window_starts(split, span);
+  const bool test = part == FramePart::test;
   std::vector<std::int64_t> starts;
   for (std::size_t s = 0; s < split.test_begin.size(); ++s) {
     const std::int64_t b = test ? split.test_begin[s] : split.validation_begin[s];
@@ -177,18 +173,18 @@ void warn_collapse(const BdlstmModel& m, double first_recon, double recon) {
 void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training) {
   training.kl_warmup = 500;
   net.free_bits = 0.1;
-  net.l2_scope = "weights";
+  net.l2_scope = L2Scope::weights;
   net.l2_weight = 0.125;
-  net.decoder_init = "small";
+  net.decoder_init = DecoderInit::small;
   net.motion_input = true;
 }
 
 void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   training.kl_warmup = 0;
   net.free_bits = 0;
-  net.l2_scope = "all";
+  net.l2_scope = L2Scope::all;
   net.l2_weight = 1;
-  net.decoder_init = "zero";
+  net.decoder_init = DecoderInit::zero;
   net.carry = 0;
   net.carry_fade = 1;
   net.motion_input = false;
@@ -338,8 +334,7 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
       "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, "
       "stride {}), {} parameters, {} directions",
       opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts.size(),
-      m.training.window, m.training.stride, m.net->store().size(),
-      directions_name(m.config.directions));
+      m.training.window, m.training.stride, m.net->store().size(), m.config.directions);
 
   const auto evaluate = validation_evaluation(m, data);
 

@@ -9,6 +9,7 @@
 
 #include "core/common_options.h"
 #include "models/bdlstm/model.h"
+#include "models/common/frame_part.h"
 #include "models/common/training.h"
 
 namespace df::models {
@@ -26,17 +27,15 @@ struct BdlstmTrainOptions {
 /// Then, when validation_fraction > 0, a validation part of round(validation_fraction × length)
 /// frames inside the training frames at a place drawn from `seed` (its own stream: the test part
 /// and the training draws do not move); InvalidInput if the training frames have no room for it.
-void split_sequences(const std::vector<std::int64_t>& offsets, double fraction,
-                     const std::string& part, std::uint64_t seed, BdlstmSplit& split,
-                     double validation_fraction = 0);
+void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, TestPart part,
+                     std::uint64_t seed, BdlstmSplit& split, double validation_fraction = 0);
 /// First frames of every window of `span` frames inside a training part and clear of its
 /// sequence's held-out and validation parts, in sequence and frame order.
 std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span);
 
-/// First frames of windows of `span` frames inside one part of every sequence: "train" (as
-/// window_starts), "validation" or "test".
-std::vector<std::int64_t> part_starts(const BdlstmSplit& split, const std::string& part,
-                                      std::int64_t span);
+/// First frames of windows of `span` frames inside one part of every sequence: train (as
+/// window_starts), validation or test.
+std::vector<std::int64_t> part_starts(const BdlstmSplit& split, FramePart part, std::int64_t span);
 
 /// Frame t of a window played at `speed` from frame `first` of `data` (one frame per row): the
 /// data at first + t × stride × speed, interpolated linearly between frames (speed 0: the first

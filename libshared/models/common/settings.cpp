@@ -81,7 +81,8 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
             [&](const Setting::Text& t) {
               auto* o =
                   group.add_option_function<std::string>(flag, t.set, s.help)->default_str(t.get());
-              if (!s.choices.empty()) o->check(CLI::IsMember(s.choices));
+              const std::vector<std::string>& allowed = s.choices.empty() ? t.names : s.choices;
+              if (!allowed.empty()) o->check(CLI::IsMember(allowed));
             },
             [&](auto* p) { group.add_option(flag, *p, s.help)->default_val(*p); }},
         s.target);
@@ -135,7 +136,8 @@ void read_settings(const h5::File& f, const std::string& object, const Settings&
                             try {
                               t.set(f.attr_string(object, s.name));
                             } catch (const UsageError& e) {
-                              throw InvalidInput(e.what(), f.where(object));
+                              throw InvalidInput(fmt::format("{}: {}", s.name, e.what()),
+                                                 f.where(object));
                             }
                           },
                           [&](std::vector<int>* p) {

@@ -13,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/choice.h"
 #include "io/h5.h"
 
 namespace CLI {
@@ -28,6 +29,7 @@ struct Setting {
   struct Text {
     std::function<std::string()> get;
     std::function<void(const std::string&)> set;
+    std::vector<std::string> names = {};  ///< the values it takes (an enum's, see choice())
   };
   using Target = std::variant<bool*, int*, std::int64_t*, std::uint64_t*, double*, std::string*,
                               std::vector<int>*, std::vector<double>*, Text>;
@@ -35,7 +37,7 @@ struct Setting {
   Target target;          ///< the field holding it
   /// The option's help; empty: not on the command line (set otherwise, e.g. the seed by --seed)
   const char* help = "";
-  /// A string's allowed values on the command line (empty: any)
+  /// A string's allowed values on the command line (empty: any; for a choice(), its names)
   std::vector<std::string> choices = {};
   /// The option when it is not --name. A bool is a flag: --name sets it ("--separate"), a named
   /// option clears it ("--no-kl" for kl, "--freeze-decoder" for train_decoder)
@@ -51,6 +53,15 @@ struct Setting {
   std::string value_text() const;
 };
 using Settings = std::vector<Setting>;
+
+/// The target of an enum setting (core/choice.h): read and written by its names, which are also
+/// the command line's choices.
+template <class E>
+Setting::Text choice(E& field) {
+  return {[&field] { return std::string(name_of(field)); },
+          [&field](const std::string& v) { field = parse_choice<E>(v, "the value"); },
+          choice_names<E>()};
+}
 
 /// Declares the settings that have help text as options of `group` (defaults shown; choices
 /// checked; lists comma-separated; bools as flags, see Setting::option).

@@ -158,7 +158,7 @@ void prune_components(Components& c, double eps1, double eps2) {
 void extract_components_tool(const ExtractOptions& opt, const CommonOptions& common) {
   const auto claims = claim_outputs({opt.output, opt.acap}, common.force, {opt.model, opt.data});
   const MsaeModel m = load_msae_model(opt.model);
-  const MsaeShapes train = read_msae_shapes(m, opt.data, "train");
+  const MsaeShapes train = read_msae_shapes(m, opt.data, FramePart::train);
   const auto codes = block_codes(*m.net, train.x);
   Components c = extract_components(m, codes);
   c.model = opt.model;
@@ -170,7 +170,8 @@ void extract_components_tool(const ExtractOptions& opt, const CommonOptions& com
   log::info("wrote {} components in {} levels to {}{}", n, c.levels.size(), opt.output,
             opt.acap.empty() ? "" : " and " + opt.acap);
   if (!opt.report.empty()) {
-    const MsaeShapes held = read_msae_shapes(m, opt.data, opt.report);
+    const MsaeShapes held =
+        read_msae_shapes(m, opt.data, parse_choice<FramePart>(opt.report, "--report"));
     if (held.x.rows() == 0)
       throw InvalidInput(fmt::format("the model's {} part is empty", opt.report), opt.model);
     fmt::print("{}", format_diagnosis(diagnose_msae(m, c, train.x, codes, held.x), opt.report));

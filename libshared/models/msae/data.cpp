@@ -11,21 +11,16 @@
 
 namespace df::models {
 
-MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const std::string& part) {
+MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, FramePart part) {
   const ModelData data(path, m.tmpl);
   const auto n = static_cast<std::int64_t>(data.frames());
   MsaeShapes s;
-  if (part == "all") {
+  if (part == FramePart::all) {
     for (std::int64_t f = 0; f < n; ++f) s.frames.push_back(f);
   } else {
-    if (part == "train")
-      s.frames = m.split.train;
-    else if (part == "validation")
-      s.frames = m.split.validation;
-    else if (part == "test")
-      s.frames = m.split.test;
-    else
-      throw UsageError("--part must be train, validation, test or all");
+    s.frames = part == FramePart::train        ? m.split.train
+               : part == FramePart::validation ? m.split.validation
+                                               : m.split.test;
     for (auto f : s.frames)
       if (f >= n)
         throw InvalidInput(fmt::format("has {} frames, but the model's {} part names frame {}: "

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "models/common/frame_part.h"
 #include "models/msae/model.h"
 
 namespace df::models {
@@ -24,7 +25,7 @@ struct MsaeShapes {
 /// data file; all: every frame), read through ModelData (models/common/model_data.h: the
 /// template check, the features in the model's normalization). InvalidInput also when a split
 /// frame lies beyond the file.
-MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, const std::string& part);
+MsaeShapes read_msae_shapes(const MsaeModel& m, const std::string& path, FramePart part);
 
 /// Writes reconstructions of `shapes` as an acap file on the model's template: normalized
 /// features [n, 9V] and/or positions [n, 3V] (at least one), one sequence per data sequence,

@@ -221,15 +221,15 @@ std::string CollapseSigns::describe(const MsaeConfig& config) const {
   std::vector<std::string> signs, remedies;
   if (2 * distinct_centres < components) {
     signs.push_back(fmt::format("{} distinct centres", distinct_centres));
-    if (config.centres != "spread")
+    if (config.centres != Centres::spread)
       remedies.push_back("--centres spread");
     else if (config.centre_separation == 0)
       remedies.push_back("--centre-separation 1");
   }
   if (2 * wide > components) {
     signs.push_back(fmt::format("{} spanning over 80% of the mesh", wide));
-    if (config.support != "hard")
-      remedies.push_back(config.support == "soft" ? "--support proximal" : "--support hard");
+    if (config.support != Support::hard)
+      remedies.push_back(config.support == Support::soft ? "--support proximal" : "--support hard");
   }
   if (constant > 0) {
     signs.push_back(

@@ -36,7 +36,7 @@ void MsaeModel::initialize() {
 std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam(std::int64_t start) const {
   nn::AdamOptions ao;
   ao.lr = training.lr;
-  if (training.separate_rate == "continue")
+  if (training.separate_rate == SeparateRate::continue_)
     ao.lr *= std::pow(training.lr_decay, static_cast<double>(start) / training.lr_decay_steps);
   ao.schedule = nn::AdamOptions::Schedule::exponential;
   ao.decay_rate = training.lr_decay;

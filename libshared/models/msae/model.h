@@ -17,6 +17,22 @@
 
 namespace df::models {
 
+/// How train-msae splits the shapes (MsaeTraining::split) and starts a level's Adam when the
+/// levels train one after another (separate_rate); names as core/choice.h.
+enum class SplitKind { sequence, collection, lists };
+inline constexpr Named<SplitKind> kSplitKindNames[] = {{"sequence", SplitKind::sequence},
+                                                       {"collection", SplitKind::collection},
+                                                       {"lists", SplitKind::lists}};
+constexpr std::span<const Named<SplitKind>> names_of(SplitKind) {
+  return kSplitKindNames;
+}
+enum class SeparateRate { restart, continue_ };
+inline constexpr Named<SeparateRate> kSeparateRateNames[] = {{"restart", SeparateRate::restart},
+                                                             {"continue", SeparateRate::continue_}};
+constexpr std::span<const Named<SeparateRate>> names_of(SeparateRate) {
+  return kSeparateRateNames;
+}
+
 /// How the model was trained (recorded in /config; checked on --resume; declared in
 /// models/msae/settings.cpp).
 struct MsaeTraining {
@@ -32,7 +48,7 @@ struct MsaeTraining {
   double lr_warmup = 0;
   /// sequence: every `every`-th shape of each sequence trains, the rest is held out (paper 1:9);
   /// collection: a random `train_fraction` of the shapes trains (paper 1:1); lists: given files.
-  std::string split = "sequence";
+  SplitKind split = SplitKind::sequence;
   int every = 10;
   double train_fraction = 0.5;
   /// This fraction of the held-out shapes (placed by the seed) validates instead of testing:
@@ -44,7 +60,7 @@ struct MsaeTraining {
   /// Separate training: each level's new Adam starts at `lr` ("restart") or at the rate the
   /// run's schedule has reached when the level starts ("continue": the rate joint training has
   /// there, so that Table 4 compares strategies rather than schedules).
-  std::string separate_rate = "restart";
+  SeparateRate separate_rate = SeparateRate::restart;
   /// Shapes the decoders make, added to every batch: each of their codes is the same code of a
   /// training shape of the batch drawn at random, independently per code (every block's, through
   /// the current encoder), so that the encoder learns to invert the decoders on combinations of

@@ -22,19 +22,6 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
     throw UsageError("--kz and --d need one value per level");
   for (int k : config_.kz)
     if (k < 1) throw UsageError("--kz values must be positive");
-  if (config_.latent != "tanh" && config_.latent != "linear")
-    throw UsageError("--latent must be tanh or linear");
-  if (config_.decoder_fc != "tanh" && config_.decoder_fc != "linear")
-    throw UsageError("--decoder-fc must be tanh or linear");
-  if (config_.decoder_conv != "transposed" && config_.decoder_conv != "shared")
-    throw UsageError("--decoder-conv must be transposed or shared");
-  if (config_.init != "glorot" && config_.init != "normal" && config_.init != "small" &&
-      config_.init != "local" && config_.init != "local-all")
-    throw UsageError("--init must be glorot, normal, small, local or local-all");
-  if (config_.centres != "random" && config_.centres != "spread")
-    throw UsageError("--centres must be random or spread");
-  if (config_.support != "soft" && config_.support != "hard" && config_.support != "proximal")
-    throw UsageError("--support must be soft, hard or proximal");
   if (config_.attention_sharpness != 1 && config_.attention_sharpness != 2 &&
       config_.attention_sharpness != 4)
     throw UsageError(fmt::format("--attention-sharpness must be 1, 2 or 4 (got {})",
@@ -68,9 +55,10 @@ MsaeNet<T>::MsaeNet(const MsaeConfig& config, int n_vertices,
       b.conv = nn::MeshConv<T>(store_, name + ".conv", 9, 9, adjacency_, rng);
       b.c = store_.add(name + ".C", b.kz, 9 * Index{n_vertices});
       store_.glorot_uniform(b.c, rng);
-      if (config_.init == "normal")  // drawn after Glorot's, so "glorot" models keep their weights
+      if (config_.init ==
+          MsaeInit::normal)  // drawn after Glorot's, so "glorot" models keep their weights
         for (int w : {b.conv.w_point, b.conv.w_nb, b.c}) store_.normal(w, rng, 0.02);
-      if (config_.init == "small") store_.value(b.c) *= T(0.01);
+      if (config_.init == MsaeInit::small) store_.value(b.c) *= T(0.01);
       b.b_dec = store_.add(name + ".decoder_bias", 1, 9);
       blocks_.push_back(std::move(b));
     }
@@ -126,9 +114,9 @@ template <class T>
 nn::Var<T> MsaeNet<T>::decoder(const nn::Bound<T>& p, int b, Var z) const {
   const Block& bl = blocks_[static_cast<std::size_t>(b)];
   Var y = nn::matmul(z, p[bl.c]);
-  if (config_.decoder_fc == "tanh") y = nn::tanh(y);
+  if (config_.decoder_fc == MsaeActivation::tanh) y = nn::tanh(y);
   Var out = nn::tanh(
-      config_.decoder_conv == "shared"
+      config_.decoder_conv == DecoderConv::shared
           ? nn::mesh_conv(y, p[bl.conv.w_point], p[bl.conv.w_nb], p[bl.b_dec], bl.conv.adjacency)
           : bl.conv.tied_transpose(p, y, p[bl.b_dec]));
   // The offset is a constant of the tape: it never receives a gradient, so Adam leaves it.
@@ -241,7 +229,7 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
   const Var in = b == 0 && offset_ >= 0 ? nn::sub(x, x.tape->constant(store_.value(offset_))) : x;
   Var h = nn::tanh(bl.conv(p, in));
   Var z = nn::matmul_transposed(h, C);
-  if (config_.latent == "tanh") z = nn::tanh(z);
+  if (config_.latent == MsaeActivation::tanh) z = nn::tanh(z);
   BlockOutput out;
   out.z = z;
   out.xhat = decoder(p, b, z);
@@ -258,7 +246,7 @@ typename MsaeNet<T>::BlockOutput MsaeNet<T>::forward_block(const nn::Bound<T>& p
         nn::relu(nn::add_scalar(nn::max_rows(nn::abs(z)), static_cast<T>(-config_.theta))));
     // With --support proximal Ω stays out of the gradient: its proximal step follows the
     // optimizer's (proximal_sparsity). The reported total includes it either way.
-    const bool proximal = config_.support == "proximal";
+    const bool proximal = config_.support == Support::proximal;
     Var fit = nn::scale(recon, static_cast<T>(config_.lambda_recon));
     Var l =
         proximal

@@ -32,14 +32,51 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "core/choice.h"
 #include "core/rng.h"
 #include "nn/adam.h"
 #include "nn/layers.h"
 
 namespace df::models {
+
+/// The modes of MsaeConfig, each with its names (core/choice.h; the names are the model file's).
+enum class MsaeActivation { tanh, linear };
+inline constexpr Named<MsaeActivation> kMsaeActivationNames[] = {
+    {"tanh", MsaeActivation::tanh}, {"linear", MsaeActivation::linear}};
+constexpr std::span<const Named<MsaeActivation>> names_of(MsaeActivation) {
+  return kMsaeActivationNames;
+}
+enum class DecoderConv { transposed, shared };
+inline constexpr Named<DecoderConv> kDecoderConvNames[] = {{"transposed", DecoderConv::transposed},
+                                                           {"shared", DecoderConv::shared}};
+constexpr std::span<const Named<DecoderConv>> names_of(DecoderConv) {
+  return kDecoderConvNames;
+}
+enum class MsaeInit { glorot, normal, small, local, local_all };
+inline constexpr Named<MsaeInit> kMsaeInitNames[] = {{"glorot", MsaeInit::glorot},
+                                                     {"normal", MsaeInit::normal},
+                                                     {"small", MsaeInit::small},
+                                                     {"local", MsaeInit::local},
+                                                     {"local-all", MsaeInit::local_all}};
+constexpr std::span<const Named<MsaeInit>> names_of(MsaeInit) {
+  return kMsaeInitNames;
+}
+enum class Centres { random, spread };
+inline constexpr Named<Centres> kCentresNames[] = {{"random", Centres::random},
+                                                   {"spread", Centres::spread}};
+constexpr std::span<const Named<Centres>> names_of(Centres) {
+  return kCentresNames;
+}
+enum class Support { soft, proximal, hard };
+inline constexpr Named<Support> kSupportNames[] = {
+    {"soft", Support::soft}, {"proximal", Support::proximal}, {"hard", Support::hard}};
+constexpr std::span<const Named<Support>> names_of(Support) {
+  return kSupportNames;
+}
 
 /// Every hyper-parameter of the network and of its loss (stored in the model file's /config);
 /// each is declared once, for the command line, the model file and the resume check, in
@@ -51,26 +88,26 @@ struct MsaeConfig {
   /// The codes z = act(h Cᵀ): "linear" (unbounded codes, which V(Z)'s θ = 5 bounds) or "tanh"
   /// (the paper's "tanh everywhere" taken literally: V(Z) can never act, and on real meshes AE₀'s
   /// codes saturate at ±1 and stop learning — chosen on validation parts, docs/msae.md)
-  std::string latent = "linear";
+  MsaeActivation latent = MsaeActivation::linear;
   /// The decoder's fully connected layer y = act(z C): "tanh" (the paper's "tanh everywhere") or
   /// "linear" (as the convMesh code of Tan et al. has it: only the convolutions end in tanh)
-  std::string decoder_fc = "tanh";
+  MsaeActivation decoder_fc = MsaeActivation::tanh;
   /// The decoder's convolution: "transposed" (the encoder's weights transposed) or "shared" (the
   /// encoder's weights as they are, as the convMesh code reuses them; both are 9 × 9)
-  std::string decoder_conv = "transposed";
+  DecoderConv decoder_conv = DecoderConv::transposed;
   /// Initial weights: "glorot" (uniform ±sqrt(6 / (fan_in + fan_out))), "normal" (N(0, 0.02²)
   /// for C and the convolutions, as the convMesh code), "small" (C at Glorot × 0.01: a
   /// component that no training shape asks for stays near zero instead of projecting unseen
   /// shapes onto a random direction), "local" ("glorot", then train-msae starts level 0 from
   /// the training shapes' SPLOCS components: start_block) or "local-all" (every level so, each
   /// block from SPLOCS on what it is fed)
-  std::string init = "glorot";
+  MsaeInit init = MsaeInit::glorot;
   /// Where the components' centres start: "random" (wherever the initial weights peak; the
   /// reconstruction gradient then draws them to the most deforming vertices, often all to one)
   /// or "spread" (farthest-point sampling by geodesic distance: level 0 over the whole mesh, a
   /// child block within its parent component's radius), after which the centres follow the weights
   /// (centre_separation)
-  std::string centres = "random";
+  Centres centres = Centres::random;
   /// How the centres follow the weights every iteration: 0 = c_k = argmax_i ‖C_{k,i}‖ (the paper);
   /// s > 0 = a block's components, strongest first, each take the argmax among the vertices at
   /// least s·d (geodesic) from the centres its block has already given out (the plain argmax when
@@ -79,7 +116,7 @@ struct MsaeConfig {
   /// Ω's step function as a penalty only ("soft", the paper) or also as a hard support ("hard"):
   /// after every optimizer step the groups of C where Λ_ik = 1 (outside the component's radius)
   /// are set to zero — Ω's limit of infinite weight, strictly local components
-  std::string support = "soft";
+  Support support = Support::soft;
   /// Subtract a fixed offset (the training shapes' mean features, set by train-msae) from AE₀'s
   /// input and add it back to its output, so that the autoencoders model deviations from the mean
   /// shape and no component is spent on the mean deformation itself (the diagnosis found one

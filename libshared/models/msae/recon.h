@@ -8,13 +8,14 @@
 #include <string>
 
 #include "core/common_options.h"
+#include "models/common/frame_part.h"
 
 namespace df::models {
 
 struct MsaeReconOptions {
   std::string model, data, output;
-  std::string part = "test";  ///< train | validation | test | all
-  int levels = 0;             ///< 0 = every level of the model
+  FramePart part = FramePart::test;  ///< train | validation | test | all
+  int levels = 0;                    ///< 0 = every level of the model
   /// > 0: the codes are fitted to each shape through the decoders (MsaeNet::fit_codes) in this
   /// many Adam steps, starting from the encoder's, instead of taken from the encoder
   int fit_codes = 0;

@@ -17,28 +17,28 @@ Settings msae_network_settings(MsaeConfig& c) {
            "attention tree has there (paper Table 4; --levels 1 --no-attention is the one-level\n"
            "sparse autoencoder of Tan et al.)",
        .option = "--no-attention"},
-      {.name = "latent",
-       .target = &c.latent,
-       .help =
-           "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: the\n"
-           "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real meshes\n"
-           "and V(Z) never acts; see docs/msae.md)",
-       .choices = {"tanh", "linear"}},
+      {
+          .name = "latent",
+          .target = choice(c.latent),
+          .help = "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: "
+                  "the\n"
+                  "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real "
+                  "meshes\n"
+                  "and V(Z) never acts; see docs/msae.md)",
+      },
       {.name = "decoder_fc",
-       .target = &c.decoder_fc,
+       .target = choice(c.decoder_fc),
        .help = "The decoder's fully connected layer: y = tanh(z C) (tanh, the paper's 'tanh\n"
                "everywhere') or y = z C (linear, as the convMesh code of Tan et al.)",
-       .choices = {"tanh", "linear"},
        .optional = true},
       {.name = "decoder_conv",
-       .target = &c.decoder_conv,
+       .target = choice(c.decoder_conv),
        .help =
            "The decoder's mesh convolution uses the encoder's weights transposed, or shared as\n"
            "they are (as the convMesh code)",
-       .choices = {"transposed", "shared"},
        .optional = true},
       {.name = "init",
-       .target = &c.init,
+       .target = choice(c.init),
        .help = "Initial weights: glorot (uniform), normal (N(0, 0.02^2), as the convMesh code),\n"
                "small (C at glorot x 0.01: components no training shape asks for stay near zero\n"
                "instead of projecting unseen shapes onto random directions), local (glorot,\n"
@@ -46,15 +46,13 @@ Settings msae_network_settings(MsaeConfig& c) {
                "radius d, orthonormalised, and its convolutions the identity: AE0 starts as\n"
                "the projection onto the shapes' local linear components) or local-all (every\n"
                "level so, each block from SPLOCS on what it is fed, level by level)",
-       .choices = {"glorot", "normal", "small", "local", "local-all"},
        .optional = true},
       {.name = "centres",
-       .target = &c.centres,
+       .target = choice(c.centres),
        .help =
            "Where the components' centres start: random (where the initial weights peak; the\n"
            "reconstruction gradient then draws most to the same vertices) or spread (farthest-\n"
            "point sampling: level 0 over the mesh, a child within its parent's radius)",
-       .choices = {"random", "spread"},
        .optional = true},
       {.name = "centre_separation",
        .target = &c.centre_separation,
@@ -65,7 +63,7 @@ Settings msae_network_settings(MsaeConfig& c) {
            "Omega pushes them apart (the plain argmax where no vertex is that far)",
        .optional = true},
       {.name = "support",
-       .target = &c.support,
+       .target = choice(c.support),
        .help = "Omega as a penalty only (soft, the paper: its gradient leaves weights of the\n"
                "order of the step size all over the mesh), as a proximal step (proximal: Omega\n"
                "out of the gradient; after every Adam step each group of C outside a component's\n"
@@ -73,7 +71,6 @@ Settings msae_network_settings(MsaeConfig& c) {
                "the reconstruction does not hold it up), or as a hard support (hard: after every\n"
                "step the weights of C outside each radius d are set to zero, Omega's limit:\n"
                "strictly local components)",
-       .choices = {"soft", "proximal", "hard"},
        .optional = true},
       {.name = "centre_features",
        .target = &c.centre_features,
@@ -135,12 +132,11 @@ Settings msae_training_settings(MsaeTraining& t) {
            "Train level by level (iterations divided equally; earlier levels frozen) instead of\n"
            "jointly (paper Table 4)"},
       {.name = "separate_rate",
-       .target = &t.separate_rate,
+       .target = choice(t.separate_rate),
        .help =
            "With --separate: each level's new Adam starts at --lr (restart) or at the rate the\n"
            "schedule has reached when the level starts (continue: the rate joint training has\n"
            "there, so that joint and separate differ in strategy only)",
-       .choices = {"restart", "continue"},
        .optional = true},
       {.name = "synthetic",
        .target = &t.synthetic,
@@ -156,10 +152,10 @@ Settings msae_training_settings(MsaeTraining& t) {
        .optional = true},
       // The split is compared as the frames it chose (train.cpp), not as its settings.
       {.name = "split",
-       .target = &t.split,
+       .target = choice(t.split),
        .help = "sequence: every --every-th shape of each sequence trains, the rest is held out;\n"
                "collection: a random --train-fraction trains (placed by --seed)",
-       .choices = {"sequence", "collection"},
+       .choices = {"sequence", "collection"},  // "lists": --train and --test
        .resume = false},
       {.name = "every",
        .target = &t.every,

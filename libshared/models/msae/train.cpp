@@ -45,8 +45,6 @@ void check_options(const MsaeTrainOptions& opt) {
     if (!(d > 0 && d <= 1)) throw UsageError("--d values are normalized geodesic radii in (0, 1]");
   if (t.synthetic < 0 || !(t.synthetic_weight > 0))
     throw UsageError("--synthetic must not be negative, --synthetic-weight positive");
-  if (t.separate_rate != "restart" && t.separate_rate != "continue")
-    throw UsageError("--separate-rate must be restart or continue");
   if (t.separate && t.iterations < static_cast<std::int64_t>(opt.net.kz.size()))
     throw UsageError("--separate needs at least one iteration per level");
   if (!opt.test_list.empty() && opt.train_list.empty()) throw UsageError("--test needs --train");
@@ -188,11 +186,11 @@ int stage_of(const MsaeModel& m, std::int64_t done) {
 MsaeSplit split_shapes(const std::vector<std::int64_t>& offsets, const MsaeTraining& t) {
   MsaeSplit s;
   const std::int64_t n = offsets.back();
-  if (t.split == "sequence") {
+  if (t.split == SplitKind::sequence) {
     for (std::size_t q = 0; q + 1 < offsets.size(); ++q)
       for (std::int64_t f = offsets[q]; f < offsets[q + 1]; ++f)
         ((f - offsets[q]) % t.every == 0 ? s.train : s.test).push_back(f);
-  } else if (t.split == "collection") {
+  } else if (t.split == SplitKind::collection) {
     std::vector<std::int64_t> all(static_cast<std::size_t>(n));
     std::iota(all.begin(), all.end(), std::int64_t{0});
     Rng rng(t.seed, 0x5e9117);
@@ -244,7 +242,7 @@ MsaeModel describe_model(const MsaeTrainOptions& opt, const CommonOptions& commo
   m.config = opt.net;
   m.training = opt.training;
   m.training.seed = common.seed;
-  if (!opt.train_list.empty()) m.training.split = "lists";
+  if (!opt.train_list.empty()) m.training.split = SplitKind::lists;
   m.history = in.history();
   m.tmpl = in.read_template();
   m.normalization = in.normalization();
@@ -341,7 +339,7 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
             m.tmpl.vertices.rows());
   auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces);
   m.geodesic_diameter = geodesic->diameter();
-  if (m.config.centres == "spread") m.net->place_centres(spread_centres(*m.net, *geodesic));
+  if (m.config.centres == Centres::spread) m.net->place_centres(spread_centres(*m.net, *geodesic));
   return geodesic;
 }
 
@@ -399,7 +397,7 @@ void start_block_locally(MsaeModel& m, int b, const nn::Matrix<float>& input,
 // from the training shapes' inputs to it through the levels already started.
 void start_from_local_decomposition(MsaeModel& m, const nn::Matrix<float>& train,
                                     geometry::GeodesicRows& geodesic) {
-  const int levels = m.config.init == "local-all" ? m.config.levels() : 1;
+  const int levels = m.config.init == MsaeInit::local_all ? m.config.levels() : 1;
   log::info("--init {}: {} from SPLOCS on the {} training shapes", m.config.init,
             levels == 1 ? "level 0's components" : "every block's components", train.rows());
   start_block_locally(m, 0, train, geodesic);
@@ -464,8 +462,8 @@ LossTerms training_step(MsaeModel& m, const nn::Matrix<float>& data,
     for (int l = 0; l < stage; ++l)
       for (int p : m.net->level_parameters(l)) m.net->store().grad(p).setZero();
   m.adam->step(m.net->store().values(), m.net->store().grads());
-  if (m.config.support == "hard") m.net->project_onto_support(lambda);
-  if (m.config.support == "proximal")
+  if (m.config.support == Support::hard) m.net->project_onto_support(lambda);
+  if (m.config.support == Support::proximal)
     m.net->proximal_sparsity(lambda, m.adam->last_step_sizes(),
                              stage < 0 ? std::vector<int>{} : std::vector<int>{stage});
   return {terms.total, terms.recon, terms.sparsity, terms.latent};
@@ -495,11 +493,11 @@ std::function<LossTerms()> validation_measure(const MsaeTrainOptions& opt, MsaeM
 }  // namespace
 
 void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training) {
-  net.centre_features = true;  // no component spent on the mean deformation
-  net.support = "proximal";    // Omega's weights outside each radius exactly zero
-  net.kz = {10, 50};           // second-level blocks as wide as the residual needs
+  net.centre_features = true;       // no component spent on the mean deformation
+  net.support = Support::proximal;  // Omega's weights outside each radius exactly zero
+  net.kz = {10, 50};                // second-level blocks as wide as the residual needs
   training.synthetic = 16;  // the encoder learns to invert the decoders beyond the training codes
-  net.init = "local";       // AE₀ starts as the training shapes' local components (SPLOCS)
+  net.init = MsaeInit::local;  // AE₀ starts as the training shapes' local components (SPLOCS)
 }
 
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
@@ -522,7 +520,8 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   const nn::Matrix<float> validation = gather(data, m.split.validation);
   if (m.config.centre_features && m.iteration == 0)  // a fresh model: the training shapes' mean
     m.net->set_offset(gather(data, m.split.train).colwise().mean());
-  if ((m.config.init == "local" || m.config.init == "local-all") && m.iteration == 0)
+  if ((m.config.init == MsaeInit::local || m.config.init == MsaeInit::local_all) &&
+      m.iteration == 0)
     start_from_local_decomposition(m, gather(data, m.split.train), *geodesic);
   log::info(
       "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "

@@ -82,8 +82,8 @@ TEST_CASE("BD-LSTM loss: gradients of every parameter (all variants)", "[models]
     cfg.l2 = v.l2;
     BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
     const auto [error, report] = loss_gradient_error(net, sine_windows<double>(4, 2, 1), v.given);
-    INFO(directions_name(v.d) << " kl=" << v.kl << " l2=" << v.l2 << " given=" << v.given << "\n"
-                              << report);
+    INFO(name_of(v.d) << " kl=" << v.kl << " l2=" << v.l2 << " given=" << v.given << "\n"
+                      << report);
     REQUIRE(error <= 1e-6);
   }
 }
@@ -167,7 +167,7 @@ TEST_CASE("BD-LSTM motion input: the encoder reads the step's motion, gradients 
   auto cfg = tiny_config(Directions::shared);
   cfg.motion_input = true;
   cfg.motion_scale = 3;
-  cfg.decoder_init = "small";
+  cfg.decoder_init = DecoderInit::small;
   BdlstmNet<double> net(cfg, 4, tetra_edges(), 7);
   // Every weight but the motion's convolution starts as without it.
   auto plain_cfg = cfg;
@@ -297,18 +297,17 @@ TEST_CASE("BD-LSTM training lowers the loss and makes the two chains agree", "[m
 
 TEST_CASE("BD-LSTM split: a contiguous held-out part per sequence", "[models][bdlstm]") {
   BdlstmSplit s;
-  split_sequences({0, 100, 150}, 0.2, "end", 1, s);
+  split_sequences({0, 100, 150}, 0.2, TestPart::end, 1, s);
   REQUIRE(s.train_begin == std::vector<std::int64_t>{0, 100});
   REQUIRE(s.train_end == std::vector<std::int64_t>{80, 140});
   REQUIRE(s.test_begin == std::vector<std::int64_t>{80, 140});
   REQUIRE(s.test_end == std::vector<std::int64_t>{100, 150});
   BdlstmSplit t;
-  split_sequences({0, 10}, 0.2, "start", 1, t);
+  split_sequences({0, 10}, 0.2, TestPart::start, 1, t);
   REQUIRE(t.test_begin[0] == 0);
   REQUIRE(t.test_end[0] == 2);
   REQUIRE(t.train_begin[0] == 2);
-  REQUIRE_THROWS_AS(split_sequences({0, 10}, 1.0, "end", 1, t), UsageError);
-  REQUIRE_THROWS_AS(split_sequences({0, 10}, 0.2, "inside", 1, t), UsageError);
+  REQUIRE_THROWS_AS(split_sequences({0, 10}, 1.0, TestPart::end, 1, t), UsageError);
   // Windows of 3 frames: all starts of the training part, none reaching into the test part.
   REQUIRE(window_starts(s, 3) == [] {
     std::vector<std::int64_t> w;
@@ -336,7 +335,7 @@ TEST_CASE("BD-LSTM windows played at other speeds (--speeds)", "[models][bdlstm]
   REQUIRE(frames(0) == std::vector<float>{3, 3, 3, 3, 3});
   play_window(data, 2, 1, 0.5, window, 1);  // half the pace: halfway frames interpolated
   REQUIRE(frames(1) == std::vector<float>{2, 2.5f, 3, 3.5f, 4});
-  REQUIRE(window[1](1, 1) == 25.0f);  // every feature interpolated alike
+  REQUIRE(window[1](1, 1) == 25.0f);        // every feature interpolated alike
   play_window(data, 0, 2, 1.5, window, 0);  // 3 frames a step at stride 2: 0, 3, 6, 9, 12
   REQUIRE(frames(0) == std::vector<float>{0, 3, 6, 9, 12});
   REQUIRE(window[4](1, 0) == 4.0f);  // the other row keeps its own window
@@ -344,7 +343,7 @@ TEST_CASE("BD-LSTM windows played at other speeds (--speeds)", "[models][bdlstm]
 
 TEST_CASE("BD-LSTM split: a held-out part inside the sequence", "[models][bdlstm]") {
   BdlstmSplit m;
-  split_sequences({0, 100}, 0.2, "middle", 1, m);
+  split_sequences({0, 100}, 0.2, TestPart::middle, 1, m);
   REQUIRE(m.test_begin[0] == 40);
   REQUIRE(m.test_end[0] == 60);
   REQUIRE(m.train_begin[0] == 0);
@@ -359,8 +358,8 @@ TEST_CASE("BD-LSTM split: a held-out part inside the sequence", "[models][bdlstm
   std::vector<std::int64_t> places;
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     BdlstmSplit r, again;
-    split_sequences({0, 100, 130}, 0.2, "random", seed, r);
-    split_sequences({0, 100, 130}, 0.2, "random", seed, again);
+    split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, r);
+    split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, again);
     REQUIRE(r.test_begin == again.test_begin);
     REQUIRE(r.test_end[0] - r.test_begin[0] == 20);
     REQUIRE(r.test_end[1] - r.test_begin[1] == 6);
@@ -379,9 +378,9 @@ TEST_CASE("BD-LSTM split: a validation part carved out of the training frames",
   std::vector<std::int64_t> places;
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     BdlstmSplit plain, v, again;
-    split_sequences({0, 100, 130}, 0.2, "random", seed, plain);
-    split_sequences({0, 100, 130}, 0.2, "random", seed, v, 0.1);
-    split_sequences({0, 100, 130}, 0.2, "random", seed, again, 0.1);
+    split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, plain);
+    split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, v, 0.1);
+    split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, again, 0.1);
     // The test part does not move; the validation part is deterministic per seed.
     REQUIRE(v.test_begin == plain.test_begin);
     REQUIRE(v.validation_begin == again.validation_begin);
@@ -405,12 +404,13 @@ TEST_CASE("BD-LSTM split: a validation part carved out of the training frames",
   REQUIRE(std::unique(places.begin(), places.end()) - places.begin() > 3);
   // No validation: empty ranges, the same windows as before.
   BdlstmSplit none;
-  split_sequences({0, 50}, 0.2, "end", 1, none);
+  split_sequences({0, 50}, 0.2, TestPart::end, 1, none);
   REQUIRE(none.validation_begin == none.validation_end);
   // Too large for the training runs beside a test part in the middle (40 + 40 frames).
   BdlstmSplit big;
-  REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, "middle", 1, big, 0.5), df::InvalidInput);
-  REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, "end", 1, big, 0.8), UsageError);
+  REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, TestPart::middle, 1, big, 0.5),
+                    df::InvalidInput);
+  REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, TestPart::end, 1, big, 0.8), UsageError);
 }
 
 TEST_CASE("BD-LSTM remedies: L2 without biases, L2 weight, a small last decoder layer",
@@ -432,13 +432,13 @@ TEST_CASE("BD-LSTM remedies: L2 without biases, L2 weight, a small last decoder 
   };
   const auto [paper, biases] = terms_of(cfg);
   REQUIRE(biases > 0);  // the LSTM forget-gate biases start at 1
-  cfg.l2_scope = "weights";
+  cfg.l2_scope = L2Scope::weights;
   const auto [weights_only, unused] = terms_of(cfg);
   REQUIRE(weights_only.l2 == Approx(paper.l2 - biases).epsilon(1e-12));
   REQUIRE(weights_only.recon == paper.recon);
   // tf: the forget-gate biases (1 at the start) are measured from 1, so they add nothing at first
   // (hidden 4 × 2 layers of them); every other value counts as in "all".
-  cfg.l2_scope = "tf";
+  cfg.l2_scope = L2Scope::tf;
   const auto [tf, unused_tf] = terms_of(cfg);
   REQUIRE(tf.l2 == Approx(paper.l2 - 4 * 2).epsilon(1e-12));
   {
@@ -447,14 +447,12 @@ TEST_CASE("BD-LSTM remedies: L2 without biases, L2 weight, a small last decoder 
     INFO(report);
     REQUIRE(error <= 1e-6);
   }
-  cfg.l2_scope = "all";
+  cfg.l2_scope = L2Scope::all;
   cfg.l2_weight = 0.25;
   const auto [quarter, unused2] = terms_of(cfg);
   REQUIRE(quarter.l2 == Approx(paper.l2).epsilon(1e-12));  // reported unweighted
   REQUIRE(quarter.total == Approx(paper.total - 0.1 * 0.75 * paper.l2).epsilon(1e-12));
   cfg.l2_weight = 1;
-  cfg.l2_scope = "sideways";
-  REQUIRE_THROWS_AS(BdlstmNet<double>(cfg, 4, tetra_edges(), 3), UsageError);
 
   // decoder_init small: the untrained network predicts a small change, and the encoder gets a
   // gradient at once (it gets none while the last layer is zero).
@@ -483,7 +481,7 @@ TEST_CASE("BD-LSTM remedies: L2 without biases, L2 weight, a small last decoder 
   cfg.l2 = false;
   REQUIRE(encoder_grad(cfg, &change) == 0);
   REQUIRE(change == 0);
-  cfg.decoder_init = "small";
+  cfg.decoder_init = DecoderInit::small;
   REQUIRE(encoder_grad(cfg, &change) > 0);
   REQUIRE(change > 0);
   REQUIRE(change < 0.05);

@@ -49,7 +49,7 @@ TEST_CASE("gen-bdlstm plan: prediction cases inside the held-out part", "[models
 TEST_CASE("gen-bdlstm plan: completion cases, --from and --keyframes", "[models][bdlstm]") {
   Fixture f;
   BdlstmGenerateOptions opt;
-  opt.mode = "complete", opt.test_every = 3, opt.gap = 2;
+  opt.mode = GenerateMode::complete, opt.test_every = 3, opt.gap = 2;
   auto cases = plan_cases(opt, f.m, f.d, 1);
   REQUIRE(cases.size() == 3);  // keyframes (40, 43), (43, 46), (46, 49)
   CHECK(cases[2].frames == std::vector<std::int64_t>{46, 49});

@@ -204,3 +204,46 @@ TEST_CASE("settings: an enum held as text", "[models][settings]") {
   CHECK_THAT(msg, Catch::Contains("sideways"));
   CHECK_THAT(msg, Catch::Contains("m.h5"));
 }
+
+TEST_CASE("settings: a typed mode is read, written and offered by its names",
+          "[models][settings]") {
+  // One list per enum: its names parse, print (fmt too) and are the command line's choices.
+  CHECK(parse_choice<Support>("proximal", "--support") == Support::proximal);
+  CHECK(name_of(MsaeInit::local_all) == "local-all");
+  CHECK(fmt::format("{}", Support::hard) == "hard");
+  CHECK(choice_names<TestPart>() == std::vector<std::string>{"end", "start", "middle", "random"});
+  CHECK_THAT(test::error_message([] { parse_choice<Support>("firm", "--support"); }),
+             Catch::Contains("--support must be one of soft, proximal, hard, not 'firm'"));
+  MsaeConfig c;
+  MsaeTraining t;
+  CLI::App app;
+  add_settings(*app.add_option_group("Network"), msae_settings(c, t));
+  app.parse(std::vector<std::string>{"local-all", "--init", "hard", "--support"});
+  CHECK(c.support == Support::hard);
+  CHECK(c.init == MsaeInit::local_all);
+  CHECK_THAT(app.help(), Catch::Contains("local-all"));
+  MsaeConfig d;
+  CLI::App bad;
+  add_settings(*bad.add_option_group("Network"), msae_settings(d, t));
+  CHECK_THROWS_AS(bad.parse(std::vector<std::string>{"firm", "--support"}), CLI::ValidationError);
+  // --split offers only what a user chooses; "lists" (--train/--test) is written and read.
+  CHECK_THROWS_AS(bad.parse(std::vector<std::string>{"lists", "--split"}), CLI::ValidationError);
+  test::TempDir dir;
+  t.split = SplitKind::lists;
+  {
+    h5::File f(dir / "m.h5", h5::File::Mode::create);
+    f.create_groups("/config");
+    write_settings(f, "/config", msae_settings(c, t));
+    CHECK(f.attr_string("/config", "support") == "hard");
+    CHECK(f.attr_string("/config", "split") == "lists");
+    f.set_attr("/config", "init", std::string("uniform"));
+  }
+  MsaeConfig back;
+  MsaeTraining back_t;
+  const h5::File f(dir / "m.h5", h5::File::Mode::read);
+  const std::string msg =
+      test::error_message([&] { read_settings(f, "/config", msae_settings(back, back_t)); });
+  CHECK_THAT(msg, Catch::Contains("init: the value must be one of glorot, normal, small, local, "
+                                  "local-all, not 'uniform'"));
+  CHECK_THAT(msg, Catch::Contains("m.h5"));
+}
