@@ -328,29 +328,34 @@ BD_VALIDATION_ITERATIONS ?= 1500
 # stretches beside its validation part are 84 frames. chickenCrossing (stride 2) fits neither 64
 # nor 96 (its longest training stretch beside the validation part is 108 frames, a window of 64
 # steps spans 127): BD_VALIDATION_SETS=chickenCrossing BD_CANDIDATES="paper window48".
-# motion: train-bdlstm's defaults since issue 67 (the remedies with the motion input).
-BD_CANDIDATES ?= paper remedies motion carry no-kl window64
+# speeds: train-bdlstm's defaults since stop 79 (the remedies, the motion input, windows at four
+# speeds); motion: the defaults of stops 75-78.
+BD_CANDIDATES ?= paper remedies motion speeds carry no-kl window64
 # Every candidate spells out every remedy option and its window, so that a change of defaults
 # does not change it.
-paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input
-remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --no-motion-input
-no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input
+paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1
+remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --no-motion-input --speeds 1
+no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1
 # the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: ahead
 # on the finger and chickenCrossing, behind on pcow; docs/bdlstm.md)
-carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8 --no-motion-input
+carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8 --no-motion-input --speeds 1
 # the remedies with an encoder that reads each step's motion beside its frame: train-bdlstm's
-# defaults since issue 67
-motion_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input
+# defaults in stops 75-78
+motion_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 1
+# the motion input and training windows played at speeds 0, 0.5, 1 and 1.5: train-bdlstm's
+# defaults since stop 79 (issue 67: the best worst case over finger, chickenCrossing and pcow)
+speeds_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 0,0.5,1,1.5
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions
 # are 32 free nats per frame) while z stays a sample of q(z|x) in training.
-free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input
+free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1
 paper_CANDIDATE_WINDOW := 32
 remedies_CANDIDATE_WINDOW := 32
 no-kl_CANDIDATE_WINDOW := 32
 free-bits_CANDIDATE_WINDOW := 32
 carry_CANDIDATE_WINDOW := 32
 motion_CANDIDATE_WINDOW := 32
+speeds_CANDIDATE_WINDOW := 32
 # Longer training windows, windowN for any N: the paper's form with N-frame windows (a chain runs
 # free at most a window's length in training, while the long generation runs 300 frames).
 $(foreach c,$(filter window%,$(BD_CANDIDATES)),$(eval $(c)_CANDIDATE := $(paper_CANDIDATE))\
@@ -359,7 +364,7 @@ $(foreach c,$(filter window%,$(BD_CANDIDATES)),$(eval $(c)_CANDIDATE := $(paper_
 $(foreach c,$(foreach x,$(BD_CANDIDATES),$(if $(findstring -w,$(x)),$(x))),$(eval $(c)_CANDIDATE := $($(word 1,$(subst -w, ,$(c)))_CANDIDATE))\
   $(eval $(c)_CANDIDATE_WINDOW := $(word 2,$(subst -w, ,$(c)))))
 $(foreach c,$(BD_CANDIDATES),$(if $($(c)_CANDIDATE_WINDOW),,\
-  $(error BD_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, carry, motion, windowN or NAME-wN: N frames))))
+  $(error BD_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, carry, motion, speeds, windowN or NAME-wN: N frames))))
 
 .PHONY: bdlstm-validation
 bdlstm-validation: $(foreach s,$(BD_VALIDATION_SETS),$(BD)/$(s)/validation.md)

@@ -16,8 +16,9 @@ int main(int argc, char** argv) {
       "weights. Loss: L_recon + 0.5 L_bidir + 0.1 (L_KL + sum w^2) (eq. 3-5); by default\n"
       "with remedies that keep the latent alive on new data (KL warm-up, free bits, L_2\n"
       "on the weights at 1/8, a small decoder start, and an encoder that reads each step's\n"
-      "motion X_t - X_t-1 beside X_t, --motion-input; --paper-form for the paper's exact\n"
-      "form). A loss line warns when the latent collapses anyway. --carry adds the motion\n"
+      "motion X_t - X_t-1 beside X_t, --motion-input, trained on windows played at speeds\n"
+      "0, 0.5, 1 and 1.5, --speeds; --paper-form for the paper's exact form). A loss line warns "
+      "when the latent collapses anyway. --carry adds the motion\n"
       "of the step before (fading with --carry-fade): a prediction starts at the given\n"
       "frames' pace (not a default: docs/bdlstm.md).\n"
       "\n"
@@ -39,11 +40,11 @@ int main(int argc, char** argv) {
   g->add_flag(
       "--paper-form", paper_form,
       "The paper's exact form: --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1\n"
-      "--decoder-init zero --carry 0 --no-motion-input (options given explicitly still\n"
-      "win). The defaults differ in the first five because on new data the paper's form\n"
-      "often learns nothing: the latent collapses to the prior and the model predicts no\n"
-      "motion, and in the motion input because without it the model moves at a pace of its\n"
-      "own (docs/bdlstm.md)");
+      "--decoder-init zero --carry 0 --no-motion-input --speeds 1 (options given explicitly\n"
+      "still win). The defaults differ in the first five because on new data the paper's\n"
+      "form often learns nothing: the latent collapses to the prior and the model predicts\n"
+      "no motion, and in the motion input and the speeds because without them the model\n"
+      "moves at a pace of its own (docs/bdlstm.md)");
   g->add_option("--collapse-threshold", opt.training.collapse_threshold,
                 "Warn at a loss line (and at the end; recorded in the model file) when the KL is\n"
                 "below this many nats per frame while the reconstruction has not improved by 10%:\n"

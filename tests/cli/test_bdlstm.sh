@@ -78,12 +78,13 @@ gen-bdlstm -q motion.h5 data.h5 --test-every 4 --initial 3 --length 4 -o motion-
 h5check -q --kind acap motion-pred.h5
 echo "ok (motion input: on by default, off in the paper's form and with --no-motion-input, measured scale, resume, prediction)"
 
-# --- windows at other speeds: the data's own pace by default (no draw: --speeds 1 trains the
-# same bits), a list is recorded, changes the training, and resumes bit-exactly; a negative speed
+# --- windows at other speeds: 0, 0.5, 1 and 1.5 by default, the data's own pace (1, no draw) in
+# --paper-form; a list is recorded, changes the training, and resumes bit-exactly; a negative speed
 # and a speed whose window does not fit the training frames are refused, naming the option
-[ "$(cfg defaults.h5 speeds)" = 1 ] || fail "the defaults play windows at $(cfg defaults.h5 speeds)"
-train-bdlstm -q "${tiny[@]}" --iterations 20 --motion-input --speeds 1 data.h5 -o speed1.h5
-run h5diff motion.h5 speed1.h5 /params; expect_rc 0
+h5dump -a /config/speeds defaults.h5 | grep -q "(0): 0, 0.5, 1, 1.5" || fail "the defaults' speeds: $(h5dump -a /config/speeds defaults.h5)"
+[ "$(cfg pf.h5 speeds)" = 1 ] || fail "--paper-form plays windows at $(cfg pf.h5 speeds)"
+train-bdlstm -q "${tiny[@]}" --iterations 20 --speeds 1 data.h5 -o speed1.h5
+run h5diff motion.h5 speed1.h5 /params; expect_rc 1
 train-bdlstm -q "${tiny[@]}" --iterations 20 --speeds 0,0.5,1,2 data.h5 -o speeds.h5
 h5check -q --kind bdlstm-model speeds.h5
 h5dump -a /config/speeds speeds.h5 | grep -q "0, 0.5, 1, 2" || fail "--speeds not recorded"
@@ -94,8 +95,8 @@ run h5diff speeds.h5 speeds-resumed.h5 /params; expect_rc 0
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,-1 data.h5 -o x.h5
 expect_rc 2; expect_one_error_line train-bdlstm; expect_err "speeds needs one or more speeds in"
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,8 data.h5 -o x.h5
-expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds"
-echo "ok (speeds: the data's pace by default, recorded, resumed, bad speeds refused)"
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds.*--speeds or"
+echo "ok (speeds: 0,0.5,1,1.5 by default, 1 in the paper's form, recorded, resumed, bad speeds refused)"
 
 # --- resume: a 20-iteration model is a checkpoint; resuming to 40 equals the straight run
 train-bdlstm -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5

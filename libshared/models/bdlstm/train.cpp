@@ -177,6 +177,7 @@ void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training) {
   net.l2_weight = 0.125;
   net.decoder_init = DecoderInit::small;
   net.motion_input = true;
+  training.speeds = {0, 0.5, 1, 1.5};  // the pace is read off the given frames (issue 67)
 }
 
 void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
@@ -188,6 +189,7 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   net.carry = 0;
   net.carry_fade = 1;
   net.motion_input = false;
+  training.speeds = {1};
 }
 
 namespace {
@@ -254,10 +256,10 @@ std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::stri
   }
   throw InvalidInput(
       fmt::format("no sequence has a training part of {} frames (window {}, stride {}{}); the "
-                  "longest has {}: use a smaller --window, --stride or --validation-fraction",
+                  "longest has {}: use a smaller --window, --stride{} or --validation-fraction",
                   span, m.training.window, m.training.stride,
                   m.training.speeds == std::vector<double>{1} ? "" : ", the fastest of --speeds",
-                  longest),
+                  longest, m.training.speeds == std::vector<double>{1} ? "" : ", --speeds"),
       input);
 }
 

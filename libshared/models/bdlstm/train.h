@@ -58,7 +58,8 @@ bool latent_collapsed(double kl_per_frame, double recon, double first_recon, dou
 /// The remedies that train-bdlstm uses unless --paper-form (chosen on validation parts,
 /// docs/bdlstm.md): KL warm-up over 500 iterations, 0.1 free nats per latent dimension, L_2 on the
 /// weights only at 1/8 of the paper's weight, the last decoder convolution started small instead of
-/// at zero, and the encoder reading each step's motion (issue 67).
+/// at zero, the encoder reading each step's motion, and training windows played at speeds 0,
+/// 0.5, 1 and 1.5 (issue 67).
 void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training);
 /// The paper's exact form of the same settings (eq. 3-5 as written).
 void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training);
