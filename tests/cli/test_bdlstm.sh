@@ -53,7 +53,7 @@ train-bdlstm -q "${tiny[@]}" --iterations 2 --paper-form --carry 0.5 --carry-fad
 [ "$(cfg pf-carry.h5 carry)" = 0.5 ] && [ "$(cfg pf-carry.h5 carry_fade)" = 0.9 ] ||
   fail "--paper-form overrode an explicit --carry: $(cfg pf-carry.h5 carry) fading $(cfg pf-carry.h5 carry_fade)"
 run train-bdlstm "${tiny[@]}" --iterations 2 --carry-fade 1.5 data.h5 -o x.h5
-expect_rc 2; expect_one_error_line train-bdlstm; expect_err "carry-fade must lie in"
+expect_rc 2; expect_one_error_line train-bdlstm; expect_err "--carry-fade must be in \[0, 1\] \(got 1.5\)"
 echo "ok (carry: defaults, paper form, explicit options)"
 
 # --- the motion input: on by default, off in --paper-form and with --no-motion-input; its scale
@@ -93,7 +93,7 @@ train-bdlstm -q "${tiny[@]}" --iterations 10 --speeds 0,0.5,1,2 data.h5 -o speed
 train-bdlstm -q "${tiny[@]}" --iterations 20 --speeds 0,0.5,1,2 --checkpoint speeds10.h5 --resume data.h5 -o speeds-resumed.h5
 run h5diff speeds.h5 speeds-resumed.h5 /params; expect_rc 0
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,-1 data.h5 -o x.h5
-expect_rc 2; expect_one_error_line train-bdlstm; expect_err "speeds needs one or more speeds in"
+expect_rc 2; expect_one_error_line train-bdlstm; expect_err "--speeds must be in \[0, 8\] \(got 1,-1\)"
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,8 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds.*--speeds or"
 echo "ok (speeds: 0,0.5,1,1.5 by default, 1 in the paper's form, recorded, resumed, bad speeds refused)"

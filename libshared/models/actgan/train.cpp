@@ -21,14 +21,9 @@ using Var = nn::Var<float>;
 void check_options(const ActganTrainOptions& opt) {
   const auto& t = opt.training;
   const auto& c = opt.net;
-  if (t.pretrain_iterations < 0 || t.iterations < 0 || t.batch < 2 || t.pretrain_batch < 2 ||
-      t.critic_steps < 1 || t.d_steps < 1 || t.g_steps < 1 || !(t.lr > 0) || !(t.lr_pretrain > 0) ||
-      !(t.disc_lr >= 0) || !(t.disc_noise >= 0))
-    throw UsageError(
-        "--iterations and --pretrain-iterations must not be negative, batches at least 2, steps at "
-        "least 1, learning rates positive (--disc-lr 0: --lr), --disc-noise not negative");
-  if (c.noise < 1 || c.latent < 1 || c.hidden < 1 || c.fc < 1)
-    throw UsageError("--noise, --latent, --hidden and --fc must be positive");
+  ActganConfig cc = c;  // the table points at fields
+  ActganTraining tt = t;
+  check_ranges(actgan_settings(cc, tt));
   if (c.generator == Generator::pose && t.pretrain_iterations > 0)
     throw UsageError(
         "the direct-pose baseline (--generator pose) has no decoder to pre-train: use "

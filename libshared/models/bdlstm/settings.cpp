@@ -53,6 +53,7 @@ Settings bdlstm_network_settings(BdlstmConfig& c) {
        .help = "The carry fades along a chain: CARRY x FADE^(t-1) at its step t, so a prediction\n"
                "starts at the given frames' pace and, far from them, moves by dX alone (a long\n"
                "generation does not compound the carried motion); 1 = never fades",
+       .range = within(0, 1),
        .optional = true},
       {.name = "motion_input",
        .target = &c.motion_input,
@@ -71,13 +72,21 @@ Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
       {.name = "iterations",
        .target = &t.iterations,
        .help = "Training iterations (paper: 7000)",
+       .range = at_least(0),
        .resume = false},
-      {.name = "window", .target = &t.window, .help = "Frames per training window"},
-      {.name = "batch", .target = &t.batch, .help = "Windows per iteration"},
+      {.name = "window",
+       .target = &t.window,
+       .help = "Frames per training window",
+       .range = at_least(2)},
+      {.name = "batch", .target = &t.batch, .help = "Windows per iteration", .range = positive()},
       {.name = "stride",
        .target = &t.stride,
-       .help = "Use every STRIDE-th frame (2 for slow motion)"},
-      {.name = "lr", .target = &t.lr, .help = "Adam learning rate (betas 0.9/0.999)"},
+       .help = "Use every STRIDE-th frame (2 for slow motion)",
+       .range = positive()},
+      {.name = "lr",
+       .target = &t.lr,
+       .help = "Adam learning rate (betas 0.9/0.999)",
+       .range = positive()},
       {.name = "test_fraction",
        .target = &t.test_fraction,
        .help = "Fraction of every sequence held out as a contiguous test part"},
@@ -98,6 +107,7 @@ Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
        .help = "Feed each chain u ground-truth frames (u uniform in 1..N per iteration) before\n"
                "it runs free, so the network learns to use gen-bdlstm's --initial frames\n"
                "(1 = the paper: only the seed frame)",
+       .range = at_least(1),
        .optional = true},
       {.name = "speeds",
        .target = &t.speeds,
@@ -105,11 +115,13 @@ Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c) {
                "the first frame held still, 0.5: half the data's pace, frames interpolated), so\n"
                "that the pace of a prediction must be read off the given frames (1 = the data's\n"
                "own pace, the paper)",
+       .range = within(0, 8),
        .optional = true},
       {.name = "kl_warmup",
        .target = &t.kl_warmup,
        .help = "Raise the KL weight linearly from 0 to 1 over N iterations (0 = the paper: 1\n"
                "throughout); counters the latent collapsing to the prior",
+       .range = at_least(0),
        .optional = true},
       {.name = "kl_free_bits",
        .target = &c.free_bits,

@@ -195,20 +195,16 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
 namespace {
 
 void check_options(const BdlstmTrainOptions& opt) {
-  if (opt.training.window < 2) throw UsageError("--window must be at least 2");
-  if (opt.training.batch < 1 || opt.training.stride < 1 || opt.training.iterations < 0)
-    throw UsageError("--batch and --stride must be positive, --iterations not negative");
+  BdlstmConfig c = opt.net;  // the table points at fields
+  BdlstmTraining t = opt.training;
+  check_ranges(bdlstm_settings(c, t));
   opt.run.check();
-  if (opt.training.teacher_frames < 1 || opt.training.teacher_frames >= opt.training.window)
-    throw UsageError("--teacher-frames must be at least 1 and smaller than --window");
-  if (opt.training.kl_warmup < 0) throw UsageError("--kl-warmup must not be negative");
+  if (opt.training.teacher_frames >= opt.training.window)
+    throw UsageError("--teacher-frames must be smaller than --window");
   if (!(opt.training.collapse_threshold >= 0))
     throw UsageError("--collapse-threshold must not be negative");
-  const std::vector<double>& v = opt.training.speeds;
-  if (v.empty() || std::any_of(v.begin(), v.end(), [](double x) { return !(x >= 0 && x <= 8); }))
-    throw UsageError("--speeds needs one or more speeds in [0, 8] (1 = the data's own pace)");
-  if (!(opt.net.carry_fade >= 0 && opt.net.carry_fade <= 1))
-    throw UsageError("--carry-fade must lie in [0, 1] (1 = the carry never fades)");
+  if (opt.training.speeds.empty())
+    throw UsageError("--speeds needs one or more speeds (1 = the data's own pace)");
 }
 
 // The model to train as the options and the data describe it: settings, template,

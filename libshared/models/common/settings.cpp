@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <stdexcept>
 
@@ -43,10 +44,54 @@ std::string Setting::value_text() const {
       target);
 }
 
+bool Range::holds(double v) const {
+  return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+}
+
+std::string Range::text() const {
+  const bool low = std::isfinite(lo), high = std::isfinite(hi);
+  if (low && !high) {
+    if (lo == 0) return lo_open ? "positive" : "not negative";
+    return fmt::format("{} {}", lo_open ? "above" : "at least", lo);
+  }
+  if (!low && high) return fmt::format("{} {}", hi_open ? "below" : "at most", hi);
+  if (!low && !high) return "a number";
+  return fmt::format("in {}{}, {}{}", lo_open ? '(' : '[', lo, hi, hi_open ? ')' : ']');
+}
+
+void check_ranges(const Settings& settings) {
+  for (const Setting& s : settings) {
+    if (!s.range) continue;
+    auto check = [&](double v) {
+      if (!s.range->holds(v))
+        throw UsageError(fmt::format("{} must be {} (got {})", s.option_name(), s.range->text(),
+                                     s.value_text()));
+    };
+    std::visit(Overloaded{[&](int* p) { check(*p); }, [&](std::int64_t* p) { check(double(*p)); },
+                          [&](double* p) { check(*p); },
+                          [&](std::vector<int>* p) {
+                            for (int v : *p) check(v);
+                          },
+                          [&](std::vector<double>* p) {
+                            for (double v : *p) check(v);
+                          },
+                          [&](const auto&) {
+                            throw Error(
+                                fmt::format("internal: setting {} has a range but is not "
+                                            "a number",
+                                            s.name));
+                          }},
+               s.target);
+  }
+}
+
 void add_settings(CLI::Option_group& group, const Settings& settings) {
   for (const Setting& s : settings) {
     if (!*s.help) continue;
     const std::string flag = s.option_name();
+    // A number's range is part of its help: "Adam learning rate [positive]".
+    const std::string help =
+        s.range ? fmt::format("{} [{}]", s.help, s.range->text()) : std::string(s.help);
     std::visit(
         Overloaded{
             [&](bool* p) {
@@ -63,28 +108,28 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
                   flag, [p, given] { *p = given; }, s.help);
             },
             [&](std::vector<int>* p) {
-              group.add_option(flag, *p, s.help)
+              group.add_option(flag, *p, help)
                   ->delimiter(',')
                   ->allow_extra_args(false)
                   ->default_str(number_list(*p));
             },
             [&](std::vector<double>* p) {
-              group.add_option(flag, *p, s.help)
+              group.add_option(flag, *p, help)
                   ->delimiter(',')
                   ->allow_extra_args(false)
                   ->default_str(number_list(*p));
             },
             [&](std::string* p) {
-              auto* o = group.add_option(flag, *p, s.help)->default_val(*p);
+              auto* o = group.add_option(flag, *p, help)->default_val(*p);
               if (!s.choices.empty()) o->check(CLI::IsMember(s.choices));
             },
             [&](const Setting::Text& t) {
               auto* o =
-                  group.add_option_function<std::string>(flag, t.set, s.help)->default_str(t.get());
+                  group.add_option_function<std::string>(flag, t.set, help)->default_str(t.get());
               const std::vector<std::string>& allowed = s.choices.empty() ? t.names : s.choices;
               if (!allowed.empty()) o->check(CLI::IsMember(allowed));
             },
-            [&](auto* p) { group.add_option(flag, *p, s.help)->default_val(*p); }},
+            [&](auto* p) { group.add_option(flag, *p, help)->default_val(*p); }},
         s.target);
   }
 }

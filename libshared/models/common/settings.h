@@ -9,6 +9,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -22,6 +24,28 @@ class Option_group;
 }  // namespace CLI
 
 namespace df::models {
+
+/// The values a numeric setting may take: an interval, either end open or closed or absent.
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+  bool holds(double v) const;
+  /// As a message says it: "positive", "at least 2", "not negative", "in (0, 1]".
+  std::string text() const;
+};
+/// > 0
+inline Range positive() {
+  return {.lo = 0, .lo_open = true};
+}
+/// >= lo
+inline Range at_least(double lo) {
+  return {.lo = lo};
+}
+/// An interval; the ends open where said.
+inline Range within(double lo, double hi, bool lo_open = false, bool hi_open = false) {
+  return {.lo = lo, .hi = hi, .lo_open = lo_open, .hi_open = hi_open};
+}
 
 struct Setting {
   /// A setting held in another type than text (an enum): how it reads and writes as text; `set`
@@ -42,6 +66,8 @@ struct Setting {
   /// The option when it is not --name. A bool is a flag: --name sets it ("--separate"), a named
   /// option clears it ("--no-kl" for kl, "--freeze-decoder" for train_decoder)
   const char* option = "";
+  /// A number's (each number's of a list) allowed values; none: any
+  std::optional<Range> range = std::nullopt;
   /// A resumed run must have the same value (false: e.g. the iteration count it runs to)
   bool resume = true;
   /// Files written before the setting existed lack it and read as the field's current value (the
@@ -66,6 +92,11 @@ Setting::Text choice(E& field) {
 /// Declares the settings that have help text as options of `group` (defaults shown; choices
 /// checked; lists comma-separated; bools as flags, see Setting::option).
 void add_settings(CLI::Option_group& group, const Settings& settings);
+
+/// Refuses (UsageError: "--lr must be positive (got 0)") the first setting whose value lies
+/// outside its range: the option checks every trainer shares; what is left in a trainer's own
+/// check is the rules between settings.
+void check_ranges(const Settings& settings);
 
 /// Writes every setting as an attribute of `object` (bool and integers as integers, the 64-bit
 /// seed as text, lists of numbers as number arrays).

@@ -6,10 +6,12 @@ Settings msae_network_settings(MsaeConfig& c) {
   return {
       {.name = "kz",
        .target = &c.kz,
-       .help = "Components of each autoencoder, per level (comma-separated)"},
+       .help = "Components of each autoencoder, per level (comma-separated)",
+       .range = at_least(1)},
       {.name = "d",
        .target = &c.d,
-       .help = "Omega's normalized geodesic radius per level (comma-separated)"},
+       .help = "Omega's normalized geodesic radius per level (comma-separated)",
+       .range = within(0, 1, true)},
       {.name = "attention",
        .target = &c.attention,
        .help =
@@ -111,20 +113,30 @@ Settings msae_training_settings(MsaeTraining& t) {
       {.name = "iterations",
        .target = &t.iterations,
        .help = "Training iterations (batches); the paper's 10,000 epochs are a GPU budget",
+       .range = at_least(0),
        .resume = false},
-      {.name = "batch", .target = &t.batch, .help = "Shapes per iteration, drawn with replacement"},
-      {.name = "lr", .target = &t.lr, .help = "Adam learning rate (betas 0.9/0.999)"},
+      {.name = "batch",
+       .target = &t.batch,
+       .help = "Shapes per iteration, drawn with replacement",
+       .range = positive()},
+      {.name = "lr",
+       .target = &t.lr,
+       .help = "Adam learning rate (betas 0.9/0.999)",
+       .range = positive()},
       {.name = "lr_decay",
        .target = &t.lr_decay,
-       .help = "Exponential decay: lr x DECAY^(iteration / --lr-decay-steps)"},
+       .help = "Exponential decay: lr x DECAY^(iteration / --lr-decay-steps)",
+       .range = within(0, 1, true)},
       {.name = "lr_decay_steps",
        .target = &t.lr_decay_steps,
-       .help = "Iterations per factor --lr-decay"},
+       .help = "Iterations per factor --lr-decay",
+       .range = positive()},
       {.name = "lr_warmup",
        .target = &t.lr_warmup,
        .help = "The rate rises linearly from lr/N to lr over the first N iterations (0: none, the\n"
                "paper). Tried against Adam's first steps replacing a started level 0 (--init\n"
                "local); on chickenCrossing it only delays that (docs/msae.md)",
+       .range = at_least(0),
        .optional = true},
       {.name = "separate",
        .target = &t.separate,
@@ -145,10 +157,12 @@ Settings msae_training_settings(MsaeTraining& t) {
            "the batch's training shapes drawn at random (independently per code): the encoder\n"
            "learns to invert the decoders beyond the training shapes' code combinations, where\n"
            "unseen shapes lie (docs/msae.md). 0 = none (the paper)",
+       .range = at_least(0),
        .optional = true},
       {.name = "synthetic_weight",
        .target = &t.synthetic_weight,
        .help = "--synthetic shapes' share of the reconstruction loss against the real ones",
+       .range = positive(),
        .optional = true},
       // The split is compared as the frames it chose (train.cpp), not as its settings.
       {.name = "split",
@@ -160,10 +174,12 @@ Settings msae_training_settings(MsaeTraining& t) {
       {.name = "every",
        .target = &t.every,
        .help = "sequence split: train on every N-th shape",
+       .range = at_least(2),
        .resume = false},
       {.name = "train_fraction",
        .target = &t.train_fraction,
        .help = "collection split: fraction trained on",
+       .range = within(0, 1, true, true),
        .resume = false},
       {.name = "validation_fraction",
        .target = &t.validation_fraction,
@@ -172,6 +188,7 @@ Settings msae_training_settings(MsaeTraining& t) {
            "its error is logged at every loss line (features, and E_rms x 1000 of positions as\n"
            "eval-metrics measures it). Choose iteration counts and options on it, never on\n"
            "the test shapes",
+       .range = within(0, 1, false, true),
        .resume = false},
       {.name = "seed", .target = &t.seed},  // the tool's --seed
   };

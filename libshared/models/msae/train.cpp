@@ -26,25 +26,12 @@ namespace {
 
 void check_options(const MsaeTrainOptions& opt) {
   const auto& t = opt.training;
-  if (t.batch < 1 || t.iterations < 0)
-    throw UsageError("--batch must be positive, --iterations not negative");
-  if (!(t.lr > 0) || !(t.lr_decay > 0 && t.lr_decay <= 1) || !(t.lr_decay_steps > 0) ||
-      !(t.lr_warmup >= 0))
-    throw UsageError(
-        "--lr must be positive, --lr-decay in (0, 1], --lr-decay-steps positive, --lr-warmup not "
-        "negative");
-  if (t.every < 2) throw UsageError("--every must be at least 2");
-  if (!(t.train_fraction > 0 && t.train_fraction < 1))
-    throw UsageError("--train-fraction must be in (0, 1)");
-  if (!(t.validation_fraction >= 0 && t.validation_fraction < 1))
-    throw UsageError("--validation-fraction must be in [0, 1)");
+  MsaeConfig c = opt.net;  // the table points at fields
+  MsaeTraining tt = t;
+  check_ranges(msae_settings(c, tt));
   opt.run.check();
   if (opt.net.kz.size() != opt.net.d.size())
     throw UsageError("--kz and --d need one value per level");
-  for (double d : opt.net.d)
-    if (!(d > 0 && d <= 1)) throw UsageError("--d values are normalized geodesic radii in (0, 1]");
-  if (t.synthetic < 0 || !(t.synthetic_weight > 0))
-    throw UsageError("--synthetic must not be negative, --synthetic-weight positive");
   if (t.separate && t.iterations < static_cast<std::int64_t>(opt.net.kz.size()))
     throw UsageError("--separate needs at least one iteration per level");
   if (!opt.test_list.empty() && opt.train_list.empty()) throw UsageError("--test needs --train");

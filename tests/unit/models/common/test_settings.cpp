@@ -247,3 +247,35 @@ TEST_CASE("settings: a typed mode is read, written and offered by its names",
                                   "local-all, not 'uniform'"));
   CHECK_THAT(msg, Catch::Contains("m.h5"));
 }
+
+TEST_CASE("settings: ranges in the table are the trainers' option checks", "[models][settings]") {
+  CHECK(positive().text() == "positive");
+  CHECK(at_least(0).text() == "not negative");
+  CHECK(at_least(2).text() == "at least 2");
+  CHECK(within(0, 1, true).text() == "in (0, 1]");
+  CHECK(within(0, 1, false, true).text() == "in [0, 1)");
+  CHECK(within(0, 1, true).holds(1));
+  CHECK(!within(0, 1, true).holds(0));
+  CHECK(!within(0, 1, false, true).holds(1));
+  MsaeConfig c;
+  MsaeTraining t;
+  CHECK_NOTHROW(check_ranges(msae_settings(c, t)));  // the defaults lie inside
+  t.lr = 0;
+  CHECK_THAT(test::error_message([&] { check_ranges(msae_settings(c, t)); }),
+             Catch::Contains("--lr must be positive (got 0)"));
+  t.lr = 1e-3;
+  c.d = {0.4, 1.5};  // every number of a list
+  CHECK_THAT(test::error_message([&] { check_ranges(msae_settings(c, t)); }),
+             Catch::Contains("--d must be in (0, 1] (got 0.4,1.5)"));
+  BdlstmConfig bc;
+  BdlstmTraining bt;
+  CHECK_NOTHROW(check_ranges(bdlstm_settings(bc, bt)));
+  bt.window = 1;
+  CHECK_THROWS_AS(check_ranges(bdlstm_settings(bc, bt)), UsageError);
+  ActganConfig ac;
+  ActganTraining at;
+  CHECK_NOTHROW(check_ranges(actgan_settings(ac, at)));
+  at.batch = 1;
+  CHECK_THAT(test::error_message([&] { check_ranges(actgan_settings(ac, at)); }),
+             Catch::Contains("--batch must be at least 2 (got 1)"));
+}
