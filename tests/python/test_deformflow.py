@@ -202,3 +202,47 @@ def test_erms_aligns_each_part_as_eval_metrics(finger, tmp_path):
     erms = float([l.split()[1] for l in printed.splitlines() if l.strip().startswith("E_rms")][0])
     assert df.erms(pred, two, faces) == pytest.approx(erms, abs=1e-4)
     assert df.erms(pred, two, faces) < 1e-3 < df.erms(pred, two)
+
+
+def two_grids(tmp_path, parts):
+    """Frames of `parts` separate 4 x 4 grids bending, as obj2acap's features."""
+    verts, faces, frames = [], [], []
+    for p in range(parts):
+        base = len(verts)
+        verts += [(3.0 * p + 0.5 * i, 0.5 * j, 0.0) for j in range(4) for i in range(4)]
+        for j in range(3):
+            for i in range(3):
+                a = base + 4 * j + i
+                faces += [(a, a + 1, a + 5), (a, a + 5, a + 4)]
+    for f in range(12):
+        x = np.array(verts, dtype=np.float64)
+        for p in range(parts):
+            rows = slice(16 * p, 16 * p + 16)
+            x[rows, 2] = 0.2 * np.sin(0.5 * f + p + x[rows, 0]) * x[rows, 1]
+        frames.append(x)
+    df.write_acap(str(tmp_path / "raw.h5"), np.array(verts), np.array(faces, dtype=np.int32),
+                  positions=np.array(frames))
+    tool("obj2acap", "-q", str(tmp_path / "raw.h5"), "-o", str(tmp_path / "data.h5"))
+    return tmp_path / "data.h5"
+
+
+@pytest.mark.parametrize("parts", [1, 2])
+def test_msae_resume_refuses_unbridged_distances_on_separate_parts(tmp_path, parts):
+    """A checkpoint written before stop 78 (/geodesic@method heat: other parts at the diameter)
+    resumes on a mesh of one part, where the distances agree, and is refused on two parts."""
+    data = two_grids(tmp_path, parts)
+    ck = tmp_path / "ck.h5"
+    tool("train-msae", "-q", "--iterations", "10", "--kz", "2,2", "--batch", "4", str(data), "-o", str(ck))
+    with h5py.File(ck, "r") as f:
+        assert f["/geodesic"].attrs["method"] in (b"heat-bridged", "heat-bridged")
+    with h5py.File(ck, "r+") as f:
+        f["/geodesic"].attrs.modify("method", "heat")
+    run = subprocess.run([os.path.join(BIN, "train-msae"), "-q", "--iterations", "20", "--kz", "2,2", "--batch", "4",
+                          "--resume", "--checkpoint", str(ck), str(data), "-o", str(tmp_path / "r.h5")],
+                         capture_output=True, text=True)
+    if parts == 1:
+        assert run.returncode == 0, run.stderr
+    else:
+        assert run.returncode == 1
+        assert "2 separate parts" in run.stderr and "remove it and train anew" in run.stderr
+        assert not (tmp_path / "r.h5").exists()

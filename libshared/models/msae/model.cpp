@@ -73,7 +73,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     write_frames(f, io::model_layout::split_part("validation"), m.split.validation);
     write_frames(f, io::model_layout::split_part("test"), m.split.test);
     f.create_groups(io::model_layout::geodesic);
-    f.set_attr(io::model_layout::geodesic, "method", std::string("heat"));
+    f.set_attr(io::model_layout::geodesic, "method", std::string(name_of(m.geodesic_method)));
     f.set_attr(io::model_layout::geodesic, "diameter", m.geodesic_diameter);
     if (!m.geodesic_sources.empty()) {
       const std::vector<std::int64_t> sources(m.geodesic_sources.begin(), m.geodesic_sources.end());
@@ -113,6 +113,12 @@ MsaeModel load_msae_model(const std::string& path) {
   m.split.validation = f.read<std::int64_t>(io::model_layout::split_part("validation")).data;
   m.split.test = f.read<std::int64_t>(io::model_layout::split_part("test")).data;
   m.geodesic_diameter = f.attr_double(io::model_layout::geodesic, "diameter");
+  try {
+    m.geodesic_method = parse_choice<GeodesicMethod>(
+        f.attr_string(io::model_layout::geodesic, "method"), "the method");
+  } catch (const UsageError& e) {
+    throw InvalidInput(e.what(), f.where(io::model_layout::geodesic));
+  }
   if (f.exists(io::model_layout::geodesic_part("sources"))) {
     for (auto s : f.read<std::int64_t>(io::model_layout::geodesic_part("sources")).data)
       m.geodesic_sources.push_back(static_cast<int>(s));

@@ -26,6 +26,15 @@ inline constexpr Named<SplitKind> kSplitKindNames[] = {{"sequence", SplitKind::s
 constexpr std::span<const Named<SplitKind>> names_of(SplitKind) {
   return kSplitKindNames;
 }
+/// How a model file's geodesic distances were made: "heat", the heat method with other connected
+/// parts at the diameter (files before stop 78), or "heat-bridged", other parts at the straight
+/// line (geometry::GeodesicRows since stop 78). The same on a mesh of one part.
+enum class GeodesicMethod { heat, heat_bridged };
+inline constexpr Named<GeodesicMethod> kGeodesicMethodNames[] = {
+    {"heat", GeodesicMethod::heat}, {"heat-bridged", GeodesicMethod::heat_bridged}};
+constexpr std::span<const Named<GeodesicMethod>> names_of(GeodesicMethod) {
+  return kGeodesicMethodNames;
+}
 enum class SeparateRate { restart, continue_ };
 inline constexpr Named<SeparateRate> kSeparateRateNames[] = {{"restart", SeparateRate::restart},
                                                              {"continue", SeparateRate::continue_}};
@@ -86,6 +95,7 @@ struct MsaeModel {
   /// The template's geodesic diameter (mesh units) and the normalized distances from the
   /// centres of the last iteration (sources [n], rows [n, V]).
   double geodesic_diameter = 0;
+  GeodesicMethod geodesic_method = GeodesicMethod::heat_bridged;
   std::vector<int> geodesic_sources;
   std::vector<Eigen::VectorXf> geodesic_rows;
   /// The log has a validation_erms column (E_rms × 1000 of the validation shapes' positions).

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
+#include "geometry/mesh_topology.h"
 #include "io/acap_file.h"
 #include "models/common/splocs.h"
 #include "models/common/training.h"
@@ -296,6 +297,22 @@ std::vector<std::vector<int>> spread_centres(const MsaeNet<float>& net,
   return out;
 }
 
+// A checkpoint whose distances put a mesh's other parts at the diameter (before stop 78) cannot go
+// on with bridged ones: Omega would mix two measures. On a mesh of one part the two agree.
+void refuse_unbridged(const MsaeModel& ck, const MsaeModel& m, const std::string& ckpt) {
+  if (ck.geodesic_method != GeodesicMethod::heat) return;
+  int parts = 0;
+  geometry::connected_components(
+      geometry::mesh_topology(m.tmpl.faces, static_cast<int>(m.tmpl.vertices.rows())), 0, &parts);
+  if (parts > 1)
+    throw InvalidInput(
+        fmt::format("the checkpoint's geodesic distances were made before parts were bridged "
+                    "(other parts at the diameter) and this mesh has {} separate parts, so its "
+                    "components' radii would change mid-run; remove it and train anew",
+                    parts),
+        ckpt);
+}
+
 // Continues the checkpoint (weights, Adam, RNG, log, geodesic rows) when resuming and one exists,
 // else starts afresh; returns the geodesic distances on the template either way.
 std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool resume,
@@ -313,6 +330,7 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
     m.unprinted = std::move(ck.unprinted);
     m.collapse = std::move(ck.collapse);  // a collapse warned of goes on being dated from then
     m.collapse_since = ck.collapse_since;
+    refuse_unbridged(ck, m, ckpt);
     m.geodesic_diameter = ck.geodesic_diameter;
     auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
                                                              m.geodesic_diameter);
