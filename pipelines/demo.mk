@@ -29,7 +29,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo
 	@echo "== BD-LSTM (train-bdlstm, 300 iterations on a walking finger; gen-bdlstm; eval-metrics)"
 	@echo "   prediction of 15 frames from 3 initial frames on the held-out part:"
-	@echo "   mean vertex error (x bounding-box diagonal) over the predicted frames:"
+	@echo "   mean vertex error over the predicted frames, in mesh units (= relative error x the bounding-box diagonal):"
 	@printf '     BD-LSTM:              %.4g  (%.4g x %.4g)\n' $$($(call json_values,$(DEMO)/bdlstm-pred.json,$(demo_vertex_error)))
 	@printf '     linear extrapolation: %.4g  (%.4g x %.4g)\n' $$($(call json_values,$(DEMO)/bdlstm-linear.json,$(demo_vertex_error)))
 	@echo "   (a short demo run; pipelines/bdlstm.mk trains longer and reproduces the paper's tables)"
@@ -37,7 +37,7 @@ demo: $(DEMO)/finger.h5 $(DEMO)/bumps.h5 $(DEMO)/flag/0000.obj \
 	@echo "== MSAE (train-msae, $(DEMO_MSAE_ITERATIONS) iterations on the bumps surface: 2 coarse + 8 fine planted regions,"
 	@echo "   more than level 0's 4 components: the fine ones are left to level 1)"
 	@echo "   reconstruction of the $$($(call json_values,$(DEMO)/msae-recon.json,frame_pairs)) test shapes (recon-msae; eval-metrics):"
-	@printf '     E_rms %.4g; relative squared error of the features: max %.4g, mean %.4g\n' \
+	@printf '     E_rms x 1000 (unit ball) %.4g; relative squared error of the features: max %.4g, mean %.4g\n' \
 	  $$($(call json_values,$(DEMO)/msae-recon.json,erms relative_squared_error.max relative_squared_error.mean))
 	@echo "   components kept by prune-components (strength >= 0.01):"
 	@for l in 0 1; do printf '     level %s: %s kept, %s dropped\n' $$l \

@@ -363,7 +363,7 @@ std::string table(const MeshMeasures& m, const nlohmann::ordered_json& js, const
   if (m.has_truth) {
     t += fmt::format("  {:<28} {:.6g}  ({:.4g} x bbox diagonal {:.4g})\n",
                      "per-vertex position error", tt.err / np, tt.err / np / diag, diag);
-    t += fmt::format("  {:<28} {:.6g}\n", "E_rms", js["erms"].get<double>());
+    t += fmt::format("  {:<28} {:.6g}\n", "E_rms x 1000 (unit ball)", js["erms"].get<double>());
     t += fmt::format("  {:<28} spatial {:.6g}", "STED", js["sted"]["spatial"].get<double>());
     if (m.pm.sted_t_n)
       t += fmt::format("  temporal {:.6g}  combined {:.6g}", js["sted"]["temporal"].get<double>(),

@@ -15,7 +15,7 @@ expect_out "level 0: [0-9]+ kept, [0-9]+ dropped"
 expect_out "coarse +0 "
 # the printed numbers, each read from the tools' --json and labelled as what it is
 expect_out "^     BD-LSTM: +[0-9.e-]+  \([0-9.e-]+ x [0-9.e-]+\)$"
-expect_out "^     E_rms [0-9.e-]+; relative squared error of the features: max [0-9.e-]+, mean [0-9.e-]+$"
+expect_out "^     E_rms x 1000 \(unit ball\) [0-9.e-]+; relative squared error of the features: max [0-9.e-]+, mean [0-9.e-]+$"
 expect_out "^     MMD_avg [0-9.e-]+, MMD_seq [0-9.e-]+; of motion \(frame differences\): MMD_avg [0-9.e-]+, MMD_seq [0-9.e-]+$"
 accuracy=$(printf '%.3f / %.3f' $(collect-metrics --values --columns overall out/demo/actgan-accuracy.json) \
   $(collect-metrics --values --columns overall out/demo/actgan-accuracy-generated.json))
