@@ -26,6 +26,7 @@ struct HeatMethodDistance::Impl {
   std::vector<char> boundary;              // per vertex
   std::vector<int> interior_index;         // per vertex, -1 on the boundary
   std::vector<int> component;
+  int n_components = 0;
   Eigen::VectorXd mass;  // lumped (barycentric) vertex areas
   Eigen::SimplicialLDLT<Sparse> heat_neumann, heat_dirichlet, poisson;
   bool has_boundary = false;
@@ -174,13 +175,16 @@ HeatMethodDistance::HeatMethodDistance(const Vertices& V, const Faces& F, double
           m.boundary[static_cast<std::size_t>(e.second)] = 1,
       m.has_boundary = true;
   const double h = edge_sum / (3.0 * static_cast<double>(F.rows()));
-  int n_components = 0;
   m.component =
-      connected_components(mesh_topology(F, static_cast<int>(V.rows())), 0, &n_components);
+      connected_components(mesh_topology(F, static_cast<int>(V.rows())), 0, &m.n_components);
   m.factor(t_factor * h * h);
 }
 
 HeatMethodDistance::~HeatMethodDistance() = default;
+
+int HeatMethodDistance::parts() const {
+  return impl_->n_components;
+}
 
 Eigen::VectorXd HeatMethodDistance::from(int source) const {
   const auto& m = *impl_;

@@ -32,6 +32,8 @@ class HeatMethodDistance {
   /// #V distances (mesh units) from `source`, 0 at the source; +inf on other connected parts.
   /// Thread-safe: several sources may be solved at once.
   Eigen::VectorXd from(int source) const;
+  /// The mesh's connected parts (edge-connected vertex sets).
+  int parts() const;
 
  private:
   struct Impl;
@@ -54,6 +56,8 @@ class GeodesicRows {
   GeodesicRows(const Vertices& V, const Faces& F, double diameter);
 
   double diameter() const { return diameter_; }
+  /// The mesh's connected parts (1: the bridging changes nothing).
+  int parts() const { return heat_.parts(); }
   /// Solves the rows of `sources` not yet kept (in parallel); afterwards row(s) is cheap. Drops
   /// every kept row first when keeping them all would pass ~256 MB.
   void prepare(const std::vector<int>& sources);

@@ -15,7 +15,6 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/geodesic_distance.h"
-#include "geometry/mesh_topology.h"
 #include "io/acap_file.h"
 #include "models/common/splocs.h"
 #include "models/common/training.h"
@@ -299,17 +298,14 @@ std::vector<std::vector<int>> spread_centres(const MsaeNet<float>& net,
 
 // A checkpoint whose distances put a mesh's other parts at the diameter (before stop 78) cannot go
 // on with bridged ones: Omega would mix two measures. On a mesh of one part the two agree.
-void refuse_unbridged(const MsaeModel& ck, const MsaeModel& m, const std::string& ckpt) {
-  if (ck.geodesic_method != GeodesicMethod::heat) return;
-  int parts = 0;
-  geometry::connected_components(
-      geometry::mesh_topology(m.tmpl.faces, static_cast<int>(m.tmpl.vertices.rows())), 0, &parts);
-  if (parts > 1)
+void refuse_unbridged(const MsaeModel& ck, const geometry::GeodesicRows& geodesic,
+                      const std::string& ckpt) {
+  if (ck.geodesic_method == GeodesicMethod::heat && geodesic.parts() > 1)
     throw InvalidInput(
         fmt::format("the checkpoint's geodesic distances were made before parts were bridged "
                     "(other parts at the diameter) and this mesh has {} separate parts, so its "
                     "components' radii would change mid-run; remove it and train anew",
-                    parts),
+                    geodesic.parts()),
         ckpt);
 }
 
@@ -330,10 +326,10 @@ std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool
     m.unprinted = std::move(ck.unprinted);
     m.collapse = std::move(ck.collapse);  // a collapse warned of goes on being dated from then
     m.collapse_since = ck.collapse_since;
-    refuse_unbridged(ck, m, ckpt);
     m.geodesic_diameter = ck.geodesic_diameter;
     auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
                                                              m.geodesic_diameter);
+    refuse_unbridged(ck, *geodesic, ckpt);
     for (std::size_t k = 0; k < ck.geodesic_sources.size(); ++k)
       geodesic->keep(ck.geodesic_sources[k], ck.geodesic_rows[k]);
     log::info("resuming from {} at iteration {}", ckpt, m.iteration);

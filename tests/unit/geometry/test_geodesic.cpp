@@ -151,6 +151,8 @@ TEST_CASE(
   // and (6, 1), √53 apart, which the sweeps from vertex 0 find.
   const double diameter = std::sqrt(53.0);
   CHECK(rows.diameter() == Approx(diameter).epsilon(1e-9));
+  CHECK(rows.parts() == 2);
+  CHECK(df::geometry::GeodesicRows(m.vertices, m.faces).parts() == 1);
   CHECK(D(0, n) == Approx(5 / diameter).epsilon(1e-6));
   CHECK(D(0, 2 * n - 1) == Approx(1).epsilon(1e-6));
   CHECK(D(2 * n - 1, 0) == Approx(1).epsilon(1e-6));
