@@ -1,5 +1,6 @@
 """The deformflow Python module against the command-line tools on the same data (ctest label
 `python`; run: PYTHONPATH=build/python DF_BIN=build/bin python3 -m pytest tests/python)."""
+import json
 import os
 import subprocess
 
@@ -55,8 +56,7 @@ def test_metrics_equal_eval_metrics(finger):
     truth = a["positions"].astype(np.float64)
     pred = truth + 0.01 * np.sin(np.arange(truth.size)).reshape(truth.shape)
     df.write_acap(str(finger / "p.h5"), a["template"]["vertices"], a["template"]["faces"], positions=pred)
-    printed = tool("eval-metrics", str(finger / "p.h5"), str(finger / "a.h5"))
-    erms = float([l.split()[1] for l in printed.splitlines() if l.strip().startswith("E_rms")][0])
+    erms = json.loads(tool("eval-metrics", str(finger / "p.h5"), str(finger / "a.h5"), "--json", "-"))["erms"]
     assert df.erms(pred.astype(np.float32).astype(np.float64), truth) == pytest.approx(erms, rel=1e-5)
     assert df.vertex_error(truth, truth).max() == 0
 
@@ -198,8 +198,7 @@ def test_erms_aligns_each_part_as_eval_metrics(finger, tmp_path):
     pred[:, V:] += [0.2, -0.1, 0.3]  # the second part moved: no error once each part is aligned
     df.write_acap(str(tmp_path / "t.h5"), two[0], faces, positions=two)
     df.write_acap(str(tmp_path / "p.h5"), two[0], faces, positions=pred)
-    printed = tool("eval-metrics", str(tmp_path / "p.h5"), str(tmp_path / "t.h5"))
-    erms = float([l.split()[1] for l in printed.splitlines() if l.strip().startswith("E_rms")][0])
+    erms = json.loads(tool("eval-metrics", str(tmp_path / "p.h5"), str(tmp_path / "t.h5"), "--json", "-"))["erms"]
     assert df.erms(pred, two, faces) == pytest.approx(erms, abs=1e-4)
     assert df.erms(pred, two, faces) < 1e-3 < df.erms(pred, two)
 
