@@ -35,10 +35,10 @@ double Adam<T>::learning_rate() const {
 
 template <class T>
 typename Adam<T>::StepSizes Adam<T>::last_step_sizes() const {
-  if (t_ == 0) return {&v_, T(0), T(1), T(1)};
+  if (t_ == 0) return {&v_, T(0), T(1), T(1), nullptr};
   return {&v_, static_cast<T>(rate_at(opt_, t_ - 1)),
           static_cast<T>(1.0 - std::pow(opt_.beta2, static_cast<double>(t_))),
-          static_cast<T>(opt_.eps)};
+          static_cast<T>(opt_.eps), opt_.scaled.empty() ? nullptr : &opt_.scaled};
 }
 
 template <class T>
@@ -58,7 +58,30 @@ void Adam<T>::step(Vector<T>& values, Vector<T>& grads) {
   const T step = static_cast<T>(lr), eps = static_cast<T>(opt_.eps);
   m_ = b1 * m_ + (T(1) - b1) * grads;
   v_ = b2 * v_ + (T(1) - b2) * grads.cwiseProduct(grads);
-  values.array() -= step * (m_.array() / c1) / ((v_.array() / c2).sqrt() + eps);
+  // Coordinates [begin, end) at rate `rate`: each element's update as one expression, so a
+  // coordinate outside every scaled range moves exactly as without them.
+  auto update = [&](Eigen::Index begin, Eigen::Index end, T rate) {
+    if (end <= begin) return;
+    const Eigen::Index n = end - begin;
+    values.segment(begin, n).array() -= rate * (m_.segment(begin, n).array() / c1) /
+                                        ((v_.segment(begin, n).array() / c2).sqrt() + eps);
+  };
+  if (opt_.scaled.empty()) {
+    update(0, values.size(), step);
+    return;
+  }
+  auto ranges = opt_.scaled;
+  std::sort(ranges.begin(), ranges.end(),
+            [](const auto& a, const auto& b) { return a.offset < b.offset; });
+  Eigen::Index at = 0;
+  for (const auto& r : ranges) {
+    if (r.offset < at || r.offset + r.size > values.size())
+      throw Error("internal: Adam's scaled ranges overlap or leave the parameters");
+    update(at, r.offset, step);
+    update(r.offset, r.offset + r.size, step * static_cast<T>(r.scale));
+    at = r.offset + r.size;
+  }
+  update(at, values.size(), step);
 }
 
 template class Adam<float>;

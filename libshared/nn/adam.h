@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 #include "nn/parameters.h"
 
@@ -20,6 +21,13 @@ struct AdamOptions {
   double decay_steps = 1.0;
   /// 0 = none; else the rate rises linearly over the first N steps: × min(1, (step + 1) / N)
   double warmup_steps = 0;
+  /// Coordinates [offset, offset + size) that step at `scale` × the rate (a part of the model
+  /// that learns slower than the rest); the ranges must not overlap. Empty: every coordinate alike.
+  struct RateScale {
+    Eigen::Index offset = 0, size = 0;
+    double scale = 1;
+  };
+  std::vector<RateScale> scaled;
 };
 
 template <class T>
@@ -39,7 +47,15 @@ class Adam {
   struct StepSizes {
     const Vector<T>* v = nullptr;
     T rate = 0, c2 = 1, eps = 0;
-    T operator()(Eigen::Index j) const { return rate / (std::sqrt((*v)(j) / c2) + eps); }
+    const std::vector<AdamOptions::RateScale>* scaled = nullptr;
+    T operator()(Eigen::Index j) const { return rate_of(j) / (std::sqrt((*v)(j) / c2) + eps); }
+    /// The rate of coordinate j (AdamOptions::scaled applied).
+    T rate_of(Eigen::Index j) const {
+      if (scaled)
+        for (const auto& r : *scaled)
+          if (j >= r.offset && j < r.offset + r.size) return rate * static_cast<T>(r.scale);
+      return rate;
+    }
   };
   StepSizes last_step_sizes() const;
 

@@ -136,6 +136,19 @@ option_run() {
 # --synthetic: recombined shapes in every batch
 option_run syn synthetic 4 -1 --synthetic 4
 echo "ok (synthetic shapes)"
+# --started-rate: the started level's components step slower, so after 30 iterations they lie
+# nearer their start (start-local.h5, the same options at iteration 0) than at the full rate
+option_run slowstart started_rate 0.1 0 --started-rate 0.1
+c_distance() {
+  paste <(h5_data "$1" /params/ae0.0.C %.9g | tr -c '0-9.e+-' ' ' | tr -s ' ' '\n' | grep .) \
+    <(h5_data "$2" /params/ae0.0.C %.9g | tr -c '0-9.e+-' ' ' | tr -s ' ' '\n' | grep .) |
+    awk '{ d += ($1 - $2) ^ 2 } END { print sqrt(d) }'
+}
+slow=$(c_distance slowstart.h5 start-local.h5) full=$(c_distance m.h5 start-local.h5)
+awk -v s="$slow" -v f="$full" 'BEGIN { exit !(s < 0.5 * f) }' ||
+  fail "--started-rate 0.1: C moved $slow from its start, at the full rate $full"
+[ "$(cfg defaults.h5 started_rate)" = 1 ] || fail "the default --started-rate: $(cfg defaults.h5 started_rate)"
+echo "ok (--started-rate: level 0's C moved $slow from its start, $full at the full rate)"
 # --lambda-whole: the whole reconstruction's MSE in the loss; a checkpoint without it is refused
 option_run whole lambda_whole 10 -1 --lambda-whole 10
 run train-msae "${tiny[@]}" --iterations 30 --resume --checkpoint whole20.h5 data.h5 -o x.h5

@@ -138,6 +138,13 @@ Settings msae_training_settings(MsaeTraining& t) {
                "local); on chickenCrossing it only delays that (docs/msae.md)",
        .range = at_least(0),
        .optional = true},
+      {.name = "started_rate",
+       .target = &t.started_rate,
+       .help = "With --init local or local-all: the started blocks' components C step at this\n"
+               "fraction of the rate (1: like every weight). Adam's first steps move every\n"
+               "weight by about the rate, which replaces the started components (docs/msae.md)",
+       .range = within(0, 1, true, false),
+       .optional = true},
       {.name = "separate",
        .target = &t.separate,
        .help =

@@ -260,6 +260,38 @@ TEST_CASE("Adam: first step, bias correction, schedules, warm-up, L2 penalty, cl
   CHECK(gr.norm() == Approx(1.0));  // (3 + 0.1·10, 4) clipped to norm 1
 }
 
+TEST_CASE("Adam: scaled ranges step at their fraction of the rate, the rest exactly as before",
+          "[nn]") {
+  Vector<double> g(6);
+  g << 0.5, -0.1, 2, -3, 0.25, 1;
+  Vector<double> plain = Vector<double>::LinSpaced(6, -1, 1), slow = plain;
+  AdamOptions o;
+  o.schedule = AdamOptions::Schedule::exponential;
+  o.decay_rate = 0.5;
+  o.decay_steps = 3;
+  Adam<double> a(6, o);
+  o.scaled = {{4, 1, 0.5}, {1, 2, 0.1}};  // unsorted on purpose
+  Adam<double> b(6, o);
+  for (int step = 0; step < 5; ++step) {
+    Vector<double> ga = g * (step + 1), gb = ga;
+    const Vector<double> before_a = plain, before_b = slow;
+    a.step(plain, ga);
+    b.step(slow, gb);
+    for (int j : {0, 3, 5}) CHECK(slow(j) - before_b(j) == plain(j) - before_a(j));  // bit for bit
+    for (int j : {1, 2}) CHECK(slow(j) - before_b(j) == Approx(0.1 * (plain(j) - before_a(j))));
+    CHECK(slow(4) - before_b(4) == Approx(0.5 * (plain(4) - before_a(4))));
+  }
+  // The proximal step's sizes carry the same fractions.
+  const auto sa = a.last_step_sizes(), sb = b.last_step_sizes();
+  CHECK(sb(0) == sa(0));
+  CHECK(sb(2) == Approx(0.1 * sa(2)));
+  CHECK(sb(4) == Approx(0.5 * sa(4)));
+  o.scaled = {{1, 3, 0.5}, {2, 1, 0.1}};
+  Adam<double> bad(6, o);
+  Vector<double> x = plain, gx = g;
+  CHECK_THROWS(bad.step(x, gx));  // overlapping ranges
+}
+
 TEST_CASE("nn learning: an MLP learns XOR (deterministic for a seed)", "[nn]") {
   auto train = [](std::uint64_t seed) {
     df::Rng rng(seed);
