@@ -55,10 +55,11 @@ struct MsaeTraining {
   /// Tried because Adam's first steps move every weight by about the rate and so replace a
   /// started block (--init local); measured, it only delays that (docs/msae.md).
   double lr_warmup = 0;
-  /// With --init local / local-all: the started blocks' components C step at this fraction of
-  /// the rate (1: as every other weight, as before). Adam's first steps move every weight by
-  /// about the rate whatever its gradient, so at the full rate they replace the started
-  /// components (docs/msae.md); a slower C keeps them and lets the gradient shape them.
+  /// With --init local / local-all: the started blocks' parameters (convolutions, C, decoder
+  /// bias) step at this fraction of the rate (1: as every other weight, as before). Adam's first
+  /// steps move every weight by about the rate whatever its gradient, so at the full rate they
+  /// replace the started components (docs/msae.md); a slower C keeps them and lets the gradient
+  /// shape them.
   double started_rate = 1;
   /// sequence: every `every`-th shape of each sequence trains, the rest is held out (paper 1:9);
   /// collection: a random `train_fraction` of the shapes trains (paper 1:1); lists: given files.

@@ -140,9 +140,11 @@ Settings msae_training_settings(MsaeTraining& t) {
        .optional = true},
       {.name = "started_rate",
        .target = &t.started_rate,
-       .help = "With --init local or local-all: the started blocks' components C step at this\n"
-               "fraction of the rate (1: like every weight). Adam's first steps move every\n"
-               "weight by about the rate, which replaces the started components (docs/msae.md)",
+       .help =
+           "With --init local or local-all: the started blocks (convolutions, C, decoder bias)\n"
+           "step at this fraction of the rate (1: like every weight). Adam's first steps move\n"
+           "every weight by about the rate, which replaces the started components; 0.01 keeps\n"
+           "them (docs/msae.md)",
        .range = within(0, 1, true, false),
        .optional = true},
       {.name = "separate",
