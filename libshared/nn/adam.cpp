@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/error.h"
 
@@ -27,6 +28,20 @@ double rate_at(const AdamOptions& opt, long step) {
 }
 
 }  // namespace
+
+template <class T>
+Adam<T>::Adam(std::size_t n_parameters, AdamOptions opt)
+    : opt_(std::move(opt)), m_(Vector<T>::Zero(static_cast<Eigen::Index>(n_parameters))), v_(m_) {
+  auto& ranges = opt_.scaled;
+  std::sort(ranges.begin(), ranges.end(),
+            [](const auto& a, const auto& b) { return a.offset < b.offset; });
+  Eigen::Index at = 0;
+  for (const auto& r : ranges) {
+    if (r.offset < at || r.size < 0 || r.offset + r.size > m_.size())
+      throw Error("internal: Adam's scaled ranges overlap or leave the parameters");
+    at = r.offset + r.size;
+  }
+}
 
 template <class T>
 double Adam<T>::learning_rate() const {
@@ -70,13 +85,8 @@ void Adam<T>::step(Vector<T>& values, Vector<T>& grads) {
     update(0, values.size(), step);
     return;
   }
-  auto ranges = opt_.scaled;
-  std::sort(ranges.begin(), ranges.end(),
-            [](const auto& a, const auto& b) { return a.offset < b.offset; });
   Eigen::Index at = 0;
-  for (const auto& r : ranges) {
-    if (r.offset < at || r.offset + r.size > values.size())
-      throw Error("internal: Adam's scaled ranges overlap or leave the parameters");
+  for (const auto& r : opt_.scaled) {  // sorted and checked when constructed
     update(at, r.offset, step);
     update(r.offset, r.offset + r.size, step * static_cast<T>(r.scale));
     at = r.offset + r.size;

@@ -4,6 +4,7 @@
 // model file can save it and training resumes bit-exactly.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -33,8 +34,8 @@ struct AdamOptions {
 template <class T>
 class Adam {
  public:
-  Adam(std::size_t n_parameters, AdamOptions opt)
-      : opt_(opt), m_(Vector<T>::Zero(static_cast<Eigen::Index>(n_parameters))), v_(m_) {}
+  /// Throws when opt.scaled's ranges overlap or leave the n_parameters (kept sorted by offset).
+  Adam(std::size_t n_parameters, AdamOptions opt);
 
   /// One update of `values` from `grads` (grads may be modified: penalty, clipping).
   void step(Vector<T>& values, Vector<T>& grads);
@@ -49,12 +50,14 @@ class Adam {
     T rate = 0, c2 = 1, eps = 0;
     const std::vector<AdamOptions::RateScale>* scaled = nullptr;
     T operator()(Eigen::Index j) const { return rate_of(j) / (std::sqrt((*v)(j) / c2) + eps); }
-    /// The rate of coordinate j (AdamOptions::scaled applied).
+    /// The rate of coordinate j (AdamOptions::scaled applied; the ranges sorted by offset).
     T rate_of(Eigen::Index j) const {
-      if (scaled)
-        for (const auto& r : *scaled)
-          if (j >= r.offset && j < r.offset + r.size) return rate * static_cast<T>(r.scale);
-      return rate;
+      if (!scaled) return rate;
+      auto r = std::upper_bound(scaled->begin(), scaled->end(), j,
+                                [](Eigen::Index i, const auto& range) { return i < range.offset; });
+      if (r == scaled->begin()) return rate;
+      --r;
+      return j < r->offset + r->size ? rate * static_cast<T>(r->scale) : rate;
     }
   };
   StepSizes last_step_sizes() const;

@@ -42,12 +42,10 @@ std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam(std::int64_t start) const 
   ao.decay_rate = training.lr_decay;
   ao.decay_steps = training.lr_decay_steps;
   ao.warmup_steps = training.lr_warmup;
-  if (training.started_rate != 1 &&
-      (config.init == MsaeInit::local || config.init == MsaeInit::local_all)) {
-    const int started_levels = config.init == MsaeInit::local_all ? config.levels() : 1;
+  if (training.started_rate != 1) {
     const auto& views = net->store().views();
     for (const auto& b : net->blocks())
-      if (b.level < started_levels)
+      if (b.level < config.started_levels())
         for (int p : b.parameters()) {
           const auto& v = views[static_cast<std::size_t>(p)];
           ao.scaled.push_back({v.offset, v.rows * v.cols, training.started_rate});

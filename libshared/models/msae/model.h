@@ -58,8 +58,7 @@ struct MsaeTraining {
   /// With --init local / local-all: the started blocks' parameters (convolutions, C, decoder
   /// bias) step at this fraction of the rate (1: as every other weight, as before). Adam's first
   /// steps move every weight by about the rate whatever its gradient, so at the full rate they
-  /// replace the started components (docs/msae.md); a slower C keeps them and lets the gradient
-  /// shape them.
+  /// replace the started components (docs/msae.md); at 0.01 the started block keeps them.
   double started_rate = 1;
   /// sequence: every `every`-th shape of each sequence trains, the rest is held out (paper 1:9);
   /// collection: a random `train_fraction` of the shapes trains (paper 1:1); lists: given files.

@@ -135,6 +135,11 @@ struct MsaeConfig {
   /// at weights 1 and 10; docs/msae.md)
   double lambda_whole = 0;
   int levels() const { return static_cast<int>(kz.size()); }
+  /// How many levels (from level 0) `init` starts from the local decomposition: 0 (glorot,
+  /// normal, small), 1 (local) or all of them (local-all).
+  int started_levels() const {
+    return init == MsaeInit::local_all ? levels() : init == MsaeInit::local ? 1 : 0;
+  }
 };
 
 /// Loss terms summed over the blocks of a batch (the first is what is minimised).

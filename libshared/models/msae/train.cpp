@@ -398,7 +398,7 @@ void start_block_locally(MsaeModel& m, int b, const nn::Matrix<float>& input,
 // from the training shapes' inputs to it through the levels already started.
 void start_from_local_decomposition(MsaeModel& m, const nn::Matrix<float>& train,
                                     geometry::GeodesicRows& geodesic) {
-  const int levels = m.config.init == MsaeInit::local_all ? m.config.levels() : 1;
+  const int levels = m.config.started_levels();
   log::info("--init {}: {} from SPLOCS on the {} training shapes", m.config.init,
             levels == 1 ? "level 0's components" : "every block's components", train.rows());
   start_block_locally(m, 0, train, geodesic);
@@ -521,8 +521,7 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   const nn::Matrix<float> validation = gather(data, m.split.validation);
   if (m.config.centre_features && m.iteration == 0)  // a fresh model: the training shapes' mean
     m.net->set_offset(gather(data, m.split.train).colwise().mean());
-  if ((m.config.init == MsaeInit::local || m.config.init == MsaeInit::local_all) &&
-      m.iteration == 0)
+  if (m.config.started_levels() > 0 && m.iteration == 0)
     start_from_local_decomposition(m, gather(data, m.split.train), *geodesic);
   log::info(
       "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "

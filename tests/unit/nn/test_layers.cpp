@@ -286,10 +286,12 @@ TEST_CASE("Adam: scaled ranges step at their fraction of the rate, the rest exac
   CHECK(sb(0) == sa(0));
   CHECK(sb(2) == Approx(0.1 * sa(2)));
   CHECK(sb(4) == Approx(0.5 * sa(4)));
+  CHECK(sb(3) == sa(3));  // between the two ranges
+  CHECK(sb(5) == sa(5));  // after the last
   o.scaled = {{1, 3, 0.5}, {2, 1, 0.1}};
-  Adam<double> bad(6, o);
-  Vector<double> x = plain, gx = g;
-  CHECK_THROWS(bad.step(x, gx));  // overlapping ranges
+  CHECK_THROWS(Adam<double>(6, o));  // overlapping ranges
+  o.scaled = {{4, 3, 0.5}};
+  CHECK_THROWS(Adam<double>(6, o));  // past the parameters
 }
 
 TEST_CASE("nn learning: an MLP learns XOR (deterministic for a seed)", "[nn]") {
