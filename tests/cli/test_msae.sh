@@ -149,6 +149,17 @@ awk -v s="$slow" -v f="$full" 'BEGIN { exit !(s < 0.5 * f) }' ||
   fail "--started-rate 0.1: C moved $slow from its start, at the full rate $full"
 [ "$(cfg defaults.h5 started_rate)" = 1 ] || fail "the default --started-rate: $(cfg defaults.h5 started_rate)"
 echo "ok (--started-rate: level 0's C moved $slow from its start, $full at the full rate)"
+# --start-scale: the started block's convolutions start as S x I (and C as the components / S);
+# with the decoder's first tanh (--decoder-fc tanh, the default) it is refused
+option_run scaled start_scale 0.1 0 --decoder-fc linear --start-scale 0.1
+train-msae -q "${tiny[@]}" --iterations 0 --decoder-fc linear --start-scale 0.1 data.h5 -o scaled0.h5
+point=$(h5_data scaled0.h5 /params/ae0.0.conv.point %.6g | tr -c '0-9.e+-' ' ' | tr -s ' ' '\n' | grep . |
+  awk 'NR % 10 == 1 { d = d " " $1 } NR % 10 != 1 { o += $1 * $1 } END { print d, o }')
+[ "$point" = " 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0.1 0" ] || fail "--start-scale 0.1's point weights: $point"
+[ "$(cfg defaults.h5 start_scale)" = 1 ] || fail "the default --start-scale: $(cfg defaults.h5 start_scale)"
+run train-msae "${tiny[@]}" --start-scale 0.1 data.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-msae; expect_err "decoder-fc linear"
+echo "ok (--start-scale)"
 # --lambda-whole: the whole reconstruction's MSE in the loss; a checkpoint without it is refused
 option_run whole lambda_whole 10 -1 --lambda-whole 10
 run train-msae "${tiny[@]}" --iterations 30 --resume --checkpoint whole20.h5 data.h5 -o x.h5

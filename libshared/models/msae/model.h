@@ -60,6 +60,11 @@ struct MsaeTraining {
   /// steps move every weight by about the rate whatever its gradient, so at the full rate they
   /// replace the started components (docs/msae.md); at 0.01 the started block keeps them.
   double started_rate = 1;
+  /// With --init local / local-all and --decoder-fc linear: a started block's convolutions start
+  /// as s·I and its C as the components / s (1: I and the components, as before). The encoder's
+  /// tanh then sees s·x, nearly linear for small s, and the block starts as the projection onto
+  /// the components up to its output's tanh alone (at 1 three tanh bend it: docs/msae.md).
+  double start_scale = 1;
   /// sequence: every `every`-th shape of each sequence trains, the rest is held out (paper 1:9);
   /// collection: a random `train_fraction` of the shapes trains (paper 1:1); lists: given files.
   SplitKind split = SplitKind::sequence;

@@ -78,12 +78,14 @@ void MsaeNet<T>::set_offset(const Matrix& mean) {
 }
 
 template <class T>
-void MsaeNet<T>::start_block(int b, const Matrix& components) {
+void MsaeNet<T>::start_block(int b, const Matrix& components, double scale) {
   const Block& bl = blocks_.at(static_cast<std::size_t>(b));
   if (components.rows() != bl.kz || components.cols() != frame_size())
     throw Error("internal: start_block needs [K_z, 9V]");
-  store_.value(bl.c) = components;
+  if (!(scale > 0)) throw Error("internal: start_block needs a positive scale");
+  store_.value(bl.c) = components / static_cast<T>(scale);
   store_.value(bl.conv.w_point).setIdentity();
+  store_.value(bl.conv.w_point) *= static_cast<T>(scale);
   store_.value(bl.conv.w_nb).setZero();
   store_.value(bl.conv.b).setZero();
   store_.value(bl.b_dec).setZero();

@@ -262,8 +262,10 @@ class MsaeNet {
   /// --init local: block b's components become `components` [K_z, 9V] (rows of a linear basis
   /// of its inputs) and its convolutions the identity (point weights I, neighbour weights and
   /// biases 0), so that the block starts as the tied linear autoencoder of that basis up to its
-  /// two tanh; the other blocks keep their weights.
-  void start_block(int b, const Matrix& components);
+  /// two tanh; the other blocks keep their weights. With `scale` s < 1 the convolutions' point
+  /// weights start as s·I and C as components / s: with a linear decoder_fc the encoder's tanh
+  /// acts on s·x and the block starts as the projection bent by its output's tanh alone.
+  void start_block(int b, const Matrix& components, double scale = 1);
   /// The attention masks AM [kz, V] of a block from its C (eq. 5-6): each column sums to 1.
   Matrix attention_masks(int block) const;
   /// Input of `child` from its parent's residual [B, 9V]: diag(AM_slot)·residual with the parent's

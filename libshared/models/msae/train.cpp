@@ -35,6 +35,10 @@ void check_options(const MsaeTrainOptions& opt) {
   if (t.separate && t.iterations < static_cast<std::int64_t>(opt.net.kz.size()))
     throw UsageError("--separate needs at least one iteration per level");
   if (!opt.test_list.empty() && opt.train_list.empty()) throw UsageError("--test needs --train");
+  // With y = tanh(z C) a C scaled by 1/S saturates the decoder's first tanh instead.
+  if (t.start_scale != 1 &&
+      (opt.net.started_levels() == 0 || opt.net.decoder_fc != MsaeActivation::linear))
+    throw UsageError("--start-scale needs --init local or local-all and --decoder-fc linear");
 }
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
@@ -391,7 +395,7 @@ void start_block_locally(MsaeModel& m, int b, const nn::Matrix<float>& input,
   if (n < C.rows())
     log::warn("--init {}: SPLOCS found {} of block {}'s {} components; the others start random",
               m.config.init, n, b, C.rows());
-  m.net->start_block(b, C);
+  m.net->start_block(b, C, m.training.start_scale);
 }
 
 // --init local: AE₀ from the training shapes; local-all: then every level in turn, each block

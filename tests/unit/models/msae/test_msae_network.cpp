@@ -602,4 +602,25 @@ TEST_CASE("MSAE: start_block makes a block the tied projection onto the componen
   CHECK(net.store().value(net.blocks()[1].c).cwiseAbs().maxCoeff() > 0);
   CHECK_THROWS(net.start_block(0, C.topRows(1)));
   CHECK_THROWS(net.start_block(9, C));
+  CHECK_THROWS(net.start_block(0, C, 0));
+
+  // Shapes as large as normalized features: with a linear decoder_fc, scale 1 bends them by two
+  // tanh (encoder and output), scale 0.05 by the output's alone — x̂ = tanh(x) to within the
+  // encoder's cubic term, (s·|u|)²/3 relative: 400 times smaller at s = 0.05 than at 1.
+  config.decoder_fc = MsaeActivation::linear;
+  const nn::Matrix<double> large = nn::random_matrix(3, 2, rng, -3, 3) * C;
+  REQUIRE(large.cwiseAbs().maxCoeff() > 0.5);
+  const nn::Matrix<double> bent = large.array().tanh().matrix();
+  double off[2];
+  for (double scale : {1.0, 0.05}) {
+    MsaeNet<double> lin(config, 9, grid_edges(), 5);
+    lin.start_block(0, C, scale);
+    CHECK(lin.store()
+              .value(lin.blocks()[0].conv.w_point)
+              .isApprox(scale * nn::Matrix<double>::Identity(9, 9)));
+    off[scale == 1.0 ? 0 : 1] = (lin.reconstruct(large, 1) - bent).cwiseAbs().maxCoeff();
+  }
+  INFO("off tanh(x) by " << off[0] << " at scale 1, " << off[1] << " at 0.05");
+  CHECK(off[0] > 1e-2);
+  CHECK(off[1] < off[0] / 200);
 }
