@@ -160,6 +160,10 @@ point=$(h5_data scaled0.h5 /params/ae0.0.conv.point %.6g | tr -c '0-9.e+-' ' ' |
 run train-msae "${tiny[@]}" --start-scale 0.1 data.h5 -o x.h5
 expect_rc 2; expect_one_error_line train-msae; expect_err "decoder-fc linear"
 echo "ok (--start-scale)"
+# --proximal-cap: the proximal step's shrink per step is capped (recorded, resumable, 0 = none)
+option_run capped proximal_cap 1 -1 --proximal-cap 1
+[ "$(cfg defaults.h5 proximal_cap)" = 0 ] || fail "the default --proximal-cap: $(cfg defaults.h5 proximal_cap)"
+echo "ok (--proximal-cap)"
 # --lambda-whole: the whole reconstruction's MSE in the loss; a checkpoint without it is refused
 option_run whole lambda_whole 10 -1 --lambda-whole 10
 run train-msae "${tiny[@]}" --iterations 30 --resume --checkpoint whole20.h5 data.h5 -o x.h5

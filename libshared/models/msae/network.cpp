@@ -170,15 +170,21 @@ void MsaeNet<T>::proximal_sparsity(const std::vector<Matrix>& lambda,
     auto C = store_.value(bl.c);
     const Index base = store_.views()[static_cast<std::size_t>(bl.c)].offset;
     const T weight = static_cast<T>(config_.lambda_sparse) / static_cast<T>(bl.kz);
+    const T cap = static_cast<T>(config_.proximal_cap);
     tbb::parallel_for(0, bl.kz, [&](int k) {
       for (int i = 0; i < n_vertices_; ++i) {
         const T mask = lambda[b](k, i);
         if (mask == T(0)) continue;
         auto group = C.row(k).segment(9 * Index{i}, 9);
         const Index first = base + Index{k} * C.cols() + 9 * Index{i};
-        T mean_step = 0;
-        for (Index j = 0; j < 9; ++j) mean_step += eta(first + j);
-        const T tau = mean_step / T(9) * weight * mask, norm = group.norm();
+        T mean_step = 0, mean_rate = 0;
+        for (Index j = 0; j < 9; ++j) {
+          mean_step += eta(first + j);
+          mean_rate += eta.rate_of(first + j);
+        }
+        T tau = mean_step / T(9) * weight * mask;
+        if (cap > 0) tau = std::min(tau, cap * mean_rate / T(9) * mask);
+        const T norm = group.norm();
         if (norm <= tau)
           group.setZero();
         else

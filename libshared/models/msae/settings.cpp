@@ -74,6 +74,15 @@ Settings msae_network_settings(MsaeConfig& c) {
                "step the weights of C outside each radius d are set to zero, Omega's limit:\n"
                "strictly local components)",
        .optional = true},
+      {.name = "proximal_cap",
+       .target = &c.proximal_cap,
+       .help = "With --support proximal: a group of C shrinks by at most this many times its\n"
+               "rate per step (0: no cap). Adam's step sizes, which the threshold uses, grow\n"
+               "without bound where the reconstruction's gradient is small, so uncapped one step\n"
+               "zeroes every group outside the masks of a block that already fits (a started\n"
+               "one: --init local); capped, it shrinks as fast as Adam moves a weight",
+       .range = at_least(0),
+       .optional = true},
       {.name = "centre_features",
        .target = &c.centre_features,
        .help = "Subtract the training shapes' mean features before the first autoencoder and add\n"

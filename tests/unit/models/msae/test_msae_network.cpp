@@ -439,6 +439,32 @@ TEST_CASE(
   }
   CHECK(zeroed > 0);
   CHECK(shrunk > 0);
+  // Where the reconstruction's gradient is small (|g| = 1e-6: η = rate / 1e-6) the threshold is
+  // 3 · 2e4 / 2 and every group goes at once; --proximal-cap 0.5 shrinks each by 0.5 · rate alone.
+  {
+    nn::Adam<double> weak(net.store().size(), o);
+    nn::Vector<double> moved = zero;
+    nn::Vector<double> small = nn::Vector<double>::Constant(zero.size(), 1e-6);
+    weak.step(moved, small);
+    for (double cap : {0.0, 0.5}) {
+      MsaeConfig capped_config = config;
+      capped_config.proximal_cap = cap;
+      MsaeNet<double> capped(capped_config, 9, grid_edges(), 3);
+      capped.store().value(capped.blocks()[0].c) = before[0];
+      capped.proximal_sparsity(lambda, weak.last_step_sizes(), {0});
+      const auto C = capped.store().value(capped.blocks()[0].c);
+      for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < 9; ++i) {
+          const double was = before[0].row(k).segment(9 * i, 9).norm(),
+                       now = C.row(k).segment(9 * i, 9).norm();
+          INFO("cap " << cap << ", group " << k << "," << i);
+          if (lambda[0](k, i) == 0)
+            CHECK(now == was);
+          else
+            CHECK(now == Approx(cap == 0 ? 0 : was - 0.5 * 0.02).margin(1e-12));
+        }
+    }
+  }
   // Omega is out of the gradient with proximal support (its step replaces it), and in the
   // reported total either way.
   const auto x = random_shapes(4, 9);
