@@ -11,12 +11,16 @@
 #include "models/actgan/settings.h"
 #include "models/common/training.h"
 #include "nn/ops.h"
+#include "nn/train_step.h"
 
 namespace df::models {
 namespace {
 
 using Matrix = nn::Matrix<float>;
 using Var = nn::Var<float>;
+using Bound = nn::Bound<float>;
+using Step = nn::StepStore<float>;
+using nn::train_step;
 
 void check_options(const ActganTrainOptions& opt) {
   const auto& t = opt.training;
@@ -150,31 +154,28 @@ LossTerms actgan_pretrain_iteration(ActganModel& m, const ActionClips& d, nn::Ta
     const Matrix fake =
         m.gen->decode(m.gen->store().bind_constant(tape), tape.constant(h), tape.constant(y))
             .value();
-    tape.clear();
-    m.critic->store().zero_grad();
-    const auto pc = m.critic->store().bind(tape);
-    const Var yv = tape.constant(y), real = tape.constant(x), generated = tape.constant(fake);
-    const auto l = m.critic->wgan_gp_loss(pc, real, generated, yv, eps,
-                                          static_cast<float>(m.config.gp_lambda));
-    tape.backward(l.loss);
-    m.critic->store().collect(pc);
-    m.adam.critic->step(m.critic->store().values(), m.critic->store().grads());
+    const Step critic[] = {{&m.critic->store(), m.adam.critic.get()}};
+    Critic<float>::Loss l;
+    train_step<float>(tape, critic, [&](nn::Tape<float>& t, const std::vector<Bound>& p) {
+      const Var yv = t.constant(y), real = t.constant(x), generated = t.constant(fake);
+      l = m.critic->wgan_gp_loss(p[0], real, generated, yv, eps,
+                                 static_cast<float>(m.config.gp_lambda));
+      return l.loss;
+    });
     critic_loss = mean_value(l.loss);
     wasserstein = mean_value(l.real_score) - mean_value(l.fake_score);
     gp = mean_value(l.penalty);
   }
   const Matrix y = one_hot<float>(draw_labels(d, n, m.rng), m.config.classes);
   for (Eigen::Index i = 0; i < h.size(); ++i) h.data()[i] = static_cast<float>(m.rng.normal());
-  tape.clear();
-  m.gen->store().zero_grad();
-  const auto pg = m.gen->store().bind(tape);
-  const auto pc = m.critic->store().bind_constant(tape);  // not trained in this step
-  const Var yv = tape.constant(y);
+  // The critic is read, not trained, in this step.
+  const Step decoder[] = {{&m.gen->store(), m.adam.decoder.get()}, {&m.critic->store()}};
   const Var loss =
-      nn::scale(nn::mean((*m.critic)(pc, m.gen->decode(pg, tape.constant(h), yv), yv)), -1.0f);
-  tape.backward(loss);
-  m.gen->store().collect(pg);
-  m.adam.decoder->step(m.gen->store().values(), m.gen->store().grads());
+      train_step<float>(tape, decoder, [&](nn::Tape<float>& t, const std::vector<Bound>& p) {
+        const Var yv = t.constant(y);
+        return nn::scale(nn::mean((*m.critic)(p[1], m.gen->decode(p[0], t.constant(h), yv), yv)),
+                         -1.0f);
+      });
   return {mean_value(loss), critic_loss, wasserstein, 0, 0, gp};
 }
 
@@ -187,13 +188,11 @@ LossTerms classifier_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
   double ce = 0;
   for (int k = 0; k < m.training.g_steps; ++k) {
     draw_clips(d, m.training.batch, m.rng, real, labels);
-    tape.clear();
-    m.cls->store().zero_grad();
-    const auto pc = m.cls->store().bind(tape);
-    const Var loss = nn::softmax_cross_entropy((*m.cls)(pc, constants(tape, real)), labels);
-    tape.backward(loss);
-    m.cls->store().collect(pc);
-    m.adam.cls->step(m.cls->store().values(), m.cls->store().grads());
+    const Step cls[] = {{&m.cls->store(), m.adam.cls.get()}};
+    const Var loss =
+        train_step<float>(tape, cls, [&](nn::Tape<float>& t, const std::vector<Bound>& p) {
+          return nn::softmax_cross_entropy((*m.cls)(p[0], constants(t, real)), labels);
+        });
     ce += mean_value(loss) / m.training.g_steps;
   }
   return {ce, 0, 0, 0, ce, 0};
@@ -240,18 +239,15 @@ double discriminator_step(ActganModel& m, const ActionClips& d, nn::Tape<float>&
   tape.clear();
   const std::vector<Matrix> fake = values(
       generate_from_noise(*m.gen, m.gen->store().bind_constant(tape), tape, y, noise).frames);
-  tape.clear();
-  auto& store = m.discriminator_store();
-  store.zero_grad();
-  const auto pd = store.bind(tape);
-  const auto real_seen =
-      with_instance_noise(constants(tape, real), m.training.disc_noise, m.rng);  // real first
-  const auto fake_seen = with_instance_noise(constants(tape, fake), m.training.disc_noise, m.rng);
-  const Var loss = discriminator_loss(m, pd, real_seen, fake_seen, tape.constant(y), m.rng);
-  tape.backward(loss);
-  store.collect(pd);
-  m.adam.disc->step(store.values(), store.grads());
-  return mean_value(loss);
+  const Step disc[] = {{&m.discriminator_store(), m.adam.disc.get()}};
+  return mean_value(
+      train_step<float>(tape, disc, [&](nn::Tape<float>& t, const std::vector<Bound>& p) {
+        const auto real_seen =
+            with_instance_noise(constants(t, real), m.training.disc_noise, m.rng);  // real first
+        const auto fake_seen =
+            with_instance_noise(constants(t, fake), m.training.disc_noise, m.rng);
+        return discriminator_loss(m, p[0], real_seen, fake_seen, t.constant(y), m.rng);
+      }));
 }
 
 }  // namespace
@@ -270,32 +266,28 @@ LossTerms actgan_gan_iteration(ActganModel& m, const ActionClips& d, nn::Tape<fl
     draw_clips(d, n, m.rng, real, labels);
     const Matrix y = one_hot<float>(labels, c.classes);
     const auto noise = draw_generator_noise<float>(c, n, d.length, m.rng);
-    tape.clear();
-    m.gen->store().zero_grad();
-    m.cls->store().zero_grad();
-    // --freeze-decoder (the authors' code): the pre-trained decoder stays as it is.
-    const auto pg = tr.train_decoder ? m.gen->store().bind(tape)
-                                     : m.gen->store().bind_except(tape, "gen.decoder.");
-    const auto pd = m.discriminator_store().bind_constant(tape);  // not trained in this step
-    const auto pc = m.cls->store().bind(tape);
-    const Var yv = tape.constant(y);
-    const GeneratedSequences<float> g = generate_from_noise(*m.gen, pg, tape, y, noise);
-    const Var a = adversarial_term(m, pd, with_instance_noise(g.frames, tr.disc_noise, m.rng), yv);
-    const Var o = smoothness(c, g);
-    Var loss = nn::add(a, o);
-    Var cyc = tape.constant(Matrix::Zero(1, 1));
-    if (c.classifier) {
-      cyc = nn::add(nn::softmax_cross_entropy((*m.cls)(pc, constants(tape, real)), labels),
-                    nn::softmax_cross_entropy((*m.cls)(pc, g.frames), labels));
-      loss = nn::add(loss, nn::scale(cyc, static_cast<float>(c.gamma)));
-    }
-    tape.backward(loss);
-    m.gen->store().collect(pg);
-    m.adam.gen->step(m.gen->store().values(), m.gen->store().grads());
-    if (c.classifier) {
-      m.cls->store().collect(pc);
-      m.adam.cls->step(m.cls->store().values(), m.cls->store().grads());
-    }
+    // The generator (--freeze-decoder, the authors' code: its pre-trained decoder held as it is)
+    // and the classifier (with the cycle loss) train; the discriminator is read, not trained.
+    const Step stores[] = {
+        {&m.gen->store(), m.adam.gen.get(), tr.train_decoder ? "" : "gen.decoder."},
+        {&m.discriminator_store()},
+        {&m.cls->store(), c.classifier ? m.adam.cls.get() : nullptr}};
+    Var a, o, cyc;
+    const Var loss =
+        train_step<float>(tape, stores, [&](nn::Tape<float>& t, const std::vector<Bound>& p) {
+          const Var yv = t.constant(y);
+          const GeneratedSequences<float> g = generate_from_noise(*m.gen, p[0], t, y, noise);
+          a = adversarial_term(m, p[1], with_instance_noise(g.frames, tr.disc_noise, m.rng), yv);
+          o = smoothness(c, g);
+          Var l = nn::add(a, o);
+          cyc = t.constant(Matrix::Zero(1, 1));
+          if (c.classifier) {
+            cyc = nn::add(nn::softmax_cross_entropy((*m.cls)(p[2], constants(t, real)), labels),
+                          nn::softmax_cross_entropy((*m.cls)(p[2], g.frames), labels));
+            l = nn::add(l, nn::scale(cyc, static_cast<float>(c.gamma)));
+          }
+          return l;
+        });
     total += mean_value(loss) / tr.g_steps;
     adv += mean_value(a) / tr.g_steps;
     smooth += mean_value(o) / tr.g_steps;

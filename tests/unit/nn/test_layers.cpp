@@ -319,6 +319,55 @@ TEST_CASE("nn learning: an MLP learns XOR (deterministic for a seed)", "[nn]") {
   CHECK(w1 == w2);  // same seed, same weights
 }
 
+TEST_CASE(
+    "nn train_step over several stores: the trained ones step as if alone, the read ones and a "
+    "frozen part stay",
+    "[nn]") {
+  df::Rng rng(9);
+  ParameterStore<double> gs, ds;
+  Linear<double> g1(gs, "gen.lstm", 3, 2, rng), g2(gs, "gen.decoder", 2, 2, rng);
+  Linear<double> d(ds, "disc", 2, 1, rng);
+  const Matrix<double> x = rnd(5, 3, 2);
+  auto loss = [&](Tape<double>& t, const Bound<double>& pg, const Bound<double>& pd) {
+    return sum_squares(d(pd, g2(pg, g1(pg, t.constant(x)))));
+  };
+  // By hand: the generator's store alone, the discriminator's weights constants.
+  ParameterStore<double> hand = gs;
+  Adam<double> hand_adam(hand.size(), AdamOptions{});
+  Tape<double> t;
+  hand.zero_grad();
+  const Bound<double> ph = hand.bind(t);
+  const Var<double> lh = loss(t, ph, ds.bind_constant(t));
+  t.backward(lh);
+  hand.collect(ph);
+  hand_adam.step(hand.values(), hand.grads());
+  const Vector<double> disc_before = ds.values(), gen_before = gs.values();
+  Adam<double> ga(gs.size(), AdamOptions{}), da(ds.size(), AdamOptions{});
+  for (const bool freeze : {false, true}) {
+    gs.values() = gen_before;
+    Adam<double> fresh(gs.size(), AdamOptions{});
+    const StepStore<double> stores[] = {{&gs, &fresh, freeze ? "gen.decoder." : ""}, {&ds}};
+    const Var<double> l = train_step<double>(
+        t, stores,
+        [&](Tape<double>& t, const std::vector<Bound<double>>& p) { return loss(t, p[0], p[1]); });
+    CHECK(l.value()(0, 0) == lh.value()(0, 0));
+    CHECK(ds.values() == disc_before);  // read, not trained
+    const auto& w = gs.views()[static_cast<std::size_t>(g2.w)];
+    const auto decoder_now = gs.values().segment(w.offset, w.rows * w.cols);
+    CHECK(gs.values().head(w.offset) != gen_before.head(w.offset));  // the LSTM part trains
+    if (freeze)
+      CHECK(decoder_now == gen_before.segment(w.offset, w.rows * w.cols));
+    else
+      CHECK(gs.values() == hand.values());  // as the by-hand step, bit for bit
+  }
+  // Two trained stores: each takes its own step.
+  const StepStore<double> both[] = {{&gs, &ga}, {&ds, &da}};
+  train_step<double>(t, both, [&](Tape<double>& t, const std::vector<Bound<double>>& p) {
+    return loss(t, p[0], p[1]);
+  });
+  CHECK(ds.values() != disc_before);
+}
+
 TEST_CASE("nn parameters: bind_except holds the named part fixed", "[nn]") {
   df::Rng rng(5);
   ParameterStore<double> s;
