@@ -63,7 +63,8 @@ struct MsaeTraining {
   /// With --init local / local-all and --decoder-fc linear: a started block's convolutions start
   /// as s·I and its C as the components / s (1: I and the components, as before). The encoder's
   /// tanh then sees s·x, nearly linear for small s, and the block starts as the projection onto
-  /// the components up to its output's tanh alone (at 1 three tanh bend it: docs/msae.md).
+  /// the components up to its output's tanh alone (at 1 the encoder's tanh bends it too:
+  /// docs/msae.md).
   double start_scale = 1;
   /// sequence: every `every`-th shape of each sequence trains, the rest is held out (paper 1:9);
   /// collection: a random `train_fraction` of the shapes trains (paper 1:1); lists: given files.

@@ -162,7 +162,7 @@ Settings msae_training_settings(MsaeTraining& t) {
            "With --init local or local-all and --decoder-fc linear: the started blocks'\n"
            "convolutions start as S x I and C as the components / S, so that the encoder's tanh\n"
            "acts in its nearly linear range and the block starts as the projection onto the\n"
-           "components bent by its output's tanh alone (1: three tanh bend it; docs/msae.md)",
+           "components bent by its output's tanh alone (1: the encoder's tanh too; docs/msae.md)",
        .range = within(0, 1, true, false),
        .optional = true},
       {.name = "separate",
