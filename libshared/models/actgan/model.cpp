@@ -102,15 +102,13 @@ void ActganModel::initialize() {
     disc = make_discriminator<float>(config, length, init);
   cls = std::make_unique<SequenceNet<float>>(config, config.pose, config.classes, "cls", init);
   critic = std::make_unique<Critic<float>>(config, config.pose, "critic", init);
-  adam.decoder = make_adam(gen->store(), training.lr_pretrain);
-  adam.critic = make_adam(critic->store(), training.lr_pretrain);
-  adam.gen = make_adam(gen->store(), training.lr);
-  adam.disc = make_adam(discriminator_store(), training.discriminator_lr());
-  adam.cls = make_adam(cls->store(), training.lr);
-  rng = Rng(training.seed, 1);
-  iteration = 0;
-  log.clear();
-  unprinted.clear();
+  ActganOptimizers fresh;
+  fresh.decoder = make_adam(gen->store(), training.lr_pretrain);
+  fresh.critic = make_adam(critic->store(), training.lr_pretrain);
+  fresh.gen = make_adam(gen->store(), training.lr);
+  fresh.disc = make_adam(discriminator_store(), training.discriminator_lr());
+  fresh.cls = make_adam(cls->store(), training.lr);
+  restart(std::move(fresh), training.seed);
 }
 
 void save_actgan_model(const std::string& path, const ActganModel& m,

@@ -12,6 +12,7 @@
 
 #include "io/skeleton_file.h"
 #include "models/actgan/network.h"
+#include "models/common/training.h"
 #include "nn/adam.h"
 
 namespace df::models {
@@ -57,7 +58,9 @@ struct ActganOptimizers {
   std::unique_ptr<nn::Adam<float>> gen, disc, cls;   ///< the GAN
 };
 
-struct ActganModel {
+/// The model and its training state (models/common/training.h: iteration, log, the five Adams,
+/// RNG of batches and noise).
+struct ActganModel : TrainingState<ActganOptimizers> {
   ActganConfig config;
   ActganTraining training;
   std::vector<std::string> class_names;
@@ -72,10 +75,6 @@ struct ActganModel {
   std::unique_ptr<Critic<float>>
       clip_critic;                        ///< the GAN's critic with config.discriminator "critic"
   std::unique_ptr<Critic<float>> critic;  ///< the pre-training's critic of single poses
-  ActganOptimizers adam;
-  Rng rng;  ///< batches and noise
-  std::int64_t iteration = 0;
-  std::vector<double> log, unprinted;
   std::string history;
 
   /// The loss terms of a log row and the validation measures that follow them when there are

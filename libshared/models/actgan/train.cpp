@@ -317,9 +317,8 @@ ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile
 }
 
 // The loss lines' validation columns: opt.validate on the held-out clips (none without them).
-std::function<LossTerms()> validation_evaluation(const ActganTrainOptions& opt,
-                                                 const ActganModel& m,
-                                                 const ActionClips& validation) {
+Validation validation_evaluation(const ActganTrainOptions& opt, const ActganModel& m,
+                                 const ActionClips& validation) {
   if (validation.size() == 0) return {};
   if (!opt.validate) throw Error("train_actgan: validation subjects but no validation measure");
   log::info(
@@ -327,7 +326,21 @@ std::function<LossTerms()> validation_evaluation(const ActganTrainOptions& opt,
       "generated sequences with them",
       validation.size(), fmt::join(m.training.validation_subjects, ","),
       fmt::join(ActganModel::validation_columns(), " / "));
-  return [&opt, &m, &validation] { return opt.validate(m, validation); };
+  return {ActganModel::validation_columns(),
+          [&opt, &m, &validation] { return opt.validate(m, validation); }};
+}
+
+// --resume: the checkpoint's networks and training state; the settings (and --iterations) are
+// this run's.
+void resume_from(ActganModel& m, const std::string& ckpt) {
+  ActganModel ck = load_actgan_model(ckpt);
+  check_resumable(ck, m, ckpt);
+  m.gen = std::move(ck.gen);
+  m.disc = std::move(ck.disc);
+  m.clip_critic = std::move(ck.clip_critic);
+  m.cls = std::move(ck.cls);
+  m.critic = std::move(ck.critic);
+  take_training_state(m, std::move(ck));
 }
 
 // Appends sequence q of `s` to `c`; every clip has `length` frames (the first sets it).
@@ -414,49 +427,32 @@ void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
   const ActionData data = training_clips(s, opt.input, opt.training.validation_subjects);
   const ActionClips& clips = data.train;
   ActganModel m = describe_model(opt, s, clips);
-  const std::string ckpt = opt.run.checkpoint_path(opt.output);
-  if (opt.run.resume && std::filesystem::exists(ckpt)) {
-    ActganModel ck = load_actgan_model(ckpt);
-    check_resumable(ck, m, ckpt);
-    m.gen = std::move(ck.gen);  // the state; the settings (and --iterations) are this run's
-    m.disc = std::move(ck.disc);
-    m.clip_critic = std::move(ck.clip_critic);
-    m.cls = std::move(ck.cls);
-    m.critic = std::move(ck.critic);
-    m.adam = std::move(ck.adam);
-    m.rng = ck.rng;
-    m.iteration = ck.iteration;
-    m.log = std::move(ck.log);
-    m.unprinted = std::move(ck.unprinted);
-    log::info("resuming from {} at iteration {}", ckpt, m.iteration);
-  } else {
-    m.initialize();
-  }
-  const std::int64_t total = m.training.pretrain_iterations + m.training.iterations;
-  if (m.iteration > total)
-    throw UsageError(fmt::format(
-        "the checkpoint is at iteration {}, past --pretrain-iterations + --iterations {}",
-        m.iteration, total));
-  log::info(
-      "{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} iterations",
-      opt.input, clips.size(), clips.length, m.class_names.size(), clips.pose,
-      m.training.pretrain_iterations, m.training.iterations);
-  const auto evaluate = validation_evaluation(opt, m, data.validation);
   nn::Tape<float> tape;
-  auto step = [&](std::int64_t done) -> LossTerms {
-    if (done == m.training.pretrain_iterations + 1 && m.training.pretrain_iterations > 0)
-      log::info("decoder pre-trained; the GAN from iteration {}", done);
-    return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape)
-                                                  : actgan_gan_iteration(m, clips, tape);
-  };
-  auto checkpoint = [&] { save_actgan_model(ckpt, m, {opt.input}, true); };
-  run_training_loop({total, opt.run.print_every, opt.run.checkpoint_every, ckpt},
-                    ActganModel::loss_columns(), m.iteration, m.log, m.unprinted, step, checkpoint,
-                    evaluate ? ActganModel::validation_columns() : std::vector<std::string>{},
-                    evaluate);
-  save_actgan_model(opt.output, m, {opt.input}, common.force);
-  opt.run.finish(opt.output);
-  log::info("wrote {} ({} iterations)", opt.output, m.iteration);
+  run_trainer(
+      {.output = opt.output,
+       .iterations = m.training.pretrain_iterations + m.training.iterations,
+       .iterations_option = "--pretrain-iterations + --iterations",
+       .initialise = [&] { m.initialize(); },
+       .resume = [&](const std::string& ckpt) { resume_from(m, ckpt); },
+       .prepare =
+           [&] {
+             log::info(
+                 "{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} "
+                 "iterations",
+                 opt.input, clips.size(), clips.length, m.class_names.size(), clips.pose,
+                 m.training.pretrain_iterations, m.training.iterations);
+           },
+       .validation = [&] { return validation_evaluation(opt, m, data.validation); },
+       .names = ActganModel::loss_columns(),
+       .step = [&](std::int64_t done) -> LossTerms {
+         if (done == m.training.pretrain_iterations + 1 && m.training.pretrain_iterations > 0)
+           log::info("decoder pre-trained; the GAN from iteration {}", done);
+         return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape)
+                                                       : actgan_gan_iteration(m, clips, tape);
+       },
+       .save = [&](const std::string& path,
+                   bool force) { save_actgan_model(path, m, {opt.input}, force); }},
+      m, opt.run, common.force);
 }
 
 }  // namespace df::models

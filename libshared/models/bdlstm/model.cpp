@@ -25,11 +25,7 @@ void BdlstmModel::initialize() {
                                            topo.edges, training.seed);
   nn::AdamOptions ao;
   ao.lr = training.lr;
-  adam = std::make_unique<nn::Adam<float>>(net->store().size(), ao);
-  rng = Rng(training.seed, 1);
-  iteration = 0;
-  log.clear();
-  unprinted.clear();
+  restart(std::make_unique<nn::Adam<float>>(net->store().size(), ao), training.seed);
 }
 
 void save_bdlstm_model(const std::string& path, const BdlstmModel& m,

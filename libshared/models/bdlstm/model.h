@@ -12,6 +12,7 @@
 #include "geometry/acap_features.h"
 #include "io/mesh_io.h"
 #include "models/bdlstm/network.h"
+#include "models/common/training.h"
 #include "nn/adam.h"
 
 namespace df::models {
@@ -70,7 +71,9 @@ struct BdlstmSplit {
   std::vector<std::int64_t> validation_begin, validation_end;
 };
 
-struct BdlstmModel {
+/// The model and its training state (models/common/training.h: iteration, log, Adam, RNG of the
+/// windows and the reparameterisation noise).
+struct BdlstmModel : TrainingState<std::unique_ptr<nn::Adam<float>>> {
   BdlstmConfig config;
   BdlstmTraining training;
   Mesh tmpl;
@@ -79,16 +82,11 @@ struct BdlstmModel {
   /// The training log's columns: iteration total recon bidir kl l2, and validation (the error on
   /// the validation windows relative to zero motion's) when the split has a validation part.
   std::vector<std::string> log_columns() const;
-  std::vector<double> log;        ///< rows of log_columns(), flat
-  std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   /// The latent's KL in nats per encoded frame over the last printing interval (−1: not
   /// measured) and whether the latent had collapsed then (train-bdlstm's warning).
   double kl_per_frame = -1;
   bool latent_collapsed = false;
   std::unique_ptr<BdlstmNet<float>> net;
-  std::unique_ptr<nn::Adam<float>> adam;
-  Rng rng;  ///< windows and reparameterisation noise
-  std::int64_t iteration = 0;
   std::string history;  ///< inherited provenance (the data file's)
 
   /// A new, untrained model (weights from the seed) for a template.

@@ -35,8 +35,7 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
 // With a validation part: the error logged at every loss line — windows of the validation parts
 // predicted from --teacher-frames given frames (as the pipelines' gen-bdlstm --initial) with z =
 // the encoder's mean, relative to zero motion's error on the same frames (< 1: ahead of it).
-std::function<LossTerms()> validation_evaluation(const BdlstmModel& m,
-                                                 const nn::Matrix<float>& data) {
+Validation validation_evaluation(const BdlstmModel& m, const nn::Matrix<float>& data) {
   if (m.training.validation_fraction <= 0) return {};
   const int given = m.training.teacher_frames;
   const std::int64_t q = m.training.stride;
@@ -61,12 +60,14 @@ std::function<LossTerms()> validation_evaluation(const BdlstmModel& m,
       "validation: {} windows of {} given + {} predicted frames; zero motion's relative feature "
       "error there {:.4g} (the log's validation column is the network's error / this)",
       starts.size(), given, length, zero_motion);
-  return [&m, &data, starts, given, length, q, zero_motion, mean_of]() -> LossTerms {
-    Rng none;
-    const LatentInput mean = LatentInput::mean;
-    return {mean_of(probe_prediction_error(*m.net, data, starts, given, length, q, &mean, none)) /
+  return {
+      {"validation"}, [&m, &data, starts, given, length, q, zero_motion, mean_of]() -> LossTerms {
+        Rng none;
+        const LatentInput mean = LatentInput::mean;
+        return {
+            mean_of(probe_prediction_error(*m.net, data, starts, given, length, q, &mean, none)) /
             std::max(zero_motion, 1e-12)};
-  };
+      }};
 }
 
 }  // namespace
@@ -284,30 +285,17 @@ double motion_scale(const BdlstmModel& m, const nn::Matrix<float>& data) {
   return rms > 0 ? 1 / rms : 1;
 }
 
-// Continues the checkpoint (weights, Adam, RNG, log, the collapse check's verdict) when resuming
-// and one exists, else starts afresh.
-void restore_or_initialize(BdlstmModel& m, bool resume, const std::string& ckpt) {
-  if (resume && std::filesystem::exists(ckpt)) {
-    BdlstmModel ck = load_bdlstm_model(ckpt);
-    check_resumable(ck, m, ckpt);
-    m.config.motion_scale = ck.config.motion_scale;  // the scale its weights were trained with
-    m.net = std::move(ck.net);
-    m.adam = std::move(ck.adam);
-    m.rng = ck.rng;
-    m.iteration = ck.iteration;
-    m.log = std::move(ck.log);
-    m.unprinted = std::move(ck.unprinted);
-    // The last check's verdict (a stop between loss lines keeps no partial KL sum: the next
-    // line's KL per frame then covers the iterations after the resume).
-    m.kl_per_frame = ck.kl_per_frame;
-    m.latent_collapsed = ck.latent_collapsed;
-    log::info("resuming from {} at iteration {}", ckpt, m.iteration);
-  } else {
-    m.initialize();
-  }
-  if (m.iteration > m.training.iterations)
-    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}",
-                                 m.iteration, m.training.iterations));
+// --resume: the checkpoint's weights, training state and the collapse check's verdict.
+void resume_from(BdlstmModel& m, const std::string& ckpt) {
+  BdlstmModel ck = load_bdlstm_model(ckpt);
+  check_resumable(ck, m, ckpt);
+  m.config.motion_scale = ck.config.motion_scale;  // the scale its weights were trained with
+  m.net = std::move(ck.net);
+  // The last check's verdict (a stop between loss lines keeps no partial KL sum: the next line's
+  // KL per frame then covers the iterations after the resume).
+  m.kl_per_frame = ck.kl_per_frame;
+  m.latent_collapsed = ck.latent_collapsed;
+  take_training_state(m, std::move(ck));
 }
 
 }  // namespace
@@ -326,16 +314,6 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
   nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
   in.read_normalized(0, in.frames(), data.data());
   if (m.config.motion_input) m.config.motion_scale = motion_scale(m, data);
-  const std::string ckpt = opt.run.checkpoint_path(opt.output);
-  restore_or_initialize(m, opt.run.resume, ckpt);
-  log::info(
-      "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} frames, "
-      "stride {}), {} parameters, {} directions",
-      opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(), starts.size(),
-      m.training.window, m.training.stride, m.net->store().size(), m.config.directions);
-
-  const auto evaluate = validation_evaluation(m, data);
-
   nn::Tape<float> tape;
   double kl_nats = 0;  // Σ of the iterations' KL per frame since the last loss line
   long kl_steps = 0;
@@ -376,18 +354,31 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
         latent_collapsed(m.kl_per_frame, row[2], m.log[2], m.training.collapse_threshold);
     if (m.latent_collapsed) warn_collapse(m, m.log[2], row[2]);
   };
-  auto checkpoint = [&] {
-    save_bdlstm_model(ckpt, m, {opt.input}, true);
-    log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
-  };
-  run_training_loop(
-      {m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt, check_collapse},
-      {"loss", "recon", "bidir", "kl", "l2"}, m.iteration, m.log, m.unprinted, step, checkpoint,
-      evaluate ? std::vector<std::string>{"validation"} : std::vector<std::string>{}, evaluate);
-  save_bdlstm_model(opt.output, m, {opt.input}, common.force);
-  opt.run.finish(opt.output);
-  log::info("wrote {} ({} iterations)", opt.output, m.iteration);
-  if (m.latent_collapsed) warn_collapse(m, m.log[2], m.log[m.log.size() - width + 2]);
+  run_trainer(
+      {.output = opt.output,
+       .iterations = m.training.iterations,
+       .initialise = [&] { m.initialize(); },
+       .resume = [&](const std::string& ckpt) { resume_from(m, ckpt); },
+       .prepare =
+           [&] {
+             log::info(
+                 "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} "
+                 "frames, stride {}), {} parameters, {} directions",
+                 opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(),
+                 starts.size(), m.training.window, m.training.stride, m.net->store().size(),
+                 m.config.directions);
+           },
+       .validation = [&] { return validation_evaluation(m, data); },
+       .names = {"loss", "recon", "bidir", "kl", "l2"},
+       .step = step,
+       .after_row = check_collapse,
+       .save = [&](const std::string& path,
+                   bool force) { save_bdlstm_model(path, m, {opt.input}, force); },
+       .finished =
+           [&] {
+             if (m.latent_collapsed) warn_collapse(m, m.log[2], m.log[m.log.size() - width + 2]);
+           }},
+      m, opt.run, common.force);
 }
 
 }  // namespace df::models

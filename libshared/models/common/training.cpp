@@ -64,13 +64,13 @@ std::string append_log_row(std::int64_t done, const Interval& interval,
 
 }  // namespace
 
-void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>& names,
-                       std::int64_t& iteration, std::vector<double>& log,
-                       std::vector<double>& unprinted,
-                       const std::function<LossTerms(std::int64_t)>& step,
-                       const std::function<void()>& checkpoint,
-                       const std::vector<std::string>& evaluate_names,
-                       const std::function<LossTerms()>& evaluate) {
+void run_training_loop(const TrainingLoop& loop, TrainingProgress& state) {
+  const std::vector<std::string>& names = loop.names;
+  const std::vector<std::string>& evaluate_names = loop.validation.names;
+  const std::function<LossTerms()>& evaluate = loop.validation.measure;
+  std::int64_t& iteration = state.iteration;
+  std::vector<double>& log = state.log;
+  std::vector<double>& unprinted = state.unprinted;
   Interval interval(names.size(), unprinted);
   unprinted.clear();
   // The pace of the last printed interval (not since the start: a run's phases, e.g. ActGAN's
@@ -91,7 +91,7 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
               iteration + 1, loop.iterations, loop.print_every);
   while (iteration < loop.iterations) {
     const std::int64_t done = iteration + 1;  // counting this one
-    const LossTerms terms = step(done);
+    const LossTerms terms = loop.step(done);
     if (!std::isfinite(terms.at(0)))
       throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr",
                               done, terms[0]));
@@ -144,18 +144,50 @@ void run_training_loop(const TrainingLoop& loop, const std::vector<std::string>&
           done / loop.checkpoint_every > last_checkpoint / loop.checkpoint_every &&
           done < loop.iterations) {
         last_checkpoint = done;
-        checkpoint();
+        loop.checkpoint();
       }
     }
     if (const int sig = stop_requested(); sig && done < loop.iterations) {
       unprinted = interval.saved();
-      checkpoint();
+      loop.checkpoint();
       throw Stopped(
           fmt::format("stopped by SIG{} after iteration {} of {}; checkpoint {} holds "
                       "it: run the same command with --resume to continue",
                       sigabbrev_np(sig), done, loop.iterations, loop.checkpoint_path));
     }
   }
+}
+
+void run_trainer(const Trainer& t, TrainingProgress& state, const TrainingRun& run, bool force) {
+  const std::string ckpt = run.checkpoint_path(t.output);
+  if (run.resume && std::filesystem::exists(ckpt)) {
+    t.resume(ckpt);
+    log::info("resuming from {} at iteration {}", ckpt, state.iteration);
+  } else {
+    t.initialise();
+  }
+  if (state.iteration > t.iterations)
+    throw UsageError(fmt::format("the checkpoint is at iteration {}, past {} {}", state.iteration,
+                                 t.iterations_option, t.iterations));
+  if (t.prepare) t.prepare();
+  TrainingLoop loop{.iterations = t.iterations,
+                    .print_every = run.print_every,
+                    .checkpoint_every = run.checkpoint_every,
+                    .checkpoint_path = ckpt,
+                    .names = t.names,
+                    .step = t.step,
+                    .checkpoint =
+                        [&] {
+                          t.save(ckpt, true);
+                          log::debug("checkpoint {} at iteration {}", ckpt, state.iteration);
+                        },
+                    .validation = t.validation ? t.validation() : Validation{},
+                    .after_row = t.after_row};
+  run_training_loop(loop, state);
+  if (t.finished) t.finished();
+  t.save(t.output, force);
+  run.finish(t.output);
+  log::info("wrote {} ({} iterations)", t.output, state.iteration);
 }
 
 std::string TrainingRun::checkpoint_path(const std::string& output) const {

@@ -26,11 +26,7 @@ void MsaeModel::initialize() {
   auto topo = geometry::mesh_topology(tmpl.faces, static_cast<int>(tmpl.vertices.rows()));
   net = std::make_unique<MsaeNet<float>>(config, static_cast<int>(tmpl.vertices.rows()), topo.edges,
                                          training.seed);
-  adam = make_adam();
-  rng = Rng(training.seed, 1);
-  iteration = 0;
-  log.clear();
-  unprinted.clear();
+  restart(make_adam(), training.seed);
 }
 
 std::unique_ptr<nn::Adam<float>> MsaeModel::make_adam(std::int64_t start) const {

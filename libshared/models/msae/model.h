@@ -12,6 +12,7 @@
 
 #include "geometry/acap_features.h"
 #include "io/mesh_io.h"
+#include "models/common/training.h"
 #include "models/msae/network.h"
 #include "nn/adam.h"
 
@@ -97,7 +98,9 @@ struct MsaeSplit {
   std::vector<std::int64_t> train, validation, test;
 };
 
-struct MsaeModel {
+/// The model and its training state (models/common/training.h: iteration, log, Adam, RNG of the
+/// batches).
+struct MsaeModel : TrainingState<std::unique_ptr<nn::Adam<float>>> {
   MsaeConfig config;
   MsaeTraining training;
   Mesh tmpl;
@@ -111,16 +114,11 @@ struct MsaeModel {
   std::vector<Eigen::VectorXf> geodesic_rows;
   /// The log has a validation_erms column (E_rms × 1000 of the validation shapes' positions).
   bool log_validation_erms = false;
-  std::vector<double> log;        ///< rows of log_columns(), flat
-  std::vector<double> unprinted;  ///< a checkpoint's iterations after the last log row
   /// The last loss line's collapse warning (CollapseSigns::describe; "" = none) and the
   /// iteration of the first loss line that warned (0 = none): /training/log's attributes
   std::string collapse;
   std::int64_t collapse_since = 0;
   std::unique_ptr<MsaeNet<float>> net;
-  std::unique_ptr<nn::Adam<float>> adam;
-  Rng rng;  ///< batches
-  std::int64_t iteration = 0;
   std::string history;  ///< inherited provenance (the data file's)
 
   /// The training log's columns: iteration total recon sparsity latent, and validation (and

@@ -313,32 +313,28 @@ void refuse_unbridged(const MsaeModel& ck, const geometry::GeodesicRows& geodesi
         ckpt);
 }
 
-// Continues the checkpoint (weights, Adam, RNG, log, geodesic rows) when resuming and one exists,
-// else starts afresh; returns the geodesic distances on the template either way.
-std::unique_ptr<geometry::GeodesicRows> restore_or_initialize(MsaeModel& m, bool resume,
-                                                              const std::string& ckpt) {
-  if (resume && std::filesystem::exists(ckpt)) {
-    MsaeModel ck = load_msae_model(ckpt);
-    check_resumable(ck, m, ckpt);
-    m.net = std::move(ck.net);
-    m.adam = std::move(ck.adam);
-    m.rng = ck.rng;
-    m.iteration = ck.iteration;
-    m.log = std::move(ck.log);
-    m.log_validation_erms =
-        ck.log_validation_erms;  // its log's columns go on as they began (if any)
-    m.unprinted = std::move(ck.unprinted);
-    m.collapse = std::move(ck.collapse);  // a collapse warned of goes on being dated from then
-    m.collapse_since = ck.collapse_since;
-    m.geodesic_diameter = ck.geodesic_diameter;
-    auto geodesic = std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces,
-                                                             m.geodesic_diameter);
-    refuse_unbridged(ck, *geodesic, ckpt);
-    for (std::size_t k = 0; k < ck.geodesic_sources.size(); ++k)
-      geodesic->keep(ck.geodesic_sources[k], ck.geodesic_rows[k]);
-    log::info("resuming from {} at iteration {}", ckpt, m.iteration);
-    return geodesic;
-  }
+// --resume: the checkpoint's weights, training state, collapse record and geodesic rows; returns
+// the geodesic distances on the template with its rows kept.
+std::unique_ptr<geometry::GeodesicRows> resume_from(MsaeModel& m, const std::string& ckpt) {
+  MsaeModel ck = load_msae_model(ckpt);
+  check_resumable(ck, m, ckpt);
+  m.net = std::move(ck.net);
+  m.log_validation_erms = ck.log_validation_erms;  // its log's columns go on as they began (if any)
+  m.collapse = std::move(ck.collapse);  // a collapse warned of goes on being dated from then
+  m.collapse_since = ck.collapse_since;
+  m.geodesic_diameter = ck.geodesic_diameter;
+  auto geodesic =
+      std::make_unique<geometry::GeodesicRows>(m.tmpl.vertices, m.tmpl.faces, m.geodesic_diameter);
+  refuse_unbridged(ck, *geodesic, ckpt);
+  for (std::size_t k = 0; k < ck.geodesic_sources.size(); ++k)
+    geodesic->keep(ck.geodesic_sources[k], ck.geodesic_rows[k]);
+  take_training_state(m, std::move(ck));
+  return geodesic;
+}
+
+// A new model: weights from the seed, the geodesic distances on the template, the centres placed
+// (--centres spread); returns the distances.
+std::unique_ptr<geometry::GeodesicRows> start_afresh(MsaeModel& m) {
   m.initialize();
   log::info("geodesic distances on the template (heat method; {} vertices)",
             m.tmpl.vertices.rows());
@@ -477,22 +473,38 @@ LossTerms training_step(MsaeModel& m, const nn::Matrix<float>& data,
 // The loss lines' validation columns: the validation shapes' feature error and, for a fresh run
 // or a checkpoint taken before the first loss line (its log has no columns yet), their E_rms; a
 // log that began without it goes on without it. None without validation shapes.
-std::function<LossTerms()> validation_measure(const MsaeTrainOptions& opt, MsaeModel& m,
-                                              const nn::Matrix<float>& validation,
-                                              MsaeShapeMeasure& erms,
-                                              std::vector<std::string>& names) {
+Validation validation_measure(const MsaeTrainOptions& opt, MsaeModel& m,
+                              const nn::Matrix<float>& validation, MsaeShapeMeasure& erms) {
   if (validation.rows() == 0) return {};
+  Validation v{{"validation"}, {}};
   if (opt.position_error && (m.log.empty() || m.log_validation_erms)) {
     m.log_validation_erms = true;
     erms = opt.position_error(m, m.split.validation);
-    names.push_back("validation_erms");
+    v.names.push_back("validation_erms");
   }
-  return [&m, &validation, &erms]() -> LossTerms {
+  v.measure = [&m, &validation, &erms]() -> LossTerms {
     nn::Matrix<float> recon;
     LossTerms values = {reconstruction_error(*m.net, validation, &recon)};
     if (erms) values.push_back(erms(recon));
     return values;
   };
+  return v;
+}
+
+// After the start: a fresh model's data-dependent start (the training shapes' mean taken out,
+// --init local's components) and the line describing the run.
+void prepare_data_dependent_start(MsaeModel& m, const nn::Matrix<float>& data,
+                                  geometry::GeodesicRows& geodesic, const std::string& input) {
+  if (m.config.centre_features && m.iteration == 0)  // a fresh model: the training shapes' mean
+    m.net->set_offset(gather(data, m.split.train).colwise().mean());
+  if (m.config.started_levels() > 0 && m.iteration == 0)
+    start_from_local_decomposition(m, gather(data, m.split.train), geodesic);
+  log::info(
+      "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "
+      "blocks in {} levels (K_z {}), {} parameters, {} training",
+      input, data.rows(), m.tmpl.vertices.rows(), m.split.train.size(), m.split.validation.size(),
+      m.split.test.size(), m.net->blocks().size(), m.config.levels(), fmt::join(m.config.kz, ","),
+      m.net->store().size(), m.training.separate ? "separate" : "joint");
 }
 
 }  // namespace
@@ -513,62 +525,47 @@ void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
   if (!in.has_normalized())
     throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
   MsaeModel m = describe_model(opt, common, in);
-  const std::string ckpt = opt.run.checkpoint_path(opt.output);
-  const auto geodesic = restore_or_initialize(m, opt.run.resume, ckpt);
-  if (m.iteration > m.training.iterations)
-    throw UsageError(fmt::format("the checkpoint is at iteration {}, past --iterations {}",
-                                 m.iteration, m.training.iterations));
-
-  const Eigen::Index v9 = m.net->frame_size();
+  const Eigen::Index v9 = 9 * m.tmpl.vertices.rows();
   nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
   in.read_normalized(0, in.frames(), data.data());
   const nn::Matrix<float> validation = gather(data, m.split.validation);
-  if (m.config.centre_features && m.iteration == 0)  // a fresh model: the training shapes' mean
-    m.net->set_offset(gather(data, m.split.train).colwise().mean());
-  if (m.config.started_levels() > 0 && m.iteration == 0)
-    start_from_local_decomposition(m, gather(data, m.split.train), *geodesic);
-  log::info(
-      "{}: {} shapes of {} vertices; training on {}, validating on {}, {} held out for testing; {} "
-      "blocks in {} levels (K_z {}), {} parameters, {} training",
-      opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.train.size(),
-      m.split.validation.size(), m.split.test.size(), m.net->blocks().size(), m.config.levels(),
-      fmt::join(m.config.kz, ","), m.net->store().size(),
-      m.training.separate ? "separate" : "joint");
-
+  std::unique_ptr<geometry::GeodesicRows> geodesic;
   nn::Matrix<float> batch, weights;
-  auto step = [&](std::int64_t done) {
-    return training_step(m, data, *geodesic, done, batch, weights);
-  };
-  auto checkpoint = [&] {
-    remember_geodesics(m, *geodesic);
-    save_msae_model(ckpt, m, {opt.input}, true);
-    log::debug("checkpoint {} at iteration {}", ckpt, m.iteration);
-  };
-  std::vector<std::string> evaluate_names = {"validation"};
   MsaeShapeMeasure erms;
-  const std::function<LossTerms()> evaluate =
-      validation_measure(opt, m, validation, erms, evaluate_names);
   // Level 0's collapse, measured on the training shapes at every loss line: a warning while it
   // lasts, and the last one in the model file.
   const std::string report =
       fmt::format("extract-components --report {} {} shows each component", opt.output, opt.input);
-  auto check_collapse = [&] {
+  auto check_collapse = [&](const std::vector<double>&) {
     m.collapse = collapse_signs(m, data, m.split.train).describe(m.config);
     if (m.collapse.empty()) return;
     if (m.collapse_since == 0) m.collapse_since = m.iteration;
     log::warn("{}; {}", m.collapse, report);
   };
-  run_training_loop({m.training.iterations, opt.run.print_every, opt.run.checkpoint_every, ckpt,
-                     [&](const std::vector<double>&) { check_collapse(); }},
-                    {"loss", "recon", "sparsity", "latent"}, m.iteration, m.log, m.unprinted, step,
-                    checkpoint, evaluate_names, evaluate);
-  if (!m.collapse.empty())
-    log::warn("the trained model (collapsed since iteration {}): {}; {}", m.collapse_since,
-              m.collapse, report);
-  remember_geodesics(m, *geodesic);
-  save_msae_model(opt.output, m, {opt.input}, common.force);
-  opt.run.finish(opt.output);
-  log::info("wrote {} ({} iterations)", opt.output, m.iteration);
+  run_trainer({.output = opt.output,
+               .iterations = m.training.iterations,
+               .initialise = [&] { geodesic = start_afresh(m); },
+               .resume = [&](const std::string& ckpt) { geodesic = resume_from(m, ckpt); },
+               .prepare = [&] { prepare_data_dependent_start(m, data, *geodesic, opt.input); },
+               .validation = [&] { return validation_measure(opt, m, validation, erms); },
+               .names = {"loss", "recon", "sparsity", "latent"},
+               .step =
+                   [&](std::int64_t done) {
+                     return training_step(m, data, *geodesic, done, batch, weights);
+                   },
+               .after_row = check_collapse,
+               .save =
+                   [&](const std::string& path, bool force) {
+                     remember_geodesics(m, *geodesic);
+                     save_msae_model(path, m, {opt.input}, force);
+                   },
+               .finished =
+                   [&] {
+                     if (!m.collapse.empty())
+                       log::warn("the trained model (collapsed since iteration {}): {}; {}",
+                                 m.collapse_since, m.collapse, report);
+                   }},
+              m, opt.run, common.force);
 }
 
 }  // namespace df::models
