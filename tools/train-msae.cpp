@@ -1,11 +1,10 @@
 // train-msae: train the multiscale attention autoencoder on a shape collection (paper 2).
 #include <fmt/format.h>
 
+#include "apps/train_msae.h"
 #include "core/error.h"
 #include "core/tool.h"
-#include "eval/shape_error.h"
 #include "models/msae/settings.h"
-#include "models/msae/train.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -91,12 +90,6 @@ int main(int argc, char** argv) {
       while (opt.net.d.size() < opt.net.kz.size()) opt.net.d.push_back(opt.net.d.back() / 2);
       opt.net.d.resize(opt.net.kz.size());
     }
-    opt.position_error = [](const df::models::MsaeModel& m,
-                            const std::vector<std::int64_t>& frames) {
-      auto measure = std::make_shared<df::eval::ShapeErms>(m.split.data, frames, m.normalization);
-      return df::models::MsaeShapeMeasure(
-          [measure](const df::nn::Matrix<float>& normalized) { return (*measure)(normalized); });
-    };
-    df::models::train_msae(opt, tool.common());
+    df::apps::train_msae(opt, tool.common());
   });
 }
