@@ -1,7 +1,7 @@
 // inspect-bdlstm: what a trained BD-LSTM's latent carries (diagnosing training).
+#include "apps/inspect_bdlstm.h"
 #include "core/choice_option.h"
 #include "core/tool.h"
-#include "models/bdlstm/inspect.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
       "INPUT: MODEL (bdlstm-model .h5) DATA (the acap .h5 it was trained on). Output: a report\n"
       "on stdout; --tsv FILE adds the KL per dimension and the error per step for plots.");
   tool.with_seed(0).with_force();
-  df::models::BdlstmInspectOptions opt;
+  df::apps::BdlstmInspectOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "bdlstm-model .h5")->required();
   app.add_option("DATA", opt.data, "acap .h5 the model was trained on")->required();
@@ -33,5 +33,5 @@ int main(int argc, char** argv) {
   app.add_option("--max-frames", opt.max_frames, "Frames encoded for the KL per dimension")
       ->default_val(opt.max_frames);
   tool.footer("Example:\n  inspect-bdlstm pcow/model.h5 pcow/data.h5 --tsv pcow/latent.tsv");
-  return tool.run(argc, argv, [&] { df::models::inspect_bdlstm(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::inspect_bdlstm(opt, tool.common()); });
 }

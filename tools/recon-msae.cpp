@@ -1,7 +1,7 @@
 // recon-msae: encode and decode shapes through a trained MSAE (paper 2).
+#include "apps/recon_msae.h"
 #include "core/choice_option.h"
 #include "core/tool.h"
-#include "models/msae/recon.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
       "OUTPUT: an acap .h5 with /features/normalized and /frames/source (the DATA frame each\n"
       "one reconstructs), so that eval-metrics pairs it with DATA.");
   tool.with_force();
-  df::models::MsaeReconOptions opt;
+  df::apps::MsaeReconOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "msae-model .h5")->required();
   app.add_option("DATA", opt.data, "acap .h5 with normalized features")->required();
@@ -41,5 +41,5 @@ int main(int argc, char** argv) {
       "  recon-msae --levels 1 pcow-msae.h5 pcow.h5 -o pcow-level0.h5   # coarse level only\n"
       "  recon-msae --fit-codes 300 pcow-msae.h5 pcow.h5 -o fitted.h5   # least-squares codes\n"
       "  recon-msae --part all pcow-msae.h5 other-pcow.h5 -o r.h5");
-  return tool.run(argc, argv, [&] { df::models::recon_msae(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::recon_msae(opt, tool.common()); });
 }

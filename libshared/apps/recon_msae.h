@@ -10,7 +10,8 @@
 #include "core/common_options.h"
 #include "models/common/frame_part.h"
 
-namespace df::models {
+namespace df::apps {
+using models::FramePart;
 
 struct MsaeReconOptions {
   std::string model, data, output;
@@ -24,4 +25,4 @@ struct MsaeReconOptions {
 
 void recon_msae(const MsaeReconOptions& opt, const CommonOptions& common);
 
-}  // namespace df::models
+}  // namespace df::apps

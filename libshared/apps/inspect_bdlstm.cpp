@@ -1,4 +1,4 @@
-#include "models/bdlstm/inspect.h"
+#include "apps/inspect_bdlstm.h"
 
 #include <fmt/format.h>
 
@@ -15,7 +15,8 @@
 #include "models/bdlstm/generate.h"
 #include "models/bdlstm/train.h"
 
-namespace df::models {
+namespace df::apps {
+using namespace df::models;
 namespace {
 
 using Matrix = nn::Matrix<float>;
@@ -206,4 +207,4 @@ void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common
   if (!opt.tsv.empty()) write_inspection_tsv(opt, m, kl_sorted, errors, common.force);
 }
 
-}  // namespace df::models
+}  // namespace df::apps

@@ -1,4 +1,4 @@
-#include "models/msae/recon.h"
+#include "apps/recon_msae.h"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,8 @@
 #include "core/progress.h"
 #include "models/msae/data.h"
 
-namespace df::models {
+namespace df::apps {
+using namespace df::models;
 
 void recon_msae(const MsaeReconOptions& opt, const CommonOptions& common) {
   const OutputClaim claim = claim_output(opt.output, common.force, {opt.model, opt.data});
@@ -54,4 +55,4 @@ void recon_msae(const MsaeReconOptions& opt, const CommonOptions& common) {
             m.config.levels(), opt.output);
 }
 
-}  // namespace df::models
+}  // namespace df::apps

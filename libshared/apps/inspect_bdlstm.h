@@ -10,7 +10,8 @@
 #include "core/common_options.h"
 #include "models/common/frame_part.h"
 
-namespace df::models {
+namespace df::apps {
+using models::FramePart;
 
 struct BdlstmInspectOptions {
   std::string model, data;
@@ -24,4 +25,4 @@ struct BdlstmInspectOptions {
 
 void inspect_bdlstm(const BdlstmInspectOptions& opt, const CommonOptions& common);
 
-}  // namespace df::models
+}  // namespace df::apps
