@@ -25,11 +25,11 @@ int main(int argc, char** argv) {
       "collections (--split collection) on a random half; or explicit --train/--test lists.\n"
       "\n"
       "The defaults are not the paper's form (--paper-form): level 0 started from the training\n"
-      "shapes' SPLOCS components (--init local), mean-centred features, Omega as a proximal\n"
-      "step, second-level blocks of 50 components and 16 recombined shapes per batch, chosen by\n"
-      "their worst case over every shared set (docs/msae.md). A loss line warns when\n"
-      "level 0's components collapse (few distinct centres, supports spanning the mesh, a\n"
-      "near-constant code).");
+      "shapes' SPLOCS components (--init local) and kept near them (--started-rate 0.01),\n"
+      "mean-centred features, Omega as a proximal step, second-level blocks of 50 components\n"
+      "and 16 recombined shapes per batch, chosen by their worst case over every shared set\n"
+      "(docs/msae.md). A loss line warns when level 0's components collapse (few distinct\n"
+      "centres, supports spanning the mesh, a near-constant code).");
   tool.with_seed(1).with_force().with_stop_requests();
   df::models::MsaeTrainOptions opt;
   // The defaults: the best worst case over the shared sets (docs/msae.md); --paper-form restores
@@ -55,9 +55,10 @@ int main(int argc, char** argv) {
   bool paper_form = false;
   g->add_flag("--paper-form", paper_form,
               "The paper's exact form: --init glorot --kz 10,5 --support soft\n"
-              "--no-centre-features --synthetic 0, every other setting at the paper's value too\n"
-              "(options given explicitly still win). The defaults differ in those five, chosen\n"
-              "by their worst case over the shared sets' validation shapes (docs/msae.md)");
+              "--no-centre-features --synthetic 0 --started-rate 1, every other setting at the\n"
+              "paper's value too (options given explicitly still win). The defaults differ in\n"
+              "those six, chosen by their worst case over the shared sets' validation shapes\n"
+              "(docs/msae.md)");
   df::models::add_training_run_options(*g, opt.run);
   tool.footer(
       "Examples:\n"

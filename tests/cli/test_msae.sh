@@ -52,6 +52,7 @@ train-msae -q --iterations 1 --batch 4 --paper-form --synthetic 4 data.h5 -o pap
 [ "$(cfg paper.h5 init) $(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)" = "glorot 0 soft 4" ] &&
   h5dump -a /config/kz paper.h5 | grep -q "10, 5$" ||
   fail "--paper-form (an explicit --synthetic kept): $(cfg paper.h5 init) $(cfg paper.h5 centre_features) $(cfg paper.h5 support) $(cfg paper.h5 synthetic)"
+[ "$(cfg paper.h5 started_rate)" = 1 ] || fail "--paper-form's --started-rate: $(cfg paper.h5 started_rate)"
 train-msae -q --iterations 1 --batch 4 --no-centre-features data.h5 -o uncentred.h5
 [ "$(cfg uncentred.h5 centre_features)" = 0 ] || fail "--no-centre-features kept the mean centring"
 # --lr-warmup: recorded (an older file reads 0), the first step at lr/N, a negative one refused
@@ -137,18 +138,21 @@ option_run() {
 option_run syn synthetic 4 -1 --synthetic 4
 echo "ok (synthetic shapes)"
 # --started-rate: the started level's components step slower, so after 30 iterations they lie
-# nearer their start (start-local.h5, the same options at iteration 0) than at the full rate
+# nearer their start (start-local.h5, the same options at iteration 0) than at the full rate (1);
+# the default, 0.01, nearer still
 option_run slowstart started_rate 0.1 0 --started-rate 0.1
+option_run fullstart started_rate 1 0 --started-rate 1
 c_distance() {
   paste <(h5_data "$1" /params/ae0.0.C %.9g | tr -c '0-9.e+-' ' ' | tr -s ' ' '\n' | grep .) \
     <(h5_data "$2" /params/ae0.0.C %.9g | tr -c '0-9.e+-' ' ' | tr -s ' ' '\n' | grep .) |
     awk '{ d += ($1 - $2) ^ 2 } END { print sqrt(d) }'
 }
-slow=$(c_distance slowstart.h5 start-local.h5) full=$(c_distance m.h5 start-local.h5)
-awk -v s="$slow" -v f="$full" 'BEGIN { exit !(s < 0.5 * f) }' ||
-  fail "--started-rate 0.1: C moved $slow from its start, at the full rate $full"
-[ "$(cfg defaults.h5 started_rate)" = 1 ] || fail "the default --started-rate: $(cfg defaults.h5 started_rate)"
-echo "ok (--started-rate: level 0's C moved $slow from its start, $full at the full rate)"
+slow=$(c_distance slowstart.h5 start-local.h5) full=$(c_distance fullstart.h5 start-local.h5)
+default=$(c_distance m.h5 start-local.h5)
+awk -v s="$slow" -v f="$full" -v d="$default" 'BEGIN { exit !(s < 0.5 * f && d < s) }' ||
+  fail "--started-rate: C moved $slow from its start at 0.1, $full at the full rate, $default at the default"
+[ "$(cfg defaults.h5 started_rate)" = 0.01 ] || fail "the default --started-rate: $(cfg defaults.h5 started_rate)"
+echo "ok (--started-rate: level 0's C moved $default from its start at the default 0.01, $slow at 0.1, $full at the full rate)"
 # --start-scale: the started block's convolutions start as S x I (and C as the components / S);
 # with the decoder's first tanh (--decoder-fc tanh, the default) it is refused
 option_run scaled start_scale 0.1 0 --decoder-fc linear --start-scale 0.1

@@ -514,7 +514,8 @@ void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training) {
   net.support = Support::proximal;  // Omega's weights outside each radius exactly zero
   net.kz = {10, 50};                // second-level blocks as wide as the residual needs
   training.synthetic = 16;  // the encoder learns to invert the decoders beyond the training codes
-  net.init = MsaeInit::local;  // AE₀ starts as the training shapes' local components (SPLOCS)
+  net.init = MsaeInit::local;    // AE₀ starts as the training shapes' local components (SPLOCS)
+  training.started_rate = 0.01;  // and steps at 1% of the rate: Adam's first steps keep them
 }
 
 void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
