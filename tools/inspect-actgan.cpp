@@ -1,6 +1,6 @@
 // inspect-actgan: what a trained ActGAN's frame decoder can reach of held-out poses.
+#include "apps/inspect_actgan.h"
 #include "core/tool.h"
-#include "models/actgan/inspect.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -37,5 +37,5 @@ int main(int argc, char** argv) {
       "  inspect-actgan actgan.h5 utk.h5                 # held-out subjects' poses\n"
       "  inspect-actgan actgan.h5 utk.h5 --subjects 9     # a validation subject's poses\n"
       "  inspect-actgan actgan.h5 utk.h5 --json reach.json");
-  return tool.run(argc, argv, [&] { df::models::inspect_actgan(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::inspect_actgan(opt, tool.common()); });
 }

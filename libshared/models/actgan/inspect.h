@@ -1,4 +1,4 @@
-// inspect-actgan: what a trained ActGAN's frame decoder can reach. Each pose of a skeleton file
+// What a trained ActGAN's frame decoder can reach. Each pose of a skeleton file
 // (its test part, or some subjects' poses) gets the latent code h that brings Dec(h, y) nearest to
 // it (Adam on |Dec(h, y) - x|^2 from h = 0, the decoder's own weights fixed), and its error is
 // set beside two references from the training part: the mean training pose and the nearest
@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "core/common_options.h"
 #include "io/skeleton_file.h"
 #include "models/actgan/model.h"
 
@@ -54,7 +53,5 @@ nn::Matrix<float> fit_latent_codes(const ActganModel& m, const nn::Matrix<float>
 /// opt.lr), with the references; InvalidInput for the direct-pose baseline or no pose to fit.
 DecoderReach decoder_reach(const ActganModel& m, const io::SkeletonFile& s,
                            const ActganInspectOptions& opt);
-
-void inspect_actgan(const ActganInspectOptions& opt, const CommonOptions& common);
 
 }  // namespace df::models
