@@ -1,7 +1,7 @@
 // fit-baseline: PCA or SPLOCS fitted on an MSAE model's training shapes, for paper 2's tables.
+#include "apps/fit_baseline.h"
 #include "core/choice_option.h"
 #include "core/tool.h"
-#include "models/baselines/baselines.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
       "OUTPUT: an acap .h5 like recon-msae's (pca, splocs-acap: features; splocs: positions), for\n"
       "eval-metrics against DATA.");
   tool.with_force();
-  df::models::BaselineOptions opt;
+  df::apps::BaselineOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "msae-model .h5 (for its split)")->required();
   app.add_option("DATA", opt.data, "the acap .h5 the model was trained on")->required();
@@ -54,5 +54,5 @@ int main(int argc, char** argv) {
       "  fit-baseline --method pca pcow-msae.h5 pcow.h5 -o pcow-pca.h5\n"
       "  fit-baseline --method splocs pcow-msae.h5 pcow.h5 -o pcow-splocs.h5\n"
       "  eval-metrics pcow-splocs.h5 pcow.h5");
-  return tool.run(argc, argv, [&] { df::models::fit_baseline(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::fit_baseline(opt, tool.common()); });
 }

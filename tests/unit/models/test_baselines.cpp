@@ -2,6 +2,7 @@
 
 #include "core/rng.h"
 #include "models/baselines/baselines.h"
+#include "models/common/splocs.h"
 #include "nn/gradient_check.h"
 
 using namespace df;
