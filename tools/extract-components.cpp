@@ -1,6 +1,6 @@
 // extract-components: the multiscale deformation components of a trained MSAE (paper 2).
+#include "apps/msae_components.h"
 #include "core/tool.h"
-#include "models/msae/components.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
       "OUTPUT: a components .h5 for prune-components; --acap also writes the components as an\n"
       "acap file (one sequence per level) for acap2obj and render-mesh --color deformation.");
   tool.with_force();
-  df::models::ExtractOptions opt;
+  df::apps::ExtractOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "msae-model .h5")->required();
   app.add_option("DATA", opt.data, "the acap .h5 the model was trained on")->required();
@@ -36,5 +36,5 @@ int main(int argc, char** argv) {
       "  extract-components pcow-msae.h5 pcow.h5 -o comps.h5 --report validation\n"
       "  prune-components comps.h5 -o kept.h5 --acap kept-acap.h5\n"
       "  render-mesh kept-acap.h5 --sequence level0 --color deformation -o level0.png");
-  return tool.run(argc, argv, [&] { df::models::extract_components_tool(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::extract_components_tool(opt, tool.common()); });
 }

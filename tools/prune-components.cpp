@@ -1,6 +1,6 @@
 // prune-components: drop the weak components of an MSAE (paper 2, §4.3).
+#include "apps/msae_components.h"
 #include "core/tool.h"
-#include "models/msae/components.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
       "OUTPUT: the same file with /level<l>/kept and strength updated; --acap writes the kept\n"
       "components as an acap file, --json the report.");
   tool.with_force();
-  df::models::PruneOptions opt;
+  df::apps::PruneOptions opt;
   auto& app = tool.app();
   app.add_option("INPUT", opt.input, "components .h5")->required();
   app.add_option("-o,--output", opt.output, "Output components file (.h5)")->required();
@@ -26,5 +26,5 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  prune-components comps.h5 -o kept.h5\n"
       "  prune-components --eps2 0.05 comps.h5 -o kept.h5 --acap kept-acap.h5 --json report.json");
-  return tool.run(argc, argv, [&] { df::models::prune_components_tool(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::prune_components_tool(opt, tool.common()); });
 }

@@ -1,7 +1,6 @@
-// Deformation components of a trained MSAE (paper 2, §4.2-4.3): extract-components decodes them,
-// prune-components drops the weak ones, and either writes them (io/components_file, the
-// `components` kind's owner) and the kept ones as an acap file for acap2obj, render-mesh and
-// eval-metrics.
+// Deformation components of a trained MSAE (paper 2, §4.2-4.3): decoded from its blocks
+// (extract-components' job, apps/msae_components) and pruned by strength (prune-components'); the
+// `components` file kind is io/components_file's.
 //
 // Component k of block b: the decoder applied to the one-hot code s·e_k, with s the largest
 // positive or the most negative value of z_k over the training shapes (both signs are decoded and
@@ -17,7 +16,6 @@
 #include <string>
 #include <vector>
 
-#include "core/common_options.h"
 #include "geometry/acap_features.h"
 #include "io/components_file.h"
 #include "io/mesh_io.h"
@@ -74,18 +72,5 @@ Components extract_components(const MsaeModel& m,
 
 /// Recomputes strengths with eps1 and keeps those with strength ≥ eps2.
 void prune_components(Components& c, double eps1, double eps2);
-
-struct ExtractOptions {
-  std::string model, data, output, acap;
-  /// "" = none; validation or test: print diagnose_msae's table for that held-out part
-  std::string report;
-};
-void extract_components_tool(const ExtractOptions& opt, const CommonOptions& common);
-
-struct PruneOptions {
-  std::string input, output, acap, json;
-  double eps1 = 1e-6, eps2 = 0.01;
-};
-void prune_components_tool(const PruneOptions& opt, const CommonOptions& common);
 
 }  // namespace df::models
