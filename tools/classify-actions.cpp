@@ -1,6 +1,6 @@
 // classify-actions: the classifier of a trained ActGAN applied to a skeleton file.
+#include "apps/classify_actions.h"
 #include "core/tool.h"
-#include "models/actgan/generate.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
       "\n"
       "OUTPUT: the table on stdout; --json FILE (or -) with accuracies and probabilities.");
   tool.with_force();
-  df::models::ClassifyOptions opt;
+  df::apps::ClassifyOptions opt;
   auto& app = tool.app();
   app.add_option("MODEL", opt.model, "actgan-model .h5")->required();
   app.add_option("INPUT", opt.input, "skeleton .h5 (real or generated)")->required();
@@ -29,5 +29,5 @@ int main(int argc, char** argv) {
       "  classify-actions actgan.h5 utk.h5                 # real test sequences\n"
       "  classify-actions actgan.h5 generated.h5\n"
       "  classify-actions actgan.h5 mixed.h5 --probabilities");
-  return tool.run(argc, argv, [&] { df::models::classify_actions(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::classify_actions(opt, tool.common()); });
 }

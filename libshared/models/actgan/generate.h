@@ -1,6 +1,6 @@
-// gen-actgan and classify-actions: sequences from a trained ActGAN for a class or a soft mixture
-// of classes (the generator's label input y = (p_1, ..., p_C)), and the trained classifier
-// applied to any skeleton file of the same skeleton.
+// gen-actgan (and what classify-actions runs, apps/classify_actions): sequences from a trained
+// ActGAN for a class or a soft mixture of classes (the generator's label input y = (p_1, ...,
+// p_C)), and the trained classifier applied to any skeleton file of the same skeleton.
 #pragma once
 
 #include <string>
@@ -33,12 +33,9 @@ void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int leng
 
 void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common);
 
-struct ClassifyOptions {
-  std::string model, input;
-  bool all = false;            ///< every sequence, not only the test part
-  std::string json;            ///< "" or a file (or "-") with per-class accuracy and probabilities
-  bool probabilities = false;  ///< print each sequence's class probabilities
-};
+/// The column of row r's largest value (the first of equals): a probability row's most probable
+/// class, a label row's strongest class.
+Eigen::Index most_probable(const nn::Matrix<float>& p, Eigen::Index r);
 
 /// What the model's classifier makes of sequences: class probabilities and the features its
 /// output layer reads (the head's hidden layer, m.config.fc wide).
@@ -52,7 +49,5 @@ struct Recognised {
 /// shortest sequence). The model must have a classifier (callers check, naming its file).
 Recognised recognise(const ActganModel& m, const io::SkeletonFile& s,
                      const std::vector<std::size_t>& seqs, std::size_t length = 0);
-
-void classify_actions(const ClassifyOptions& opt, const CommonOptions& common);
 
 }  // namespace df::models
