@@ -1,6 +1,6 @@
 // collect-metrics: one table from the metrics JSON of many runs (a sweep's tasks).
+#include "apps/collect_metrics.h"
 #include "core/tool.h"
-#include "eval/metrics_table.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
       "\n"
       "OUTPUT: a tab-separated table (header row 'name' + columns) on stdout or to -o.");
   tool.with_force();
-  df::eval::CollectMetricsOptions opt;
+  df::apps::CollectMetricsOptions opt;
   auto& app = tool.app();
   app.add_option("FILE", opt.files, "Metrics JSON files, one row each")->required();
   app.add_option("--names", opt.names, "Row names, one per file (comma-separated)")
@@ -38,6 +38,6 @@ int main(int argc, char** argv) {
       "  erms=$(collect-metrics --values --columns erms recon.json)   # one number, in a script");
   return tool.run(argc, argv, [&] {
     opt.force = tool.common().force;
-    df::eval::collect_metrics_tool(opt);
+    df::apps::collect_metrics_tool(opt);
   });
 }

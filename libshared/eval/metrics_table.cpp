@@ -5,12 +5,10 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/atomic_output.h"
 #include "core/error.h"
 
 namespace df::eval {
@@ -142,20 +140,6 @@ void write_tsv(std::ostream& out, const MetricsTable& table, bool values_only) {
       out << (c || !values_only ? "\t" : "") << table.cells[r][c];
     out << '\n';
   }
-}
-
-void collect_metrics_tool(const CollectMetricsOptions& opt) {
-  if (opt.values && opt.columns.empty())
-    throw UsageError("--values needs --columns (the values to print)");
-  const std::vector<std::filesystem::path> inputs(opt.files.begin(), opt.files.end());
-  const auto claims = claim_outputs({opt.output}, opt.force, inputs);
-  const MetricsTable table = collect_metrics(opt.files, opt.names, opt.columns, opt.values);
-  std::ostringstream text;
-  write_tsv(text, table, opt.values);
-  if (opt.output.empty() || opt.output == "-")
-    std::cout << text.str();
-  else
-    write_text_output(opt.output, text.str(), opt.force, inputs);
 }
 
 }  // namespace df::eval

@@ -37,16 +37,4 @@ MetricsTable collect_metrics(const std::vector<std::string>& files,
 /// cells alone (what a script reads).
 void write_tsv(std::ostream& out, const MetricsTable& table, bool values_only = false);
 
-struct CollectMetricsOptions {
-  std::vector<std::string> files;
-  std::vector<std::string> names;
-  std::vector<std::string> columns;  ///< "" = every number found
-  bool values = false;               ///< only the cells; every value must exist
-  std::string output;                ///< "" or "-" = stdout
-  bool force = false;
-};
-
-/// collect-metrics: collect_metrics, then the TSV to the output (atomically) or stdout.
-void collect_metrics_tool(const CollectMetricsOptions& opt);
-
 }  // namespace df::eval
