@@ -1,6 +1,6 @@
 // gen-actgan: action sequences from a trained ActGAN, for classes or a mixture of classes.
+#include "apps/gen_actgan.h"
 #include "core/tool.h"
-#include "models/actgan/generate.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -36,5 +36,5 @@ int main(int argc, char** argv) {
       "  gen-actgan actgan.h5 --count 100 -o generated.h5\n"
       "  gen-actgan actgan.h5 --class walk --length 120 --count 4 --latents walk-h.tsv -o walk.h5\n"
       "  gen-actgan actgan.h5 --mix walk:0.5,wave:0.5 --count 8 -o mixed.h5");
-  return tool.run(argc, argv, [&] { df::models::gen_actgan(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::gen_actgan(opt, tool.common()); });
 }

@@ -1,6 +1,7 @@
-// gen-actgan (and what classify-actions runs, apps/classify_actions): sequences from a trained
-// ActGAN for a class or a soft mixture of classes (the generator's label input y = (p_1, ...,
-// p_C)), and the trained classifier applied to any skeleton file of the same skeleton.
+// Sequences from a trained ActGAN for a class or a soft mixture of classes (the generator's label
+// input y = (p_1, ..., p_C)), and the trained classifier applied to any skeleton file of the same
+// skeleton: what gen-actgan and classify-actions run (their jobs: apps/gen_actgan,
+// apps/classify_actions).
 #pragma once
 
 #include <string>
@@ -30,8 +31,6 @@ nn::Matrix<float> label_rows(const ActganModel& m, const ActganGenerateOptions& 
 /// returns poses [rows, length, P] and latents [rows, length, Z].
 void generate_actions(const ActganModel& m, const nn::Matrix<float>& y, int length, Rng& rng,
                       std::vector<float>& poses, std::vector<float>& latents);
-
-void gen_actgan(const ActganGenerateOptions& opt, const CommonOptions& common);
 
 /// The column of row r's largest value (the first of equals): a probability row's most probable
 /// class, a label row's strongest class.
