@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/gen_bdlstm.h"
 #include "core/atomic_output.h"
 #include "core/error.h"
 #include "eval/mesh_metrics.h"
@@ -652,7 +653,7 @@ void bind_bdlstm(py::module_& m) {
         o.output = tmp.string();
         {
           py::gil_scoped_release free;
-          models::generate_bdlstm(o, common);
+          apps::generate_bdlstm(o, common);
         }
         py::dict d;
         {

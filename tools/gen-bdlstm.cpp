@@ -1,7 +1,7 @@
 // gen-bdlstm: predict, complete and diversify mesh sequences with a trained BD-LSTM (paper 1).
+#include "apps/gen_bdlstm.h"
 #include "core/choice_option.h"
 #include "core/tool.h"
-#include "models/bdlstm/generate.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -119,5 +119,5 @@ int main(int argc, char** argv) {
       "  gen-bdlstm model.h5 data.h5 --mode complete --keyframes 10,20 --samples 8 -o c.h5\n"
       "  gen-bdlstm model.h5 data.h5 --test-every 2 --initial 2 --method linear -o lin.h5\n"
       "  acap2obj pred.h5 -o pred-meshes/");
-  return tool.run(argc, argv, [&] { df::models::generate_bdlstm(opt, tool.common()); });
+  return tool.run(argc, argv, [&] { df::apps::generate_bdlstm(opt, tool.common()); });
 }

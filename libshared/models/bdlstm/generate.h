@@ -110,10 +110,7 @@ struct BdlstmGenerateOptions {
   int stride = 0;
 };
 
-/// Reads and checks the options, plans the cases, runs them, writes the output.
-void generate_bdlstm(const BdlstmGenerateOptions& opt, const CommonOptions& common);
-
-// --- the steps of generate_bdlstm, each callable on its own -----------------------------------
+// --- the steps of gen-bdlstm's job (apps/gen_bdlstm), each callable on its own ---------------
 
 /// The data a generation starts from: features normalized with the model's numbers.
 struct GenerationData {
@@ -196,10 +193,5 @@ class ChainRunner {
   int unmerged_ = 0;
   double worst_merge_ = 0;
 };
-
-/// Writes the sequences as an acap file of normalized features with /frames/source and
-/// /frames/step (atomically).
-void write_generated(const std::vector<GeneratedSequence>& out, const BdlstmGenerateOptions& opt,
-                     const BdlstmModel& m, const GenerationData& d, const CommonOptions& common);
 
 }  // namespace df::models
