@@ -39,11 +39,11 @@ int main(int argc, char** argv) {
   app.add_option("INPUT", opt.input, "skeleton .h5 of equal-length clips")->required();
   app.add_option("-o,--output", opt.output, "Output model (.h5)")->required();
   auto* n = app.add_option_group("Networks (sizes of the authors' code)");
-  df::models::add_settings(*n, df::models::actgan_network_settings(opt.net));
+  df::models::add_settings(*n, bind(df::models::actgan_network_settings(), opt.net, opt.training));
   auto* l = app.add_option_group("Losses (ablations: paper Tables 2, 5, 6)");
-  df::models::add_settings(*l, df::models::actgan_loss_settings(opt.net));
+  df::models::add_settings(*l, bind(df::models::actgan_loss_settings(), opt.net, opt.training));
   auto* g = app.add_option_group("Training");
-  df::models::add_settings(*g, df::models::actgan_training_settings(opt.training));
+  df::models::add_settings(*g, bind(df::models::actgan_training_settings(), opt.net, opt.training));
   g->add_option("--validation-subjects", opt.training.validation_subjects,
                 "Hold out these training subjects, comma-separated: their clips are not trained\n"
                 "on, and every loss line adds the MMD_avg and MMD_seq of 100 sequences generated\n"
@@ -74,8 +74,9 @@ int main(int argc, char** argv) {
     if (paper_form) {  // options given explicitly still win
       auto paper = opt;
       df::models::apply_paper_form(paper.net, paper.training);
-      df::models::take_settings_not_given(df::models::actgan_settings(paper.net, paper.training),
-                                          df::models::actgan_settings(opt.net, opt.training), app);
+      df::models::take_settings_not_given(
+          view(df::models::actgan_settings(), paper.net, paper.training),
+          bind(df::models::actgan_settings(), opt.net, opt.training), app);
     }
     opt.training.seed = tool.common().seed;
     df::apps::train_actgan(opt, tool.common());

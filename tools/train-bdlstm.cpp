@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   app.add_option("INPUT", opt.input, "acap .h5 with normalized features")->required();
   app.add_option("-o,--output", opt.output, "Output model (.h5)")->required();
   auto* g = app.add_option_group("Training");
-  df::models::add_settings(*g, df::models::bdlstm_training_settings(opt.training, opt.net));
+  df::models::add_settings(*g, bind(df::models::bdlstm_training_settings(), opt.net, opt.training));
   g->add_flag(
       "--paper-form", paper_form,
       "The paper's exact form: --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1\n"
@@ -52,7 +52,7 @@ int main(int argc, char** argv) {
       ->default_val(opt.training.collapse_threshold);
   df::models::add_training_run_options(*g, opt.run);
   auto* n = app.add_option_group("Network (ablations: paper Table 2)");
-  df::models::add_settings(*n, df::models::bdlstm_network_settings(opt.net));
+  df::models::add_settings(*n, bind(df::models::bdlstm_network_settings(), opt.net, opt.training));
   tool.footer(
       "Examples:\n"
       "  train-bdlstm pcow.h5 -o pcow-bdlstm.h5\n"
@@ -64,8 +64,9 @@ int main(int argc, char** argv) {
     if (paper_form) {  // options given explicitly still win
       auto paper = opt;
       df::models::apply_paper_form(paper.net, paper.training);
-      df::models::take_settings_not_given(df::models::bdlstm_settings(paper.net, paper.training),
-                                          df::models::bdlstm_settings(opt.net, opt.training), app);
+      df::models::take_settings_not_given(
+          view(df::models::bdlstm_settings(), paper.net, paper.training),
+          bind(df::models::bdlstm_settings(), opt.net, opt.training), app);
     }
     df::models::train_bdlstm(opt, tool.common());
   });

@@ -44,9 +44,9 @@ int main(int argc, char** argv) {
       "--levels", levels,
       "Number of levels (default: as many as --kz has values); more levels than --kz/--d\n"
       "give continue with K_z 5 and half the previous d");
-  df::models::add_settings(*n, df::models::msae_network_settings(opt.net));
+  df::models::add_settings(*n, bind(df::models::msae_network_settings(), opt.net, opt.training));
   auto* g = app.add_option_group("Training");
-  df::models::add_settings(*g, df::models::msae_training_settings(opt.training));
+  df::models::add_settings(*g, bind(df::models::msae_training_settings(), opt.net, opt.training));
   g->add_option(
       "--train", opt.train_list,
       "Train on the shapes of this list (frame names of /frames/names or indices, one per line)");
@@ -72,8 +72,9 @@ int main(int argc, char** argv) {
     if (paper_form) {  // options given explicitly still win
       df::models::MsaeConfig paper_net;
       df::models::MsaeTraining paper_training;
-      df::models::take_settings_not_given(df::models::msae_settings(paper_net, paper_training),
-                                          df::models::msae_settings(opt.net, opt.training), app);
+      df::models::take_settings_not_given(
+          view(df::models::msae_settings(), paper_net, paper_training),
+          bind(df::models::msae_settings(), opt.net, opt.training), app);
     }
     if (levels < 0) throw df::UsageError("--levels must be positive");
     if (levels > 0) {

@@ -650,42 +650,35 @@ ChunkLayout chunk_layout(hid_t ds) {
   return L;
 }
 
-// HDF5's byte shuffle: byte j of element i goes to out[j·n + i]. Element-major loops with a
-// compile-time element size (sequential reads, `size` sequential write streams).
-template <std::size_t S>
-void shuffle_fixed(const unsigned char* in, unsigned char* out, std::size_t n) {
+// HDF5's byte shuffle: byte j of element i goes to out[j·n + i] (shuffle), or back from there
+// (unshuffle). Element-major loops with a compile-time element size for the common sizes
+// (sequential reads, `size` sequential write streams).
+enum class ByteOrder { shuffle, unshuffle };
+template <ByteOrder Way, std::size_t S>
+void reorder_fixed(const unsigned char* in, unsigned char* out, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < S; ++j) out[j * n + i] = in[i * S + j];
+    for (std::size_t j = 0; j < S; ++j)
+      if constexpr (Way == ByteOrder::shuffle)
+        out[j * n + i] = in[i * S + j];
+      else
+        out[i * S + j] = in[j * n + i];
 }
-template <std::size_t S>
-void unshuffle_fixed(const unsigned char* in, unsigned char* out, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < S; ++j) out[i * S + j] = in[j * n + i];
-}
-void shuffle_bytes(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t size) {
+template <ByteOrder Way>
+void reorder_bytes(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t size) {
   switch (size) {
     case 8:
-      return shuffle_fixed<8>(in, out, n);
+      return reorder_fixed<Way, 8>(in, out, n);
     case 4:
-      return shuffle_fixed<4>(in, out, n);
+      return reorder_fixed<Way, 4>(in, out, n);
     case 2:
-      return shuffle_fixed<2>(in, out, n);
+      return reorder_fixed<Way, 2>(in, out, n);
     default:
       for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < size; ++j) out[j * n + i] = in[i * size + j];
-  }
-}
-void unshuffle_bytes(const unsigned char* in, unsigned char* out, std::size_t n, std::size_t size) {
-  switch (size) {
-    case 8:
-      return unshuffle_fixed<8>(in, out, n);
-    case 4:
-      return unshuffle_fixed<4>(in, out, n);
-    case 2:
-      return unshuffle_fixed<2>(in, out, n);
-    default:
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < size; ++j) out[i * size + j] = in[j * n + i];
+        for (std::size_t j = 0; j < size; ++j)
+          if constexpr (Way == ByteOrder::shuffle)
+            out[j * n + i] = in[i * size + j];
+          else
+            out[i * size + j] = in[j * n + i];
   }
 }
 
@@ -765,8 +758,8 @@ void File::write_rows(const std::string& path, std::size_t first, std::size_t co
       }
       Scratch& sc = scratch();
       sc.bytes.resize(chunk_bytes);
-      shuffle_bytes(reinterpret_cast<const unsigned char*>(src), sc.bytes.data(), chunk_elems,
-                    sizeof(T));
+      reorder_bytes<ByteOrder::shuffle>(reinterpret_cast<const unsigned char*>(src),
+                                        sc.bytes.data(), chunk_elems, sizeof(T));
       packed[c].resize(ZSTD_compressBound(chunk_bytes));
       std::size_t n = ZSTD_compressCCtx(sc.cctx, packed[c].data(), packed[c].size(),
                                         sc.bytes.data(), chunk_bytes, L.zstd_level);
@@ -851,7 +844,8 @@ void File::read_rows(const std::string& path, std::size_t first, std::size_t cou
         out = padded.data();
       }
       if (!(mask[c] & 1u))
-        unshuffle_bytes(shuffled, reinterpret_cast<unsigned char*>(out), chunk_elems, sizeof(T));
+        reorder_bytes<ByteOrder::unshuffle>(shuffled, reinterpret_cast<unsigned char*>(out),
+                                            chunk_elems, sizeof(T));
       else
         std::memcpy(out, shuffled, chunk_bytes);
       if (out != dst)

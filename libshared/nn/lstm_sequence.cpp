@@ -32,6 +32,24 @@ struct StepOrder {
   Index operator()(Index s) const { return reverse ? steps - 1 - s : s; }
 };
 
+// One step back through time: the gate gradients dz of a step (gates z, activated; its cell and
+// the previous one) from dh and dc, the gradients reaching its output and its cell; dc is then
+// carried to the previous step.
+template <class Zs, class Cp, class Cs, class Dh, class Dc, class Dz>
+void step_back(const Zs& z, const Cp& c_prev, const Cs& cell, const Dh& dh, Dc& dc, Dz&& dz,
+               Index H) {
+  using T = typename Dh::Scalar;
+  const auto i = z.leftCols(H).array(), f = z.middleCols(H, H).array(),
+             g = z.middleCols(2 * H, H).array(), o = z.rightCols(H).array();
+  const Eigen::Array<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> tc = cell.array().tanh();
+  dc.array() += dh.array() * o * (T(1) - tc.square());
+  dz.leftCols(H).array() = dc.array() * g * i * (T(1) - i);
+  dz.middleCols(H, H).array() = dc.array() * c_prev.array() * f * (T(1) - f);
+  dz.middleCols(2 * H, H).array() = dc.array() * i * (T(1) - g.square());
+  dz.rightCols(H).array() = dh.array() * tc * o * (T(1) - o);
+  dc.array() *= f;
+}
+
 }  // namespace
 
 template <class T>
@@ -80,22 +98,13 @@ Var<T> lstm_sequence(Var<T> x, Var<T> wx, Var<T> wh, Var<T> b, Var<T> h0, Var<T>
         const auto wht_packed = pack_rhs(t.value(iwh), true);
         for (Index s = order.steps - 1; s >= 0; --s) {
           const Index r = order(s) * B, rp = s ? order(s - 1) * B : -1;
-          const auto z = gates->middleRows(r, B);
-          const auto i = z.leftCols(H).array(), f = z.middleCols(H, H).array(),
-                     g = z.middleCols(2 * H, H).array(), o = z.rightCols(H).array();
           const Eigen::Map<const Matrix<T>> c_prev(s ? cells->data() + rp * H : t.value(ic).data(),
                                                    B, H);
-          const Eigen::Array<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> tc =
-              cells->middleRows(r, B).array().tanh();
           dh += G.middleRows(r, B);
-          dc.array() += dh.array() * o * (T(1) - tc.square());
-          auto dz = dZ.middleRows(r, B);
-          dz.leftCols(H).array() = dc.array() * g * i * (T(1) - i);
-          dz.middleCols(H, H).array() = dc.array() * c_prev.array() * f * (T(1) - f);
-          dz.middleCols(2 * H, H).array() = dc.array() * i * (T(1) - g.square());
-          dz.rightCols(H).array() = dh.array() * tc * o * (T(1) - o);
-          dc.array() *= f;
-          if (s || t.requires_grad(ih)) packed_product<T>(dh, dz, wht_packed, false);
+          step_back(gates->middleRows(r, B), c_prev, cells->middleRows(r, B), dh, dc,
+                    dZ.middleRows(r, B), H);
+          if (s || t.requires_grad(ih))
+            packed_product<T>(dh, dZ.middleRows(r, B), wht_packed, false);
         }
         if (t.requires_grad(ih)) t.grad(ih) += dh;
         if (t.requires_grad(ic)) t.grad(ic) += dc;

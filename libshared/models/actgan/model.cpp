@@ -45,10 +45,7 @@ std::vector<NamedAdam> optimizers(const ActganModel& m) {
 
 void write_config(h5::File& f, const ActganModel& m) {
   f.create_groups(io::model_layout::config);
-  ActganConfig c = m.config;
-  ActganTraining t = m.training;
-  t.disc_lr = t.discriminator_lr();  // the rate in use: 0 means --lr
-  write_settings(f, io::model_layout::config, actgan_settings(c, t));
+  write_settings(f, io::model_layout::config, view(actgan_settings(), m.config, m.training));
   f.set_attr(io::model_layout::config, "frame_rate", m.frame_rate);
   f.set_attr(io::model_layout::config, "length", m.length);
   f.set_attr(io::model_layout::config, "data", m.data);
@@ -56,7 +53,7 @@ void write_config(h5::File& f, const ActganModel& m) {
 
 void read_config(const h5::File& f, ActganModel& m) {
   // Files written before a setting existed read as its default, the model they describe.
-  read_settings(f, io::model_layout::config, actgan_settings(m.config, m.training));
+  read_settings(f, io::model_layout::config, bind(actgan_settings(), m.config, m.training));
   if (f.exists(io::model_layout::validation_subjects))  // absent: none (and in files older than it)
     m.training.validation_subjects =
         f.read<std::int32_t>(io::model_layout::validation_subjects).data;

@@ -9,13 +9,15 @@
 
 namespace df::models {
 
+using ActganSettings = SettingsTable<ActganConfig, ActganTraining>;
+
 /// The networks (the option group "Networks"; the pose size and class count come from the data).
-Settings actgan_network_settings(ActganConfig& c);
+const ActganSettings& actgan_network_settings();
 /// The losses (the option group "Losses": the ablations of paper Tables 2, 5 and 6).
-Settings actgan_loss_settings(ActganConfig& c);
+const ActganSettings& actgan_loss_settings();
 /// The training run (the option group "Training").
-Settings actgan_training_settings(ActganTraining& t);
+const ActganSettings& actgan_training_settings();
 /// Every setting, as /config holds them.
-Settings actgan_settings(ActganConfig& c, ActganTraining& t);
+const ActganSettings& actgan_settings();
 
 }  // namespace df::models

@@ -25,9 +25,7 @@ using nn::train_step;
 void check_options(const ActganTrainOptions& opt) {
   const auto& t = opt.training;
   const auto& c = opt.net;
-  ActganConfig cc = c;  // the table points at fields
-  ActganTraining tt = t;
-  check_ranges(actgan_settings(cc, tt));
+  check_ranges(view(actgan_settings(), c, t));
   if (c.generator == Generator::pose && t.pretrain_iterations > 0)
     throw UsageError(
         "the direct-pose baseline (--generator pose) has no decoder to pre-train: use "
@@ -53,11 +51,8 @@ void check_options(const ActganTrainOptions& opt) {
 }
 
 void check_resumable(const ActganModel& ck, const ActganModel& want, const std::string& path) {
-  ActganConfig c0 = ck.config, c1 = want.config;  // the tables point at fields: copies to compare
-  ActganTraining t0 = ck.training, t1 = want.training;
-  t0.disc_lr = t0.discriminator_lr();  // 0 means --lr: compare the rates in use
-  t1.disc_lr = t1.discriminator_lr();
-  require_same_settings(actgan_settings(c0, t0), actgan_settings(c1, t1), path);
+  require_same_settings(view(actgan_settings(), ck.config, ck.training),
+                        view(actgan_settings(), want.config, want.training), path);
   auto differs = [&](const char* what, const auto& a, const auto& b) {
     require_same_setting(what, a, b, path);
   };
@@ -306,6 +301,7 @@ ActganModel describe_model(const ActganTrainOptions& opt, const io::SkeletonFile
   m.config.pose = clips.pose;
   m.config.classes = static_cast<int>(s.class_names.size());
   m.training = opt.training;
+  m.training.disc_lr = m.training.discriminator_lr();  // the rate in use (0 means --lr) is recorded
   m.class_names = s.class_names;
   m.parents = s.parents;
   m.joint_names = s.joint_names;

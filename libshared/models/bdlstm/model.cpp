@@ -36,9 +36,7 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "bdlstm-model", {m.history});
     f.create_groups(io::model_layout::config);
-    BdlstmConfig c = m.config;
-    BdlstmTraining t = m.training;
-    write_settings(f, io::model_layout::config, bdlstm_settings(c, t));
+    write_settings(f, io::model_layout::config, view(bdlstm_settings(), m.config, m.training));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
     if (!m.log.empty() && m.kl_per_frame >= 0) {
       f.set_attr(io::model_layout::training_log, "kl_per_frame", m.kl_per_frame);
@@ -72,7 +70,7 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   m.history = io::read_history(f);
   // Files written before a setting existed read as the structs' default, the paper's form (the
   // tool's learning defaults are applied by train-bdlstm, not here).
-  read_settings(f, io::model_layout::config, bdlstm_settings(m.config, m.training));
+  read_settings(f, io::model_layout::config, bind(bdlstm_settings(), m.config, m.training));
   std::vector<double> log, unprinted;
   read_mesh_model_common(f, m.tmpl, m.normalization, log, unprinted);
   if (f.exists(io::model_layout::training_log) &&

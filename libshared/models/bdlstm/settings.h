@@ -8,12 +8,14 @@
 
 namespace df::models {
 
+using BdlstmSettings = SettingsTable<BdlstmConfig, BdlstmTraining>;
+
 /// The network and its loss (the option group "Network"; the ablations of paper Table 2).
-Settings bdlstm_network_settings(BdlstmConfig& c);
+const BdlstmSettings& bdlstm_network_settings();
 /// The training run (the option group "Training"). The remedies' options (--kl-warmup,
 /// --kl-free-bits, --l2-scope, --l2-weight, --decoder-init) are the ones --paper-form sets.
-Settings bdlstm_training_settings(BdlstmTraining& t, BdlstmConfig& c);
+const BdlstmSettings& bdlstm_training_settings();
 /// Every setting, as /config holds them.
-Settings bdlstm_settings(BdlstmConfig& c, BdlstmTraining& t);
+const BdlstmSettings& bdlstm_settings();
 
 }  // namespace df::models

@@ -22,9 +22,8 @@ namespace {
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
 void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::string& path) {
-  BdlstmConfig c0 = ck.config, c1 = want.config;  // the tables point at fields: copies to compare
-  BdlstmTraining t0 = ck.training, t1 = want.training;
-  require_same_settings(bdlstm_settings(c0, t0), bdlstm_settings(c1, t1), path);
+  require_same_settings(view(bdlstm_settings(), ck.config, ck.training),
+                        view(bdlstm_settings(), want.config, want.training), path);
   require_same_setting("vertices", ck.tmpl.vertices.rows(), want.tmpl.vertices.rows(), path);
   if (ck.split.train_begin != want.split.train_begin ||
       ck.split.train_end != want.split.train_end || ck.split.test_begin != want.split.test_begin ||
@@ -196,9 +195,7 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
 namespace {
 
 void check_options(const BdlstmTrainOptions& opt) {
-  BdlstmConfig c = opt.net;  // the table points at fields
-  BdlstmTraining t = opt.training;
-  check_ranges(bdlstm_settings(c, t));
+  check_ranges(view(bdlstm_settings(), opt.net, opt.training));
   opt.run.check();
   if (opt.training.teacher_frames >= opt.training.window)
     throw UsageError("--teacher-frames must be smaller than --window");

@@ -27,22 +27,27 @@ std::string number_list(const auto& v) {
 
 }  // namespace
 
-std::string Setting::option_name() const {
+template <bool Const>
+std::string BasicSetting<Const>::option_name() const {
   if (*option) return option;
   std::string n = std::string("--") + name;
   std::replace(n.begin(), n.end(), '_', '-');
   return n;
 }
 
-std::string Setting::value_text() const {
+template <bool Const>
+std::string BasicSetting<Const>::value_text() const {
   return std::visit(
-      Overloaded{[](bool* p) { return std::string(*p ? "true" : "false"); },
-                 [](std::string* p) { return *p; }, [](const Setting::Text& t) { return t.get(); },
-                 [](std::vector<int>* p) { return number_list(*p); },
-                 [](std::vector<double>* p) { return number_list(*p); },
-                 [](auto* p) { return fmt::format("{}", *p); }},
+      Overloaded{[](Ptr<bool> p) { return std::string(*p ? "true" : "false"); },
+                 [](Ptr<std::string> p) { return *p; }, [](const Text& t) { return t.get(); },
+                 [](Ptr<std::vector<int>> p) { return number_list(*p); },
+                 [](Ptr<std::vector<double>> p) { return number_list(*p); },
+                 [](auto p) { return fmt::format("{}", *p); }},
       target);
 }
+
+template struct BasicSetting<false>;
+template struct BasicSetting<true>;
 
 bool Range::holds(double v) const {
   return (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
@@ -59,20 +64,21 @@ std::string Range::text() const {
   return fmt::format("in {}{}, {}{}", lo_open ? '(' : '[', lo, hi, hi_open ? ')' : ']');
 }
 
-void check_ranges(const Settings& settings) {
-  for (const Setting& s : settings) {
+void check_ranges(const SettingViews& settings) {
+  for (const SettingView& s : settings) {
     if (!s.range) continue;
     auto check = [&](double v) {
       if (!s.range->holds(v))
         throw UsageError(fmt::format("{} must be {} (got {})", s.option_name(), s.range->text(),
                                      s.value_text()));
     };
-    std::visit(Overloaded{[&](int* p) { check(*p); }, [&](std::int64_t* p) { check(double(*p)); },
-                          [&](double* p) { check(*p); },
-                          [&](std::vector<int>* p) {
+    std::visit(Overloaded{[&](const int* p) { check(*p); },
+                          [&](const std::int64_t* p) { check(double(*p)); },
+                          [&](const double* p) { check(*p); },
+                          [&](const std::vector<int>* p) {
                             for (int v : *p) check(v);
                           },
-                          [&](std::vector<double>* p) {
+                          [&](const std::vector<double>* p) {
                             for (double v : *p) check(v);
                           },
                           [&](const auto&) {
@@ -134,24 +140,25 @@ void add_settings(CLI::Option_group& group, const Settings& settings) {
   }
 }
 
-void write_settings(h5::File& f, const std::string& object, const Settings& settings) {
-  for (const Setting& s : settings)
-    std::visit(
-        Overloaded{[&](bool* p) { f.set_attr(object, s.name, static_cast<int>(*p)); },
-                   [&](int* p) { f.set_attr(object, s.name, *p); },
-                   [&](std::int64_t* p) { f.set_attr(object, s.name, *p); },
-                   [&](std::uint64_t* p) { f.set_attr(object, s.name, fmt::format("{}", *p)); },
-                   [&](double* p) { f.set_attr(object, s.name, *p); },
-                   [&](std::string* p) { f.set_attr(object, s.name, *p); },
-                   [&](const Setting::Text& t) { f.set_attr(object, s.name, t.get()); },
-                   [&](std::vector<int>* p) {
-                     const std::vector<double> v(p->begin(), p->end());
-                     f.set_attr(object, s.name, std::span<const double>(v));
-                   },
-                   [&](std::vector<double>* p) {
-                     f.set_attr(object, s.name, std::span<const double>(*p));
-                   }},
-        s.target);
+void write_settings(h5::File& f, const std::string& object, const SettingViews& settings) {
+  for (const SettingView& s : settings)
+    std::visit(Overloaded{[&](const bool* p) { f.set_attr(object, s.name, static_cast<int>(*p)); },
+                          [&](const int* p) { f.set_attr(object, s.name, *p); },
+                          [&](const std::int64_t* p) { f.set_attr(object, s.name, *p); },
+                          [&](const std::uint64_t* p) {
+                            f.set_attr(object, s.name, fmt::format("{}", *p));
+                          },
+                          [&](const double* p) { f.set_attr(object, s.name, *p); },
+                          [&](const std::string* p) { f.set_attr(object, s.name, *p); },
+                          [&](const SettingView::Text& t) { f.set_attr(object, s.name, t.get()); },
+                          [&](const std::vector<int>* p) {
+                            const std::vector<double> v(p->begin(), p->end());
+                            f.set_attr(object, s.name, std::span<const double>(v));
+                          },
+                          [&](const std::vector<double>* p) {
+                            f.set_attr(object, s.name, std::span<const double>(*p));
+                          }},
+               s.target);
 }
 
 void read_settings(const h5::File& f, const std::string& object, const Settings& settings) {
@@ -195,7 +202,7 @@ void read_settings(const h5::File& f, const std::string& object, const Settings&
   }
 }
 
-void require_same_settings(const Settings& checkpoint, const Settings& now,
+void require_same_settings(const SettingViews& checkpoint, const SettingViews& now,
                            const std::string& path) {
   if (checkpoint.size() != now.size())
     throw Error("internal: require_same_settings needs two tables of the same model");
@@ -203,7 +210,7 @@ void require_same_settings(const Settings& checkpoint, const Settings& now,
     if (!now[k].resume) continue;
     const std::string a = checkpoint[k].value_text(), b = now[k].value_text();
     if (a == b) continue;
-    if (const auto* p = std::get_if<bool*>(&now[k].target)) {
+    if (const auto* p = std::get_if<const bool*>(&now[k].target)) {
       // Said as the flag: whether the checkpoint's run gave it.
       const bool flag_now = (**p) == !*now[k].option;
       throw InvalidInput(fmt::format("checkpoint was made {} {}, this run {}; remove it or use the "
@@ -220,21 +227,24 @@ void require_same_settings(const Settings& checkpoint, const Settings& now,
   }
 }
 
-void take_settings_not_given(const Settings& from, const Settings& to,
+void take_settings_not_given(const SettingViews& from, const Settings& to,
                              const std::function<bool(const std::string&)>& given) {
   if (from.size() != to.size())
     throw Error("internal: take_settings_not_given needs two tables of the same model");
   for (std::size_t k = 0; k < to.size(); ++k) {
     if (!*to[k].help || given(to[k].option_name())) continue;
     std::visit(Overloaded{[&](const Setting::Text& t) {
-                            t.set(std::get<Setting::Text>(from[k].target).get());
+                            t.set(std::get<SettingView::Text>(from[k].target).get());
                           },
-                          [&](auto* p) { *p = *std::get<decltype(p)>(from[k].target); }},
+                          [&](auto* p) {
+                            using Field = std::remove_pointer_t<decltype(p)>;
+                            *p = *std::get<const Field*>(from[k].target);
+                          }},
                to[k].target);
   }
 }
 
-void take_settings_not_given(const Settings& from, const Settings& to, const CLI::App& app) {
+void take_settings_not_given(const SettingViews& from, const Settings& to, const CLI::App& app) {
   take_settings_not_given(from, to,
                           [&](const std::string& option) { return app.count(option) > 0; });
 }

@@ -62,84 +62,124 @@ std::string append_log_row(std::int64_t done, const Interval& interval,
   return detail;
 }
 
+using Clock = std::chrono::steady_clock;
+
+double seconds(Clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
+// Until the first loss line, a line of pace once the run has taken kFirstWord (a large model may
+// take minutes to reach its first loss line, and a silent trainer looks hung), and another
+// kSecondWord after the first iteration, measured without it: it holds the run's set-up (on a
+// large set 20 times a later iteration's time, so the first estimate runs far too long).
+class EarlyPace {
+ public:
+  explicit EarlyPace(Clock::time_point start) : run_start_(start), first_done_(start) {}
+
+  // After iteration `done`, the `timed`-th of this run; no line where a loss line is due.
+  void iteration_done(const TrainingLoop& loop, std::int64_t done, std::int64_t timed,
+                      bool row_due) {
+    if (spoken_ >= 2) return;
+    if (timed == 1) first_done_ = Clock::now();
+    if (row_due) return;
+    const auto now = Clock::now();
+    const double so_far = seconds(now - run_start_);
+    const bool second = spoken_ == 1 && timed > 1 && seconds(now - first_done_) >= kSecondWord;
+    if (!((spoken_ == 0 && so_far >= kFirstWord) || second)) return;
+    ++spoken_;
+    const double per = second ? seconds(now - first_done_) / static_cast<double>(timed - 1)
+                              : so_far / static_cast<double>(timed);
+    const std::int64_t next_row =
+        std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
+    log::info(
+        "iteration {}/{}: {:.3g} s/iteration {}; the next loss line at iteration {} (in ~{:.0f} "
+        "s), {:.0f} s left in all",
+        done, loop.iterations, per, second ? "since the first" : "so far", next_row,
+        per * static_cast<double>(next_row - done),
+        per * static_cast<double>(loop.iterations - done));
+  }
+  // A loss line came: it says the pace from now on.
+  void loss_line_came() { spoken_ = 2; }
+
+ private:
+  static constexpr double kFirstWord = 2.0, kSecondWord = 30.0;  // seconds
+  Clock::time_point run_start_, first_done_;  // first_done_: when this run's first iteration ended
+  int spoken_ = 0;                            // pace lines so far (2: a loss line came)
+};
+
+// The loss terms of iteration `done` added to the interval's sums; a loss that is not finite
+// ends the run.
+void add_terms(Interval& interval, const LossTerms& terms, std::int64_t done) {
+  if (!std::isfinite(terms.at(0)))
+    throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr", done,
+                            terms[0]));
+  for (std::size_t k = 0; k < interval.sum.size(); ++k) interval.sum[k] += terms.at(k);
+  ++interval.iterations;
+}
+
+// The loss line of iteration `done`: the interval's row appended to the log and printed with the
+// pace of the interval (`timed` iterations since `interval_start`; not since the start: a run's
+// phases, e.g. ActGAN's pre-training and GAN, differ by 50x in cost per iteration); then the
+// trainer's after_row hook sees the row. Returns when the pace was measured: the next interval's
+// start.
+Clock::time_point loss_line(const TrainingLoop& loop, TrainingProgress& state,
+                            const Interval& interval, std::int64_t done,
+                            Clock::time_point interval_start, std::int64_t timed) {
+  const std::string detail = append_log_row(done, interval, loop.names, loop.validation.names,
+                                            loop.validation.measure, state.log);
+  const auto now = Clock::now();
+  const double per = seconds(now - interval_start) / static_cast<double>(timed);
+  log::info("iteration {}/{}: {} {:.4g} ({}); {:.3f} s/iteration, {:.0f} s left", done,
+            loop.iterations, loop.names[0],
+            interval.sum[0] / static_cast<double>(interval.iterations), detail, per,
+            per * static_cast<double>(loop.iterations - done));
+  if (loop.after_row) {
+    const std::size_t width = loop.names.size() + 1 + loop.validation.names.size();
+    loop.after_row(
+        std::vector<double>(state.log.end() - static_cast<std::ptrdiff_t>(width), state.log.end()));
+  }
+  return now;
+}
+
+// A stop asked for by a signal after iteration `done`: the unprinted terms and a checkpoint kept,
+// then Stopped saying how to go on.
+void stop_if_asked(const TrainingLoop& loop, TrainingProgress& state, const Interval& interval,
+                   std::int64_t done) {
+  const int sig = stop_requested();
+  if (!sig || done >= loop.iterations) return;
+  state.unprinted = interval.saved();
+  loop.checkpoint();
+  throw Stopped(fmt::format(
+      "stopped by SIG{} after iteration {} of {}; checkpoint {} holds it: run the same command "
+      "with --resume to continue",
+      sigabbrev_np(sig), done, loop.iterations, loop.checkpoint_path));
+}
+
 }  // namespace
 
 void run_training_loop(const TrainingLoop& loop, TrainingProgress& state) {
-  const std::vector<std::string>& names = loop.names;
-  const std::vector<std::string>& evaluate_names = loop.validation.names;
-  const std::function<LossTerms()>& evaluate = loop.validation.measure;
-  std::int64_t& iteration = state.iteration;
-  std::vector<double>& log = state.log;
-  std::vector<double>& unprinted = state.unprinted;
-  Interval interval(names.size(), unprinted);
-  unprinted.clear();
-  // The pace of the last printed interval (not since the start: a run's phases, e.g. ActGAN's
-  // pre-training and GAN, differ by 50x in cost per iteration).
-  auto interval_start = std::chrono::steady_clock::now();
+  Interval interval(loop.names.size(), state.unprinted);
+  state.unprinted.clear();
+  auto interval_start = Clock::now();
   std::int64_t timed = 0;  // iterations run since interval_start (a resumed interval holds more)
-  std::int64_t last_checkpoint = iteration;
-  // Until the first loss line, a line of pace once the run has taken kFirstWord (a large model
-  // may take minutes to reach its first loss line, and a silent trainer looks hung), and another
-  // kSecondWord after the first iteration, measured without it: it holds the run's set-up (on a
-  // large set 20 times a later iteration's time, so the first estimate runs far too long).
-  constexpr double kFirstWord = 2.0, kSecondWord = 30.0;  // seconds
-  const auto run_start = interval_start;
-  int spoken = 0;               // pace lines so far (2: a loss line came or both were said)
-  auto first_done = run_start;  // when this run's first iteration ended
-  if (iteration < loop.iterations)
+  std::int64_t last_checkpoint = state.iteration;
+  EarlyPace early(interval_start);
+  if (state.iteration < loop.iterations)
     log::info("training iterations {}-{}: a loss line every {}; lines of pace before the first",
-              iteration + 1, loop.iterations, loop.print_every);
-  while (iteration < loop.iterations) {
-    const std::int64_t done = iteration + 1;  // counting this one
-    const LossTerms terms = loop.step(done);
-    if (!std::isfinite(terms.at(0)))
-      throw Error(fmt::format("training diverged at iteration {} (loss {}); try a smaller --lr",
-                              done, terms[0]));
-    for (std::size_t k = 0; k < interval.sum.size(); ++k) interval.sum[k] += terms.at(k);
-    ++interval.iterations;
+              state.iteration + 1, loop.iterations, loop.print_every);
+  while (state.iteration < loop.iterations) {
+    const std::int64_t done = state.iteration + 1;  // counting this one
+    add_terms(interval, loop.step(done), done);
     ++timed;
-    iteration = done;  // before any checkpoint: the file must say how many iterations it holds
+    state.iteration =
+        done;  // before any checkpoint: the file must say how many iterations it holds
     const bool row_due = done % loop.print_every == 0 || done == loop.iterations;
-    if (spoken < 2 && timed == 1) first_done = std::chrono::steady_clock::now();
-    if (!row_due && spoken < 2) {
-      const auto now = std::chrono::steady_clock::now();
-      const double so_far = std::chrono::duration<double>(now - run_start).count();
-      const bool second = spoken == 1 && timed > 1 &&
-                          std::chrono::duration<double>(now - first_done).count() >= kSecondWord;
-      if ((spoken == 0 && so_far >= kFirstWord) || second) {
-        ++spoken;
-        const double per = second ? std::chrono::duration<double>(now - first_done).count() /
-                                        static_cast<double>(timed - 1)
-                                  : so_far / static_cast<double>(timed);
-        const std::int64_t next_row =
-            std::min(loop.iterations, (done / loop.print_every + 1) * loop.print_every);
-        log::info(
-            "iteration {}/{}: {:.3g} s/iteration {}; the next loss line at iteration {} (in "
-            "~{:.0f} s), {:.0f} s left in all",
-            done, loop.iterations, per, second ? "since the first" : "so far", next_row,
-            per * static_cast<double>(next_row - done),
-            per * static_cast<double>(loop.iterations - done));
-      }
-    }
+    early.iteration_done(loop, done, timed, row_due);
     if (row_due) {
-      spoken = 2;
-      const std::string detail =
-          append_log_row(done, interval, names, evaluate_names, evaluate, log);
-      const auto now = std::chrono::steady_clock::now();
-      const double per =
-          std::chrono::duration<double>(now - interval_start).count() / static_cast<double>(timed);
-      interval_start = now;
+      early.loss_line_came();
+      interval_start = loss_line(loop, state, interval, done, interval_start, timed);
+      interval = Interval(loop.names.size(), {});
       timed = 0;
-      log::info("iteration {}/{}: {} {:.4g} ({}); {:.3f} s/iteration, {:.0f} s left", done,
-                loop.iterations, names[0],
-                interval.sum[0] / static_cast<double>(interval.iterations), detail, per,
-                per * static_cast<double>(loop.iterations - done));
-      interval = Interval(names.size(), {});
-      if (loop.after_row) {
-        const std::size_t width = names.size() + 1 + evaluate_names.size();
-        loop.after_row(
-            std::vector<double>(log.end() - static_cast<std::ptrdiff_t>(width), log.end()));
-      }
       if (loop.checkpoint_every &&
           done / loop.checkpoint_every > last_checkpoint / loop.checkpoint_every &&
           done < loop.iterations) {
@@ -147,14 +187,7 @@ void run_training_loop(const TrainingLoop& loop, TrainingProgress& state) {
         loop.checkpoint();
       }
     }
-    if (const int sig = stop_requested(); sig && done < loop.iterations) {
-      unprinted = interval.saved();
-      loop.checkpoint();
-      throw Stopped(
-          fmt::format("stopped by SIG{} after iteration {} of {}; checkpoint {} holds "
-                      "it: run the same command with --resume to continue",
-                      sigabbrev_np(sig), done, loop.iterations, loop.checkpoint_path));
-    }
+    stop_if_asked(loop, state, interval, done);
   }
 }
 

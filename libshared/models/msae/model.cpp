@@ -64,9 +64,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "msae-model", {m.history});
     f.create_groups(io::model_layout::config);
-    MsaeConfig c = m.config;
-    MsaeTraining t = m.training;
-    write_settings(f, io::model_layout::config, msae_settings(c, t));
+    write_settings(f, io::model_layout::config, view(msae_settings(), m.config, m.training));
     write_mesh_model_common(f, m.tmpl, m.normalization, m.log, m.log_columns(), m.unprinted);
     if (m.collapse_since > 0) {  // the log has a row
       f.set_attr(io::model_layout::training_log, "collapse", m.collapse);
@@ -99,7 +97,7 @@ MsaeModel load_msae_model(const std::string& path) {
   MsaeModel m;
   m.history = io::read_history(f);
   // Files written before a setting existed read as its default, the network they describe.
-  read_settings(f, io::model_layout::config, msae_settings(m.config, m.training));
+  read_settings(f, io::model_layout::config, bind(msae_settings(), m.config, m.training));
   if (m.config.kz.empty() || m.config.kz.size() != m.config.d.size())
     throw InvalidInput("kz and d must have one value per level", f.where(io::model_layout::config));
   std::vector<double> log, unprinted;

@@ -1,19 +1,22 @@
 #include "models/msae/settings.h"
 
 namespace df::models {
+namespace {
 
-Settings msae_network_settings(MsaeConfig& c) {
-  return {
+// The blocks: their levels, components, attention, codes, decoder and start.
+const MsaeSettings& msae_block_settings() {
+  using C = MsaeConfig;
+  static const MsaeSettings rows = {
       {.name = "kz",
-       .target = &c.kz,
+       .target = &C::kz,
        .help = "Components of each autoencoder, per level (comma-separated)",
        .range = at_least(1)},
       {.name = "d",
-       .target = &c.d,
+       .target = &C::d,
        .help = "Omega's normalized geodesic radius per level (comma-separated)",
        .range = within(0, 1, true)},
       {.name = "attention",
-       .target = &c.attention,
+       .target = &C::attention,
        .help =
            "One autoencoder per level on the whole residual, with as many components as the\n"
            "attention tree has there (paper Table 4; --levels 1 --no-attention is the one-level\n"
@@ -21,7 +24,7 @@ Settings msae_network_settings(MsaeConfig& c) {
        .option = "--no-attention"},
       {
           .name = "latent",
-          .target = choice(c.latent),
+          .target = choice(&C::latent),
           .help = "Codes z = h C^T, bounded by V(Z) at --theta (linear), or z = tanh(h C^T) (tanh: "
                   "the\n"
                   "paper's 'tanh everywhere' taken literally; its codes saturate at +-1 on real "
@@ -29,18 +32,18 @@ Settings msae_network_settings(MsaeConfig& c) {
                   "and V(Z) never acts; see docs/msae.md)",
       },
       {.name = "decoder_fc",
-       .target = choice(c.decoder_fc),
+       .target = choice(&C::decoder_fc),
        .help = "The decoder's fully connected layer: y = tanh(z C) (tanh, the paper's 'tanh\n"
                "everywhere') or y = z C (linear, as the convMesh code of Tan et al.)",
        .optional = true},
       {.name = "decoder_conv",
-       .target = choice(c.decoder_conv),
+       .target = choice(&C::decoder_conv),
        .help =
            "The decoder's mesh convolution uses the encoder's weights transposed, or shared as\n"
            "they are (as the convMesh code)",
        .optional = true},
       {.name = "init",
-       .target = choice(c.init),
+       .target = choice(&C::init),
        .help = "Initial weights: glorot (uniform), normal (N(0, 0.02^2), as the convMesh code),\n"
                "small (C at glorot x 0.01: components no training shape asks for stay near zero\n"
                "instead of projecting unseen shapes onto random directions), local (glorot,\n"
@@ -49,15 +52,23 @@ Settings msae_network_settings(MsaeConfig& c) {
                "the projection onto the shapes' local linear components) or local-all (every\n"
                "level so, each block from SPLOCS on what it is fed, level by level)",
        .optional = true},
+  };
+  return rows;
+}
+
+// Ω's supports and centres, and the loss's weights.
+const MsaeSettings& msae_support_settings() {
+  using C = MsaeConfig;
+  static const MsaeSettings rows = {
       {.name = "centres",
-       .target = choice(c.centres),
+       .target = choice(&C::centres),
        .help =
            "Where the components' centres start: random (where the initial weights peak; the\n"
            "reconstruction gradient then draws most to the same vertices) or spread (farthest-\n"
            "point sampling: level 0 over the mesh, a child within its parent's radius)",
        .optional = true},
       {.name = "centre_separation",
-       .target = &c.centre_separation,
+       .target = &C::centre_separation,
        .help =
            "0: c_k = argmax_i |C_k,i| every iteration (the paper). s > 0: a block's components,\n"
            "strongest first, each take their strongest vertex at least s x d (geodesic) from\n"
@@ -65,7 +76,7 @@ Settings msae_network_settings(MsaeConfig& c) {
            "Omega pushes them apart (the plain argmax where no vertex is that far)",
        .optional = true},
       {.name = "support",
-       .target = choice(c.support),
+       .target = choice(&C::support),
        .help = "Omega as a penalty only (soft, the paper: its gradient leaves weights of the\n"
                "order of the step size all over the mesh), as a proximal step (proximal: Omega\n"
                "out of the gradient; after every Adam step each group of C outside a component's\n"
@@ -75,7 +86,7 @@ Settings msae_network_settings(MsaeConfig& c) {
                "strictly local components)",
        .optional = true},
       {.name = "proximal_cap",
-       .target = &c.proximal_cap,
+       .target = &C::proximal_cap,
        .help = "With --support proximal: a group of C shrinks by at most this many times its\n"
                "rate per step (0: no cap). Adam's step sizes, which the threshold uses, grow\n"
                "without bound where the reconstruction's gradient is small, so uncapped one step\n"
@@ -84,13 +95,13 @@ Settings msae_network_settings(MsaeConfig& c) {
        .range = at_least(0),
        .optional = true},
       {.name = "centre_features",
-       .target = &c.centre_features,
+       .target = &C::centre_features,
        .help = "Subtract the training shapes' mean features before the first autoencoder and add\n"
                "them back after it: the autoencoders model deviations from the mean shape, and no\n"
                "component is spent on the mean deformation (see docs/msae.md)",
        .optional = true},
       {.name = "attention_sharpness",
-       .target = &c.attention_sharpness,
+       .target = &C::attention_sharpness,
        .help =
            "Attention masks from am^p instead of am (eq. 5-6): 1 (the paper), 2 or 4. Where\n"
            "level-0 components overlap, the masks spread each vertex's residual thin over them\n"
@@ -98,11 +109,11 @@ Settings msae_network_settings(MsaeConfig& c) {
            "vertex most (the masks still sum to 1; see docs/msae.md)",
        .optional = true},
       {.name = "lambda_recon",
-       .target = &c.lambda_recon,
+       .target = &C::lambda_recon,
        .help = "Weight of the reconstruction MSE"},
-      {.name = "lambda_sparse", .target = &c.lambda_sparse, .help = "Weight of Omega(C)"},
+      {.name = "lambda_sparse", .target = &C::lambda_sparse, .help = "Weight of Omega(C)"},
       {.name = "lambda_whole",
-       .target = &c.lambda_whole,
+       .target = &C::lambda_whole,
        .help =
            "Weight of the whole reconstruction's MSE |X - sum of every block's X^|^2, added to\n"
            "the blocks' own losses: each second-level autoencoder reconstructs only its masked\n"
@@ -110,45 +121,48 @@ Settings msae_network_settings(MsaeConfig& c) {
            "recon-msae --fit-codes finds do; docs/msae.md). 0 = none (the paper)",
        .optional = true},
       {.name = "theta",
-       .target = &c.theta,
+       .target = &C::theta,
        .help = "V(Z)'s bound on the codes (tanh codes stay below 1: inactive)"},
   };
+  return rows;
 }
 
-Settings msae_training_settings(MsaeTraining& t) {
-  return {
+// The schedule: iterations, batches, rates and their warm-up and decay, separate training.
+const MsaeSettings& msae_schedule_settings() {
+  using T = MsaeTraining;
+  static const MsaeSettings rows = {
       // Only separate training divides the iterations among the levels: elsewhere a resumed run
       // may go on longer (train.cpp checks the separate case).
       {.name = "iterations",
-       .target = &t.iterations,
+       .target = &T::iterations,
        .help = "Training iterations (batches); the paper's 10,000 epochs are a GPU budget",
        .range = at_least(0),
        .resume = false},
       {.name = "batch",
-       .target = &t.batch,
+       .target = &T::batch,
        .help = "Shapes per iteration, drawn with replacement",
        .range = positive()},
       {.name = "lr",
-       .target = &t.lr,
+       .target = &T::lr,
        .help = "Adam learning rate (betas 0.9/0.999)",
        .range = positive()},
       {.name = "lr_decay",
-       .target = &t.lr_decay,
+       .target = &T::lr_decay,
        .help = "Exponential decay: lr x DECAY^(iteration / --lr-decay-steps)",
        .range = within(0, 1, true)},
       {.name = "lr_decay_steps",
-       .target = &t.lr_decay_steps,
+       .target = &T::lr_decay_steps,
        .help = "Iterations per factor --lr-decay",
        .range = positive()},
       {.name = "lr_warmup",
-       .target = &t.lr_warmup,
+       .target = &T::lr_warmup,
        .help = "The rate rises linearly from lr/N to lr over the first N iterations (0: none, the\n"
                "paper). Tried against Adam's first steps replacing a started level 0 (--init\n"
                "local); on chickenCrossing it only delays that (docs/msae.md)",
        .range = at_least(0),
        .optional = true},
       {.name = "started_rate",
-       .target = &t.started_rate,
+       .target = &T::started_rate,
        .help =
            "With --init local or local-all: the started blocks (convolutions, C, decoder bias)\n"
            "step at this fraction of the rate (1: like every weight). Adam's first steps move\n"
@@ -157,7 +171,7 @@ Settings msae_training_settings(MsaeTraining& t) {
        .range = within(0, 1, true, false),
        .optional = true},
       {.name = "start_scale",
-       .target = &t.start_scale,
+       .target = &T::start_scale,
        .help =
            "With --init local or local-all and --decoder-fc linear: the started blocks'\n"
            "convolutions start as S x I and C as the components / S, so that the encoder's tanh\n"
@@ -166,19 +180,27 @@ Settings msae_training_settings(MsaeTraining& t) {
        .range = within(0, 1, true, false),
        .optional = true},
       {.name = "separate",
-       .target = &t.separate,
+       .target = &T::separate,
        .help =
            "Train level by level (iterations divided equally; earlier levels frozen) instead of\n"
            "jointly (paper Table 4)"},
       {.name = "separate_rate",
-       .target = choice(t.separate_rate),
+       .target = choice(&T::separate_rate),
        .help =
            "With --separate: each level's new Adam starts at --lr (restart) or at the rate the\n"
            "schedule has reached when the level starts (continue: the rate joint training has\n"
            "there, so that joint and separate differ in strategy only)",
        .optional = true},
+  };
+  return rows;
+}
+
+// What each batch is drawn from: synthetic shapes, the split, the seed.
+const MsaeSettings& msae_data_settings() {
+  using T = MsaeTraining;
+  static const MsaeSettings rows = {
       {.name = "synthetic",
-       .target = &t.synthetic,
+       .target = &T::synthetic,
        .help =
            "Add N shapes the decoders make to every batch, each code the same code of one of\n"
            "the batch's training shapes drawn at random (independently per code): the encoder\n"
@@ -187,29 +209,29 @@ Settings msae_training_settings(MsaeTraining& t) {
        .range = at_least(0),
        .optional = true},
       {.name = "synthetic_weight",
-       .target = &t.synthetic_weight,
+       .target = &T::synthetic_weight,
        .help = "--synthetic shapes' share of the reconstruction loss against the real ones",
        .range = positive(),
        .optional = true},
       // The split is compared as the frames it chose (train.cpp), not as its settings.
       {.name = "split",
-       .target = choice(t.split),
+       .target = choice(&T::split),
        .help = "sequence: every --every-th shape of each sequence trains, the rest is held out;\n"
                "collection: a random --train-fraction trains (placed by --seed)",
        .choices = {"sequence", "collection"},  // "lists": --train and --test
        .resume = false},
       {.name = "every",
-       .target = &t.every,
+       .target = &T::every,
        .help = "sequence split: train on every N-th shape",
        .range = at_least(2),
        .resume = false},
       {.name = "train_fraction",
-       .target = &t.train_fraction,
+       .target = &T::train_fraction,
        .help = "collection split: fraction trained on",
        .range = within(0, 1, true, true),
        .resume = false},
       {.name = "validation_fraction",
-       .target = &t.validation_fraction,
+       .target = &T::validation_fraction,
        .help =
            "This fraction of the held-out shapes (drawn by --seed) validates instead of testing;\n"
            "its error is logged at every loss line (features, and E_rms x 1000 of positions as\n"
@@ -217,14 +239,26 @@ Settings msae_training_settings(MsaeTraining& t) {
            "the test shapes",
        .range = within(0, 1, false, true),
        .resume = false},
-      {.name = "seed", .target = &t.seed},  // the tool's --seed
+      {.name = "seed", .target = &T::seed},  // the tool's --seed
   };
+  return rows;
 }
 
-Settings msae_settings(MsaeConfig& c, MsaeTraining& t) {
-  Settings all = msae_network_settings(c);
-  for (auto& s : msae_training_settings(t)) all.push_back(std::move(s));
-  return all;
+}  // namespace
+
+const MsaeSettings& msae_network_settings() {
+  static const MsaeSettings rows = joined(msae_block_settings(), msae_support_settings());
+  return rows;
+}
+
+const MsaeSettings& msae_training_settings() {
+  static const MsaeSettings rows = joined(msae_schedule_settings(), msae_data_settings());
+  return rows;
+}
+
+const MsaeSettings& msae_settings() {
+  static const MsaeSettings rows = joined(msae_network_settings(), msae_training_settings());
+  return rows;
 }
 
 }  // namespace df::models

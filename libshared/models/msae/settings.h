@@ -7,11 +7,13 @@
 
 namespace df::models {
 
+using MsaeSettings = SettingsTable<MsaeConfig, MsaeTraining>;
+
 /// The network and its loss (the option group "Network").
-Settings msae_network_settings(MsaeConfig& c);
+const MsaeSettings& msae_network_settings();
 /// The training run (the option group "Training"; the split lists and checkpoints are the tool's).
-Settings msae_training_settings(MsaeTraining& t);
+const MsaeSettings& msae_training_settings();
 /// Both, as /config holds them.
-Settings msae_settings(MsaeConfig& c, MsaeTraining& t);
+const MsaeSettings& msae_settings();
 
 }  // namespace df::models

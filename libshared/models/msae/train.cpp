@@ -26,9 +26,7 @@ namespace {
 
 void check_options(const MsaeTrainOptions& opt) {
   const auto& t = opt.training;
-  MsaeConfig c = opt.net;  // the table points at fields
-  MsaeTraining tt = t;
-  check_ranges(msae_settings(c, tt));
+  check_ranges(view(msae_settings(), opt.net, t));
   opt.run.check();
   if (opt.net.kz.size() != opt.net.d.size())
     throw UsageError("--kz and --d need one value per level");
@@ -43,9 +41,8 @@ void check_options(const MsaeTrainOptions& opt) {
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
 void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::string& path) {
-  MsaeConfig c0 = ck.config, c1 = want.config;  // the tables point at fields: copies to compare
-  MsaeTraining t0 = ck.training, t1 = want.training;
-  require_same_settings(msae_settings(c0, t0), msae_settings(c1, t1), path);
+  require_same_settings(view(msae_settings(), ck.config, ck.training),
+                        view(msae_settings(), want.config, want.training), path);
   auto differs = [&](const char* what, const auto& a, const auto& b) {
     require_same_setting(what, a, b, path);
   };
