@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
                 "below this many nats per frame while the reconstruction has not improved by 10%:\n"
                 "the latent has collapsed and the model predicts what the prior does")
       ->default_val(opt.training.collapse_threshold);
-  df::models::add_training_run_options(*g, opt.run);
+  df::models::add_training_run_options(*g, opt.run, /*model_is_checkpoint=*/false);
   auto* n = app.add_option_group("Network (ablations: paper Table 2)");
   df::models::add_settings(*n, bind(df::models::bdlstm_network_settings(), opt.net, opt.training));
   tool.footer(

@@ -13,7 +13,7 @@ tiny=(--window 8 --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --print-every 1
 train-bdlstm -q "${tiny[@]}" --iterations 40 --threads 1 data.h5 -o m.h5
 h5check -q --kind bdlstm-model m.h5
 train-bdlstm -q "${tiny[@]}" --iterations 40 --threads 2 data.h5 -o m2.h5
-for obj in /params /optimizer/m /training/log; do
+for obj in /params /rng/state /training/log; do
   run h5diff m.h5 m2.h5 $obj; expect_rc 0
 done
 echo "ok (train, threads)"
@@ -69,9 +69,9 @@ train-bdlstm -q "${tiny[@]}" --iterations 20 --motion-input data.h5 -o motion.h5
 [ "$(cfg motion.h5 motion_input)" = 1 ] || fail "--motion-input not recorded"
 awk -v s="$(cfg motion.h5 motion_scale)" 'BEGIN { exit !(s > 1 && s < 1e6) }' ||
   fail "motion scale $(cfg motion.h5 motion_scale)"
-train-bdlstm -q "${tiny[@]}" --iterations 10 --motion-input data.h5 -o motion10.h5
+train-bdlstm -q "${tiny[@]}" --iterations 10 --motion-input --checkpoint motion10.h5 data.h5 -o m10.h5
 train-bdlstm -q "${tiny[@]}" --iterations 20 --motion-input --checkpoint motion10.h5 --resume data.h5 -o motion-resumed.h5
-for obj in /params /optimizer/m /training/log; do
+for obj in /params /rng/state /training/log; do
   run h5diff motion.h5 motion-resumed.h5 $obj; expect_rc 0
 done
 gen-bdlstm -q motion.h5 data.h5 --test-every 4 --initial 3 --length 4 -o motion-pred.h5
@@ -89,7 +89,7 @@ train-bdlstm -q "${tiny[@]}" --iterations 20 --speeds 0,0.5,1,2 data.h5 -o speed
 h5check -q --kind bdlstm-model speeds.h5
 h5dump -a /config/speeds speeds.h5 | grep -q "0, 0.5, 1, 2" || fail "--speeds not recorded"
 run h5diff motion.h5 speeds.h5 /params; expect_rc 1
-train-bdlstm -q "${tiny[@]}" --iterations 10 --speeds 0,0.5,1,2 data.h5 -o speeds10.h5
+train-bdlstm -q "${tiny[@]}" --iterations 10 --speeds 0,0.5,1,2 --checkpoint speeds10.h5 data.h5 -o s10.h5
 train-bdlstm -q "${tiny[@]}" --iterations 20 --speeds 0,0.5,1,2 --checkpoint speeds10.h5 --resume data.h5 -o speeds-resumed.h5
 run h5diff speeds.h5 speeds-resumed.h5 /params; expect_rc 0
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,-1 data.h5 -o x.h5
@@ -98,25 +98,46 @@ run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,8 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds.*--speeds or"
 echo "ok (speeds: 0,0.5,1,1.5 by default, 1 in the paper's form, recorded, resumed, bad speeds refused)"
 
-# --- resume: a 20-iteration model is a checkpoint; resuming to 40 equals the straight run
-train-bdlstm -q "${tiny[@]}" --iterations 20 data.h5 -o m20.h5
-cp m20.h5 ck.h5
+# --- resume: the finished model file leaves out Adam's state (a third of a checkpoint's size) and
+# is refused as a checkpoint, saying what to do; a checkpoint named with --checkpoint is kept with
+# the final state, and resuming it to 40 iterations equals the straight run
+train-bdlstm -q "${tiny[@]}" --iterations 20 --checkpoint ck.h5 data.h5 -o m20.h5
+h5check -q --kind bdlstm-model m20.h5
+h5check -q --kind bdlstm-model ck.h5
+run h5ls m20.h5/optimizer; expect_rc 1
+[ "$(h5dump -a /iteration ck.h5 | sed -n 's/.*(0): \([0-9]*\).*/\1/p')" = 20 ] || fail "the named checkpoint does not hold the final state"
+for obj in /params /rng/state /training/log; do
+  run h5diff m20.h5 ck.h5 $obj; expect_rc 0
+done
+awk -v m="$(stat -c %s m20.h5)" -v c="$(stat -c %s ck.h5)" 'BEGIN { exit !(m < 0.5 * c) }' ||
+  fail "model file $(stat -c %s m20.h5) bytes against the checkpoint's $(stat -c %s ck.h5)"
+gen-bdlstm -q m20.h5 data.h5 --test-every 4 --initial 3 --length 4 -o m20-pred.h5
+cp m20.h5 notck.h5
+run train-bdlstm -q "${tiny[@]}" --iterations 40 --checkpoint notck.h5 --resume data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "finished model file.*checkpoint"
 train-bdlstm -q "${tiny[@]}" --iterations 40 --checkpoint ck.h5 --resume data.h5 -o resumed.h5
-for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
+for obj in /params /rng/state /training/log; do
   run h5diff m.h5 resumed.h5 $obj; expect_rc 0
 done
 [ -f ck.h5 ] || fail "a checkpoint named with --checkpoint was removed"
-# A checkpoint taken during a run (the last one of a 40-iteration run is at 30): resuming from
-# it to 40 equals the straight run too (it once recorded 29 iterations for a state after 30).
+# A named checkpoint holds the run's final state: a 40-iteration run's (run30-first.h5) equals,
+# optimizer included, that of a 30-iteration run's checkpoint resumed to 40 (the iteration it
+# records is the state's: it once recorded 29 iterations for a state after 30). Checkpoints taken
+# during a run and stops are tested in test_resume.sh.
 train-bdlstm -q "${tiny[@]}" --iterations 40 --checkpoint-every 10 --checkpoint run30.h5 data.h5 -o full.h5
+mv run30.h5 run30-first.h5
+train-bdlstm -q "${tiny[@]}" --iterations 30 --checkpoint-every 10 --checkpoint run30.h5 data.h5 -o m30.h5
 train-bdlstm "${tiny[@]}" --iterations 40 --checkpoint run30.h5 --resume data.h5 -o resumed-mid.h5 2>resume.log
 grep -q "resuming from run30.h5 at iteration 30" resume.log || fail "expected to resume at iteration 30: $(head -n 1 resume.log)"
-for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
+for obj in /params /rng/state /training/log; do
   run h5diff m.h5 resumed-mid.h5 $obj; expect_rc 0
+done
+for obj in /params /optimizer/m /optimizer/v /rng/state /training/log; do
+  run h5diff run30-first.h5 run30.h5 $obj; expect_rc 0
 done
 train-bdlstm -q "${tiny[@]}" --iterations 20 --checkpoint-every 10 data.h5 -o own.h5
 [ -f own.h5.ckpt ] && fail "the default checkpoint own.h5.ckpt was left behind"
-run train-bdlstm -q --window 8 --batch 2 --latent 8 --hidden 9 --lstm-layers 1 --print-every 10 --seed 3 --iterations 40 --checkpoint m20.h5 --resume data.h5 -o bad.h5
+run train-bdlstm -q --window 8 --batch 2 --latent 8 --hidden 9 --lstm-layers 1 --print-every 10 --seed 3 --iterations 40 --checkpoint ck.h5 --resume data.h5 -o bad.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "hidden"
 echo "ok (resume)"
 

@@ -33,7 +33,7 @@ train-bdlstm -q "${tiny[@]}" --iterations 10 --no-kl data.h5 -o nokl.h5
 inspect-bdlstm nokl.h5 data.h5 --length 3 | grep -q "deterministic encoder" || fail "no-KL model not reported as such"
 
 # --- a validation part: stored in the model, cases and probes drawn from it
-train-bdlstm -q "${tiny[@]}" --iterations 10 --validation-fraction 0.25 data.h5 -o val.h5
+train-bdlstm -q "${tiny[@]}" --iterations 10 --validation-fraction 0.25 --checkpoint val-ck.h5 data.h5 -o val.h5
 val=$(h5dump -y -w 0 -d /split/validation val.h5 | awk '/DATA \{/ { d = 1; next } d && /\}/ { exit } d { gsub(/,/, " "); print $1, $2 }')
 read -r vb ve <<<"$val"
 [ $(( ve - vb )) = 15 ] || fail "validation part of 25% of 60 frames expected, got '$val'"
@@ -43,7 +43,7 @@ h5dump -y -w 0 -d /frames/source valpred.h5 | awk -v b="$vb" -v e="$ve" '/DATA \
   fail "validation cases reach outside frames $vb-$ve"
 inspect-bdlstm val.h5 data.h5 --part validation --initial 1 --length 3 | grep -q "windows of the validation part" ||
   fail "inspect --part validation"
-run train-bdlstm -q "${tiny[@]}" --iterations 20 --validation-fraction 0.1 --checkpoint val.h5 --resume data.h5 -o v2.h5
+run train-bdlstm -q "${tiny[@]}" --iterations 20 --validation-fraction 0.1 --checkpoint val-ck.h5 --resume data.h5 -o v2.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "validation-fraction"
 run gen-bdlstm m.h5 data.h5 --test-every 1 --part validation -o x.h5
 expect_rc 1; expect_one_error_line gen-bdlstm; expect_err "no validation part"

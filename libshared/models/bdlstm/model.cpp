@@ -29,7 +29,7 @@ void BdlstmModel::initialize() {
 }
 
 void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
-                       const std::vector<std::string>& inputs, bool force) {
+                       const std::vector<std::string>& inputs, bool force, BdlstmFile kind) {
   std::vector<std::filesystem::path> in(inputs.begin(), inputs.end());
   AtomicOutput out(path, AtomicOutput::Kind::file, force, in);
   {
@@ -58,7 +58,8 @@ void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
     for (std::size_t k = 0; k < s; ++k)
       validation.insert(validation.end(), {m.split.validation_begin[k], m.split.validation_end[k]});
     f.write<std::int64_t>(io::model_layout::split_part("validation"), validation, {s, 2});
-    write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
+    write_training_state(f, m.net->store(), kind == BdlstmFile::checkpoint ? m.adam.get() : nullptr,
+                         m.rng, m.iteration);
     f.close();
   }
   out.commit();
@@ -103,6 +104,7 @@ BdlstmModel load_bdlstm_model(const std::string& path) {
   m.log = std::move(log);  // after initialize(), which clears it
   m.unprinted = std::move(unprinted);
   m.iteration = read_training_state(f, m.net->store(), *m.adam, m.rng);
+  m.optimizer_state = has_optimizer_state(f);
   return m;
 }
 

@@ -88,14 +88,22 @@ struct BdlstmModel : TrainingState<std::unique_ptr<nn::Adam<float>>> {
   bool latent_collapsed = false;
   std::unique_ptr<BdlstmNet<float>> net;
   std::string history;  ///< inherited provenance (the data file's)
+  /// Whether the file it was read from held Adam's state: a checkpoint does, a finished model file
+  /// does not (training continues only from a checkpoint).
+  bool optimizer_state = true;
 
   /// A new, untrained model (weights from the seed) for a template.
   void initialize();
 };
 
-/// Writes the whole model (header included) to `path` atomically.
+/// What a BD-LSTM file holds: everything (a checkpoint: training resumes from it bit-exactly) or
+/// all but Adam's moments (the finished model: a third of a checkpoint's size; gen-bdlstm and
+/// inspect-bdlstm need nothing more).
+enum class BdlstmFile { checkpoint, model };
+/// Writes the model (header included) to `path` atomically.
 void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
-                       const std::vector<std::string>& inputs, bool force);
+                       const std::vector<std::string>& inputs, bool force,
+                       BdlstmFile kind = BdlstmFile::checkpoint);
 /// Reads and validates a model file.
 BdlstmModel load_bdlstm_model(const std::string& path);
 

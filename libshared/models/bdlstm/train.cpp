@@ -285,6 +285,11 @@ double motion_scale(const BdlstmModel& m, const nn::Matrix<float>& data) {
 // --resume: the checkpoint's weights, training state and the collapse check's verdict.
 void resume_from(BdlstmModel& m, const std::string& ckpt) {
   BdlstmModel ck = load_bdlstm_model(ckpt);
+  if (!ck.optimizer_state)
+    throw InvalidInput(
+        "is a finished model file, which leaves out Adam's state: training goes on only from a "
+        "checkpoint (one named with --checkpoint FILE is kept, with the final state)",
+        ckpt);
   check_resumable(ck, m, ckpt);
   m.config.motion_scale = ck.config.motion_scale;  // the scale its weights were trained with
   m.net = std::move(ck.net);
@@ -369,8 +374,14 @@ void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
        .names = {"loss", "recon", "bidir", "kl", "l2"},
        .step = step,
        .after_row = check_collapse,
-       .save = [&](const std::string& path,
-                   bool force) { save_bdlstm_model(path, m, {opt.input}, force); },
+       .save =
+           [&](const std::string& path, bool force) {
+             save_bdlstm_model(path, m, {opt.input}, force, BdlstmFile::model);
+           },
+       .save_checkpoint =
+           [&](const std::string& path, bool force) {
+             save_bdlstm_model(path, m, {opt.input}, force, BdlstmFile::checkpoint);
+           },
        .finished =
            [&] {
              if (m.latent_collapsed) warn_collapse(m, m.log[2], m.log[m.log.size() - width + 2]);

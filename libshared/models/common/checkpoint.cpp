@@ -12,7 +12,7 @@
 namespace df::models {
 
 void write_training_state(h5::File& f, const nn::ParameterStore<float>& params,
-                          const nn::Adam<float>& adam, const Rng& rng, std::int64_t iteration) {
+                          const nn::Adam<float>* adam, const Rng& rng, std::int64_t iteration) {
   io::write_iteration(f, iteration);
   std::vector<std::string> names;
   for (std::size_t i = 0; i < params.views().size(); ++i) {
@@ -20,11 +20,13 @@ void write_training_state(h5::File& f, const nn::ParameterStore<float>& params,
     io::write_param(f, names.back(), params.value(static_cast<int>(i)));
   }
   io::write_param_order(f, names);
-  const auto group = io::model_layout::optimizer();
-  io::write_adam_state(f, group, std::span<const float>(adam.first_moment().data(), params.size()),
-                       std::span<const float>(adam.second_moment().data(), params.size()),
-                       adam.steps());
-  f.set_attr(group, "kind", std::string("adam"));
+  if (adam) {
+    const auto group = io::model_layout::optimizer();
+    io::write_adam_state(
+        f, group, std::span<const float>(adam->first_moment().data(), params.size()),
+        std::span<const float>(adam->second_moment().data(), params.size()), adam->steps());
+    f.set_attr(group, "kind", std::string("adam"));
+  }
   io::write_rng_state(f, {rng.state(), rng.has_spare_normal(), rng.spare_normal()});
 }
 
@@ -43,9 +45,14 @@ std::int64_t read_training_state(const h5::File& f, nn::ParameterStore<float>& p
           f.name());
     params.value(static_cast<int>(i)) = io::read_param(f, v.name, v.rows, v.cols);
   }
-  restore_adam(adam, io::read_adam_state(f, io::model_layout::optimizer(), params.size()));
+  if (has_optimizer_state(f))
+    restore_adam(adam, io::read_adam_state(f, io::model_layout::optimizer(), params.size()));
   restore_rng(rng, io::read_rng_state(f));
   return io::read_iteration(f);
+}
+
+bool has_optimizer_state(const h5::File& f) {
+  return f.exists(io::model_layout::optimizer());
 }
 
 void restore_adam(nn::Adam<float>& adam, const io::AdamState& s) {
@@ -66,7 +73,7 @@ void save_checkpoint(const std::string& path, const nn::ParameterStore<float>& p
   {
     h5::File f(out.temp_path(), h5::File::Mode::create, path);
     io::write_header(f, "nn-checkpoint");
-    write_training_state(f, params, adam, rng, iteration);
+    write_training_state(f, params, &adam, rng, iteration);
     f.close();
   }
   out.commit();

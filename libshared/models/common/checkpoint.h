@@ -16,14 +16,20 @@
 namespace df::models {
 
 /// Writes the training state into an open file (groups /params, /optimizer, /rng and the root
-/// attribute `iteration`); the caller writes the header and anything model-specific.
+/// attribute `iteration`); the caller writes the header and anything model-specific. `adam`
+/// null: no /optimizer (a finished model file that keeps what it needs to run, not to train on:
+/// Adam's two moments are twice the parameters' size).
 void write_training_state(h5::File& f, const nn::ParameterStore<float>& params,
-                          const nn::Adam<float>& adam, const Rng& rng, std::int64_t iteration);
+                          const nn::Adam<float>* adam, const Rng& rng, std::int64_t iteration);
 
-/// Restores it. The file's parameters must match the store's names and shapes exactly.
+/// Restores it. The file's parameters must match the store's names and shapes exactly. A file
+/// without /optimizer (has_optimizer_state) leaves `adam` as it is.
 /// @return the iteration
 std::int64_t read_training_state(const h5::File& f, nn::ParameterStore<float>& params,
                                  nn::Adam<float>& adam, Rng& rng);
+/// Whether the file holds Adam's state (/optimizer): a checkpoint does, a finished BD-LSTM model
+/// file does not.
+bool has_optimizer_state(const h5::File& f);
 
 /// Sets an optimizer's or a generator's state to one read from a file (io/model_file.h).
 void restore_adam(nn::Adam<float>& adam, const io::AdamState& s);

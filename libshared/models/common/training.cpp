@@ -211,7 +211,7 @@ void run_trainer(const Trainer& t, TrainingProgress& state, const TrainingRun& r
                     .step = t.step,
                     .checkpoint =
                         [&] {
-                          t.save(ckpt, true);
+                          (t.save_checkpoint ? t.save_checkpoint : t.save)(ckpt, true);
                           log::debug("checkpoint {} at iteration {}", ckpt, state.iteration);
                         },
                     .validation = t.validation ? t.validation() : Validation{},
@@ -219,6 +219,11 @@ void run_trainer(const Trainer& t, TrainingProgress& state, const TrainingRun& r
   run_training_loop(loop, state);
   if (t.finished) t.finished();
   t.save(t.output, force);
+  if (t.save_checkpoint && !run.checkpoint.empty()) {
+    t.save_checkpoint(ckpt, true);
+    log::info("{} holds the final state: --resume --checkpoint {} with more iterations goes on",
+              ckpt, ckpt);
+  }
   run.finish(t.output);
   log::info("wrote {} ({} iterations)", t.output, state.iteration);
 }
@@ -238,12 +243,17 @@ void TrainingRun::finish(const std::string& output) const {
   std::filesystem::remove(checkpoint_path(output), ec);
 }
 
-void add_training_run_options(CLI::Option_group& g, TrainingRun& run) {
+void add_training_run_options(CLI::Option_group& g, TrainingRun& run, bool model_is_checkpoint) {
   g.add_option("--print-every", run.print_every, "Iterations between loss lines (and log rows)")
       ->default_val(run.print_every);
-  g.add_option("--checkpoint", run.checkpoint,
-               "Checkpoint file (default OUTPUT.ckpt, removed at the end; a file named here is\n"
-               "kept). Any model file of this tool is a checkpoint");
+  g.add_option(
+      "--checkpoint", run.checkpoint,
+      std::string("Checkpoint file (default OUTPUT.ckpt, removed at the end; a file "
+                  "named here is\n") +
+          (model_is_checkpoint
+               ? "kept). Any model file of this tool is a checkpoint"
+               : "kept and ends holding the final state: name one to train on later). The\n"
+                 "model file is not a checkpoint: it leaves out Adam's state (2/3 of the size)"));
   g.add_option("--checkpoint-every", run.checkpoint_every,
                "Iterations between checkpoints, taken at the next loss line (0 = none)")
       ->default_val(run.checkpoint_every);

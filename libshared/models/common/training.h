@@ -91,7 +91,10 @@ struct TrainingRun {
 };
 
 /// Declares --print-every, --checkpoint, --checkpoint-every and --resume on a trainer's options.
-void add_training_run_options(CLI::Option_group& group, TrainingRun& run);
+/// `model_is_checkpoint`: the tool's model file holds all a checkpoint does (the help says so);
+/// false for train-bdlstm's, which leaves out Adam's state.
+void add_training_run_options(CLI::Option_group& group, TrainingRun& run,
+                              bool model_is_checkpoint = true);
 
 /// Runs iterations state.iteration+1 .. loop.iterations. Each calls loop.step(k) with k the
 /// iteration it completes (1-based) and gets its loss terms; a non-finite total stops with an
@@ -126,6 +129,10 @@ struct Trainer {
   std::function<void(const std::vector<double>&)> after_row = {};  ///< TrainingLoop::after_row
   /// Writes the model (the checkpoints and the final file): `force` replaces an existing file.
   std::function<void(const std::string& path, bool force)> save;
+  /// Writes a checkpoint when the model file does not hold all a checkpoint needs (BD-LSTM's
+  /// leaves out Adam's state); empty: `save`. Then a checkpoint named with --checkpoint (kept)
+  /// also takes the final state, so that training can go on from it later.
+  std::function<void(const std::string& path, bool force)> save_checkpoint = {};
   /// After the last iteration, before the model is written (optional; e.g. a final warning).
   std::function<void()> finished = {};
 };

@@ -86,7 +86,7 @@ void save_msae_model(const std::string& path, const MsaeModel& m,
       for (const auto& r : m.geodesic_rows) rows.insert(rows.end(), r.data(), r.data() + r.size());
       f.write<float>(io::model_layout::geodesic_part("distances"), rows, {sources.size(), V});
     }
-    write_training_state(f, m.net->store(), *m.adam, m.rng, m.iteration);
+    write_training_state(f, m.net->store(), m.adam.get(), m.rng, m.iteration);
     f.close();
   }
   out.commit();
