@@ -88,6 +88,13 @@ int main(int argc, char** argv) {
                  "data reach 0.25 at the hands, a wrong joint order 0.5 and more")
       ->default_val(opt.bone_tolerance);
   app.add_flag("--strict", opt.strict, "Bones over --bone-tolerance are an error, not a warning");
+  app.add_option("--sd-floor", opt.sd_floor,
+                 "Raise each joint coordinate's s.d. (units of the body scale, the mean joint\n"
+                 "distance from the root) to at least this before z-scoring, so that a still\n"
+                 "joint's sensor jitter (about 0.03 on Kinect gestures) is not blown up to the\n"
+                 "moving joints' size; 0 = a plain z-score (docs/actgan.md, issue 71)")
+      ->default_val(opt.sd_floor)
+      ->check(CLI::Range(0.0, 10.0));
   app.add_flag("!--raw", opt.normalize,
                "Keep raw coordinates (no root-centring, scaling, z-score)");
   tool.footer(

@@ -195,7 +195,7 @@ std::vector<std::int32_t> assign_test_split(const RawSkeletonCollection& c,
   return test;
 }
 
-void normalize_skeletons(io::SkeletonFile& s, int root_joint) {
+void normalize_skeletons(io::SkeletonFile& s, int root_joint, double sd_floor) {
   const std::size_t J = s.joints, fs = s.frame_size();
   std::vector<char> train(s.frames, 0);
   for (std::size_t q = 0; q < s.sequences(); ++q)
@@ -236,7 +236,10 @@ void normalize_skeletons(io::SkeletonFile& s, int root_joint) {
       }
   for (auto& v : n.std) {
     v = std::sqrt(v / training_frames);
-    if (v < 1e-6) v = 1;  // the root joint (always 0), or a joint that never moves
+    if (v < 1e-6)
+      v = 1;  // the root joint (always 0), or a joint that never moves
+    else
+      v = std::max(v, sd_floor);
   }
   for (std::size_t t = 0; t < s.frames; ++t)
     for (std::size_t k = 0; k < fs; ++k)
@@ -286,7 +289,7 @@ io::SkeletonFile build_skeleton_file(const RawSkeletonCollection& c,
   if (s.labels.empty())
     throw InvalidInput(fmt::format("no sequence has --length {} frames", opt.length));
   s.frames = s.poses.size() / fs;
-  if (opt.normalize) normalize_skeletons(s, opt.root_joint);
+  if (opt.normalize) normalize_skeletons(s, opt.root_joint, opt.sd_floor);
   return s;
 }
 
@@ -300,6 +303,8 @@ void skel2h5(const Skel2h5Options& opt, const CommonOptions& common) {
   AtomicOutput out(opt.output, AtomicOutput::Kind::file, common.force,
                    {opt.inputs.begin(), opt.inputs.end()});
   if (!(opt.bone_tolerance > 0)) throw UsageError("--bone-tolerance must be positive");
+  if (!opt.normalize && opt.sd_floor > 0)
+    throw UsageError("--sd-floor bounds the z-score's s.d.: --raw keeps raw coordinates");
   RawSkeletonCollection c = read_inputs(opt);
   check_bone_lengths(c, opt.bone_tolerance, opt.strict, opt.inputs.front());
   if (opt.root_joint < 0 || static_cast<std::size_t>(opt.root_joint) >= c.joints())

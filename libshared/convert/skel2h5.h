@@ -27,6 +27,9 @@ struct Skel2h5Options {
   double test_fraction = 0;        ///< or this fraction of each class, drawn by the seed
   int root_joint = 0;
   bool normalize = true;
+  /// The z-score's s.d. of every coordinate at least this (in units of the body scale): a
+  /// still joint's sensor jitter is then not blown up to unit variance. 0 = none.
+  double sd_floor = 0;
   double bone_tolerance = 0.3;  ///< a bone's relative length spread that warns (bone_lengths.h)
   bool strict = false;          ///< the bone-length warning becomes an error
 };
@@ -48,8 +51,9 @@ io::SkeletonFile build_skeleton_file(const RawSkeletonCollection& c,
                                      const Skel2h5Options& opt);
 
 /// root-centre, then divide by the mean joint distance from the root, then z-score per joint and
-/// coordinate; all fitted on the sequences with test == 0. Applied to s.poses in place.
-void normalize_skeletons(io::SkeletonFile& s, int root_joint);
+/// coordinate, each s.d. raised to `sd_floor` where it is below (the root joint's, 0, stays
+/// 1); all fitted on the sequences with test == 0. Applied to s.poses in place.
+void normalize_skeletons(io::SkeletonFile& s, int root_joint, double sd_floor = 0);
 
 /// The tool: read (every format through the bone-length check), resample, split, clip, normalize,
 /// write atomically.

@@ -254,6 +254,14 @@ skel2h5 -q short.h5 -o short-norm.h5  # walks of 10 frames, their own normalizat
 run classify-actions trained.h5 short-norm.h5  # other lengths and coordinates: converted
 expect_rc 0; expect_out "^walk +2 +[0-2] "
 skel2h5 -q short.h5 --raw -o short-raw.h5
+# --sd-floor: no coordinate's s.d. below it (the root's stay 1); with --raw refused
+skel2h5 -q short.h5 --sd-floor 0.2 -o short-floor.h5
+h5check -q --kind skeleton short-floor.h5
+h5_data short-floor.h5 /normalization/std %.9g | tr -c '0-9.e+-' ' ' |
+  awk '{ for (i = 1; i <= NF; i++) if ($i < 0.2 - 1e-9) bad = 1 } END { exit bad }' ||
+  fail "an s.d. below --sd-floor 0.2: $(h5_data short-floor.h5 /normalization/std %.3g)"
+run skel2h5 short.h5 --sd-floor 0.2 --raw -o x.h5
+expect_rc 2; expect_one_error_line skel2h5; expect_err "--sd-floor.*--raw"
 run train-actgan "${tiny[@]}" --pretrain-iterations 1 --iterations 1 short-raw.h5 -o raw-model.h5
 expect_rc 0; expect_err "not normalized .*training on raw coordinates"
 run train-actgan "${tiny[@]}" --iterations 2 untrained.h5 -o bad.h5

@@ -350,4 +350,27 @@ TEST_CASE("skel2h5: resampling, per-class split, clips, normalization from the t
   const float* src = c.sequences[0].poses.data() + 8 * 60;  // clip 1 starts at frame 8
   const float* got = raw.data() + 16 * 60;
   for (int k = 0; k < 60; ++k) CHECK(got[k] == Approx(src[k] - src[k % 3]).margin(1e-5));
+
+  // --sd-floor: each s.d. below the floor is raised to it, the others and the mean stay, the
+  // root's stays 1, and the poses still de-normalize to the source's
+  std::vector<double> sds(n.std.begin() + 3, n.std.end());  // (the root joint's are 1)
+  std::sort(sds.begin(), sds.end());
+  const double floor = sds[sds.size() / 2];  // half the coordinates lie below it
+  opt.sd_floor = floor;
+  const io::SkeletonFile g = convert::build_skeleton_file(c, test, opt);
+  const auto& m = g.normalization;
+  int raised = 0;
+  for (std::size_t k = 0; k < 60; ++k) {
+    CHECK(m.mean[k] == n.mean[k]);
+    if (k < 3) {
+      CHECK(m.std[k] == 1);
+      continue;
+    }
+    CHECK(m.std[k] == std::max(n.std[k], floor));
+    raised += n.std[k] < floor;
+  }
+  CHECK(raised >= 20);
+  const auto raw_floored = g.raw_poses();
+  for (std::size_t k = 0; k < raw.size(); k += 97)
+    CHECK(raw_floored[k] == Approx(raw[k]).margin(1e-5));
 }
