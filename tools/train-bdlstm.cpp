@@ -1,7 +1,7 @@
 // train-bdlstm: train the share-weight bidirectional LSTM on mesh sequences (paper 1).
+#include "apps/train_bdlstm.h"
 #include "core/tool.h"
 #include "models/bdlstm/settings.h"
-#include "models/bdlstm/train.h"
 
 int main(int argc, char** argv) {
   df::Tool tool(
@@ -68,6 +68,6 @@ int main(int argc, char** argv) {
           view(df::models::bdlstm_settings(), paper.net, paper.training),
           bind(df::models::bdlstm_settings(), opt.net, opt.training), app);
     }
-    df::models::train_bdlstm(opt, tool.common());
+    df::apps::train_bdlstm(opt, tool.common());
   });
 }

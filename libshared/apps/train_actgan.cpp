@@ -3,7 +3,9 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "eval/skeleton_metrics.h"
+#include "io/skeleton_file.h"
 #include "models/actgan/generate.h"
+#include "models/common/training.h"
 
 namespace df::apps {
 
@@ -48,7 +50,12 @@ void train_actgan(models::ActganTrainOptions opt, const CommonOptions& common) {
   opt.validate = [](const models::ActganModel& m, const models::ActionClips& clips) {
     return actgan_validation_mmd(m, clips);
   };
-  models::train_actgan(opt, common);
+  models::check_actgan_options(opt);
+  const models::TrainingClaims claims =
+      models::claim_training_outputs(opt.output, opt.input, common.force, opt.run);
+  const io::SkeletonFile s = io::read_skeleton_file(opt.input);
+  models::ActganTrainer trainer(opt, s);
+  models::run_trainer(trainer.hooks(), trainer.model(), opt.run, common.force);
 }
 
 }  // namespace df::apps

@@ -17,7 +17,8 @@ namespace df::apps {
 std::vector<double> actgan_validation_mmd(const models::ActganModel& model,
                                           const models::ActionClips& clips, int per_class = 100);
 
-/// train-actgan: models::train_actgan with actgan_validation_mmd as its validator.
+/// train-actgan: the options checked, the model file and its checkpoint claimed, the skeleton
+/// file read, and models::ActganTrainer run with actgan_validation_mmd as its validator.
 void train_actgan(models::ActganTrainOptions opt, const CommonOptions& common);
 
 }  // namespace df::apps

@@ -2,7 +2,10 @@
 
 #include <memory>
 
+#include "core/error.h"
 #include "eval/shape_error.h"
+#include "io/acap_file.h"
+#include "models/common/training.h"
 
 namespace df::apps {
 
@@ -12,7 +15,14 @@ void train_msae(models::MsaeTrainOptions opt, const CommonOptions& common) {
     return models::MsaeShapeMeasure(
         [measure](const nn::Matrix<float>& normalized) { return (*measure)(normalized); });
   };
-  models::train_msae(opt, common);
+  models::check_msae_options(opt);
+  const models::TrainingClaims claims =
+      models::claim_training_outputs(opt.output, opt.input, common.force, opt.run);
+  const io::AcapReader in(opt.input);
+  if (!in.has_normalized())
+    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
+  models::MsaeTrainer trainer(opt, common, in);
+  models::run_trainer(trainer.hooks(), trainer.model(), opt.run, common.force);
 }
 
 }  // namespace df::apps

@@ -7,8 +7,9 @@
 
 namespace df::apps {
 
-/// train-msae: models::train_msae with eval::ShapeErms (E_rms × 1000 of the validation shapes'
-/// positions, each part aligned, in the unit ball) as its validation_erms column.
+/// train-msae: the options checked, the model file and its checkpoint claimed, the acap file
+/// opened, and models::MsaeTrainer run with eval::ShapeErms (E_rms × 1000 of the validation
+/// shapes' positions, each part aligned, in the unit ball) as its validation_erms column.
 void train_msae(models::MsaeTrainOptions opt, const CommonOptions& common);
 
 }  // namespace df::apps

@@ -415,40 +415,44 @@ void apply_paper_form(ActganConfig& net, ActganTraining& training) {
   net.start = LatentStart::uniform;
 }
 
-void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common) {
+void check_actgan_options(const ActganTrainOptions& opt) {
   check_options(opt);
-  const TrainingClaims claims =
-      claim_training_outputs(opt.output, opt.input, common.force, opt.run);
-  const io::SkeletonFile s = io::read_skeleton_file(opt.input);
-  const ActionData data = training_clips(s, opt.input, opt.training.validation_subjects);
-  const ActionClips& clips = data.train;
-  ActganModel m = describe_model(opt, s, clips);
-  nn::Tape<float> tape;
-  run_trainer(
-      {.output = opt.output,
-       .iterations = m.training.pretrain_iterations + m.training.iterations,
-       .iterations_option = "--pretrain-iterations + --iterations",
-       .initialise = [&] { m.initialize(); },
-       .resume = [&](const std::string& ckpt) { resume_from(m, ckpt); },
-       .prepare =
-           [&] {
-             log::info(
-                 "{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} "
-                 "iterations",
-                 opt.input, clips.size(), clips.length, m.class_names.size(), clips.pose,
-                 m.training.pretrain_iterations, m.training.iterations);
-           },
-       .validation = [&] { return validation_evaluation(opt, m, data.validation); },
-       .names = ActganModel::loss_columns(),
-       .step = [&](std::int64_t done) -> LossTerms {
-         if (done == m.training.pretrain_iterations + 1 && m.training.pretrain_iterations > 0)
-           log::info("decoder pre-trained; the GAN from iteration {}", done);
-         return done <= m.training.pretrain_iterations ? actgan_pretrain_iteration(m, clips, tape)
-                                                       : actgan_gan_iteration(m, clips, tape);
-       },
-       .save = [&](const std::string& path,
-                   bool force) { save_actgan_model(path, m, {opt.input}, force); }},
-      m, opt.run, common.force);
+}
+
+ActganTrainer::ActganTrainer(const ActganTrainOptions& opt, const io::SkeletonFile& s)
+    : opt_(opt),
+      data_(training_clips(s, opt.input, opt.training.validation_subjects)),
+      m_(describe_model(opt, s, data_.train)) {}
+
+// Pre-training iterations, then the GAN's.
+LossTerms ActganTrainer::step(std::int64_t done) {
+  const std::int64_t pretrain = m_.training.pretrain_iterations;
+  if (done == pretrain + 1 && pretrain > 0)
+    log::info("decoder pre-trained; the GAN from iteration {}", done);
+  return done <= pretrain ? actgan_pretrain_iteration(m_, data_.train, tape_)
+                          : actgan_gan_iteration(m_, data_.train, tape_);
+}
+
+Trainer ActganTrainer::hooks() {
+  return {.output = opt_.output,
+          .iterations = m_.training.pretrain_iterations + m_.training.iterations,
+          .iterations_option = "--pretrain-iterations + --iterations",
+          .initialise = [this] { m_.initialize(); },
+          .resume = [this](const std::string& ckpt) { resume_from(m_, ckpt); },
+          .prepare =
+              [this] {
+                const ActionClips& clips = data_.train;
+                log::info(
+                    "{}: {} training clips of {} frames, {} classes, {} values per pose; {} + {} "
+                    "iterations",
+                    opt_.input, clips.size(), clips.length, m_.class_names.size(), clips.pose,
+                    m_.training.pretrain_iterations, m_.training.iterations);
+              },
+          .validation = [this] { return validation_evaluation(opt_, m_, data_.validation); },
+          .names = ActganModel::loss_columns(),
+          .step = [this](std::int64_t done) { return step(done); },
+          .save = [this](const std::string& path,
+                         bool force) { save_actgan_model(path, m_, {opt_.input}, force); }};
 }
 
 }  // namespace df::models

@@ -69,6 +69,30 @@ void apply_learning_defaults(ActganConfig& net, ActganTraining& training);
 /// Omega on the latents and the poses, h_1 ~ U(-1, 1).
 void apply_paper_form(ActganConfig& net, ActganTraining& training);
 
-void train_actgan(const ActganTrainOptions& opt, const CommonOptions& common);
+/// The options' own rules: each setting's range (the settings table), then the rules between
+/// settings (UsageError).
+void check_actgan_options(const ActganTrainOptions& opt);
+
+/// An ActGAN training run over run_trainer (models/common/training.h): the training (and
+/// validation) clips of a skeleton file, the model they describe, and its hooks — start, resume,
+/// the pre-training and GAN iterations, validation, saving. The job around it (options checked,
+/// outputs claimed, the file read, eval's measure passed in, the run) is apps::train_actgan's.
+class ActganTrainer {
+ public:
+  ActganTrainer(const ActganTrainOptions& opt, const io::SkeletonFile& s);
+  ActganTrainer(const ActganTrainer&) = delete;
+  ActganTrainer& operator=(const ActganTrainer&) = delete;
+  ActganModel& model() { return m_; }
+  /// run_trainer's hooks; they refer to this trainer, which must outlive the run.
+  Trainer hooks();
+
+ private:
+  LossTerms step(std::int64_t done);
+
+  const ActganTrainOptions& opt_;
+  ActionData data_;
+  ActganModel m_;
+  nn::Tape<float> tape_;
+};
 
 }  // namespace df::models

@@ -102,8 +102,7 @@ struct BdlstmModel : TrainingState<std::unique_ptr<nn::Adam<float>>> {
 enum class BdlstmFile { checkpoint, model };
 /// Writes the model (header included) to `path` atomically.
 void save_bdlstm_model(const std::string& path, const BdlstmModel& m,
-                       const std::vector<std::string>& inputs, bool force,
-                       BdlstmFile kind = BdlstmFile::checkpoint);
+                       const std::vector<std::string>& inputs, bool force, BdlstmFile kind);
 /// Reads and validates a model file.
 BdlstmModel load_bdlstm_model(const std::string& path);
 

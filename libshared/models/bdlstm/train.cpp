@@ -302,91 +302,91 @@ void resume_from(BdlstmModel& m, const std::string& ckpt) {
 
 }  // namespace
 
-void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common) {
+void check_bdlstm_options(const BdlstmTrainOptions& opt) {
   check_options(opt);
-  const TrainingClaims claims =
-      claim_training_outputs(opt.output, opt.input, common.force, opt.run);
-  const io::AcapReader in(opt.input);
-  if (!in.has_normalized())
-    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
-  BdlstmModel m = describe_model(opt, common, in);
-  const std::vector<std::int64_t> starts = training_windows(m, opt.input);
+}
+
+BdlstmTrainer::BdlstmTrainer(const BdlstmTrainOptions& opt, const CommonOptions& common,
+                             const io::AcapReader& in)
+    : opt_(opt), m_(describe_model(opt, common, in)), starts_(training_windows(m_, opt.input)) {
   // The normalized features of all frames, one row per frame.
-  const Eigen::Index v9 = 9 * m.tmpl.vertices.rows();
-  nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
-  in.read_normalized(0, in.frames(), data.data());
-  if (m.config.motion_input) m.config.motion_scale = motion_scale(m, data);
-  nn::Tape<float> tape;
-  double kl_nats = 0;  // Σ of the iterations' KL per frame since the last loss line
-  long kl_steps = 0;
-  std::vector<nn::Matrix<float>> window(static_cast<std::size_t>(m.training.window),
-                                        nn::Matrix<float>(m.training.batch, v9));
-  // One iteration: a batch of windows and the number of teacher frames drawn with the model's
-  // RNG, the KL weight of the warm-up, one Adam step.
-  auto step = [&](std::int64_t done) -> LossTerms {
-    for (int b = 0; b < m.training.batch; ++b) fill_window(m, data, starts, b, window);
-    const int given = m.training.teacher_frames > 1
-                          ? 1 + static_cast<int>(m.rng.below(
-                                    static_cast<std::uint64_t>(m.training.teacher_frames)))
-                          : 1;
-    const float kl_weight =
-        m.training.kl_warmup > 0
-            ? static_cast<float>(std::min(
-                  1.0, static_cast<double>(done) / static_cast<double>(m.training.kl_warmup)))
-            : 1.0f;
-    BdlstmLossTerms terms;
-    nn::train_step<float>(tape, m.net->store(), *m.adam,
-                          [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
-                            return m.net->loss(t, p, window, m.rng, &terms, given, kl_weight);
-                          });
-    kl_nats += terms.kl_per_frame, ++kl_steps;
-    return {terms.total, terms.recon, terms.bidir, terms.kl, terms.l2};
+  const Eigen::Index v9 = 9 * m_.tmpl.vertices.rows();
+  data_.resize(static_cast<Eigen::Index>(in.frames()), v9);
+  in.read_normalized(0, in.frames(), data_.data());
+  if (m_.config.motion_input) m_.config.motion_scale = motion_scale(m_, data_);
+  window_.assign(static_cast<std::size_t>(m_.training.window),
+                 nn::Matrix<float>(m_.training.batch, v9));
+}
+
+// One iteration: a batch of windows and the number of teacher frames drawn with the model's RNG,
+// the KL weight of the warm-up, one Adam step.
+LossTerms BdlstmTrainer::step(std::int64_t done) {
+  for (int b = 0; b < m_.training.batch; ++b) fill_window(m_, data_, starts_, b, window_);
+  const int given = m_.training.teacher_frames > 1
+                        ? 1 + static_cast<int>(m_.rng.below(
+                                  static_cast<std::uint64_t>(m_.training.teacher_frames)))
+                        : 1;
+  const float kl_weight =
+      m_.training.kl_warmup > 0
+          ? static_cast<float>(std::min(
+                1.0, static_cast<double>(done) / static_cast<double>(m_.training.kl_warmup)))
+          : 1.0f;
+  BdlstmLossTerms terms;
+  nn::train_step<float>(tape_, m_.net->store(), *m_.adam,
+                        [&](nn::Tape<float>& t, const nn::Bound<float>& p) {
+                          return m_.net->loss(t, p, window_, m_.rng, &terms, given, kl_weight);
+                        });
+  kl_nats_ += terms.kl_per_frame, ++kl_steps_;
+  return {terms.total, terms.recon, terms.bidir, terms.kl, terms.l2};
+}
+
+// The collapse check at every loss line (the KL per frame of the iterations since the last),
+// against the first line's reconstruction (the row is already in the log: log[2] is the first
+// row's recon); not before the KL warm-up has ended, nor at the first line.
+void BdlstmTrainer::check_collapse(const std::vector<double>& row) {
+  if (!m_.config.kl || kl_steps_ == 0) return;
+  m_.kl_per_frame = kl_nats_ / static_cast<double>(kl_steps_);
+  kl_nats_ = 0, kl_steps_ = 0;
+  const std::size_t width = m_.log_columns().size();
+  const bool after_warmup = static_cast<std::int64_t>(row[0]) > m_.training.kl_warmup;
+  m_.latent_collapsed =
+      after_warmup && m_.log.size() > width &&
+      latent_collapsed(m_.kl_per_frame, row[2], m_.log[2], m_.training.collapse_threshold);
+  if (m_.latent_collapsed) warn_collapse(m_, m_.log[2], row[2]);
+}
+
+Trainer BdlstmTrainer::hooks() {
+  const auto save = [this](BdlstmFile kind) {
+    return [this, kind](const std::string& path, bool force) {
+      save_bdlstm_model(path, m_, {opt_.input}, force, kind);
+    };
   };
-  // The collapse check at every loss line (the KL per frame of the iterations since the last),
-  // against the first line's reconstruction (the row is already in the log: log[2] is the first
-  // row's recon); not before the KL warm-up has ended, nor at the first line.
-  const std::size_t width = m.log_columns().size();
-  auto check_collapse = [&](const std::vector<double>& row) {
-    if (!m.config.kl || kl_steps == 0) return;
-    m.kl_per_frame = kl_nats / static_cast<double>(kl_steps);
-    kl_nats = 0, kl_steps = 0;
-    const bool after_warmup = static_cast<std::int64_t>(row[0]) > m.training.kl_warmup;
-    m.latent_collapsed =
-        after_warmup && m.log.size() > width &&
-        latent_collapsed(m.kl_per_frame, row[2], m.log[2], m.training.collapse_threshold);
-    if (m.latent_collapsed) warn_collapse(m, m.log[2], row[2]);
-  };
-  run_trainer(
-      {.output = opt.output,
-       .iterations = m.training.iterations,
-       .initialise = [&] { m.initialize(); },
-       .resume = [&](const std::string& ckpt) { resume_from(m, ckpt); },
-       .prepare =
-           [&] {
-             log::info(
-                 "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} "
-                 "frames, stride {}), {} parameters, {} directions",
-                 opt.input, data.rows(), m.tmpl.vertices.rows(), m.split.sequences.size(),
-                 starts.size(), m.training.window, m.training.stride, m.net->store().size(),
-                 m.config.directions);
-           },
-       .validation = [&] { return validation_evaluation(m, data); },
-       .names = {"loss", "recon", "bidir", "kl", "l2"},
-       .step = step,
-       .after_row = check_collapse,
-       .save =
-           [&](const std::string& path, bool force) {
-             save_bdlstm_model(path, m, {opt.input}, force, BdlstmFile::model);
-           },
-       .save_checkpoint =
-           [&](const std::string& path, bool force) {
-             save_bdlstm_model(path, m, {opt.input}, force, BdlstmFile::checkpoint);
-           },
-       .finished =
-           [&] {
-             if (m.latent_collapsed) warn_collapse(m, m.log[2], m.log[m.log.size() - width + 2]);
-           }},
-      m, opt.run, common.force);
+  return {
+      .output = opt_.output,
+      .iterations = m_.training.iterations,
+      .initialise = [this] { m_.initialize(); },
+      .resume = [this](const std::string& ckpt) { resume_from(m_, ckpt); },
+      .prepare =
+          [this] {
+            log::info(
+                "{}: {} frames of {} vertices in {} sequences; training on {} window starts ({} "
+                "frames, stride {}), {} parameters, {} directions",
+                opt_.input, data_.rows(), m_.tmpl.vertices.rows(), m_.split.sequences.size(),
+                starts_.size(), m_.training.window, m_.training.stride, m_.net->store().size(),
+                m_.config.directions);
+          },
+      .validation = [this] { return validation_evaluation(m_, data_); },
+      .names = {"loss", "recon", "bidir", "kl", "l2"},
+      .step = [this](std::int64_t done) { return step(done); },
+      .after_row = [this](const std::vector<double>& row) { check_collapse(row); },
+      .save = save(BdlstmFile::model),
+      .save_checkpoint = save(BdlstmFile::checkpoint),
+      .finished =
+          [this] {
+            const std::size_t width = m_.log_columns().size();
+            if (m_.latent_collapsed)
+              warn_collapse(m_, m_.log[2], m_.log[m_.log.size() - width + 2]);
+          }};
 }
 
 }  // namespace df::models

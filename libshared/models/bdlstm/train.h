@@ -11,6 +11,11 @@
 #include "models/bdlstm/model.h"
 #include "models/common/frame_part.h"
 #include "models/common/training.h"
+#include "nn/tape.h"
+
+namespace df::io {
+class AcapReader;
+}  // namespace df::io
 
 namespace df::models {
 
@@ -47,7 +52,38 @@ void play_window(const nn::Matrix<float>& data, std::int64_t first, int stride, 
 /// validation part is shorter.
 inline constexpr int kValidationSteps = 15;
 
-void train_bdlstm(const BdlstmTrainOptions& opt, const CommonOptions& common);
+/// The options' own rules: each setting's range (the settings table), then the rules between
+/// settings (UsageError).
+void check_bdlstm_options(const BdlstmTrainOptions& opt);
+
+/// A BD-LSTM training run over run_trainer (models/common/training.h): the model the options and
+/// the data describe (settings, template, normalization, split), the training windows and the
+/// features, and its hooks — start, resume, step, validation, the collapse check, saving (the
+/// model file without Adam's state, checkpoints with it). The job around it (options checked,
+/// outputs claimed, the data opened, the run) is apps::train_bdlstm's.
+class BdlstmTrainer {
+ public:
+  BdlstmTrainer(const BdlstmTrainOptions& opt, const CommonOptions& common,
+                const io::AcapReader& in);
+  BdlstmTrainer(const BdlstmTrainer&) = delete;
+  BdlstmTrainer& operator=(const BdlstmTrainer&) = delete;
+  BdlstmModel& model() { return m_; }
+  /// run_trainer's hooks; they refer to this trainer, which must outlive the run.
+  Trainer hooks();
+
+ private:
+  LossTerms step(std::int64_t done);
+  void check_collapse(const std::vector<double>& row);
+
+  const BdlstmTrainOptions& opt_;
+  BdlstmModel m_;
+  std::vector<std::int64_t> starts_;  ///< first frames of the training windows
+  nn::Matrix<float> data_;            ///< the normalized features, one row per frame
+  nn::Tape<float> tape_;
+  std::vector<nn::Matrix<float>> window_;  ///< a batch of windows: [window] x [batch, 9V]
+  double kl_nats_ = 0;  ///< Σ of the iterations' KL per frame since the last loss line
+  long kl_steps_ = 0;
+};
 
 /// The collapse check of a loss line: true when the latent's KL per encoded frame is below
 /// `threshold` while the reconstruction (`recon`) is not 10% below the first loss line's

@@ -515,55 +515,57 @@ void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training) {
   training.started_rate = 0.01;  // and steps at 1% of the rate: Adam's first steps keep them
 }
 
-void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common) {
+void check_msae_options(const MsaeTrainOptions& opt) {
   check_options(opt);
-  const TrainingClaims claims =
-      claim_training_outputs(opt.output, opt.input, common.force, opt.run);
-  const io::AcapReader in(opt.input);
-  if (!in.has_normalized())
-    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
-  MsaeModel m = describe_model(opt, common, in);
-  const Eigen::Index v9 = 9 * m.tmpl.vertices.rows();
-  nn::Matrix<float> data(static_cast<Eigen::Index>(in.frames()), v9);
-  in.read_normalized(0, in.frames(), data.data());
-  const nn::Matrix<float> validation = gather(data, m.split.validation);
-  std::unique_ptr<geometry::GeodesicRows> geodesic;
-  nn::Matrix<float> batch, weights;
-  MsaeShapeMeasure erms;
-  // Level 0's collapse, measured on the training shapes at every loss line: a warning while it
-  // lasts, and the last one in the model file.
-  const std::string report =
-      fmt::format("extract-components --report {} {} shows each component", opt.output, opt.input);
-  auto check_collapse = [&](const std::vector<double>&) {
-    m.collapse = collapse_signs(m, data, m.split.train).describe(m.config);
-    if (m.collapse.empty()) return;
-    if (m.collapse_since == 0) m.collapse_since = m.iteration;
-    log::warn("{}; {}", m.collapse, report);
-  };
-  run_trainer({.output = opt.output,
-               .iterations = m.training.iterations,
-               .initialise = [&] { geodesic = start_afresh(m); },
-               .resume = [&](const std::string& ckpt) { geodesic = resume_from(m, ckpt); },
-               .prepare = [&] { prepare_data_dependent_start(m, data, *geodesic, opt.input); },
-               .validation = [&] { return validation_measure(opt, m, validation, erms); },
-               .names = {"loss", "recon", "sparsity", "latent"},
-               .step =
-                   [&](std::int64_t done) {
-                     return training_step(m, data, *geodesic, done, batch, weights);
-                   },
-               .after_row = check_collapse,
-               .save =
-                   [&](const std::string& path, bool force) {
-                     remember_geodesics(m, *geodesic);
-                     save_msae_model(path, m, {opt.input}, force);
-                   },
-               .finished =
-                   [&] {
-                     if (!m.collapse.empty())
-                       log::warn("the trained model (collapsed since iteration {}): {}; {}",
-                                 m.collapse_since, m.collapse, report);
-                   }},
-              m, opt.run, common.force);
+}
+
+MsaeTrainer::MsaeTrainer(const MsaeTrainOptions& opt, const CommonOptions& common,
+                         const io::AcapReader& in)
+    : opt_(opt),
+      m_(describe_model(opt, common, in)),
+      report_(fmt::format("extract-components --report {} {} shows each component", opt.output,
+                          opt.input)) {
+  const Eigen::Index v9 = 9 * m_.tmpl.vertices.rows();
+  data_.resize(static_cast<Eigen::Index>(in.frames()), v9);
+  in.read_normalized(0, in.frames(), data_.data());
+  validation_ = gather(data_, m_.split.validation);
+}
+
+MsaeTrainer::~MsaeTrainer() = default;
+
+// Level 0's collapse, measured on the training shapes at every loss line: a warning while it
+// lasts, and the last one in the model file.
+void MsaeTrainer::check_collapse() {
+  m_.collapse = collapse_signs(m_, data_, m_.split.train).describe(m_.config);
+  if (m_.collapse.empty()) return;
+  if (m_.collapse_since == 0) m_.collapse_since = m_.iteration;
+  log::warn("{}; {}", m_.collapse, report_);
+}
+
+Trainer MsaeTrainer::hooks() {
+  return {.output = opt_.output,
+          .iterations = m_.training.iterations,
+          .initialise = [this] { geodesic_ = start_afresh(m_); },
+          .resume = [this](const std::string& ckpt) { geodesic_ = resume_from(m_, ckpt); },
+          .prepare = [this] { prepare_data_dependent_start(m_, data_, *geodesic_, opt_.input); },
+          .validation = [this] { return validation_measure(opt_, m_, validation_, erms_); },
+          .names = {"loss", "recon", "sparsity", "latent"},
+          .step =
+              [this](std::int64_t done) {
+                return training_step(m_, data_, *geodesic_, done, batch_, weights_);
+              },
+          .after_row = [this](const std::vector<double>&) { check_collapse(); },
+          .save =
+              [this](const std::string& path, bool force) {
+                remember_geodesics(m_, *geodesic_);
+                save_msae_model(path, m_, {opt_.input}, force);
+              },
+          .finished =
+              [this] {
+                if (!m_.collapse.empty())
+                  log::warn("the trained model (collapsed since iteration {}): {}; {}",
+                            m_.collapse_since, m_.collapse, report_);
+              }};
 }
 
 }  // namespace df::models

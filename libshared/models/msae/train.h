@@ -6,12 +6,20 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/common_options.h"
 #include "models/common/training.h"
 #include "models/msae/model.h"
+
+namespace df::io {
+class AcapReader;
+}  // namespace df::io
+namespace df::geometry {
+class GeodesicRows;
+}  // namespace df::geometry
 
 namespace df::models {
 
@@ -51,6 +59,36 @@ MsaeSplit split_from_lists(const std::vector<std::string>& frame_names,
 /// validation shapes against SPLOCS on the same ACAP features (issue 65, docs/msae.md).
 void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training);
 
-void train_msae(const MsaeTrainOptions& opt, const CommonOptions& common);
+/// The options' own rules: each setting's range (the settings table), then the rules between
+/// settings (UsageError).
+void check_msae_options(const MsaeTrainOptions& opt);
+
+/// An MSAE training run over run_trainer (models/common/training.h): the model the options and
+/// the data describe (settings, template, normalization, split), the features, and its hooks —
+/// start (the geodesic distances; --init's data-dependent start), resume, step, validation, the
+/// collapse check, saving. The job around it (options checked, outputs claimed, the data opened,
+/// eval's measure passed in, the run) is apps::train_msae's.
+class MsaeTrainer {
+ public:
+  MsaeTrainer(const MsaeTrainOptions& opt, const CommonOptions& common, const io::AcapReader& in);
+  MsaeTrainer(const MsaeTrainer&) = delete;
+  MsaeTrainer& operator=(const MsaeTrainer&) = delete;
+  ~MsaeTrainer();
+  MsaeModel& model() { return m_; }
+  /// run_trainer's hooks; they refer to this trainer, which must outlive the run.
+  Trainer hooks();
+
+ private:
+  void check_collapse();
+
+  const MsaeTrainOptions& opt_;
+  MsaeModel m_;
+  const std::string report_;  ///< how to see the components, for the collapse warning
+  nn::Matrix<float> data_;    ///< the normalized features, one row per frame
+  nn::Matrix<float> validation_;
+  std::unique_ptr<geometry::GeodesicRows> geodesic_;
+  nn::Matrix<float> batch_, weights_;
+  MsaeShapeMeasure erms_;
+};
 
 }  // namespace df::models
