@@ -1,6 +1,7 @@
 #include "nn/layers.h"
 
 #include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -133,98 +134,99 @@ std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(
 }
 
 namespace {
-// Neighbour means of all samples with one sparse product: the samples' [V, c] blocks side by
-// side as [V, B·c] (vertex-major, so every non-zero adds a B·c-wide row: vectorised), rows
-// split into fixed blocks (the same sums at any thread count). (Gathering straight from the
-// sample-major x instead, without the copy, made mesh_conv's forward 58% slower on BD-LSTM's pcow
-// step: eight scattered 9-value reads per non-zero instead of one contiguous row.)
-template <class T>
-Matrix<T> vertex_major(const Eigen::Map<const Matrix<T>>& x, Index B, Index V) {
-  constexpr Index kBlock = 256;
-  const Index c = x.cols();
-  Matrix<T> out(V, B * c);
-  // By blocks of output rows, each row written whole (per-sample column blocks wrote every row
-  // in eight 36-byte pieces: 2.6 GB/s).
-  auto copy_rows = [&]<Index C>(Index c_runtime) {
-    const Index cc = C > 0 ? C : c_runtime;
-    tbb::parallel_for(Index{0}, (V + kBlock - 1) / kBlock, [&](Index b) {
-      const Index v1 = std::min(V, (b + 1) * kBlock);
-      for (Index v = b * kBlock; v < v1; ++v)
-        for (Index s = 0; s < B; ++s) {
-          const T* from = x.data() + (s * V + v) * cc;
-          // B reading streams, one per sample, 104 KB apart with MSAE's pcow: more than the
-          // hardware prefetchers follow; fetching eight rows ahead took mesh_conv's forward from
-          // 469 to 350 ms in the MSAE pcow step (profile of three steps, one thread).
-          if (v + 8 < v1) __builtin_prefetch(from + 8 * cc);
-          T* to = out.data() + (v * B + s) * cc;
-          // ACAP's nine features: a copy of known size is two vector moves, where a call to
-          // memmove per 36-byte row was 13% of an MSAE step (perf).
-          if constexpr (C > 0)
-            std::memcpy(to, from, C * sizeof(T));
-          else
-            std::copy_n(from, cc, to);
-        }
-    });
-  };
-  if (c == 9)
-    copy_rows.template operator()<9>(c);
-  else
-    copy_rows.template operator()<0>(c);
-  return out;
-}
+// The convolution works one sample and one block of vertices at a time: a sample's rows [V, c]
+// (ACAP's nine features: 105 KB on pcow) stay in L2 while its block's neighbour means are
+// gathered from them into a buffer of the block, used at once and never stored. Before
+// (stop 84), the whole batch was copied vertex-major [V, B·c], its neighbour means computed as
+// one sparse product and kept for backward: seven passes over a batch-sized array forward and
+// ten backward, where this moves x and y forward and x, g and x's gradient backward.
+// Blocks of a fixed size, each element one running sum in a fixed order: the same bits at any
+// thread count. (Gathering from sample-major rows across all samples of a vertex block at once,
+// tried before, was 58% slower: eight samples' rows 100 KB apart per non-zero.)
+constexpr Index kVertexBlock = 256;
 
+// Eight values as one vector (GCC/Clang vector extensions: one AVX register of floats).
 template <class T>
-Matrix<T> sparse_rows_product(const SparseMatrix<T>& a, const Matrix<T>& x) {
-  constexpr Index kBlock = 256;
-  Matrix<T> out(a.rows(), x.cols());
-  tbb::parallel_for(Index{0}, (a.rows() + kBlock - 1) / kBlock, [&](Index b) {
-    const Index r0 = b * kBlock, n = std::min(kBlock, a.rows() - r0);
-    out.middleRows(r0, n).noalias() = a.middleRows(r0, n) * x;
-  });
-  return out;
-}
+struct Lanes8;
+template <>
+struct Lanes8<float> {
+  typedef float type __attribute__((vector_size(8 * sizeof(float))));
+};
+template <>
+struct Lanes8<double> {
+  typedef double type __attribute__((vector_size(8 * sizeof(double))));
+};
 
-// The adjoint: gx [B·V, c] (sample-major) += aᵀ · g for a vertex-major g [V, B·c], with `at` =
-// aᵀ stored row-major, so every output row is a gather (a product with a->transpose() scatters,
-// 3x slower); each element one sum over at's row in stored order, then added. One pass: the
-// product's [V, B·c] result and the strided add back into sample-major rows were 12% of
-// mesh_conv's backward on BD-LSTM's pcow step.
-template <class T>
-void add_neighbour_means_adjoint(T* gx, const SparseMatrix<T>& at, const Matrix<T>& g, Index B,
-                                 Index V, Index c) {
-  constexpr Index kBlock = 256;
-  const Index ld = B * c;
-  const auto* outer = at.outerIndexPtr();
-  const auto* inner = at.innerIndexPtr();
-  const T* w = at.valuePtr();
-  tbb::parallel_for(Index{0}, (at.rows() + kBlock - 1) / kBlock, [&](Index b) {
-    std::vector<T> acc(static_cast<std::size_t>(ld));
-    const Index r1 = std::min(at.rows(), (b + 1) * kBlock);
-    for (Index r = b * kBlock; r < r1; ++r) {
-      std::fill(acc.begin(), acc.end(), T(0));
-      for (auto k = outer[r]; k < outer[r + 1]; ++k) {
+// Neighbour means of S samples at once (sample j's rows at x + j·ldx, its means at n + j·ldn):
+// n_j[r] = Σ_k a[v0 + r, k] · x_j[k] for r < nr, rows of c values, each sum over a's row in
+// stored order from zero — the order of Eigen's sparse-dense product, so the same bits as the
+// sparse product this replaced. Each non-zero's index and weight are read once for the S
+// samples, whose S independent sums also hide the FMAs' latency.
+template <class T, int S>
+void gather_rows(T* n, Index ldn, const SparseMatrix<T>& a, Index v0, Index nr, const T* x,
+                 Index ldx, Index c) {
+  const auto* outer = a.outerIndexPtr();
+  const auto* inner = a.innerIndexPtr();
+  const T* w = a.valuePtr();
+  if (c == 9) {  // ACAP's nine features: one 8-wide vector and one value per row
+    using V8 = typename Lanes8<T>::type;
+    for (Index r = 0; r < nr; ++r) {
+      V8 lo[S];
+      T hi[S];
+      for (int j = 0; j < S; ++j) lo[j] = V8{}, hi[j] = T(0);
+      for (auto k = outer[v0 + r]; k < outer[v0 + r + 1]; ++k) {
         const T wk = w[k];
-        const T* gr = g.data() + static_cast<Index>(inner[k]) * ld;
-        for (Index i = 0; i < ld; ++i) acc[static_cast<std::size_t>(i)] += wk * gr[i];
+        const T* xr = x + static_cast<Index>(inner[k]) * 9;
+        for (int j = 0; j < S; ++j) {
+          V8 xv;
+          std::memcpy(&xv, xr + j * ldx, sizeof(xv));
+          lo[j] += wk * xv;
+          hi[j] += wk * xr[j * ldx + 8];
+        }
       }
-      for (Index s = 0; s < B; ++s) {
-        T* o = gx + (s * V + r) * c;
-        if (r + 8 < r1) __builtin_prefetch(o + 8 * c, 1);  // as vertex_major's reads: backward -5%
-        const T* from = acc.data() + s * c;
-        for (Index i = 0; i < c; ++i) o[i] += from[i];
+      for (int j = 0; j < S; ++j) {
+        std::memcpy(n + j * ldn + r * 9, &lo[j], sizeof(V8));
+        n[j * ldn + r * 9 + 8] = hi[j];
       }
     }
+    return;
+  }
+  for (Index r = 0; r < nr; ++r)
+    for (int j = 0; j < S; ++j) {
+      T acc[detail::kNarrowMax] = {};
+      for (auto k = outer[v0 + r]; k < outer[v0 + r + 1]; ++k) {
+        const T wk = w[k];
+        const T* xr = x + j * ldx + static_cast<Index>(inner[k]) * c;
+        for (Index i = 0; i < c; ++i) acc[i] += wk * xr[i];
+      }
+      std::copy_n(acc, c, n + j * ldn + r * c);
+    }
+}
+
+// Samples go through the gathers kGroup at a time (their rows together in L2: 4 × 105 KB on
+// pcow, this machine's L2 512 KB).
+constexpr Index kGroup = 4;
+
+// gather_rows for `samples` (≤ kGroup) samples.
+template <class T>
+void neighbour_means(T* n, Index ldn, const SparseMatrix<T>& a, Index v0, Index nr, const T* x,
+                     Index ldx, Index c, Index samples) {
+  Index j = 0;
+  for (; j + kGroup <= samples; j += kGroup)
+    gather_rows<T, kGroup>(n + j * ldn, ldn, a, v0, nr, x + j * ldx, ldx, c);
+  for (; j < samples; ++j) gather_rows<T, 1>(n + j * ldn, ldn, a, v0, nr, x + j * ldx, ldx, c);
+}
+
+// f(first sample, samples, first vertex, vertices) for every block of every group of samples, in
+// parallel.
+template <class F>
+void for_sample_blocks(Index B, Index V, F f) {
+  const Index blocks = (V + kVertexBlock - 1) / kVertexBlock, groups = (B + kGroup - 1) / kGroup;
+  tbb::parallel_for(Index{0}, groups * blocks, [&](Index k) {
+    const Index v0 = (k % blocks) * kVertexBlock, s0 = (k / blocks) * kGroup;
+    f(s0, std::min(kGroup, B - s0), v0, std::min(kVertexBlock, V - v0));
   });
 }
-}  // namespace
-
-namespace {
-// The per-vertex products run in fixed blocks of vertices, all samples of a block together: the
-// neighbour means are vertex-major, so a sample's rows lie B·c_in values apart (9 KB with MSAE's
-// batch of 256), and walking one sample over all vertices touched a new page per row (10% slower
-// on MSAE's pcow step). Blocks of 64 to 1,024 vertices ran within 6% of each other (BD-LSTM
-// and MSAE on pcow).
-constexpr Index kVertexBlock = 256;
 
 // f(block, first vertex, vertices) for every block, in parallel.
 template <class F>
@@ -233,6 +235,34 @@ void for_vertex_blocks(Index V, F f) {
     const Index v0 = k * kVertexBlock;
     f(k, v0, std::min(kVertexBlock, V - v0));
   });
+}
+
+// The input gradient of `m` (≤ kGroup) samples: gx_j (+)= g_j·W_pᵀ + Aᵀ (g_j·W_nᵀ), the second
+// term gathered along the rows of at = Aᵀ (stored row-major) from the sample's whole g_j·W_nᵀ
+// (in gn), each element's sum over at's row in stored order, then added.
+template <class T>
+void add_input_gradient(T* gx, const T* g, Index m, std::vector<T>& gn, std::vector<T>& sums,
+                        const SparseMatrix<T>& at, const detail::NarrowRhs<T>& pt,
+                        const detail::NarrowRhs<T>& nt, Index V, Index cin, Index cout) {
+  const Index ld = V * cin, lds = kVertexBlock * cin;
+  gn.resize(static_cast<std::size_t>(m * ld));
+  sums.resize(static_cast<std::size_t>(m * lds));
+  for (Index j = 0; j < m; ++j) {
+    const T* gj = g + j * V * cout;
+    detail::narrow_product<T>(gx + j * ld, cin, V, gj, cout, pt, nullptr, 0, nullptr, nullptr,
+                              true);
+    detail::narrow_product<T>(gn.data() + j * ld, cin, V, gj, cout, nt, nullptr, 0, nullptr,
+                              nullptr, false);
+  }
+  for (Index v0 = 0; v0 < V; v0 += kVertexBlock) {
+    const Index nr = std::min(kVertexBlock, V - v0);
+    neighbour_means(sums.data(), lds, at, v0, nr, gn.data(), ld, cin, m);
+    for (Index j = 0; j < m; ++j) {
+      T* o = gx + j * ld + v0 * cin;
+      const T* from = sums.data() + j * lds;
+      for (Index i = 0; i < nr * cin; ++i) o[i] += from[i];
+    }
+  }
 }
 }  // namespace
 
@@ -248,21 +278,21 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias,
                     "(at most {} channels)",
                     x.rows(), x.cols(), V, wp.rows(), wp.cols(), wn.rows(), wn.cols(), bias.rows(),
                     bias.cols(), detail::kNarrowMax));
-  using ConstMap = Eigen::Map<const Matrix<T>>;
-  ConstMap X(x.value().data(), B * V, cin);  // a sample row [V·cin] is V rows of cin
-  // Neighbour means, vertex-major [V, B·cin] (sample s in columns s·cin ..), kept for backward.
-  auto Nv = std::make_shared<const Matrix<T>>(sparse_rows_product(*a, vertex_major(X, B, V)));
-  const Index ldn = B * cin;
   Matrix<T> out(B, V * cout);
   {
     const auto p = detail::pack_narrow(wp.value(), false),
                n = detail::pack_narrow(wn.value(), false);
-    // Y_s = b + X_s W_p + N_s W_n, row by row.
-    for_vertex_blocks(V, [&](Index, Index v0, Index nv) {
-      for (Index s = 0; s < B; ++s)
-        detail::narrow_product<T>(
-            out.data() + (s * V + v0) * cout, cout, nv, X.data() + (s * V + v0) * cin, cin, p,
-            Nv->data() + v0 * ldn + s * cin, ldn, &n, bias.value().data(), false);
+    const T* X = x.value().data();
+    // Y_s = b + X_s W_p + N_s W_n, a block of a group of samples' rows at a time.
+    const Index ldx = V * cin, ldm = kVertexBlock * cin;
+    tbb::enumerable_thread_specific<std::vector<T>> buffers(static_cast<std::size_t>(kGroup * ldm));
+    for_sample_blocks(B, V, [&](Index s0, Index m, Index v0, Index nv) {
+      T* means = buffers.local().data();
+      neighbour_means(means, ldm, *a, v0, nv, X + s0 * ldx, ldx, cin, m);
+      for (Index j = 0; j < m; ++j)
+        detail::narrow_product<T>(out.data() + ((s0 + j) * V + v0) * cout, cout, nv,
+                                  X + (s0 + j) * ldx + v0 * cin, cin, p, means + j * ldm, cin, &n,
+                                  bias.value().data(), false);
     });
   }
   const int ix = x.id, ip = wp.id, in = wn.id, ib = bias.id, io = static_cast<int>(t.size());
@@ -273,23 +303,32 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias,
       x.requires_grad() || wp.requires_grad() || wn.requires_grad() || bias.requires_grad();
   return t.record(
       std::move(out), rg,
-      [&t, a, Nv, ix, ip, in, ib, io, B, V, cin, cout, ldn] {
+      [&t, a, ix, ip, in, ib, io, B, V, cin, cout] {
         const T* G = t.grad(io).data();
         const T* X = t.value(ix).data();
         // Weight gradients: one partial per vertex block (in parallel) over its samples in order,
-        // the partials summed in block order — the same bits at any thread count.
+        // each sample's neighbour means of the block gathered again; the partials summed in block
+        // order — the same bits at any thread count.
         const bool gp = t.requires_grad(ip), gn = t.requires_grad(in), gb = t.requires_grad(ib);
         if (gp || gn || gb) {
           const auto blocks = static_cast<std::size_t>((V + kVertexBlock - 1) / kVertexBlock);
           std::vector<Matrix<T>> dp(blocks, Matrix<T>::Zero(cin, cout)),
               dn(blocks, Matrix<T>::Zero(cin, cout)), db(blocks, Matrix<T>::Zero(1, cout));
+          const Index ldx = V * cin, ldm = kVertexBlock * cin;
+          tbb::enumerable_thread_specific<std::vector<T>> buffers(
+              static_cast<std::size_t>(kGroup * ldm));
           for_vertex_blocks(V, [&](Index k, Index v0, Index nv) {
             const auto b = static_cast<std::size_t>(k);
-            for (Index s = 0; s < B; ++s)
-              detail::narrow_weight_gradients<T>(
-                  dp[b].data(), gn ? dn[b].data() : nullptr, gb ? db[b].data() : nullptr, nv, cin,
-                  cout, X + (s * V + v0) * cin, cin, Nv->data() + v0 * ldn + s * cin, ldn,
-                  G + (s * V + v0) * cout, cout, true);
+            T* means = buffers.local().data();
+            for (Index s0 = 0; s0 < B; s0 += kGroup) {
+              const Index m = std::min(kGroup, B - s0);
+              if (gn) neighbour_means(means, ldm, *a, v0, nv, X + s0 * ldx, ldx, cin, m);
+              for (Index j = 0; j < m; ++j)
+                detail::narrow_weight_gradients<T>(
+                    dp[b].data(), gn ? dn[b].data() : nullptr, gb ? db[b].data() : nullptr, nv,
+                    cin, cout, X + (s0 + j) * ldx + v0 * cin, cin, means + j * ldm, cin,
+                    G + ((s0 + j) * V + v0) * cout, cout, true);
+            }
           });
           for (std::size_t b = 0; b < blocks; ++b) {
             if (gp) t.grad(ip) += dp[b];
@@ -299,21 +338,21 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias,
         }
         if (t.requires_grad(ix)) {
           T* GX = t.grad(ix).data();
-          Matrix<T> GNv(V, ldn);  // ∂/∂(neighbour means), vertex-major
           const auto pt = detail::pack_narrow(t.value(ip), true),
                      nt = detail::pack_narrow(t.value(in), true);
-          for_vertex_blocks(V, [&](Index, Index v0, Index nv) {
-            for (Index s = 0; s < B; ++s) {
-              const T* g = G + (s * V + v0) * cout;
-              detail::narrow_product<T>(GX + (s * V + v0) * cin, cin, nv, g, cout, pt, nullptr, 0,
-                                        nullptr, nullptr, true);
-              detail::narrow_product<T>(GNv.data() + v0 * ldn + s * cin, ldn, nv, g, cout, nt,
-                                        nullptr, 0, nullptr, nullptr, false);
-            }
-          });
-          // Aᵀ as its own row-major matrix (transposing costs under 1% of the step).
+          // Aᵀ as its own row-major matrix, so every output row is a gather (transposing costs
+          // under 1% of the step).
           const SparseMatrix<T> at = a->transpose();
-          add_neighbour_means_adjoint(GX, at, GNv, B, V, cin);
+          struct Buffers {
+            std::vector<T> gn, sums;
+          };
+          tbb::enumerable_thread_specific<Buffers> buffers;
+          tbb::parallel_for(Index{0}, (B + kGroup - 1) / kGroup, [&](Index k) {
+            const Index s0 = k * kGroup;
+            Buffers& u = buffers.local();
+            add_input_gradient(GX + s0 * V * cin, G + s0 * V * cout, std::min(kGroup, B - s0), u.gn,
+                               u.sums, at, pt, nt, V, cin, cout);
+          });
         }
       },
       {flops, 2 * flops});
