@@ -12,6 +12,7 @@
 
 #include "nn/op_profile.h"
 #include "nn/tape.h"
+#include "nn/vector_types.h"
 
 namespace df::bench {
 
@@ -48,7 +49,8 @@ inline void print_profile(const char* title, int iters, const std::function<void
   nn::Tape<float>::profile_every_tape(nullptr);
 
   auto pct = [](double part, double whole) { return whole > 0 ? 100 * part / whole : 0.0; };
-  fmt::print("#### {}: one step op by op (mean of {})\n\n", title, iters);
+  fmt::print("#### {}: one step op by op (mean of {}; kernels built for {})\n\n", title, iters,
+             nn::detail::kVectorIsa);
   fmt::print(
       "| op | calls | forward ms | backward ms | share | GFLOP | GFLOP/s | % of peak | MB | GB/s "
       "|\n");

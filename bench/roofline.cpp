@@ -16,6 +16,7 @@
 #include "core/tool.h"
 #include "inputs.h"
 #include "nn/packed_product.h"
+#include "nn/vector_types.h"
 #include "timing.h"
 
 int main(int argc, char** argv) {
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
     const int threads = static_cast<int>(
         tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
     double peak = 0;
+    std::printf("The engine's kernels built for %s.\n\n", df::nn::detail::kVectorIsa);
     std::printf("| measure | Eigen | engine's packed product |\n|---|---|---|\n");
     for (Eigen::Index n : {512, 1024, 2048}) {
       std::vector<Mat> a, b, c;

@@ -38,4 +38,16 @@ typename Vector<T>::type load(const T* p) {
 template <class T>
 constexpr Eigen::Index kLanes = kVectorBytes / static_cast<Eigen::Index>(sizeof(T));
 
+/// The instruction set the engine's kernels were built for, in words (the benchmarks print it).
+constexpr const char* kVectorIsa =
+#if defined(__AVX512F__)
+    "AVX-512, 16 float lanes";
+#elif defined(__AVX2__) && defined(__FMA__)
+    "AVX2 + FMA, 8 float lanes";
+#elif defined(__AVX__)
+    "AVX, 8 float lanes";
+#else
+    "SSE2, 4 float lanes";
+#endif
+
 }  // namespace df::nn::detail
