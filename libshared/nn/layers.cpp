@@ -136,13 +136,14 @@ std::shared_ptr<const SparseMatrix<T>> neighbour_mean_operator(
 namespace {
 // The convolution works one sample and one block of vertices at a time: a sample's rows [V, c]
 // (ACAP's nine features: 105 KB on pcow) stay in L2 while its block's neighbour means are
-// gathered from them into a buffer of the block, used at once and never stored. Before
-// (stop 84), the whole batch was copied vertex-major [V, B·c], its neighbour means computed as
-// one sparse product and kept for backward: seven passes over a batch-sized array forward and
-// ten backward, where this moves x and y forward and x, g and x's gradient backward.
+// gathered from them into a buffer of the block, used at once and never stored. Before, the
+// whole batch was copied vertex-major [V, B·c], its neighbour means computed as one sparse
+// product and kept for backward: seven passes over a batch-sized array forward and ten backward,
+// where this moves x and y forward and x, g and x's gradient backward (docs/speed.md).
 // Blocks of a fixed size, each element one running sum in a fixed order: the same bits at any
-// thread count. (Gathering from sample-major rows across all samples of a vertex block at once,
-// tried before, was 58% slower: eight samples' rows 100 KB apart per non-zero.)
+// thread count. (Gathering for all samples of one vertex block at once, tried before, was 58%
+// slower: every sample's rows, 100 KB apart, streamed for each block; here a group of four
+// samples' rows stays in L2 while the group's blocks pass over it.)
 constexpr Index kVertexBlock = 256;
 
 // Eight values as one vector (GCC/Clang vector extensions: one AVX register of floats).
