@@ -2,9 +2,9 @@
 
 #include <memory>
 
-#include "core/error.h"
 #include "eval/shape_error.h"
 #include "io/acap_file.h"
+#include "models/common/model_data.h"
 #include "models/common/training.h"
 
 namespace df::apps {
@@ -19,9 +19,7 @@ void train_msae(models::MsaeTrainOptions opt, const CommonOptions& common) {
   const models::TrainingClaims claims =
       models::claim_training_outputs(opt.output, opt.input, common.force, opt.run);
   const io::AcapReader in(opt.input);
-  if (!in.has_normalized())
-    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", opt.input);
-  models::MsaeTrainer trainer(opt, common, in);
+  models::MsaeTrainer trainer(opt, common, in, models::training_features(in, opt.input));
   models::run_trainer(trainer.hooks(), trainer.model(), opt.run, common.force);
 }
 

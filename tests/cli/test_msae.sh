@@ -280,6 +280,9 @@ run fit-baseline --method splocs m.h5 data.h5 -o sp.h5 --components-out sp-comps
 expect_rc 0
 run prune-components sp-comps.h5 -o x.h5
 expect_rc 1; expect_one_error_line prune-components; expect_err "needs ACAP components"
+# meshes without ACAP features (synth-meshseq's positions): refused before any work, saying what to run
+run train-msae bumps.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-msae; expect_err "has no /features/normalized; run obj2acap"
 [ ! -e x.h5 ] || fail "x.h5 written after an error"
 expect_no_temporaries .
 echo "ok (bad input)"

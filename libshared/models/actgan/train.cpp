@@ -22,7 +22,9 @@ using Bound = nn::Bound<float>;
 using Step = nn::StepStore<float>;
 using nn::train_step;
 
-void check_options(const ActganTrainOptions& opt) {
+}  // namespace
+
+void check_actgan_options(const ActganTrainOptions& opt) {
   const auto& t = opt.training;
   const auto& c = opt.net;
   check_ranges(view(actgan_settings(), c, t));
@@ -49,6 +51,8 @@ void check_options(const ActganTrainOptions& opt) {
         "--no-classifier");
   opt.run.check();
 }
+
+namespace {
 
 void check_resumable(const ActganModel& ck, const ActganModel& want, const std::string& path) {
   require_same_settings(view(actgan_settings(), ck.config, ck.training),
@@ -413,10 +417,6 @@ void apply_paper_form(ActganConfig& net, ActganTraining& training) {
   training.d_steps = 1;
   net.smoothness = Smoothness::both;
   net.start = LatentStart::uniform;
-}
-
-void check_actgan_options(const ActganTrainOptions& opt) {
-  check_options(opt);
 }
 
 ActganTrainer::ActganTrainer(const ActganTrainOptions& opt, const io::SkeletonFile& s)

@@ -192,9 +192,7 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   training.speeds = {1};
 }
 
-namespace {
-
-void check_options(const BdlstmTrainOptions& opt) {
+void check_bdlstm_options(const BdlstmTrainOptions& opt) {
   check_ranges(view(bdlstm_settings(), opt.net, opt.training));
   opt.run.check();
   if (opt.training.teacher_frames >= opt.training.window)
@@ -204,6 +202,8 @@ void check_options(const BdlstmTrainOptions& opt) {
   if (opt.training.speeds.empty())
     throw UsageError("--speeds needs one or more speeds (1 = the data's own pace)");
 }
+
+namespace {
 
 // The model to train as the options and the data describe it: settings, template,
 // normalization, the split of every sequence (no weights yet).
@@ -302,20 +302,15 @@ void resume_from(BdlstmModel& m, const std::string& ckpt) {
 
 }  // namespace
 
-void check_bdlstm_options(const BdlstmTrainOptions& opt) {
-  check_options(opt);
-}
-
 BdlstmTrainer::BdlstmTrainer(const BdlstmTrainOptions& opt, const CommonOptions& common,
-                             const io::AcapReader& in)
-    : opt_(opt), m_(describe_model(opt, common, in)), starts_(training_windows(m_, opt.input)) {
-  // The normalized features of all frames, one row per frame.
-  const Eigen::Index v9 = 9 * m_.tmpl.vertices.rows();
-  data_.resize(static_cast<Eigen::Index>(in.frames()), v9);
-  in.read_normalized(0, in.frames(), data_.data());
+                             const io::AcapReader& in, nn::Matrix<float> features)
+    : opt_(opt),
+      m_(describe_model(opt, common, in)),
+      starts_(training_windows(m_, opt.input)),
+      data_(std::move(features)),
+      window_(static_cast<std::size_t>(m_.training.window),
+              nn::Matrix<float>(m_.training.batch, data_.cols())) {
   if (m_.config.motion_input) m_.config.motion_scale = motion_scale(m_, data_);
-  window_.assign(static_cast<std::size_t>(m_.training.window),
-                 nn::Matrix<float>(m_.training.batch, v9));
 }
 
 // One iteration: a batch of windows and the number of teacher frames drawn with the model's RNG,

@@ -63,8 +63,9 @@ void check_bdlstm_options(const BdlstmTrainOptions& opt);
 /// outputs claimed, the data opened, the run) is apps::train_bdlstm's.
 class BdlstmTrainer {
  public:
+  /// `features`: every frame's normalized features (models::training_features).
   BdlstmTrainer(const BdlstmTrainOptions& opt, const CommonOptions& common,
-                const io::AcapReader& in);
+                const io::AcapReader& in, nn::Matrix<float> features);
   BdlstmTrainer(const BdlstmTrainer&) = delete;
   BdlstmTrainer& operator=(const BdlstmTrainer&) = delete;
   BdlstmModel& model() { return m_; }

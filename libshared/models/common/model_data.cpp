@@ -54,6 +54,15 @@ nn::Matrix<float> ModelData::features(const std::vector<std::int64_t>& frames,
   return x;
 }
 
+nn::Matrix<float> training_features(const io::AcapReader& in, const std::string& path) {
+  if (!in.has_normalized())
+    throw InvalidInput("has no /features/normalized; run obj2acap on the meshes first", path);
+  nn::Matrix<float> x(static_cast<Eigen::Index>(in.frames()),
+                      static_cast<Eigen::Index>(in.vertices() * kAcapFeatureDims));
+  in.read_normalized(0, in.frames(), x.data());
+  return x;
+}
+
 nn::Matrix<float> ModelData::all_features(const FeatureNormalization& nz) const {
   std::vector<std::int64_t> all(frames());
   std::iota(all.begin(), all.end(), std::int64_t{0});

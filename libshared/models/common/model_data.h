@@ -34,4 +34,8 @@ class ModelData {
   io::AcapReader file_;
 };
 
+/// A trainer's data: every frame's stored normalized features, one row of 9V per frame.
+/// InvalidInput when the file has none (obj2acap writes them).
+nn::Matrix<float> training_features(const io::AcapReader& in, const std::string& path);
+
 }  // namespace df::models

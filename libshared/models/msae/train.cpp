@@ -22,9 +22,8 @@
 #include "models/msae/settings.h"
 
 namespace df::models {
-namespace {
 
-void check_options(const MsaeTrainOptions& opt) {
+void check_msae_options(const MsaeTrainOptions& opt) {
   const auto& t = opt.training;
   check_ranges(view(msae_settings(), opt.net, t));
   opt.run.check();
@@ -38,6 +37,8 @@ void check_options(const MsaeTrainOptions& opt) {
       (opt.net.started_levels() == 0 || opt.net.decoder_fc != MsaeActivation::linear))
     throw UsageError("--start-scale needs --init local or local-all and --decoder-fc linear");
 }
+
+namespace {
 
 // Refuses to resume a checkpoint made with other settings (the result would be neither run).
 void check_resumable(const MsaeModel& ck, const MsaeModel& want, const std::string& path) {
@@ -515,21 +516,14 @@ void apply_msae_defaults(MsaeConfig& net, MsaeTraining& training) {
   training.started_rate = 0.01;  // and steps at 1% of the rate: Adam's first steps keep them
 }
 
-void check_msae_options(const MsaeTrainOptions& opt) {
-  check_options(opt);
-}
-
 MsaeTrainer::MsaeTrainer(const MsaeTrainOptions& opt, const CommonOptions& common,
-                         const io::AcapReader& in)
+                         const io::AcapReader& in, nn::Matrix<float> features)
     : opt_(opt),
       m_(describe_model(opt, common, in)),
       report_(fmt::format("extract-components --report {} {} shows each component", opt.output,
-                          opt.input)) {
-  const Eigen::Index v9 = 9 * m_.tmpl.vertices.rows();
-  data_.resize(static_cast<Eigen::Index>(in.frames()), v9);
-  in.read_normalized(0, in.frames(), data_.data());
-  validation_ = gather(data_, m_.split.validation);
-}
+                          opt.input)),
+      data_(std::move(features)),
+      validation_(gather(data_, m_.split.validation)) {}
 
 MsaeTrainer::~MsaeTrainer() = default;
 

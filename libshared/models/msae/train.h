@@ -70,7 +70,9 @@ void check_msae_options(const MsaeTrainOptions& opt);
 /// eval's measure passed in, the run) is apps::train_msae's.
 class MsaeTrainer {
  public:
-  MsaeTrainer(const MsaeTrainOptions& opt, const CommonOptions& common, const io::AcapReader& in);
+  /// `features`: every frame's normalized features (models::training_features).
+  MsaeTrainer(const MsaeTrainOptions& opt, const CommonOptions& common, const io::AcapReader& in,
+              nn::Matrix<float> features);
   MsaeTrainer(const MsaeTrainer&) = delete;
   MsaeTrainer& operator=(const MsaeTrainer&) = delete;
   ~MsaeTrainer();
