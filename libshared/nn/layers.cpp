@@ -327,7 +327,7 @@ Var<T> mesh_conv(Var<T> x, Var<T> wp, Var<T> wn, Var<T> bias,
               for (Index j = 0; j < m; ++j)
                 detail::narrow_weight_gradients<T>(
                     dp[b].data(), gn ? dn[b].data() : nullptr, gb ? db[b].data() : nullptr, nv, cin,
-                    cout, X + (s0 + j) * ldx + v0 * cin, cin, means + j * ldm, cin,
+                    cout, X + (s0 + j) * ldx + v0 * cin, cin, gn ? means + j * ldm : nullptr, cin,
                     G + ((s0 + j) * V + v0) * cout, cout, true);
             }
           });
