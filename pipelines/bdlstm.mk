@@ -125,7 +125,7 @@ $(BD)/faerie/data.h5: $(FAERIE)
 # Real sets: unpacked from DATA into $(BD)/S/src/S/ (an archive's single top directory), once
 # per archive content (UNPACK_RULES, Makefile.data).
 $(eval $(call UNPACK_RULES,$(BD)/%/src,$(DATA)/meshseq/%.tar.zst))
-$(BD)/pcow/data.h5 $(BD)/chickenCrossing/data.h5: $(BD)/%/data.h5: $(BD)/%/src/.unpacked
+$(BD)/pcow/data.h5 $(BD)/chickenCrossing/data.h5 $(BD)/pdance/data.h5: $(BD)/%/data.h5: $(BD)/%/src/.unpacked
 	$(BIN)/obj2acap -q -f $(<D)/$* -o $@
 
 # --- training: the paper's model, and the ablation variants (logs beside the models)

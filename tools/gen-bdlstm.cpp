@@ -23,7 +23,10 @@ int main(int argc, char** argv) {
       "--samples K draws K different results per case from random initial LSTM states.\n"
       "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
       "(from the last two given frames) or interpolation in ACAP feature space; --method\n"
-      "static repeats the last given frame (what a network that learned no motion does).\n"
+      "static repeats the last given frame (what a network that learned no motion does);\n"
+      "--method nearest learns nothing either: of the training part's windows (frames the\n"
+      "model trained on) it takes the one whose u frames lie closest to the given frames and\n"
+      "adds its change after them to the last given frame (--neighbours K: the mean of K).\n"
       "--test-every K makes the cases from the model's held-out test parts.\n"
       "A model trained with --stride q steps q data frames per generated frame: the\n"
       "given frames and keyframes are q apart, and so are the frames it is compared with.\n"
@@ -41,9 +44,14 @@ int main(int argc, char** argv) {
   app.add_option("DATA", opt.data, "acap .h5 holding the given frames")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
   df::add_choice(app, "--mode", opt.mode, "predict or complete");
-  df::add_choice(app, "--method", opt.method,
-                 "bdlstm, linear (feature-space baseline), or static (predict: the last given\n"
-                 "frame repeated, the zero-motion reference)");
+  df::add_choice(
+      app, "--method", opt.method,
+      "bdlstm, linear (feature-space baseline), static (predict: the last given\n"
+      "frame repeated, the zero-motion reference) or nearest (predict: motion matching,\n"
+      "the training window whose given frames are closest continues them)");
+  app.add_option("--neighbours", opt.neighbours,
+                 "--method nearest: average the changes of the K closest training windows")
+      ->default_val(opt.neighbours);
   app.add_option("--from", opt.from,
                  "predict: last given frame of a case (repeatable, or comma-separated: 5,walk:12)")
       ->delimiter(',')
@@ -118,6 +126,7 @@ int main(int argc, char** argv) {
       "  gen-bdlstm model.h5 data.h5 --from walk:0 --length 300 -o long.h5\n"
       "  gen-bdlstm model.h5 data.h5 --mode complete --keyframes 10,20 --samples 8 -o c.h5\n"
       "  gen-bdlstm model.h5 data.h5 --test-every 2 --initial 2 --method linear -o lin.h5\n"
+      "  gen-bdlstm model.h5 data.h5 --test-every 2 --initial 3 --method nearest -o nn.h5\n"
       "  acap2obj pred.h5 -o pred-meshes/");
   return tool.run(argc, argv, [&] { df::apps::generate_bdlstm(opt, tool.common()); });
 }

@@ -13,8 +13,11 @@ using namespace df::models;
 namespace {
 
 void check_options(const BdlstmGenerateOptions& opt) {
-  if (opt.method == GenerateMethod::still && opt.mode != GenerateMode::predict)
-    throw UsageError("--method static is a prediction baseline");
+  if ((opt.method == GenerateMethod::still || opt.method == GenerateMethod::nearest) &&
+      opt.mode != GenerateMode::predict)
+    throw UsageError(fmt::format("--method {} is a prediction reference",
+                                 opt.method == GenerateMethod::still ? "static" : "nearest"));
+  if (opt.neighbours < 1) throw UsageError("--neighbours must be at least 1");
   if (opt.initial < 1) throw UsageError("--initial must be at least 1");
   if (opt.length < 1 || opt.gap < 1 || opt.samples < 1 || opt.retries < 1)
     throw UsageError("--length, --gap, --samples and --retries must be positive");

@@ -169,6 +169,17 @@ gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 2 --length 2 --method static -o 
 eval-metrics -q s2s.h5 --tsv s2s.tsv >/dev/null
 awk '/^#/ { next } NF == 2 && $1 == 0 && $2 == 0 { bad = 1 } NF == 2 && $1 > 0 && $2 != 0 { bad = 1 }
      NF == 2 { n++ } END { exit bad || n != 3 }' s2s.tsv || fail "static prediction is not the last given frame repeated: $(cat s2s.tsv)"
+# motion matching: the training window (frames the model trained on, 2 apart) nearest to the
+# given frames continues them; its cases are the static ones' frames
+gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 3 --length 2 --method nearest --neighbours 2 -o s2n.h5
+[ "$(ints /frames/source s2n.h5)" = "46 48 50 52 54" ] || fail "nearest sources: $(ints /frames/source s2n.h5)"
+eval-metrics -q s2n.h5 --tsv s2n.tsv >/dev/null
+awk '/^#/ { next } NF == 2 && $1 > 0 && $2 == 0 { bad = 1 } END { exit bad }' s2n.tsv ||
+  fail "motion matching predicted no motion on the moving finger: $(cat s2n.tsv)"
+run gen-bdlstm -q s2.h5 data.h5 --mode complete --keyframes 20,30 --method nearest -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "nearest is a prediction reference"
+run gen-bdlstm -q s2.h5 data.h5 --from 50 --method nearest --neighbours 0 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "neighbours"
 run gen-bdlstm -q s2.h5 data.h5 --mode complete --keyframes 20,31 -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "multiple of the stride"
 run gen-bdlstm -q s2.h5 data.h5 --from 3 --initial 3 -o x.h5

@@ -114,6 +114,11 @@ std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
   if (opt_.method == GenerateMethod::still) {  // zero motion: the last given frame, repeated
     for (auto& s : g)
       for (int k = 1; k <= opt_.length; ++k) push(s, X.row(last), source_of(last, k), k);
+  } else if (opt_.method == GenerateMethod::nearest) {
+    const auto path = nearest_motion(m_, d_, c.frames, opt_.length, q_, opt_.neighbours);
+    for (auto& s : g)
+      for (int k = 1; k <= opt_.length; ++k)
+        push(s, path[static_cast<std::size_t>(k - 1)], source_of(last, k), k);
   } else if (opt_.method == GenerateMethod::linear) {
     const Matrix a = X.row(c.frames[static_cast<std::size_t>(u - 2)]), b = X.row(last);
     for (auto& s : g)

@@ -3,10 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <numeric>
+#include <optional>
 
 #include "core/error.h"
 #include "io/acap_file.h"
 #include "models/bdlstm/model.h"
+#include "models/bdlstm/train.h"
 #include "models/common/model_data.h"
 
 namespace df::models {
@@ -41,6 +44,20 @@ std::int64_t parse_frame(const std::string& s, const GenerationData& d) {
   return f;
 }
 
+// Where split sequence k of the model's training data lies in d: d's sequence of that name and
+// the shift from the training file's global frames to d's; nothing when d has none.
+struct Placement {
+  std::size_t sequence;
+  std::int64_t shift;
+};
+std::optional<Placement> place_in(const BdlstmSplit& split, std::size_t k,
+                                  const GenerationData& d) {
+  auto it = std::find(d.sequences.begin(), d.sequences.end(), split.sequences[k]);
+  if (it == d.sequences.end()) return std::nullopt;
+  const auto s = static_cast<std::size_t>(it - d.sequences.begin());
+  return Placement{s, d.offsets[s] - std::min(split.train_begin[k], split.test_begin[k])};
+}
+
 }  // namespace
 
 std::size_t GenerationData::sequence_of(std::int64_t f) const {
@@ -66,12 +83,10 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
   if (opt.test_every) {
     // Cases inside the model's held-out parts of the data's sequences (matched by name).
     for (std::size_t k = 0; k < m.split.sequences.size(); ++k) {
-      auto it = std::find(d.sequences.begin(), d.sequences.end(), m.split.sequences[k]);
-      if (it == d.sequences.end()) continue;
-      const auto s = static_cast<std::size_t>(it - d.sequences.begin());
-      const std::int64_t shift =
-          d.offsets[s] - (m.split.train_begin[k] < m.split.test_begin[k] ? m.split.train_begin[k]
-                                                                         : m.split.test_begin[k]);
+      const auto placed = place_in(m.split, k, d);
+      if (!placed) continue;
+      const std::size_t s = placed->sequence;
+      const std::int64_t shift = placed->shift;
       const bool validation = opt.part == FramePart::validation;
       const std::int64_t b =
           (validation ? m.split.validation_begin[k] : m.split.test_begin[k]) + shift;
@@ -134,6 +149,50 @@ std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const B
     cases.push_back(std::move(c));
   }
   return cases;
+}
+
+std::vector<Matrix> nearest_motion(const BdlstmModel& m, const GenerationData& d,
+                                   const std::vector<std::int64_t>& given, int length,
+                                   std::int64_t q, int neighbours) {
+  const auto u = static_cast<std::int64_t>(given.size());
+  const std::int64_t span = (u - 1 + length) * q + 1;
+  // The training windows of that span, as d's frames (the split names the training file's).
+  std::vector<std::int64_t> starts;
+  for (const std::int64_t f : window_starts(m.split, span))
+    for (std::size_t k = 0; k < m.split.sequences.size(); ++k)
+      if (f >= m.split.train_begin[k] && f < m.split.train_end[k]) {
+        if (const auto placed = place_in(m.split, k, d)) starts.push_back(f + placed->shift);
+        break;
+      }
+  if (starts.empty())
+    throw InvalidInput(fmt::format("--method nearest: the model's training part (in DATA's "
+                                   "sequences) has no window of {} frames{} to match",
+                                   u + length, q > 1 ? fmt::format(" {} apart", q) : ""),
+                       m.split.data);
+  const auto& X = d.features;
+  std::vector<double> distance(starts.size());
+  for (std::size_t w = 0; w < starts.size(); ++w)
+    for (std::int64_t i = 0; i < u; ++i)
+      distance[w] += (X.row(starts[w] + i * q) - X.row(given[static_cast<std::size_t>(i)]))
+                         .template cast<double>()
+                         .squaredNorm();
+  std::vector<std::size_t> order(starts.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  const auto K = std::min(static_cast<std::size_t>(neighbours), order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(K), order.end(),
+                    [&](std::size_t a, std::size_t b) {
+                      return distance[a] < distance[b] || (distance[a] == distance[b] && a < b);
+                    });
+  std::vector<Matrix> out;
+  for (int k = 1; k <= length; ++k) {
+    Matrix change = Matrix::Zero(1, X.cols());
+    for (std::size_t n = 0; n < K; ++n) {
+      const std::int64_t at = starts[order[n]] + (u - 1) * q;  // the window's u-th frame
+      change += X.row(at + k * q) - X.row(at);
+    }
+    out.push_back(X.row(given.back()) + change / static_cast<float>(K));
+  }
+  return out;
 }
 
 }  // namespace df::models

@@ -33,10 +33,12 @@ inline constexpr Named<GenerateMode> kGenerateModeNames[] = {{"predict", Generat
 constexpr std::span<const Named<GenerateMode>> names_of(GenerateMode) {
   return kGenerateModeNames;
 }
-enum class GenerateMethod { bdlstm, linear, still };
-inline constexpr Named<GenerateMethod> kGenerateMethodNames[] = {{"bdlstm", GenerateMethod::bdlstm},
-                                                                 {"linear", GenerateMethod::linear},
-                                                                 {"static", GenerateMethod::still}};
+enum class GenerateMethod { bdlstm, linear, still, nearest };
+inline constexpr Named<GenerateMethod> kGenerateMethodNames[] = {
+    {"bdlstm", GenerateMethod::bdlstm},
+    {"linear", GenerateMethod::linear},
+    {"static", GenerateMethod::still},
+    {"nearest", GenerateMethod::nearest}};
 constexpr std::span<const Named<GenerateMethod>> names_of(GenerateMethod) {
   return kGenerateMethodNames;
 }
@@ -62,8 +64,10 @@ constexpr std::span<const Named<MergeScale>> names_of(MergeScale) {
 struct BdlstmGenerateOptions {
   std::string model, data, output;
   GenerateMode mode = GenerateMode::predict;
-  /// bdlstm | linear (the feature-space baseline) | static (predict: no motion)
+  /// bdlstm | linear (the feature-space baseline) | static (predict: no motion) | nearest
+  /// (predict: motion matching in the model's training part, nearest_motion)
   GenerateMethod method = GenerateMethod::bdlstm;
+  int neighbours = 1;  ///< --method nearest: training windows averaged (K nearest)
   /// A frame is a global index of DATA or SEQUENCE:K (K-th frame of that sequence).
   std::vector<std::string> from;       ///< predict: the last given frame of each case
   std::vector<std::string> keyframes;  ///< complete: keyframes of one case, in time order
@@ -134,6 +138,19 @@ struct GenerationCase {
 /// --keyframes frames. UsageError / InvalidInput when there are none or a frame is invalid.
 std::vector<GenerationCase> plan_cases(const BdlstmGenerateOptions& opt, const BdlstmModel& m,
                                        const GenerationData& d, std::int64_t stride);
+
+/// Motion matching (gen-bdlstm --method nearest), a reference that learns nothing: among the
+/// windows of the model's training part (the u given frames and `length` more, `stride` data
+/// frames apart, clear of the validation and test parts, in d's sequences of the model's split),
+/// the `neighbours` whose u frames lie closest to the given ones (sum of squared feature
+/// distances; ties: the earlier window). Step k of the prediction is the last given frame plus
+/// their mean change from their u-th frame to k steps later.
+/// @param given  global frames of d, in time order, `stride` apart
+/// @return       `length` rows [1, 9V] (normalized features)
+/// InvalidInput when no training window of that span exists.
+std::vector<nn::Matrix<float>> nearest_motion(const BdlstmModel& m, const GenerationData& d,
+                                              const std::vector<std::int64_t>& given, int length,
+                                              std::int64_t stride, int neighbours);
 
 /// One output sequence: normalized features per frame, the data frame of the same time (−1 past
 /// the data's end) and the steps after the last given frame (0 for given frames and keyframes).

@@ -121,3 +121,37 @@ TEST_CASE("gen-bdlstm completion: weighted mix of the two chains", "[models][bdl
   }
   REQUIRE(p.back()(0, 0) == 10);  // the second keyframe B_0
 }
+
+TEST_CASE("gen-bdlstm --method nearest: motion matching in the training part", "[models][bdlstm]") {
+  // Sequence "s" of 50 frames, one feature: a ramp 0..39 over the training part (frames 0-39),
+  // then the held-out part. Frames 10-12 are given a copy at 40-42: the match is the window at
+  // 10 (distance 0), whose change after its 3rd frame is +1 per frame.
+  Fixture f;
+  f.d.features = df::nn::Matrix<float>::Zero(80, 1);
+  for (int t = 0; t < 40; ++t) f.d.features(t, 0) = static_cast<float>(t);
+  for (int t = 40; t < 50; ++t) f.d.features(t, 0) = 100;  // the held-out part: far away
+  f.d.features(40, 0) = 10, f.d.features(41, 0) = 11, f.d.features(42, 0) = 12;
+  auto p = nearest_motion(f.m, f.d, {40, 41, 42}, 3, 1, 1);
+  REQUIRE(p.size() == 3);
+  CHECK(p[0](0, 0) == 13);
+  CHECK(p[2](0, 0) == 15);
+  // Stride 2: the match steps 2 frames, so +2 per step.
+  f.d.features(42, 0) = 14, f.d.features(41, 0) = 12;  // given 10, 12, 14 at frames 40-42
+  p = nearest_motion(f.m, f.d, {40, 41, 42}, 2, 2, 1);
+  CHECK(p[1](0, 0) == 18);
+  // Two neighbours: windows at 10 and 9 (distance 3) or 11 (distance 3, the later one loses the
+  // tie); both move +1 per frame, so their mean does too.
+  f.d.features(41, 0) = 11, f.d.features(42, 0) = 12;
+  p = nearest_motion(f.m, f.d, {40, 41, 42}, 3, 1, 2);
+  CHECK(p[0](0, 0) == Approx(13));
+  // A still stretch in the training part matches still given frames: zero motion predicted.
+  for (int t = 20; t < 30; ++t) f.d.features(t, 0) = 7;
+  f.d.features(40, 0) = 7, f.d.features(41, 0) = 7, f.d.features(42, 0) = 7;
+  p = nearest_motion(f.m, f.d, {40, 41, 42}, 3, 1, 1);
+  CHECK(p[0](0, 0) == 7);
+  CHECK(p[2](0, 0) == 7);
+  // No window of 3 + 40 frames fits in 40 training frames; DATA without the model's sequence.
+  CHECK_THROWS_AS(nearest_motion(f.m, f.d, {40, 41, 42}, 40, 1, 1), df::InvalidInput);
+  f.d.sequences = {"renamed", "other"};
+  CHECK_THROWS_AS(nearest_motion(f.m, f.d, {40, 41, 42}, 3, 1, 1), df::InvalidInput);
+}
