@@ -95,8 +95,38 @@ run h5diff speeds.h5 speeds-resumed.h5 /params; expect_rc 0
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,-1 data.h5 -o x.h5
 expect_rc 2; expect_one_error_line train-bdlstm; expect_err "--speeds must be in \[0, 8\] \(got 1,-1\)"
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,8 data.h5 -o x.h5
-expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds.*--speeds or"
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds.*--speeds, --validation-fraction"
 echo "ok (speeds: 0,0.5,1,1.5 by default, 1 in the paper's form, recorded, resumed, bad speeds refused)"
+
+# --- early stopping (--stopping-fraction): a stopping part carved out of the training frames
+# (/split/stopping), the log's stopping column, and a model file holding the weights of the loss
+# line with the lowest stopping error (/training/best says which) — the weights a run stopped at
+# that iteration ends with; a checkpoint keeps the last weights (and those beside them) and
+# resumes bit-exactly. Off by default: no part, no column.
+train-bdlstm -q "${tiny[@]}" --iterations 60 --lr 0.001 --stopping-fraction 0.1 --checkpoint es.ckpt data.h5 -o es.h5
+h5check -q --kind bdlstm-model es.h5
+h5check -q --kind bdlstm-model es.ckpt
+h5dump -d /split/stopping es.h5 >/dev/null || fail "no stopping part recorded"
+! h5dump -d /split/stopping defaults.h5 >/dev/null 2>&1 || fail "the defaults carve a stopping part"
+best=$(h5dump -a /training/best/iteration es.h5 | awk '/\(0\):/ { print $2 }')
+# The log's rows are iteration total recon bidir kl l2 stopping: the kept row has the lowest.
+low=$(h5_data es.h5 /training/log %.9g | tr -c '0-9.e+-' ' ' |
+  awk '{ for (i = 1; i <= NF; i++) v[n++] = $i } END { for (r = 0; r < n / 7; r++) if (r == 0 || v[7 * r + 6] < m) { m = v[7 * r + 6]; k = v[7 * r] } print k }')
+[ -n "$best" ] && [ "$best" = "$low" ] || fail "kept iteration '$best', the log's lowest stopping error at '$low'"
+[ "$best" -lt 60 ] || fail "this run's stopping error was lowest at its last line ($best): the test shows nothing"
+run h5diff es.h5 es.ckpt /params; expect_rc 1  # the checkpoint: the last weights
+train-bdlstm -q "${tiny[@]}" --iterations "$best" --lr 0.001 --stopping-fraction 0.1 --checkpoint es-best.ckpt data.h5 -o es-best.h5
+run h5diff es.h5 es-best.ckpt /params; expect_rc 0  # the weights a run stopped there ends with
+train-bdlstm -q "${tiny[@]}" --iterations 20 --lr 0.001 --stopping-fraction 0.1 --checkpoint es20.ckpt data.h5 -o es20.h5
+train-bdlstm -q "${tiny[@]}" --iterations 60 --lr 0.001 --stopping-fraction 0.1 --checkpoint es20.ckpt --resume data.h5 -o es-resumed.h5
+for obj in /params /training/log; do
+  run h5diff es.h5 es-resumed.h5 $obj; expect_rc 0
+done
+[ "$(h5dump -a /training/best/iteration es-resumed.h5 | awk '/\(0\):/ { print $2 }')" = "$best" ] ||
+  fail "the resumed run kept another iteration"
+run train-bdlstm "${tiny[@]}" --iterations 2 --validation-fraction 0.5 --stopping-fraction 0.4 data.h5 -o x.h5
+expect_rc 2; expect_one_error_line train-bdlstm; expect_err "stopping-fraction must be at least 0 and leave training frames"
+echo "ok (early stopping: part, column, the kept weights are iteration $best's, resumed)"
 
 # --- resume: the finished model file leaves out Adam's state (a third of a checkpoint's size) and
 # is refused as a checkpoint, saying what to do; a checkpoint named with --checkpoint is kept with

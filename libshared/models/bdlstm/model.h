@@ -42,6 +42,11 @@ struct BdlstmTraining {
   /// frames, placed by the seed (0 = none): no training window crosses it; remedies and iteration
   /// counts are chosen on it, never on the test part.
   double validation_fraction = 0;
+  /// A stopping part of round(fraction × length) frames carved out of each sequence's training
+  /// frames after the validation part, placed by the seed (0 = none, the paper): no training
+  /// window crosses it; the model file keeps the weights of the loss line at which the prediction
+  /// error on its windows (relative to zero motion's) was lowest.
+  double stopping_fraction = 0;
   /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
   /// chains run free (1 = the paper: only the seed frame).
   int teacher_frames = 1;
@@ -69,6 +74,8 @@ struct BdlstmSplit {
   std::vector<std::int64_t> train_begin, train_end, test_begin, test_end;
   /// Per sequence, the validation part inside the training frames ([b, b) when none).
   std::vector<std::int64_t> validation_begin, validation_end;
+  /// Per sequence, the stopping part inside the training frames ([b, b) when none).
+  std::vector<std::int64_t> stopping_begin, stopping_end;
 };
 
 /// The model and its training state (models/common/training.h: iteration, log, Adam, RNG of the
@@ -86,6 +93,12 @@ struct BdlstmModel : TrainingState<std::unique_ptr<nn::Adam<float>>> {
   /// measured) and whether the latent had collapsed then (train-bdlstm's warning).
   double kl_per_frame = -1;
   bool latent_collapsed = false;
+  /// With a stopping part: the weights of the loss line with the lowest stopping error so far
+  /// (empty before the first), its iteration and that error. The model file holds these weights
+  /// (and says which iteration they are); a checkpoint holds the last ones and these beside them.
+  nn::Vector<float> best_weights;
+  std::int64_t best_iteration = 0;
+  double best_stopping = 0;
   std::unique_ptr<BdlstmNet<float>> net;
   std::string history;  ///< inherited provenance (the data file's)
   /// Whether the file it was read from held Adam's state: a checkpoint does, a finished model file

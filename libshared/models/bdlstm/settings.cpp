@@ -101,6 +101,16 @@ const BdlstmSettings& bdlstm_training_settings() {
            "training frames at a place drawn from --seed; no window crosses it. Choose options\n"
            "and iteration counts on it (gen-bdlstm --part validation), never on the test part",
        .optional = true},
+      {.name = "stopping_fraction",
+       .target = &T::stopping_fraction,
+       .help =
+           "Early stopping: a stopping part of each sequence, this fraction of its frames, carved\n"
+           "out of the training frames (after the validation part) at a place drawn from --seed;\n"
+           "no window crosses it. The model file keeps the weights of the loss line where the\n"
+           "prediction error on its windows, relative to zero motion's, was lowest (the log's\n"
+           "stopping column), so the tool picks the iteration count on frames it did not train\n"
+           "on (0 = the paper: the last iteration's weights)",
+       .optional = true},
       {
           .name = "test_part",
           .target = choice(&T::test_part),

@@ -31,55 +31,85 @@ void check_resumable(const BdlstmModel& ck, const BdlstmModel& want, const std::
     throw InvalidInput("checkpoint was trained on other data (its train/test split differs)", path);
 }
 
-// With a validation part: the error logged at every loss line — windows of the validation parts
-// predicted from --teacher-frames given frames (as the pipelines' gen-bdlstm --initial) with z =
-// the encoder's mean, relative to zero motion's error on the same frames (< 1: ahead of it).
-Validation validation_evaluation(const BdlstmModel& m, const nn::Matrix<float>& data) {
-  if (m.training.validation_fraction <= 0) return {};
-  const int given = m.training.teacher_frames;
-  const std::int64_t q = m.training.stride;
+// The error of predicting a part's windows from --teacher-frames given frames (as the pipelines'
+// gen-bdlstm --initial) with z = the encoder's mean, relative to zero motion's error on the same
+// frames (< 1: ahead of it): the windows of up to kValidationSteps predicted frames that fit in
+// the part's ranges, and zero motion's error there.
+struct PartProbe {
   std::vector<std::int64_t> starts;
+  int given = 1, length = 0;
+  double zero_motion = 0;
+};
+// The mean relative feature error over the windows of a probe (latent nullptr: zero motion's).
+double mean_error(const BdlstmModel& m, const nn::Matrix<float>& data, const PartProbe& p,
+                  const LatentInput* latent) {
+  Rng none;  // z = the mean draws nothing
+  const std::vector<double> e = probe_prediction_error(*m.net, data, p.starts, p.given, p.length,
+                                                       m.training.stride, latent, none);
+  return std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(e.size());
+}
+PartProbe probe_part(const BdlstmModel& m, const nn::Matrix<float>& data,
+                     const std::vector<std::int64_t>& begin, const std::vector<std::int64_t>& end,
+                     const char* what, const char* option) {
+  PartProbe p;
+  p.given = m.training.teacher_frames;
+  const std::int64_t q = m.training.stride;
   int length = kValidationSteps;
-  for (; length >= 1 && starts.empty(); --length)
-    starts = part_starts(m.split, FramePart::validation,
-                         static_cast<std::int64_t>(given + length - 1) * q + 1);
-  ++length;
-  if (starts.empty())
-    throw InvalidInput(fmt::format("the validation parts are too short for {} given frames and one "
-                                   "predicted (stride {}): raise --validation-fraction",
-                                   given, q),
+  for (; length >= 1 && p.starts.empty(); --length)
+    p.starts = range_starts(begin, end, static_cast<std::int64_t>(p.given + length - 1) * q + 1);
+  p.length = length + 1;
+  if (p.starts.empty())
+    throw InvalidInput(fmt::format("the {} parts are too short for {} given frames and one "
+                                   "predicted (stride {}): raise {}",
+                                   what, p.given, q, option),
                        m.split.data);
-  Rng unused;
-  auto mean_of = [](const std::vector<double>& v) {
-    return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-  };
-  const double zero_motion =
-      mean_of(probe_prediction_error(*m.net, data, starts, given, length, q, nullptr, unused));
+  p.zero_motion = mean_error(m, data, p, nullptr);
   log::info(
-      "validation: {} windows of {} given + {} predicted frames; zero motion's relative feature "
-      "error there {:.4g} (the log's validation column is the network's error / this)",
-      starts.size(), given, length, zero_motion);
-  return {
-      {"validation"}, [&m, &data, starts, given, length, q, zero_motion, mean_of]() -> LossTerms {
-        Rng none;
-        const LatentInput mean = LatentInput::mean;
-        return {
-            mean_of(probe_prediction_error(*m.net, data, starts, given, length, q, &mean, none)) /
-            std::max(zero_motion, 1e-12)};
-      }};
+      "{}: {} windows of {} given + {} predicted frames; zero motion's relative feature error "
+      "there {:.4g} (the log's {} column is the network's error / this)",
+      what, p.starts.size(), p.given, p.length, p.zero_motion, what);
+  return p;
+}
+
+// The log's validation and stopping columns, each when its part exists.
+Validation part_evaluation(const BdlstmModel& m, const nn::Matrix<float>& data) {
+  std::vector<PartProbe> probes;
+  Validation v;
+  if (m.training.validation_fraction > 0) {
+    probes.push_back(probe_part(m, data, m.split.validation_begin, m.split.validation_end,
+                                "validation", "--validation-fraction"));
+    v.names.push_back("validation");
+  }
+  if (m.training.stopping_fraction > 0) {
+    probes.push_back(probe_part(m, data, m.split.stopping_begin, m.split.stopping_end, "stopping",
+                                "--stopping-fraction"));
+    v.names.push_back("stopping");
+  }
+  if (probes.empty()) return {};
+  v.measure = [&m, &data, probes]() -> LossTerms {
+    const LatentInput mean = LatentInput::mean;
+    LossTerms out;
+    for (const auto& p : probes)
+      out.push_back(mean_error(m, data, p, &mean) / std::max(p.zero_motion, 1e-12));
+    return out;
+  };
+  return v;
 }
 
 }  // namespace
 
 void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, TestPart part,
-                     std::uint64_t seed, BdlstmSplit& split, double validation_fraction) {
+                     std::uint64_t seed, BdlstmSplit& split, double validation_fraction,
+                     double stopping_fraction) {
   if (!(fraction >= 0 && fraction < 1)) throw UsageError("--test-fraction must be in [0, 1)");
-  if (!(validation_fraction >= 0 && fraction + validation_fraction < 1))
+  if (!(validation_fraction >= 0 && stopping_fraction >= 0 &&
+        fraction + validation_fraction + stopping_fraction < 1))
     throw UsageError(
-        "--validation-fraction must be at least 0 and leave training frames beside "
-        "--test-fraction");
+        "--validation-fraction and --stopping-fraction must be at least 0 and leave training "
+        "frames beside --test-fraction");
   Rng rng(seed, 0x5e9117);  // its own stream: the placement does not shift the training draws
   Rng validation_rng(seed, 0x7a1);  // and the validation part's does not move the test part
+  Rng stopping_rng(seed, 0x5709);   // nor the stopping part's the other two
   for (std::size_t s = 0; s + 1 < offsets.size(); ++s) {
     const std::int64_t b = offsets[s], e = offsets[s + 1];
     const auto n_test =
@@ -99,33 +129,48 @@ void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, 
       split.train_begin.push_back(b), split.train_end.push_back(e);
       split.test_begin.push_back(b + at), split.test_end.push_back(b + at + n_test);
     }
-    // The validation part: any contiguous stretch of training frames, uniformly among them.
-    const auto n_val =
-        static_cast<std::int64_t>(std::llround(validation_fraction * static_cast<double>(e - b)));
-    std::vector<std::int64_t> places;
-    if (n_val > 0)
-      for (std::int64_t v = split.train_begin.back(); v + n_val <= split.train_end.back(); ++v)
-        if (v + n_val <= split.test_begin.back() || v >= split.test_end.back()) places.push_back(v);
-    if (n_val > 0 && places.empty())
-      throw InvalidInput(fmt::format(
-          "sequence {} has no {} contiguous training frames for the validation part", s, n_val));
-    const std::int64_t v =
-        places.empty() ? split.train_begin.back()
-                       : places[validation_rng.below(static_cast<std::uint64_t>(places.size()))];
-    split.validation_begin.push_back(v), split.validation_end.push_back(v + n_val);
+    // The validation part, then the stopping part: any contiguous stretch of training frames
+    // clear of the parts carved before, uniformly among them.
+    const auto carve = [&](double part_fraction, Rng& part_rng, const char* what,
+                           std::vector<std::int64_t>& begin, std::vector<std::int64_t>& end) {
+      const auto n =
+          static_cast<std::int64_t>(std::llround(part_fraction * static_cast<double>(e - b)));
+      const auto clear = [&](std::int64_t v, std::int64_t hb, std::int64_t he) {
+        return v + n <= hb || v >= he;
+      };
+      std::vector<std::int64_t> places;
+      if (n > 0)
+        for (std::int64_t v = split.train_begin.back(); v + n <= split.train_end.back(); ++v)
+          if (clear(v, split.test_begin.back(), split.test_end.back()) &&
+              (split.validation_begin.size() <= s ||
+               clear(v, split.validation_begin[s], split.validation_end[s])))
+            places.push_back(v);
+      if (n > 0 && places.empty())
+        throw InvalidInput(fmt::format(
+            "sequence {} has no {} contiguous training frames for the {} part", s, n, what));
+      const std::int64_t v =
+          places.empty() ? split.train_begin.back()
+                         : places[part_rng.below(static_cast<std::uint64_t>(places.size()))];
+      begin.push_back(v), end.push_back(v + n);
+    };
+    carve(validation_fraction, validation_rng, "validation", split.validation_begin,
+          split.validation_end);
+    carve(stopping_fraction, stopping_rng, "stopping", split.stopping_begin, split.stopping_end);
   }
 }
 
 std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span) {
-  auto clear_of = [](std::int64_t f, std::int64_t span, std::int64_t b, std::int64_t e) {
-    return b >= e || f + span <= b || f >= e;
+  // A window from f is clear of part s's range [b, e) (empty when absent).
+  auto clear_of = [&](std::int64_t f, const std::vector<std::int64_t>& b,
+                      const std::vector<std::int64_t>& e, std::size_t s) {
+    return b.size() <= s || b[s] >= e[s] || f + span <= b[s] || f >= e[s];
   };
   std::vector<std::int64_t> starts;
   for (std::size_t s = 0; s < split.train_begin.size(); ++s)
     for (std::int64_t f = split.train_begin[s]; f + span <= split.train_end[s]; ++f)
-      if (clear_of(f, span, split.test_begin[s], split.test_end[s]) &&
-          (split.validation_begin.size() <= s ||
-           clear_of(f, span, split.validation_begin[s], split.validation_end[s])))
+      if (clear_of(f, split.test_begin, split.test_end, s) &&
+          clear_of(f, split.validation_begin, split.validation_end, s) &&
+          clear_of(f, split.stopping_begin, split.stopping_end, s))
         starts.push_back(f);
   return starts;
 }
@@ -142,16 +187,18 @@ void play_window(const nn::Matrix<float>& data, std::int64_t first, int stride, 
   }
 }
 
+std::vector<std::int64_t> range_starts(const std::vector<std::int64_t>& begin,
+                                       const std::vector<std::int64_t>& end, std::int64_t span) {
+  std::vector<std::int64_t> starts;
+  for (std::size_t s = 0; s < begin.size(); ++s)
+    for (std::int64_t f = begin[s]; f + span <= end[s]; ++f) starts.push_back(f);
+  return starts;
+}
+
 std::vector<std::int64_t> part_starts(const BdlstmSplit& split, FramePart part, std::int64_t span) {
   if (part == FramePart::train) return window_starts(split, span);
-  const bool test = part == FramePart::test;
-  std::vector<std::int64_t> starts;
-  for (std::size_t s = 0; s < split.test_begin.size(); ++s) {
-    const std::int64_t b = test ? split.test_begin[s] : split.validation_begin[s];
-    const std::int64_t e = test ? split.test_end[s] : split.validation_end[s];
-    for (std::int64_t f = b; f + span <= e; ++f) starts.push_back(f);
-  }
-  return starts;
+  return part == FramePart::test ? range_starts(split.test_begin, split.test_end, span)
+                                 : range_starts(split.validation_begin, split.validation_end, span);
 }
 
 bool latent_collapsed(double kl_per_frame, double recon, double first_recon, double threshold) {
@@ -219,7 +266,7 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
   m.split.data = opt.input;
   m.split.sequences = in.sequence_names();
   split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed,
-                  m.split, m.training.validation_fraction);
+                  m.split, m.training.validation_fraction, m.training.stopping_fraction);
   return m;
 }
 
@@ -243,14 +290,16 @@ std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::stri
     std::int64_t run = 0;
     for (std::int64_t f = m.split.train_begin[s]; f < m.split.train_end[s]; ++f) {
       const bool held = (f >= m.split.test_begin[s] && f < m.split.test_end[s]) ||
-                        (f >= m.split.validation_begin[s] && f < m.split.validation_end[s]);
+                        (f >= m.split.validation_begin[s] && f < m.split.validation_end[s]) ||
+                        (f >= m.split.stopping_begin[s] && f < m.split.stopping_end[s]);
       run = held ? 0 : run + 1;
       longest = std::max(longest, run);
     }
   }
   throw InvalidInput(
       fmt::format("no sequence has a training part of {} frames (window {}, stride {}{}); the "
-                  "longest has {}: use a smaller --window, --stride{} or --validation-fraction",
+                  "longest has {}: use a smaller --window, --stride{}, --validation-fraction or "
+                  "--stopping-fraction",
                   span, m.training.window, m.training.stride,
                   m.training.speeds == std::vector<double>{1} ? "" : ", the fastest of --speeds",
                   longest, m.training.speeds == std::vector<double>{1} ? "" : ", --speeds"),
@@ -297,6 +346,9 @@ void resume_from(BdlstmModel& m, const std::string& ckpt) {
   // KL per frame then covers the iterations after the resume).
   m.kl_per_frame = ck.kl_per_frame;
   m.latent_collapsed = ck.latent_collapsed;
+  m.best_weights = std::move(ck.best_weights);  // early stopping's kept weights so far
+  m.best_iteration = ck.best_iteration;
+  m.best_stopping = ck.best_stopping;
   take_training_state(m, std::move(ck));
 }
 
@@ -350,11 +402,34 @@ void BdlstmTrainer::check_collapse(const std::vector<double>& row) {
   if (m_.latent_collapsed) warn_collapse(m_, m_.log[2], row[2]);
 }
 
+// Early stopping (--stopping-fraction): at every loss line, the weights with the lowest stopping
+// error so far (the row's last column) are kept; the first line's always are.
+void BdlstmTrainer::keep_best(const std::vector<double>& row) {
+  if (m_.training.stopping_fraction <= 0) return;
+  const double error = row.back();
+  if (m_.best_weights.size() > 0 && !(error < m_.best_stopping)) return;
+  m_.best_weights = m_.net->store().values();
+  m_.best_iteration = static_cast<std::int64_t>(row[0]);
+  m_.best_stopping = error;
+}
+
+// The model file holds the kept weights (early stopping) in place of the last ones; a checkpoint
+// holds the last ones and the kept ones beside them.
+void BdlstmTrainer::save(const std::string& path, bool force, BdlstmFile kind) {
+  const bool swap = kind == BdlstmFile::model && m_.best_weights.size() > 0;
+  if (swap) m_.net->store().values().swap(m_.best_weights);
+  try {
+    save_bdlstm_model(path, m_, {opt_.input}, force, kind);
+  } catch (...) {
+    if (swap) m_.net->store().values().swap(m_.best_weights);
+    throw;
+  }
+  if (swap) m_.net->store().values().swap(m_.best_weights);
+}
+
 Trainer BdlstmTrainer::hooks() {
   const auto save = [this](BdlstmFile kind) {
-    return [this, kind](const std::string& path, bool force) {
-      save_bdlstm_model(path, m_, {opt_.input}, force, kind);
-    };
+    return [this, kind](const std::string& path, bool force) { this->save(path, force, kind); };
   };
   return {
       .output = opt_.output,
@@ -370,10 +445,14 @@ Trainer BdlstmTrainer::hooks() {
                 starts_.size(), m_.training.window, m_.training.stride, m_.net->store().size(),
                 m_.config.directions);
           },
-      .validation = [this] { return validation_evaluation(m_, data_); },
+      .validation = [this] { return part_evaluation(m_, data_); },
       .names = {"loss", "recon", "bidir", "kl", "l2"},
       .step = [this](std::int64_t done) { return step(done); },
-      .after_row = [this](const std::vector<double>& row) { check_collapse(row); },
+      .after_row =
+          [this](const std::vector<double>& row) {
+            check_collapse(row);
+            keep_best(row);
+          },
       .save = save(BdlstmFile::model),
       .save_checkpoint = save(BdlstmFile::checkpoint),
       .finished =
@@ -381,6 +460,11 @@ Trainer BdlstmTrainer::hooks() {
             const std::size_t width = m_.log_columns().size();
             if (m_.latent_collapsed)
               warn_collapse(m_, m_.log[2], m_.log[m_.log.size() - width + 2]);
+            if (m_.best_weights.size() > 0)
+              log::info(
+                  "early stopping: the model file keeps the weights of iteration {} (stopping "
+                  "error {:.4g} of zero motion's; at the last iteration, {}: {:.4g})",
+                  m_.best_iteration, m_.best_stopping, m_.iteration, m_.log.back());
           }};
 }
 

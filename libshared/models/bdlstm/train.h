@@ -32,15 +32,21 @@ struct BdlstmTrainOptions {
 /// Then, when validation_fraction > 0, a validation part of round(validation_fraction × length)
 /// frames inside the training frames at a place drawn from `seed` (its own stream: the test part
 /// and the training draws do not move); InvalidInput if the training frames have no room for it.
+/// Then, when stopping_fraction > 0, a stopping part the same way, clear of the validation part
+/// (its own stream too: the test and validation parts do not move).
 void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, TestPart part,
-                     std::uint64_t seed, BdlstmSplit& split, double validation_fraction = 0);
+                     std::uint64_t seed, BdlstmSplit& split, double validation_fraction = 0,
+                     double stopping_fraction = 0);
 /// First frames of every window of `span` frames inside a training part and clear of its
-/// sequence's held-out and validation parts, in sequence and frame order.
+/// sequence's held-out, validation and stopping parts, in sequence and frame order.
 std::vector<std::int64_t> window_starts(const BdlstmSplit& split, std::int64_t span);
 
 /// First frames of windows of `span` frames inside one part of every sequence: train (as
 /// window_starts), validation or test.
 std::vector<std::int64_t> part_starts(const BdlstmSplit& split, FramePart part, std::int64_t span);
+/// The same inside each sequence's range [begin[s], end[s]) (e.g. the stopping parts).
+std::vector<std::int64_t> range_starts(const std::vector<std::int64_t>& begin,
+                                       const std::vector<std::int64_t>& end, std::int64_t span);
 
 /// Frame t of a window played at `speed` from frame `first` of `data` (one frame per row): the
 /// data at first + t × stride × speed, interpolated linearly between frames (speed 0: the first
@@ -75,6 +81,8 @@ class BdlstmTrainer {
  private:
   LossTerms step(std::int64_t done);
   void check_collapse(const std::vector<double>& row);
+  void keep_best(const std::vector<double>& row);
+  void save(const std::string& path, bool force, BdlstmFile kind);
 
   const BdlstmTrainOptions& opt_;
   BdlstmModel m_;

@@ -413,6 +413,42 @@ TEST_CASE("BD-LSTM split: a validation part carved out of the training frames",
   REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, TestPart::end, 1, big, 0.8), UsageError);
 }
 
+TEST_CASE("BD-LSTM split: a stopping part beside the validation part", "[models][bdlstm]") {
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    BdlstmSplit v, vs;
+    split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, v, 0.1);
+    split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, vs, 0.1, 0.1);
+    // The test and validation parts do not move.
+    REQUIRE(vs.test_begin == v.test_begin);
+    REQUIRE(vs.validation_begin == v.validation_begin);
+    for (std::size_t s = 0; s < 2; ++s) {
+      const std::int64_t b = vs.stopping_begin[s], e = vs.stopping_end[s];
+      REQUIRE(e - b == (s == 0 ? 10 : 3));
+      REQUIRE(b >= vs.train_begin[s]);
+      REQUIRE(e <= vs.train_end[s]);
+      REQUIRE((e <= vs.test_begin[s] || b >= vs.test_end[s]));
+      REQUIRE((e <= vs.validation_begin[s] || b >= vs.validation_end[s]));
+    }
+    // No training window touches it; its own windows lie inside it.
+    for (std::int64_t f : window_starts(vs, 5)) {
+      const std::size_t s = f < 100 ? 0 : 1;
+      REQUIRE((f + 5 <= vs.stopping_begin[s] || f >= vs.stopping_end[s]));
+    }
+    REQUIRE(window_starts(vs, 5).size() < window_starts(v, 5).size());
+    const auto inside = range_starts(vs.stopping_begin, vs.stopping_end, 5);
+    REQUIRE(inside.size() == 6);  // 10 frames hold 6 windows of 5, 3 frames none
+    REQUIRE(inside.front() == vs.stopping_begin[0]);
+  }
+  // No stopping part: empty ranges and the same windows.
+  BdlstmSplit none, plain;
+  split_sequences({0, 50}, 0.2, TestPart::end, 1, none, 0.1, 0);
+  split_sequences({0, 50}, 0.2, TestPart::end, 1, plain, 0.1);
+  REQUIRE(none.stopping_begin == none.stopping_end);
+  REQUIRE(window_starts(none, 5) == window_starts(plain, 5));
+  BdlstmSplit big;
+  REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, TestPart::end, 1, big, 0.4, 0.4), UsageError);
+}
+
 TEST_CASE("BD-LSTM remedies: L2 without biases, L2 weight, a small last decoder layer",
           "[models][bdlstm]") {
   auto cfg = tiny_config(Directions::shared);
