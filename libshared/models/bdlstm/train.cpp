@@ -82,7 +82,7 @@ Validation part_evaluation(const BdlstmModel& m, const nn::Matrix<float>& data) 
   }
   if (m.training.stopping_fraction > 0) {
     probes.push_back(probe_part(m, data, m.split.stopping_begin, m.split.stopping_end, "stopping",
-                                "--stopping-fraction"));
+                                "--stopping-fraction (or 0: keep the last weights)"));
     v.names.push_back("stopping");
   }
   if (probes.empty()) return {};
@@ -460,11 +460,19 @@ Trainer BdlstmTrainer::hooks() {
             const std::size_t width = m_.log_columns().size();
             if (m_.latent_collapsed)
               warn_collapse(m_, m_.log[2], m_.log[m_.log.size() - width + 2]);
-            if (m_.best_weights.size() > 0)
-              log::info(
-                  "early stopping: the model file keeps the weights of iteration {} (stopping "
-                  "error {:.4g} of zero motion's; at the last iteration, {}: {:.4g})",
-                  m_.best_iteration, m_.best_stopping, m_.iteration, m_.log.back());
+            if (m_.best_weights.size() == 0) return;
+            log::info(
+                "early stopping: the model file keeps the weights of iteration {} (stopping "
+                "error {:.4g} of zero motion's; at the last iteration, {}: {:.4g})",
+                m_.best_iteration, m_.best_stopping, m_.iteration, m_.log.back());
+            if (!(m_.best_stopping < 1))
+              log::warn(
+                  "early stopping: on the stopping part the network was never ahead of zero "
+                  "motion (at best {:.4g} of its error, iteration {}): what the training frames "
+                  "taught does not carry to frames it did not see, and the kept weights predict "
+                  "little motion. gen-bdlstm --method nearest shows whether the training frames "
+                  "hold such motion at all (docs/bdlstm.md)",
+                  m_.best_stopping, m_.best_iteration);
           }};
 }
 
