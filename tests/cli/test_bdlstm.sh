@@ -124,6 +124,14 @@ for obj in /params /training/log; do
 done
 [ "$(h5dump -a /training/best/iteration es-resumed.h5 | awk '/\(0\):/ { print $2 }')" = "$best" ] ||
   fail "the resumed run kept another iteration"
+# --stopping-every N: the check runs between the loss lines too; the kept weights are again those
+# of a run stopped at the kept iteration, here not a loss line's.
+train-bdlstm -q "${tiny[@]}" --iterations 60 --lr 0.003 --stopping-fraction 0.1 --stopping-every 3 data.h5 -o ev3.h5
+kept=$(h5dump -a /training/best/iteration ev3.h5 | awk '/\(0\):/ { print $2 }')
+[ -n "$kept" ] && [ $((kept % 10)) != 0 ] || fail "--stopping-every 3 kept a loss line's weights ($kept): the test shows nothing"
+train-bdlstm -q "${tiny[@]}" --iterations "$kept" --lr 0.003 --stopping-fraction 0.1 --stopping-every 3 --checkpoint ev3-kept.ckpt data.h5 -o ev3-kept.h5
+run h5diff ev3.h5 ev3-kept.ckpt /params; expect_rc 0
+[ "$(cfg ev3.h5 stopping_every)" = 3 ] || fail "--stopping-every not recorded"
 # A run never ahead of zero motion on its stopping part (a step size too large) warns, once.
 train-bdlstm "${tiny[@]}" --iterations 40 --lr 0.01 --stopping-fraction 0.1 data.h5 -o es-behind.h5 2>behind.log
 [ "$(grep -c 'warning: early stopping: .*never ahead of zero motion.*method nearest' behind.log)" = 1 ] ||

@@ -47,6 +47,9 @@ struct BdlstmTraining {
   /// window crosses it; the model file keeps the weights of the loss line at which the prediction
   /// error on its windows (relative to zero motion's) was lowest.
   double stopping_fraction = 0;
+  /// With a stopping part: its error is also checked every this many iterations, not only at the
+  /// loss lines, and the kept weights are the best of every check (0 = at the loss lines only).
+  int stopping_every = 0;
   /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
   /// chains run free (1 = the paper: only the seed frame).
   int teacher_frames = 1;

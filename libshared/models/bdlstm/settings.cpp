@@ -111,6 +111,13 @@ const BdlstmSettings& bdlstm_training_settings() {
            "stopping column), so the tool picks the iteration count on frames it did not train\n"
            "on (0 = the paper: the last iteration's weights)",
        .optional = true},
+      {.name = "stopping_every",
+       .target = &T::stopping_every,
+       .help = "With --stopping-fraction: check the stopping error every N iterations as well\n"
+               "as at the loss lines (the model may stop learning what carries within the first\n"
+               "loss line's 100 iterations; 0 = at the loss lines only)",
+       .range = at_least(0),
+       .optional = true},
       {
           .name = "test_part",
           .target = choice(&T::test_part),

@@ -71,26 +71,40 @@ PartProbe probe_part(const BdlstmModel& m, const nn::Matrix<float>& data,
   return p;
 }
 
-// The log's validation and stopping columns, each when its part exists.
-Validation part_evaluation(const BdlstmModel& m, const nn::Matrix<float>& data) {
-  std::vector<PartProbe> probes;
+// A part's measure: the network's error on its windows / zero motion's.
+std::function<double()> part_measure(const BdlstmModel& m, const nn::Matrix<float>& data,
+                                     PartProbe p) {
+  return [&m, &data, p = std::move(p)] {
+    const LatentInput mean = LatentInput::mean;
+    return mean_error(m, data, p, &mean) / std::max(p.zero_motion, 1e-12);
+  };
+}
+
+// The log's validation and stopping columns, each when its part exists; `stopping` gets the
+// stopping part's measure (empty without one).
+Validation part_evaluation(const BdlstmModel& m, const nn::Matrix<float>& data,
+                           std::function<double()>& stopping) {
+  std::vector<std::function<double()>> measures;
   Validation v;
   if (m.training.validation_fraction > 0) {
-    probes.push_back(probe_part(m, data, m.split.validation_begin, m.split.validation_end,
-                                "validation", "--validation-fraction"));
+    measures.push_back(
+        part_measure(m, data,
+                     probe_part(m, data, m.split.validation_begin, m.split.validation_end,
+                                "validation", "--validation-fraction")));
     v.names.push_back("validation");
   }
   if (m.training.stopping_fraction > 0) {
-    probes.push_back(probe_part(m, data, m.split.stopping_begin, m.split.stopping_end, "stopping",
+    stopping =
+        part_measure(m, data,
+                     probe_part(m, data, m.split.stopping_begin, m.split.stopping_end, "stopping",
                                 "--stopping-fraction (or 0: keep the last weights)"));
+    measures.push_back(stopping);
     v.names.push_back("stopping");
   }
-  if (probes.empty()) return {};
-  v.measure = [&m, &data, probes]() -> LossTerms {
-    const LatentInput mean = LatentInput::mean;
+  if (measures.empty()) return {};
+  v.measure = [measures]() -> LossTerms {
     LossTerms out;
-    for (const auto& p : probes)
-      out.push_back(mean_error(m, data, p, &mean) / std::max(p.zero_motion, 1e-12));
+    for (const auto& measure : measures) out.push_back(measure());
     return out;
   };
   return v;
@@ -384,6 +398,8 @@ LossTerms BdlstmTrainer::step(std::int64_t done) {
                           return m_.net->loss(t, p, window_, m_.rng, &terms, given, kl_weight);
                         });
   kl_nats_ += terms.kl_per_frame, ++kl_steps_;
+  if (stopping_ && m_.training.stopping_every > 0 && done % m_.training.stopping_every == 0)
+    consider_weights(done, stopping_());
   return {terms.total, terms.recon, terms.bidir, terms.kl, terms.l2};
 }
 
@@ -402,15 +418,21 @@ void BdlstmTrainer::check_collapse(const std::vector<double>& row) {
   if (m_.latent_collapsed) warn_collapse(m_, m_.log[2], row[2]);
 }
 
-// Early stopping (--stopping-fraction): at every loss line, the weights with the lowest stopping
-// error so far (the row's last column) are kept; the first line's always are.
-void BdlstmTrainer::keep_best(const std::vector<double>& row) {
-  if (m_.training.stopping_fraction <= 0) return;
-  const double error = row.back();
+// Early stopping (--stopping-fraction): the weights with the lowest stopping error so far are
+// kept, checked at every loss line (the row's last column) and every --stopping-every
+// iterations; the first check's always are.
+void BdlstmTrainer::consider_weights(std::int64_t iteration, double error) {
   if (m_.best_weights.size() > 0 && !(error < m_.best_stopping)) return;
   m_.best_weights = m_.net->store().values();
-  m_.best_iteration = static_cast<std::int64_t>(row[0]);
+  m_.best_iteration = iteration;
   m_.best_stopping = error;
+}
+void BdlstmTrainer::keep_best(const std::vector<double>& row) {
+  if (m_.training.stopping_fraction <= 0) return;
+  const auto iteration = static_cast<std::int64_t>(row[0]);
+  // A line on a --stopping-every iteration was checked by step() already (the same weights).
+  if (m_.training.stopping_every > 0 && iteration % m_.training.stopping_every == 0) return;
+  consider_weights(iteration, row.back());
 }
 
 // The model file holds the kept weights (early stopping) in place of the last ones; a checkpoint
@@ -445,7 +467,7 @@ Trainer BdlstmTrainer::hooks() {
                 starts_.size(), m_.training.window, m_.training.stride, m_.net->store().size(),
                 m_.config.directions);
           },
-      .validation = [this] { return part_evaluation(m_, data_); },
+      .validation = [this] { return part_evaluation(m_, data_, stopping_); },
       .names = {"loss", "recon", "bidir", "kl", "l2"},
       .step = [this](std::int64_t done) { return step(done); },
       .after_row =

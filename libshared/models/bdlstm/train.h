@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,7 @@ class BdlstmTrainer {
   LossTerms step(std::int64_t done);
   void check_collapse(const std::vector<double>& row);
   void keep_best(const std::vector<double>& row);
+  void consider_weights(std::int64_t iteration, double error);
   void save(const std::string& path, bool force, BdlstmFile kind);
 
   const BdlstmTrainOptions& opt_;
@@ -90,6 +92,8 @@ class BdlstmTrainer {
   nn::Matrix<float> data_;            ///< the normalized features, one row per frame
   nn::Tape<float> tape_;
   std::vector<nn::Matrix<float>> window_;  ///< a batch of windows: [window] x [batch, 9V]
+  /// The stopping part's error / zero motion's (empty without --stopping-fraction)
+  std::function<double()> stopping_;
   double kl_nats_ = 0;  ///< Σ of the iterations' KL per frame since the last loss line
   long kl_steps_ = 0;
 };
