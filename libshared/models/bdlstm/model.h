@@ -96,8 +96,9 @@ struct BdlstmModel : TrainingState<std::unique_ptr<nn::Adam<float>>> {
   /// measured) and whether the latent had collapsed then (train-bdlstm's warning).
   double kl_per_frame = -1;
   bool latent_collapsed = false;
-  /// With a stopping part: the weights of the loss line with the lowest stopping error so far
-  /// (empty before the first), its iteration and that error. The model file holds these weights
+  /// With a stopping part: the weights with the lowest stopping error so far, checked at every
+  /// loss line and every stopping_every iterations (empty before the first check), their
+  /// iteration and that error. The model file holds these weights
   /// (and says which iteration they are); a checkpoint holds the last ones and these beside them.
   nn::Vector<float> best_weights;
   std::int64_t best_iteration = 0;

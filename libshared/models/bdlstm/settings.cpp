@@ -106,10 +106,10 @@ const BdlstmSettings& bdlstm_training_settings() {
        .help =
            "Early stopping: a stopping part of each sequence, this fraction of its frames, carved\n"
            "out of the training frames (after the validation part) at a place drawn from --seed;\n"
-           "no window crosses it. The model file keeps the weights of the loss line where the\n"
-           "prediction error on its windows, relative to zero motion's, was lowest (the log's\n"
-           "stopping column), so the tool picks the iteration count on frames it did not train\n"
-           "on (0 = the paper: the last iteration's weights)",
+           "no window crosses it. The model file keeps the weights of the loss line (or\n"
+           "--stopping-every check) where the prediction error on its windows, relative to zero\n"
+           "motion's, was lowest (the log's stopping column), so the tool picks the iteration\n"
+           "count on frames it did not train on (0 = the paper: the last iteration's weights)",
        .optional = true},
       {.name = "stopping_every",
        .target = &T::stopping_every,

@@ -143,22 +143,17 @@ void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, 
       split.train_begin.push_back(b), split.train_end.push_back(e);
       split.test_begin.push_back(b + at), split.test_end.push_back(b + at + n_test);
     }
-    // The validation part, then the stopping part: any contiguous stretch of training frames
-    // clear of the parts carved before, uniformly among them.
+    // The validation part, then the stopping part: any contiguous stretch of this sequence's
+    // training frames clear of the parts carved before (window_starts' rule: a part not yet
+    // carved for this sequence holds nothing), uniformly among them.
     const auto carve = [&](double part_fraction, Rng& part_rng, const char* what,
                            std::vector<std::int64_t>& begin, std::vector<std::int64_t>& end) {
       const auto n =
           static_cast<std::int64_t>(std::llround(part_fraction * static_cast<double>(e - b)));
-      const auto clear = [&](std::int64_t v, std::int64_t hb, std::int64_t he) {
-        return v + n <= hb || v >= he;
-      };
       std::vector<std::int64_t> places;
       if (n > 0)
-        for (std::int64_t v = split.train_begin.back(); v + n <= split.train_end.back(); ++v)
-          if (clear(v, split.test_begin.back(), split.test_end.back()) &&
-              (split.validation_begin.size() <= s ||
-               clear(v, split.validation_begin[s], split.validation_end[s])))
-            places.push_back(v);
+        for (const std::int64_t v : window_starts(split, n))
+          if (v >= split.train_begin.back()) places.push_back(v);
       if (n > 0 && places.empty())
         throw InvalidInput(fmt::format(
             "sequence {} has no {} contiguous training frames for the {} part", s, n, what));
@@ -299,17 +294,9 @@ std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::stri
   const std::int64_t span = window_span(m.training);
   std::vector<std::int64_t> starts = window_starts(m.split, span);
   if (!starts.empty()) return starts;
-  std::int64_t longest = 0;  // the longest run of training frames (clear of test and validation)
-  for (std::size_t s = 0; s < m.split.train_begin.size(); ++s) {
-    std::int64_t run = 0;
-    for (std::int64_t f = m.split.train_begin[s]; f < m.split.train_end[s]; ++f) {
-      const bool held = (f >= m.split.test_begin[s] && f < m.split.test_end[s]) ||
-                        (f >= m.split.validation_begin[s] && f < m.split.validation_end[s]) ||
-                        (f >= m.split.stopping_begin[s] && f < m.split.stopping_end[s]);
-      run = held ? 0 : run + 1;
-      longest = std::max(longest, run);
-    }
-  }
+  // The longest run of training frames clear of every held part: the widest window that fits.
+  std::int64_t longest = 0;
+  while (!window_starts(m.split, longest + 1).empty()) ++longest;
   throw InvalidInput(
       fmt::format("no sequence has a training part of {} frames (window {}, stride {}{}); the "
                   "longest has {}: use a smaller --window, --stride{}, --validation-fraction or "
