@@ -133,7 +133,7 @@ train-bdlstm -q "${tiny[@]}" --iterations "$kept" --lr 0.003 --stopping-fraction
 run h5diff ev3.h5 ev3-kept.ckpt /params; expect_rc 0
 [ "$(cfg ev3.h5 stopping_every)" = 3 ] || fail "--stopping-every not recorded"
 # A run never ahead of zero motion on its stopping part (a step size too large) warns, once.
-train-bdlstm "${tiny[@]}" --iterations 40 --lr 0.01 --stopping-fraction 0.1 data.h5 -o es-behind.h5 2>behind.log
+train-bdlstm "${tiny[@]}" --iterations 40 --lr 0.02 --stopping-fraction 0.1 data.h5 -o es-behind.h5 2>behind.log
 [ "$(grep -c 'warning: early stopping: .*never ahead of zero motion.*method nearest' behind.log)" = 1 ] ||
   fail "no warning for a run never ahead of zero motion: $(cat behind.log)"
 train-bdlstm "${tiny[@]}" --iterations 60 --lr 0.001 --stopping-fraction 0.1 -f data.h5 -o es.h5 2>ahead.log

@@ -105,8 +105,9 @@ const BdlstmSettings& bdlstm_training_settings() {
        .target = &T::stopping_fraction,
        .help =
            "Early stopping: a stopping part of each sequence, this fraction of its frames, carved\n"
-           "out of the training frames (after the validation part) at a place drawn from --seed;\n"
-           "no window crosses it. The model file keeps the weights of the loss line (or\n"
+           "out of the training frames (after the validation part) where it leaves the longest\n"
+           "stretch of training frames whole (beside the held-out or validation part, or at an\n"
+           "end); no window crosses it. The model file keeps the weights of the loss line (or\n"
            "--stopping-every check) where the prediction error on its windows, relative to zero\n"
            "motion's, was lowest (the log's stopping column), so the tool picks the iteration\n"
            "count on frames it did not train on (0 = the paper: the last iteration's weights)",

@@ -110,6 +110,58 @@ Validation part_evaluation(const BdlstmModel& m, const nn::Matrix<float>& data,
   return v;
 }
 
+// The first frames where a part of n frames fits in the last sequence's training frames, clear
+// of its parts carved so far (none when n is 0).
+std::vector<std::int64_t> clear_places(const BdlstmSplit& split, std::int64_t n) {
+  std::vector<std::int64_t> places;
+  if (n > 0)
+    for (const std::int64_t v : window_starts(split, n))
+      if (v >= split.train_begin.back()) places.push_back(v);
+  return places;
+}
+
+// Where the stopping part goes: at an end of a stretch of free training frames (beside the
+// held-out or validation part, or at an end of the training frames), where it leaves the longest
+// stretch whole, so long windows still fit.
+std::vector<std::int64_t> places_keeping_longest_run(const BdlstmSplit& split, std::int64_t n) {
+  const std::vector<std::int64_t> places = clear_places(split, n);
+  if (places.empty()) return places;
+  // The free runs of the sequence (clear places of one frame, grouped), and the two longest.
+  struct Run {
+    std::int64_t begin, end;
+  };
+  std::vector<Run> runs;
+  for (const std::int64_t f : clear_places(split, 1))
+    if (!runs.empty() && runs.back().end == f)
+      ++runs.back().end;
+    else
+      runs.push_back({f, f + 1});
+  std::int64_t first = 0, second = 0;
+  for (const Run& r : runs) {
+    const std::int64_t len = r.end - r.begin;
+    if (len > first)
+      second = first, first = len;
+    else if (len > second)
+      second = len;
+  }
+  // A part at an end of run r leaves the rest of r and every other run whole (a part inside a
+  // run would cut it in two).
+  std::vector<std::int64_t> best;
+  std::int64_t longest = -1;
+  std::size_t r = 0;
+  for (const std::int64_t v : places) {
+    while (runs[r].end < v + n) ++r;
+    if (v != runs[r].begin && v + n != runs[r].end) continue;
+    const std::int64_t len = runs[r].end - runs[r].begin;
+    const std::int64_t others = len == first ? second : first;
+    const std::int64_t left =
+        std::max({others, v - runs[r].begin, runs[r].end - (v + n)});
+    if (left > longest) best.clear(), longest = left;
+    if (left == longest) best.push_back(v);
+  }
+  return best;
+}
+
 }  // namespace
 
 void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, TestPart part,
@@ -143,17 +195,12 @@ void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, 
       split.train_begin.push_back(b), split.train_end.push_back(e);
       split.test_begin.push_back(b + at), split.test_end.push_back(b + at + n_test);
     }
-    // The validation part, then the stopping part: any contiguous stretch of this sequence's
+    // The validation part, then the stopping part: a contiguous stretch of this sequence's
     // training frames clear of the parts carved before (window_starts' rule: a part not yet
-    // carved for this sequence holds nothing), uniformly among them.
-    const auto carve = [&](double part_fraction, Rng& part_rng, const char* what,
-                           std::vector<std::int64_t>& begin, std::vector<std::int64_t>& end) {
-      const auto n =
-          static_cast<std::int64_t>(std::llround(part_fraction * static_cast<double>(e - b)));
-      std::vector<std::int64_t> places;
-      if (n > 0)
-        for (const std::int64_t v : window_starts(split, n))
-          if (v >= split.train_begin.back()) places.push_back(v);
+    // carved for this sequence holds nothing), drawn uniformly among `places`.
+    const auto carve = [&](std::int64_t n, std::vector<std::int64_t> places, Rng& part_rng,
+                           const char* what, std::vector<std::int64_t>& begin,
+                           std::vector<std::int64_t>& end) {
       if (n > 0 && places.empty())
         throw InvalidInput(fmt::format(
             "sequence {} has no {} contiguous training frames for the {} part", s, n, what));
@@ -162,9 +209,15 @@ void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, 
                          : places[part_rng.below(static_cast<std::uint64_t>(places.size()))];
       begin.push_back(v), end.push_back(v + n);
     };
-    carve(validation_fraction, validation_rng, "validation", split.validation_begin,
-          split.validation_end);
-    carve(stopping_fraction, stopping_rng, "stopping", split.stopping_begin, split.stopping_end);
+    const auto frames = [&](double part_fraction) {
+      return static_cast<std::int64_t>(std::llround(part_fraction * static_cast<double>(e - b)));
+    };
+    const std::int64_t n_validation = frames(validation_fraction);
+    carve(n_validation, clear_places(split, n_validation), validation_rng, "validation",
+          split.validation_begin, split.validation_end);
+    const std::int64_t n_stopping = frames(stopping_fraction);
+    carve(n_stopping, places_keeping_longest_run(split, n_stopping), stopping_rng, "stopping",
+          split.stopping_begin, split.stopping_end);
   }
 }
 

@@ -33,8 +33,10 @@ struct BdlstmTrainOptions {
 /// Then, when validation_fraction > 0, a validation part of round(validation_fraction × length)
 /// frames inside the training frames at a place drawn from `seed` (its own stream: the test part
 /// and the training draws do not move); InvalidInput if the training frames have no room for it.
-/// Then, when stopping_fraction > 0, a stopping part the same way, clear of the validation part
-/// (its own stream too: the test and validation parts do not move).
+/// Then, when stopping_fraction > 0, a stopping part clear of the validation part, at an end of
+/// a stretch of training frames (beside a part carved before or at an end of the training
+/// frames: no stretch is cut in two) where it leaves the longest stretch, so long windows still
+/// fit; ties drawn from `seed` (its own stream too: the test and validation parts do not move).
 void split_sequences(const std::vector<std::int64_t>& offsets, double fraction, TestPart part,
                      std::uint64_t seed, BdlstmSplit& split, double validation_fraction = 0,
                      double stopping_fraction = 0);

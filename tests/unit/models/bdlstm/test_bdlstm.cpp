@@ -413,7 +413,7 @@ TEST_CASE("BD-LSTM split: a validation part carved out of the training frames",
   REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, TestPart::end, 1, big, 0.8), UsageError);
 }
 
-TEST_CASE("BD-LSTM split: a stopping part beside the validation part", "[models][bdlstm]") {
+TEST_CASE("BD-LSTM split: a stopping part that keeps the longest training stretch whole", "[models][bdlstm]") {
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     BdlstmSplit v, vs;
     split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, v, 0.1);
@@ -439,6 +439,47 @@ TEST_CASE("BD-LSTM split: a stopping part beside the validation part", "[models]
     REQUIRE(inside.size() == 6);  // 10 frames hold 6 windows of 5, 3 frames none
     REQUIRE(inside.front() == vs.stopping_begin[0]);
   }
+  // It keeps the longest stretch of training frames whole: no clear place leaves a longer one,
+  // and it cuts no stretch in two.
+  const auto longest_run = [](const BdlstmSplit& sp, std::size_t s, std::int64_t lo,
+                              std::int64_t hi) {
+    std::int64_t best = 0, run = 0;
+    for (std::int64_t f = sp.train_begin[s]; f < sp.train_end[s]; ++f) {
+      const auto in = [&](const std::vector<std::int64_t>& b, const std::vector<std::int64_t>& e) {
+        return f >= b[s] && f < e[s];
+      };
+      const bool held = (f >= lo && f < hi) || in(sp.test_begin, sp.test_end) ||
+                        in(sp.validation_begin, sp.validation_end);
+      run = held ? 0 : run + 1;
+      best = std::max(best, run);
+    }
+    return best;
+  };
+  for (std::uint64_t seed = 1; seed <= 8; ++seed)
+    for (const TestPart part : {TestPart::end, TestPart::middle, TestPart::random}) {
+      BdlstmSplit sp;
+      split_sequences({0, 100, 160}, 0.2, part, seed, sp, 0.1, 0.15);
+      for (std::size_t s = 0; s < 2; ++s) {
+        const std::int64_t n = sp.stopping_end[s] - sp.stopping_begin[s];
+        const std::int64_t kept = longest_run(sp, s, sp.stopping_begin[s], sp.stopping_end[s]);
+        // It cuts no stretch in two: a frame before it and one after are not both free.
+        BdlstmSplit without = sp;
+        without.stopping_begin[s] = without.stopping_end[s] = 0;
+        const auto free = window_starts(without, 1);
+        const auto is_free = [&](std::int64_t f) {  // a free training frame of this sequence
+          return f >= sp.train_begin[s] && f < sp.train_end[s] &&
+                 std::find(free.begin(), free.end(), f) != free.end();
+        };
+        REQUIRE(!(is_free(sp.stopping_begin[s] - 1) && is_free(sp.stopping_end[s])));
+        for (std::int64_t v = sp.train_begin[s]; v + n <= sp.train_end[s]; ++v) {
+          BdlstmSplit clear = sp;  // v is a place when the part fits there clear of the others
+          clear.stopping_begin[s] = clear.stopping_end[s] = 0;
+          const auto fits = window_starts(clear, n);
+          if (std::find(fits.begin(), fits.end(), v) != fits.end())
+            REQUIRE(longest_run(sp, s, v, v + n) <= kept);
+        }
+      }
+    }
   // No stopping part: empty ranges and the same windows.
   BdlstmSplit none, plain;
   split_sequences({0, 50}, 0.2, TestPart::end, 1, none, 0.1, 0);
