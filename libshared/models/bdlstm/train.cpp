@@ -154,8 +154,7 @@ std::vector<std::int64_t> places_keeping_longest_run(const BdlstmSplit& split, s
     if (v != runs[r].begin && v + n != runs[r].end) continue;
     const std::int64_t len = runs[r].end - runs[r].begin;
     const std::int64_t others = len == first ? second : first;
-    const std::int64_t left =
-        std::max({others, v - runs[r].begin, runs[r].end - (v + n)});
+    const std::int64_t left = std::max({others, v - runs[r].begin, runs[r].end - (v + n)});
     if (left > longest) best.clear(), longest = left;
     if (left == longest) best.push_back(v);
   }

@@ -413,7 +413,8 @@ TEST_CASE("BD-LSTM split: a validation part carved out of the training frames",
   REQUIRE_THROWS_AS(split_sequences({0, 100}, 0.2, TestPart::end, 1, big, 0.8), UsageError);
 }
 
-TEST_CASE("BD-LSTM split: a stopping part that keeps the longest training stretch whole", "[models][bdlstm]") {
+TEST_CASE("BD-LSTM split: a stopping part that keeps the longest training stretch whole",
+          "[models][bdlstm]") {
   for (std::uint64_t seed = 1; seed <= 8; ++seed) {
     BdlstmSplit v, vs;
     split_sequences({0, 100, 130}, 0.2, TestPart::random, seed, v, 0.1);
