@@ -49,7 +49,9 @@ class Adam {
     const Vector<T>* v = nullptr;
     T rate = 0, c2 = 1, eps = 0;
     const std::vector<AdamOptions::RateScale>* scaled = nullptr;
-    T operator()(Eigen::Index j) const { return rate_of(j) / (std::sqrt((*v)(j) / c2) + eps); }
+    T operator()(Eigen::Index j) const { return at_rate(j, rate_of(j)); }
+    /// Coordinate j's step size given its rate.
+    T at_rate(Eigen::Index j, T r) const { return r / (std::sqrt((*v)(j) / c2) + eps); }
     /// The rate of coordinate j (AdamOptions::scaled applied; the ranges sorted by offset).
     T rate_of(Eigen::Index j) const {
       if (!scaled) return rate;
@@ -58,6 +60,21 @@ class Adam {
       if (r == scaled->begin()) return rate;
       --r;
       return j < r->offset + r->size ? rate * static_cast<T>(r->scale) : rate;
+    }
+    /// rate_of(j) for j in [first, first + n), into out: one search, then a walk over the ranges.
+    void rates_of(Eigen::Index first, Eigen::Index n, T* out) const {
+      if (!scaled) {
+        std::fill(out, out + n, rate);
+        return;
+      }
+      auto r = std::upper_bound(scaled->begin(), scaled->end(), first,
+                                [](Eigen::Index i, const auto& range) { return i < range.offset; });
+      if (r != scaled->begin()) --r;  // the last range starting at or before first, if any
+      for (Eigen::Index j = first; j < first + n; ++j) {
+        while (r != scaled->end() && j >= r->offset + r->size) ++r;
+        out[j - first] =
+            r != scaled->end() && j >= r->offset ? rate * static_cast<T>(r->scale) : rate;
+      }
     }
   };
   StepSizes last_step_sizes() const;

@@ -172,15 +172,20 @@ void MsaeNet<T>::proximal_sparsity(const std::vector<Matrix>& lambda,
     const T weight = static_cast<T>(config_.lambda_sparse) / static_cast<T>(bl.kz);
     const T cap = static_cast<T>(config_.proximal_cap);
     tbb::parallel_for(0, bl.kz, [&](int k) {
+      // The row's rates at once (eta(j) would search the rate ranges for each coordinate).
+      const Index row = base + Index{k} * C.cols();
+      std::vector<T> rates(static_cast<std::size_t>(C.cols()));
+      eta.rates_of(row, C.cols(), rates.data());
       for (int i = 0; i < n_vertices_; ++i) {
         const T mask = lambda[b](k, i);
         if (mask == T(0)) continue;
         auto group = C.row(k).segment(9 * Index{i}, 9);
-        const Index first = base + Index{k} * C.cols() + 9 * Index{i};
+        const Index first = row + 9 * Index{i};
         T mean_step = 0, mean_rate = 0;
-        for (Index j = 0; j < 9; ++j) {
-          mean_step += eta(first + j);
-          mean_rate += eta.rate_of(first + j);
+        for (Index j = 0; j < 9; ++j) {  // as eta(first + j) and eta.rate_of(first + j)
+          const T rate = rates[static_cast<std::size_t>(first - row + j)];
+          mean_step += eta.at_rate(first + j, rate);
+          mean_rate += rate;
         }
         T tau = mean_step / T(9) * weight * mask;
         if (cap > 0) tau = std::min(tau, cap * mean_rate / T(9) * mask);

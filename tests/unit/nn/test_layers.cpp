@@ -288,6 +288,15 @@ TEST_CASE("Adam: scaled ranges step at their fraction of the rate, the rest exac
   CHECK(sb(4) == Approx(0.5 * sa(4)));
   CHECK(sb(3) == sa(3));  // between the two ranges
   CHECK(sb(5) == sa(5));  // after the last
+  // A span's rates at once equal each coordinate's, from any first coordinate.
+  for (const auto* s : {&sa, &sb})
+    for (Eigen::Index first = 0; first < 6; ++first) {
+      std::vector<double> r(static_cast<std::size_t>(6 - first));
+      s->rates_of(first, 6 - first, r.data());
+      for (Eigen::Index j = first; j < 6; ++j)
+        CHECK(r[static_cast<std::size_t>(j - first)] == s->rate_of(j));
+      CHECK(s->at_rate(first, s->rate_of(first)) == (*s)(first));
+    }
   o.scaled = {{1, 3, 0.5}, {2, 1, 0.1}};
   CHECK_THROWS(Adam<double>(6, o));  // overlapping ranges
   o.scaled = {{4, 3, 0.5}};
