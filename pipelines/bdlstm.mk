@@ -328,31 +328,32 @@ BD_VALIDATION_ITERATIONS ?= 1500
 # stretches beside its validation part are 84 frames. chickenCrossing (stride 2) fits neither 64
 # nor 96 (its longest training stretch beside the validation part is 108 frames, a window of 64
 # steps spans 127): BD_VALIDATION_SETS=chickenCrossing BD_CANDIDATES="paper window48".
-# speeds: train-bdlstm's defaults since stop 79 (the remedies, the motion input, windows at four
-# speeds); motion: the defaults of stops 75-78.
-BD_CANDIDATES ?= paper remedies motion speeds carry no-kl window64
+# stopping: train-bdlstm's defaults since stop 86 (the remedies, the motion input, windows at four
+# speeds, early stopping checked every 25 iterations); speeds: the defaults of stops 79-85;
+# motion: the defaults of stops 75-78.
+BD_CANDIDATES ?= paper remedies motion speeds stopping carry no-kl window64
 # Every candidate spells out every remedy option and its window, so that a change of defaults
 # does not change it.
-paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1
-remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --no-motion-input --speeds 1
-no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1
+paper_CANDIDATE := --kl-warmup 0 --kl-free-bits 0 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1 --stopping-fraction 0
+remedies_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --no-motion-input --speeds 1 --stopping-fraction 0
+no-kl_CANDIDATE := --no-kl --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1 --stopping-fraction 0
 # the remedies with a step that carries the last motion, fading by 0.8 a step (issue 67: ahead
 # on the finger and chickenCrossing, behind on pcow; docs/bdlstm.md)
-carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8 --no-motion-input --speeds 1
+carry_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 1 --carry-fade 0.8 --no-motion-input --speeds 1 --stopping-fraction 0
 # the remedies with an encoder that reads each step's motion beside its frame: train-bdlstm's
 # defaults in stops 75-78
-motion_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 1
+motion_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 1 --stopping-fraction 0
 # the motion input and training windows played at speeds 0, 0.5, 1 and 1.5: train-bdlstm's
-# defaults since stop 79 (issue 67: the best worst case over finger, chickenCrossing and pcow)
-speeds_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 0,0.5,1,1.5
+# defaults in stops 79-85
+speeds_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 0,0.5,1,1.5 --stopping-fraction 0
 # the same with early stopping on a stopping part of 10% of each sequence, checked every 25
 # iterations (issue 67: the model keeps the weights where its error there, relative to zero
-# motion's, was lowest; docs/bdlstm.md)
-stopping_CANDIDATE := $(speeds_CANDIDATE) --stopping-fraction 0.1 --stopping-every 25
+# motion's, was lowest; docs/bdlstm.md): train-bdlstm's defaults since stop 86
+stopping_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 0,0.5,1,1.5 --stopping-fraction 0.1 --stopping-every 25
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions
 # are 32 free nats per frame) while z stays a sample of q(z|x) in training.
-free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1
+free-bits_CANDIDATE := --kl-warmup 0 --kl-free-bits 0.25 --l2-scope all --l2-weight 1 --decoder-init zero --carry 0 --no-motion-input --speeds 1 --stopping-fraction 0
 paper_CANDIDATE_WINDOW := 32
 remedies_CANDIDATE_WINDOW := 32
 no-kl_CANDIDATE_WINDOW := 32

@@ -19,7 +19,8 @@ done
 echo "ok (train, threads)"
 log=$(h5_data m.h5 /training/log %.9g | tr -c '0-9.e+-' ' ')
 read -r -a v <<<"$log"
-[ "${#v[@]}" = 24 ] || fail "training log has ${#v[@]} numbers, expected 4 rows x 6"
+# iteration total recon bidir kl l2, and the default early stopping's stopping column
+[ "${#v[@]}" = 28 ] || fail "training log has ${#v[@]} numbers, expected 4 rows x 7"
 echo "ok (train log: loss ${v[1]} -> ${v[19]})"
 
 # --- the collapse warning: a run forced to collapse (the paper's form with the KL term 1000x)
@@ -107,7 +108,17 @@ train-bdlstm -q "${tiny[@]}" --iterations 60 --lr 0.001 --stopping-fraction 0.1 
 h5check -q --kind bdlstm-model es.h5
 h5check -q --kind bdlstm-model es.ckpt
 h5dump -d /split/stopping es.h5 >/dev/null || fail "no stopping part recorded"
-! h5dump -d /split/stopping defaults.h5 >/dev/null 2>&1 || fail "the defaults carve a stopping part"
+# A default (0.1), off in the paper's form; sequences too short for the default's part train
+# without it, said in a warning (a part asked for is an error instead).
+h5dump -d /split/stopping defaults.h5 >/dev/null || fail "the defaults carve no stopping part"
+[ "$(cfg defaults.h5 stopping_fraction)" = 0.1 ] || fail "the defaults' stopping fraction: $(cfg defaults.h5 stopping_fraction)"
+! h5dump -d /split/stopping pf.h5 >/dev/null 2>&1 || fail "--paper-form carves a stopping part"
+train-bdlstm -q --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --seed 3 --window 30 --iterations 2 data.h5 -o short.h5 2>short.log
+grep -q "warning: the sequences are too short for early stopping's part.*last iteration's weights" short.log ||
+  fail "no warning when the default's stopping part does not fit: $(cat short.log)"
+[ "$(cfg short.h5 stopping_fraction)" = 0 ] || fail "the model of too-short sequences records a stopping part"
+run train-bdlstm -q --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --seed 3 --window 30 --iterations 2 --stopping-fraction 0.1 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "stopping-fraction"
 best=$(h5dump -a /training/best/iteration es.h5 | awk '/\(0\):/ { print $2 }')
 # The log's rows are iteration total recon bidir kl l2 stopping: the kept row has the lowest.
 low=$(h5_data es.h5 /training/log %.9g | tr -c '0-9.e+-' ' ' |
@@ -151,9 +162,14 @@ h5check -q --kind bdlstm-model m20.h5
 h5check -q --kind bdlstm-model ck.h5
 run h5ls m20.h5/optimizer; expect_rc 1
 [ "$(h5dump -a /iteration ck.h5 | sed -n 's/.*(0): \([0-9]*\).*/\1/p')" = 20 ] || fail "the named checkpoint does not hold the final state"
-for obj in /params /rng/state /training/log; do
+for obj in /rng/state /training/log; do
   run h5diff m20.h5 ck.h5 $obj; expect_rc 0
 done
+# /params: the model file's are the default early stopping's kept weights, the checkpoint's the
+# last ones — the same when the kept loss line is the last
+kept=$(h5dump -a /training/best/iteration m20.h5 | awk '/\(0\):/ { print $2 }')
+run h5diff m20.h5 ck.h5 /params
+if [ "$kept" = 20 ]; then expect_rc 0; else expect_rc 1; fi
 awk -v m="$(stat -c %s m20.h5)" -v c="$(stat -c %s ck.h5)" 'BEGIN { exit !(m < 0.5 * c) }' ||
   fail "model file $(stat -c %s m20.h5) bytes against the checkpoint's $(stat -c %s ck.h5)"
 gen-bdlstm -q m20.h5 data.h5 --test-every 4 --initial 3 --length 4 -o m20-pred.h5

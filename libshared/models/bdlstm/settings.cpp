@@ -110,7 +110,8 @@ const BdlstmSettings& bdlstm_training_settings() {
            "end); no window crosses it. The model file keeps the weights of the loss line (or\n"
            "--stopping-every check) where the prediction error on its windows, relative to zero\n"
            "motion's, was lowest (the log's stopping column), so the tool picks the iteration\n"
-           "count on frames it did not train on (0 = the paper: the last iteration's weights)",
+           "count on frames it did not train on (0 = the paper: the last iteration's weights).\n"
+           "Sequences too short for the default's part train without it, with a warning",
        .optional = true},
       {.name = "stopping_every",
        .target = &T::stopping_every,

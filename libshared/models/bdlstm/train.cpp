@@ -286,6 +286,8 @@ void apply_learning_defaults(BdlstmConfig& net, BdlstmTraining& training) {
   net.decoder_init = DecoderInit::small;
   net.motion_input = true;
   training.speeds = {0, 0.5, 1, 1.5};  // the pace is read off the given frames (issue 67)
+  training.stopping_fraction = 0.1;    // the iteration count chosen on unseen frames (issue 67),
+  training.stopping_every = 25;        // checked often enough to catch a model before it drifts
 }
 
 void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
@@ -298,6 +300,8 @@ void apply_paper_form(BdlstmConfig& net, BdlstmTraining& training) {
   net.carry_fade = 1;
   net.motion_input = false;
   training.speeds = {1};
+  training.stopping_fraction = 0;
+  training.stopping_every = 0;
 }
 
 void check_bdlstm_options(const BdlstmTrainOptions& opt) {
@@ -315,6 +319,23 @@ namespace {
 
 // The model to train as the options and the data describe it: settings, template,
 // normalization, the split of every sequence (no weights yet).
+// The frames a training window spans at the fastest of --speeds (every start leaves room for
+// any speed drawn).
+std::int64_t window_span(const BdlstmTraining& t) {
+  const double fastest = *std::max_element(t.speeds.begin(), t.speeds.end());
+  return static_cast<std::int64_t>(
+             std::ceil(static_cast<double>(t.window - 1) * t.stride * fastest - 1e-9)) +
+         1;
+}
+
+// Whether a split's stopping part serves: its windows hold the given frames and one predicted
+// frame, and training windows remain beside it.
+bool stopping_part_fits(const BdlstmModel& m) {
+  const std::int64_t given = m.training.teacher_frames, q = m.training.stride;
+  return !range_starts(m.split.stopping_begin, m.split.stopping_end, given * q + 1).empty() &&
+         !window_starts(m.split, window_span(m.training)).empty();
+}
+
 BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& common,
                            const io::AcapReader& in) {
   BdlstmModel m;
@@ -324,23 +345,40 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
   m.history = in.history();
   m.tmpl = in.read_template();
   m.normalization = in.normalization();
-  m.split.data = opt.input;
-  m.split.sequences = in.sequence_names();
-  split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed,
-                  m.split, m.training.validation_fraction, m.training.stopping_fraction);
+  const auto split = [&] {
+    m.split = BdlstmSplit{};
+    m.split.data = opt.input;
+    m.split.sequences = in.sequence_names();
+    split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed,
+                    m.split, m.training.validation_fraction, m.training.stopping_fraction);
+  };
+  // The default's stopping part on sequences too short for it: none, said (one asked for with
+  // --stopping-fraction is an error instead, below).
+  if (opt.stopping_by_default && m.training.stopping_fraction > 0) {
+    bool fits = false;
+    try {
+      split();
+      fits = stopping_part_fits(m);
+    } catch (const InvalidInput&) {
+    }
+    if (fits) return m;
+    const double asked = m.training.stopping_fraction;
+    m.training.stopping_fraction = 0;
+    split();
+    if (!window_starts(m.split, window_span(m.training)).empty())  // else the window's error
+      log::warn(
+          "the sequences are too short for early stopping's part ({} of each sequence, carved "
+          "out of the training frames): training without it, so the model keeps the last "
+          "iteration's weights (--stopping-fraction 0 says so and silences this)",
+          asked);
+    return m;
+  }
+  split();
   return m;
 }
 
 // Windows: every start in a training part that leaves room for the whole window; none is an
 // InvalidInput that names the longest run of training frames there is.
-// The frames a training window spans at the fastest of --speeds (every start leaves room for
-// any speed drawn).
-std::int64_t window_span(const BdlstmTraining& t) {
-  const double fastest = *std::max_element(t.speeds.begin(), t.speeds.end());
-  return static_cast<std::int64_t>(
-             std::ceil(static_cast<double>(t.window - 1) * t.stride * fastest - 1e-9)) +
-         1;
-}
 
 std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::string& input) {
   const std::int64_t span = window_span(m.training);

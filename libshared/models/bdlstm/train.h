@@ -25,6 +25,9 @@ struct BdlstmTrainOptions {
   TrainingRun run;  ///< checkpoints, --resume, loss lines
   BdlstmConfig net;
   BdlstmTraining training;
+  /// training.stopping_fraction is the tool's default, not asked for: sequences too short for
+  /// the stopping part train without one, with a warning (asked for, it is an error).
+  bool stopping_by_default = false;
 };
 
 /// Splits each sequence (offsets as in the acap file) into a training part and a held-out
