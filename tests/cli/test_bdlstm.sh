@@ -117,6 +117,7 @@ train-bdlstm -q --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --seed 3 --windo
 grep -q "warning: the sequences are too short for early stopping's part.*last iteration's weights" short.log ||
   fail "no warning when the default's stopping part does not fit: $(cat short.log)"
 [ "$(cfg short.h5 stopping_fraction)" = 0 ] || fail "the model of too-short sequences records a stopping part"
+[ "$(cfg short.h5 stopping_every)" = 0 ] || fail "the model of too-short sequences records stopping checks"
 run train-bdlstm -q --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --seed 3 --window 30 --iterations 2 --stopping-fraction 0.1 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "stopping-fraction"
 best=$(h5dump -a /training/best/iteration es.h5 | awk '/\(0\):/ { print $2 }')

@@ -317,8 +317,6 @@ void check_bdlstm_options(const BdlstmTrainOptions& opt) {
 
 namespace {
 
-// The model to train as the options and the data describe it: settings, template,
-// normalization, the split of every sequence (no weights yet).
 // The frames a training window spans at the fastest of --speeds (every start leaves room for
 // any speed drawn).
 std::int64_t window_span(const BdlstmTraining& t) {
@@ -336,6 +334,8 @@ bool stopping_part_fits(const BdlstmModel& m) {
          !window_starts(m.split, window_span(m.training)).empty();
 }
 
+// The model to train as the options and the data describe it: settings, template,
+// normalization, the split of every sequence (no weights yet).
 BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& common,
                            const io::AcapReader& in) {
   BdlstmModel m;
@@ -364,6 +364,7 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
     if (fits) return m;
     const double asked = m.training.stopping_fraction;
     m.training.stopping_fraction = 0;
+    m.training.stopping_every = 0;
     split();
     if (!window_starts(m.split, window_span(m.training)).empty())  // else the window's error
       log::warn(
@@ -379,7 +380,6 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
 
 // Windows: every start in a training part that leaves room for the whole window; none is an
 // InvalidInput that names the longest run of training frames there is.
-
 std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::string& input) {
   const std::int64_t span = window_span(m.training);
   std::vector<std::int64_t> starts = window_starts(m.split, span);
