@@ -96,7 +96,12 @@ run h5diff speeds.h5 speeds-resumed.h5 /params; expect_rc 0
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,-1 data.h5 -o x.h5
 expect_rc 2; expect_one_error_line train-bdlstm; expect_err "--speeds must be in \[0, 8\] \(got 1,-1\)"
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,8 data.h5 -o x.h5
-expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds.*--speeds, --validation-fraction"
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds.*--speeds or --test-fraction"
+# the remedies named are the options in use: a validation part adds its fraction (and the
+# default's stopping part, dropped when it does not fit, is not named)
+grep -q "stopping-fraction" err.txt && fail "the window error names --stopping-fraction, which is 0 here"
+run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,8 --validation-fraction 0.1 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "--speeds, --test-fraction or --validation-fraction"
 echo "ok (speeds: 0,0.5,1,1.5 by default, 1 in the paper's form, recorded, resumed, bad speeds refused)"
 
 # --- early stopping (--stopping-fraction): a stopping part carved out of the training frames

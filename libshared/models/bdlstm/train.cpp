@@ -1,12 +1,14 @@
 #include "models/bdlstm/train.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
 #include <numeric>
+#include <string>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -387,13 +389,21 @@ std::vector<std::int64_t> training_windows(const BdlstmModel& m, const std::stri
   // The longest run of training frames clear of every held part: the widest window that fits.
   std::int64_t longest = 0;
   while (!window_starts(m.split, longest + 1).empty()) ++longest;
+  // What would make room: the options in use that take frames or widen the window.
+  const bool speeds = m.training.speeds != std::vector<double>{1};
+  std::vector<std::string> remedies = {"--window", "--stride"};
+  if (speeds) remedies.emplace_back("--speeds");
+  remedies.emplace_back("--test-fraction");
+  if (m.training.validation_fraction > 0) remedies.emplace_back("--validation-fraction");
+  if (m.training.stopping_fraction > 0) remedies.emplace_back("--stopping-fraction");
+  const std::string last = remedies.back();
+  remedies.pop_back();
   throw InvalidInput(
       fmt::format("no sequence has a training part of {} frames (window {}, stride {}{}); the "
-                  "longest has {}: use a smaller --window, --stride{}, --validation-fraction or "
-                  "--stopping-fraction",
+                  "longest has {}: use a smaller {} or {}",
                   span, m.training.window, m.training.stride,
-                  m.training.speeds == std::vector<double>{1} ? "" : ", the fastest of --speeds",
-                  longest, m.training.speeds == std::vector<double>{1} ? "" : ", --speeds"),
+                  speeds ? ", the fastest of --speeds" : "", longest, fmt::join(remedies, ", "),
+                  last),
       input);
 }
 
