@@ -54,12 +54,9 @@ class Adam {
     T at_rate(Eigen::Index j, T r) const { return r / (std::sqrt((*v)(j) / c2) + eps); }
     /// The rate of coordinate j (AdamOptions::scaled applied; the ranges sorted by offset).
     T rate_of(Eigen::Index j) const {
-      if (!scaled) return rate;
-      auto r = std::upper_bound(scaled->begin(), scaled->end(), j,
-                                [](Eigen::Index i, const auto& range) { return i < range.offset; });
-      if (r == scaled->begin()) return rate;
-      --r;
-      return j < r->offset + r->size ? rate * static_cast<T>(r->scale) : rate;
+      T r;
+      rates_of(j, 1, &r);
+      return r;
     }
     /// rate_of(j) for j in [first, first + n), into out: one search, then a walk over the ranges.
     void rates_of(Eigen::Index first, Eigen::Index n, T* out) const {

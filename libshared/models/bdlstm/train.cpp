@@ -50,6 +50,10 @@ double mean_error(const BdlstmModel& m, const nn::Matrix<float>& data, const Par
                                                        m.training.stride, latent, none);
   return std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(e.size());
 }
+// The frames a probe window of --teacher-frames given and `length` predicted frames spans.
+std::int64_t probe_span(const BdlstmTraining& t, int length) {
+  return static_cast<std::int64_t>(t.teacher_frames + length - 1) * t.stride + 1;
+}
 PartProbe probe_part(const BdlstmModel& m, const nn::Matrix<float>& data,
                      const std::vector<std::int64_t>& begin, const std::vector<std::int64_t>& end,
                      const char* what, const char* option) {
@@ -58,7 +62,7 @@ PartProbe probe_part(const BdlstmModel& m, const nn::Matrix<float>& data,
   const std::int64_t q = m.training.stride;
   int length = kValidationSteps;
   for (; length >= 1 && p.starts.empty(); --length)
-    p.starts = range_starts(begin, end, static_cast<std::int64_t>(p.given + length - 1) * q + 1);
+    p.starts = range_starts(begin, end, probe_span(m.training, length));
   p.length = length + 1;
   if (p.starts.empty())
     throw InvalidInput(fmt::format("the {} parts are too short for {} given frames and one "
@@ -123,12 +127,11 @@ std::vector<std::int64_t> clear_places(const BdlstmSplit& split, std::int64_t n)
 }
 
 // Where the stopping part goes: at an end of a stretch of free training frames (beside the
-// held-out or validation part, or at an end of the training frames), where it leaves the longest
-// stretch whole, so long windows still fit.
+// held-out or validation part, or at an end of the training frames; inside a stretch it would
+// cut it in two), in the stretch that leaves the longest one whole, so long windows still fit.
 std::vector<std::int64_t> places_keeping_longest_run(const BdlstmSplit& split, std::int64_t n) {
-  const std::vector<std::int64_t> places = clear_places(split, n);
-  if (places.empty()) return places;
-  // The free runs of the sequence (clear places of one frame, grouped), and the two longest.
+  if (n <= 0) return {};
+  // The sequence's free stretches (its clear places of one frame, grouped), the two longest.
   struct Run {
     std::int64_t begin, end;
   };
@@ -146,19 +149,17 @@ std::vector<std::int64_t> places_keeping_longest_run(const BdlstmSplit& split, s
     else if (len > second)
       second = len;
   }
-  // A part at an end of run r leaves the rest of r and every other run whole (a part inside a
-  // run would cut it in two).
+  // A part at either end of run r leaves len − n of it and every other run whole.
   std::vector<std::int64_t> best;
   std::int64_t longest = -1;
-  std::size_t r = 0;
-  for (const std::int64_t v : places) {
-    while (runs[r].end < v + n) ++r;
-    if (v != runs[r].begin && v + n != runs[r].end) continue;
-    const std::int64_t len = runs[r].end - runs[r].begin;
-    const std::int64_t others = len == first ? second : first;
-    const std::int64_t left = std::max({others, v - runs[r].begin, runs[r].end - (v + n)});
+  for (const Run& r : runs) {
+    const std::int64_t len = r.end - r.begin;
+    if (len < n) continue;
+    const std::int64_t left = std::max(len == first ? second : first, len - n);
     if (left > longest) best.clear(), longest = left;
-    if (left == longest) best.push_back(v);
+    if (left < longest) continue;
+    best.push_back(r.begin);
+    if (r.end - n != r.begin) best.push_back(r.end - n);
   }
   return best;
 }
@@ -331,8 +332,8 @@ std::int64_t window_span(const BdlstmTraining& t) {
 // Whether a split's stopping part serves: its windows hold the given frames and one predicted
 // frame, and training windows remain beside it.
 bool stopping_part_fits(const BdlstmModel& m) {
-  const std::int64_t given = m.training.teacher_frames, q = m.training.stride;
-  return !range_starts(m.split.stopping_begin, m.split.stopping_end, given * q + 1).empty() &&
+  return !range_starts(m.split.stopping_begin, m.split.stopping_end, probe_span(m.training, 1))
+              .empty() &&
          !window_starts(m.split, window_span(m.training)).empty();
 }
 
