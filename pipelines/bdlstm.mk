@@ -442,5 +442,88 @@ $(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlaten
 	  set ylabel 'validation error / zero motion'; set key bottom right; set yrange [0:*]; set offsets 0, 0, 0.1, 0; \
 	  plot $(foreach c,$(BD_CANDIDATES),'$(BD)/$*/validate/$(c).vlatent.tsv' index 'training_log' using 1:7 with linespoints lw 2 title '$(c)',) 1 with lines dashtype 2 lc 'black' title 'zero motion'"
 
+# --- (h) candidates over the paper's held-out placements (issue 67), on validation parts only:
+#   make -f Makefile.data bdlstm-placements [BD_PLACEMENT_SETS="finger pcow"] [BD_PLACEMENT_CANDIDATES="stopping speeds"]
+# The paper averages Table 1 over several placements of the held-out part. Each candidate trains
+# once per placement (end, start, middle: seed 1; randomN: placed by seed N, which also starts the
+# network) with the set's window and options, a validation part of BD_PLACEMENT_FRACTION carved
+# out of its training frames, and predicts that part from 3 frames, 15 frames ahead; zero motion
+# and linear extrapolation predict the same cases (the parts do not move between candidates).
+# Per set: $(BD)/S/placements.md (each placement's mean error over 1..15, the mean over the
+# placements at future frames 5 / 10 / 15 and over 1..15, the pace, and the mean over 1..15 ÷
+# the better baseline's); $(BD)/placements.md adds each candidate's worst ratio over the sets —
+# the rule the defaults are chosen by. One training per candidate, placement and set (on 2 cores
+# at one thread each: finger 17 min, chickenCrossing 40-66, pcow 41-70; docs/bdlstm.md): a run
+# of every set is a job for several sessions (--resume picks a model up where it stopped) or for
+# Slurm (LAUNCH=slurm).
+BD_PLACEMENT_SETS ?= finger $(if $(HAVE_DATA),pcow chickenCrossing)
+BD_PLACEMENTS ?= end start middle random1 random2 random3
+BD_PLACEMENT_CANDIDATES ?= stopping speeds
+BD_PLACEMENT_FRACTION ?= 0.1
+# The iteration counts of the issue-67 runs (docs/bdlstm.md): pcow's 64-frame windows at 600.
+finger_PLACEMENT_ITERATIONS ?= 2000
+pcow_PLACEMENT_ITERATIONS ?= 600
+chickenCrossing_PLACEMENT_ITERATIONS ?= 1000
+$(foreach c,$(BD_PLACEMENT_CANDIDATES),$(if $($(c)_CANDIDATE),,\
+  $(error BD_PLACEMENT_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, carry, motion, speeds, stopping))))
+$(foreach p,$(BD_PLACEMENTS),$(if $(filter end start middle,$(p))$(patsubst random%,%,$(filter random%,$(p))),,\
+  $(error BD_PLACEMENTS: no placement '$(p)' (end, start, middle or randomN: placed by seed N))))
+# --test-part and --seed of a placement; the training options of set $(1), placement $(2), candidate $(3).
+placement_part = --test-part $(if $(filter random%,$(1)),random --seed $(patsubst random%,%,$(1)),$(1) --seed 1)
+placement_args = --iterations $($(1)_PLACEMENT_ITERATIONS) --window $($(1)_WINDOW) \
+  $(filter-out --test-part random,$($(1)_OPTIONS)) --validation-fraction $(BD_PLACEMENT_FRACTION) \
+  $(call placement_part,$(2)) $($(3)_CANDIDATE)
+define PLACEMENT_RULES
+$(BD)/%/place/$(1)/$(2).args: FORCE
+	@mkdir -p $$(@D)
+	@echo '$$(call placement_args,$$*,$(1),$(2))' $$(write_if_changed)
+$(BD)/%/place/$(1)/$(2).h5: $(BD)/%/data.h5 $(BD)/%/place/$(1)/$(2).args
+	$$(call launch,train) $(BIN)/train-bdlstm -f --threads $(TRAIN_THREADS) --print-every 100 --checkpoint-every 100 --resume \
+	  $$(call placement_args,$$*,$(1),$(2)) $$< -o $$@ 2>&1 | tee $$(@:.h5=.log)
+endef
+$(foreach p,$(BD_PLACEMENTS),$(foreach c,$(BD_PLACEMENT_CANDIDATES),$(eval $(call PLACEMENT_RULES,$(p),$(c)))))
+# The two baselines on a model's validation cases (the same cases as .vpred-mean).
+$(BD)/%.vstatic.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_PREDICT) --method static -o $@
+$(BD)/%.vlinear.h5: $(BD)/%.h5
+	$(call launch,generate) $(BIN)/gen-bdlstm -q -f $< $(BD)/$(vset)/data.h5 $(VAL_PREDICT) --method linear -o $@
+
+.PHONY: bdlstm-placements
+bdlstm-placements: $(BD)/placements.md
+	@for s in $(BD_PLACEMENT_SETS); do echo; cat $(BD)/$$s/placements.md; done; echo; cat $(BD)/placements.md
+
+# Each method of a set's table and the file of its placement P (PLACE stands for P): every
+# candidate's prediction, then the baselines on the first candidate's cases.
+placement_methods = $(foreach c,$(BD_PLACEMENT_CANDIDATES),$(c):PLACE/$(c).vpred-mean) \
+  zero-motion:PLACE/$(firstword $(BD_PLACEMENT_CANDIDATES)).vstatic linear-extrapolation:PLACE/$(firstword $(BD_PLACEMENT_CANDIDATES)).vlinear
+PLACEMENT_COLUMNS := vertex_error.mean_relative,vertex_error.per_step.5.relative,vertex_error.per_step.10.relative,vertex_error.per_step.15.relative,pace.ratio
+$(BD)/%/placements.md: $(foreach p,$(BD_PLACEMENTS),$(foreach m,$(placement_methods),$(BD)/%/place/$(subst PLACE,$(p),$(lastword $(subst :, ,$(m)))).veval))
+	{ for m in $(placement_methods); do \
+	    printf '%s' "$${m%%:*}"; \
+	    for p in $(BD_PLACEMENTS); do f=$(BD)/$*/place/$${m#*:}; \
+	      printf '\t%s' "$$($(BIN)/collect-metrics --values --columns $(PLACEMENT_COLUMNS) $${f/PLACE/$$p}.veval.json | tr '\t' ' ')"; \
+	    done; echo; \
+	  done; } > $@.rows
+	awk -F'\t' -v set=$* -v places="$(BD_PLACEMENTS)" -v cands="$(BD_PLACEMENT_CANDIDATES)" -v tsv=$(@:.md=.tsv) ' \
+	  { name[NR] = $$1; n = NF - 1; for (i = 2; i <= NF; i++) { split($$i, v, " "); cell[NR, i] = sprintf("%.1f", 1000 * v[1]); \
+	      m[NR] += v[1] / n; s5[NR] += v[2] / n; s10[NR] += v[3] / n; s15[NR] += v[4] / n; pace[NR] += v[5] / n } } \
+	  END { best = m[NR] < m[NR - 1] ? m[NR] : m[NR - 1]; \
+	        printf "**%s** — prediction of the validation part (%s of each sequence) from 3 frames, per held-out placement: mean error over future frames 1..15, x 1e-3 of the bounding-box diagonal\n\n", set, "$(BD_PLACEMENT_FRACTION)"; \
+	        printf "| method |"; np = split(places, pl, " "); for (i = 1; i <= np; i++) printf " %s |", pl[i]; \
+	        printf " mean over placements: 5 / 10 / 15 (1..15) | pace | ÷ better baseline |\n|---|"; \
+	        for (i = 1; i <= np + 3; i++) printf "---:|"; printf "\n"; \
+	        for (r = 1; r <= NR; r++) { printf "| %s |", name[r]; for (i = 2; i <= np + 1; i++) printf " %s |", cell[r, i]; \
+	          printf " %.1f / %.1f / %.1f (%.1f) | %.2f | %.3f |\n", 1000 * s5[r], 1000 * s10[r], 1000 * s15[r], 1000 * m[r], pace[r], m[r] / best; \
+	          if (r <= NR - 2) printf "%s\t%.6f\n", name[r], m[r] / best > tsv } }' $@.rows > $@.tmp && mv $@.tmp $@ && rm $@.rows
+# The rule of issue 67: each candidate's worst ratio, over the sets, to the better baseline.
+$(BD)/placements.md: $(foreach s,$(BD_PLACEMENT_SETS),$(BD)/$(s)/placements.md)
+	awk -F'\t' -v sets="$(BD_PLACEMENT_SETS)" ' \
+	  FNR == 1 { f++ } { r[$$1, f] = $$2; if (!seen[$$1]++) order[++nc] = $$1; worst[$$1] = $$2 > worst[$$1] ? $$2 : worst[$$1] } \
+	  END { printf "**Candidates over the placements** ($(BD_PLACEMENTS)) — per set, the mean error over 1..15 ÷ that of the better baseline; the worst over the sets decides\n\n| candidate |"; \
+	        ns = split(sets, s, " "); for (i = 1; i <= ns; i++) printf " %s |", s[i]; printf " worst |\n|---|"; \
+	        for (i = 0; i <= ns; i++) printf "---:|"; printf "\n"; \
+	        for (c = 1; c <= nc; c++) { printf "| %s |", order[c]; for (i = 1; i <= ns; i++) printf " %.3f |", r[order[c], i]; printf " %.3f |\n", worst[order[c]] } }' \
+	  $(foreach s,$(BD_PLACEMENT_SETS),$(BD)/$(s)/placements.tsv) > $@.tmp && mv $@.tmp $@
+
 # Keep every intermediate file (models, generations, evaluations): later runs reuse them.
 .SECONDARY:

@@ -141,6 +141,38 @@ variants() { make -s -C "$DF_SOURCE" -f Makefile.data OUT="$DF_TMP/out" DATA="$D
   fail "with chosen remedies Table 2 needs the paper's form: '$(variants tiny_CHOSEN=--no-kl)'"
 echo "ok (chosen remedies)"
 
+# Candidates over the held-out placements (issue 67), with the real tools on a small finger: each
+# placement trains with its own --test-part and seed (the set's own --test-part dropped), the
+# table gives each placement's mean error as the JSON has it, the better baseline's ratio is 1,
+# and the summary's worst is the set's ratio; an unknown placement is refused before anything runs.
+mkdir -p out/bdlstm/place
+synth-meshseq -q --kind finger --frames 200 --resolution 4 -o place-frames.h5
+obj2acap -q place-frames.h5 -o out/bdlstm/place/data.h5
+placements() { make -s -C "$DF_SOURCE" -f Makefile.data "$@" BIN="$DF_BIN" OUT="$DF_TMP/out" DATA="$DF_TMP/data" \
+                 BD_PLACEMENT_SETS=place place_WINDOW=8 place_OPTIONS="--batch 2 --test-part random" \
+                 place_PLACEMENT_ITERATIONS=3 BD_PLACEMENT_CANDIDATES="stopping paper" TRAIN_THREADS=1; }
+placements BD_PLACEMENTS="end random2" bdlstm-placements >placements.txt 2>&1 ||
+  fail "bdlstm-placements failed: $(tail -n 5 placements.txt)"
+grep -q -- "--window 8 --batch 2 --validation-fraction 0.1 --test-part random --seed 2 " out/bdlstm/place/place/random2/stopping.args &&
+  grep -q -- "--test-part end --seed 1 " out/bdlstm/place/place/end/paper.args ||
+  fail "a placement trained with other parts: $(cat out/bdlstm/place/place/*/*.args)"
+for m in stopping paper zero-motion linear-extrapolation; do
+  grep -qE "^\| $m \| [0-9.]+ \| [0-9.]+ \| [0-9.]+ / [0-9.]+ / [0-9.]+ \([0-9.]+\) \| [0-9.]+ \| [0-9.]+ \|$" out/bdlstm/place/placements.md ||
+    fail "placements.md lacks the $m row: $(cat out/bdlstm/place/placements.md)"
+done
+zero_end=$(printf '%.1f' "$(collect-metrics --values --columns vertex_error.mean_relative \
+  out/bdlstm/place/place/end/stopping.vstatic.veval.json | awk '{ print 1000 * $1 }')")
+grep -qE "^\| zero-motion \| $zero_end \|" out/bdlstm/place/placements.md ||
+  fail "zero motion's end cell is not its JSON's $zero_end: $(grep zero-motion out/bdlstm/place/placements.md)"
+grep -E "^\| (zero-motion|linear-extrapolation) \|" out/bdlstm/place/placements.md | grep -q "| 1.000 |$" ||
+  fail "neither baseline is the better one (ratio 1): $(cat out/bdlstm/place/placements.md)"
+ratio=$(awk -F'|' '$2 == " stopping " { gsub(/ /, "", $(NF - 1)); print $(NF - 1) }' out/bdlstm/place/placements.md)
+grep -qE "^\| stopping \| $ratio \| $ratio \|$" out/bdlstm/placements.md ||
+  fail "the summary's worst is not the set's ratio $ratio: $(cat out/bdlstm/placements.md)"
+msg=$(placements BD_PLACEMENTS="end side" bdlstm-placements 2>&1) && fail "an unknown placement was accepted"
+echo "$msg" | grep -q "no placement 'side'" || fail "unknown placement: unclear message: $msg"
+echo "ok (candidates over the placements)"
+
 # ActGAN at other training seeds: each seed trains ours and the baseline with the set's options
 # and --seed N; seeds.md sets the two side by side and counts where ours is lower.
 cat >fakebin/train-actgan <<'SH'
