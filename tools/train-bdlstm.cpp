@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
           bind(df::models::bdlstm_settings(), opt.net, opt.training), app);
     }
     opt.stopping_by_default = app.count("--stopping-fraction") == 0;
+    opt.speeds_by_default = app.count("--speeds") == 0;
     df::apps::train_bdlstm(opt, tool.common());
   });
 }

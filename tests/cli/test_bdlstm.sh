@@ -102,7 +102,19 @@ expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds
 grep -q "stopping-fraction" err.txt && fail "the window error names --stopping-fraction, which is 0 here"
 run train-bdlstm "${tiny[@]}" --iterations 2 --speeds 1,8 --validation-fraction 0.1 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "--speeds, --test-fraction or --validation-fraction"
-echo "ok (speeds: 0,0.5,1,1.5 by default, 1 in the paper's form, recorded, resumed, bad speeds refused)"
+# Sequences too short for a window at the default's fastest speed, long enough at the data's own
+# pace, train at the default's speeds that fit, said in a warning (the paper's form trains them
+# too); speeds asked for are never dropped, and a window too long at the data's pace is an error.
+short=(--batch 2 --latent 8 --hidden 8 --lstm-layers 1 --seed 3 --iterations 2)
+train-bdlstm -q "${short[@]}" --window 40 data.h5 -o slow.h5 2>slow.log
+grep -q "warning: the sequences are too short for windows of 40 frames played at speed 1.5 (the default's fastest): training at speeds 0,0.5,1 " slow.log ||
+  fail "no warning when the default's fastest speed leaves no window: $(cat slow.log)"
+h5dump -a /config/speeds slow.h5 | grep -qE "\(0\): 0, 0.5, 1$" || fail "the speeds that fit: $(h5dump -a /config/speeds slow.h5)"
+run train-bdlstm -q "${short[@]}" --window 40 --speeds 0,0.5,1,1.5 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds"
+run train-bdlstm -q "${short[@]}" --window 49 data.h5 -o x.h5
+expect_rc 1; expect_one_error_line train-bdlstm; expect_err "the longest has 48: use a smaller --window"
+echo "ok (speeds: 0,0.5,1,1.5 by default, 1 in the paper's form, recorded, resumed, bad speeds refused, the default's that fit on short sequences)"
 
 # --- early stopping (--stopping-fraction): a stopping part carved out of the training frames
 # (/split/stopping), the log's stopping column, and a model file holding the weights of the loss
@@ -114,7 +126,7 @@ h5check -q --kind bdlstm-model es.h5
 h5check -q --kind bdlstm-model es.ckpt
 h5dump -d /split/stopping es.h5 >/dev/null || fail "no stopping part recorded"
 # A default (0.1), off in the paper's form; sequences too short for the default's part train
-# without it, said in a warning (a part asked for is an error instead).
+# without it, said in a warning (before the default's speeds are cut: the part goes first).
 h5dump -d /split/stopping defaults.h5 >/dev/null || fail "the defaults carve no stopping part"
 [ "$(cfg defaults.h5 stopping_fraction)" = 0.1 ] || fail "the defaults' stopping fraction: $(cfg defaults.h5 stopping_fraction)"
 ! h5dump -d /split/stopping pf.h5 >/dev/null 2>&1 || fail "--paper-form carves a stopping part"
@@ -123,7 +135,13 @@ grep -q "warning: the sequences are too short for early stopping's part.*last it
   fail "no warning when the default's stopping part does not fit: $(cat short.log)"
 [ "$(cfg short.h5 stopping_fraction)" = 0 ] || fail "the model of too-short sequences records a stopping part"
 [ "$(cfg short.h5 stopping_every)" = 0 ] || fail "the model of too-short sequences records stopping checks"
-run train-bdlstm -q --batch 2 --latent 8 --hidden 8 --lstm-layers 1 --seed 3 --window 30 --iterations 2 --stopping-fraction 0.1 data.h5 -o x.h5
+# A part asked for keeps its place: the default's speeds yield to it (windows of 30 at speed 1.5
+# no longer fit beside it), and where no window fits beside it even at the data's pace, an error.
+train-bdlstm -q "${short[@]}" --window 30 --stopping-fraction 0.1 data.h5 -o asked.h5 2>asked.log
+grep -q "training at speeds 0,0.5,1 " asked.log && ! grep -q "early stopping's part" asked.log ||
+  fail "an asked-for stopping part did not keep its place: $(cat asked.log)"
+h5dump -d /split/stopping asked.h5 >/dev/null || fail "the asked-for stopping part was dropped"
+run train-bdlstm -q "${short[@]}" --window 44 --stopping-fraction 0.1 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "stopping-fraction"
 best=$(h5dump -a /training/best/iteration es.h5 | awk '/\(0\):/ { print $2 }')
 # The log's rows are iteration total recon bidir kl l2 stopping: the kept row has the lowest.

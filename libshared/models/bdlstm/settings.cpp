@@ -134,10 +134,13 @@ const BdlstmSettings& bdlstm_training_settings() {
        .optional = true},
       {.name = "speeds",
        .target = &T::speeds,
-       .help = "Play each training window at a speed drawn from this list (comma-separated; 0:\n"
-               "the first frame held still, 0.5: half the data's pace, frames interpolated), so\n"
-               "that the pace of a prediction must be read off the given frames (1 = the data's\n"
-               "own pace, the paper)",
+       .help =
+           "Play each training window at a speed drawn from this list (comma-separated; 0:\n"
+           "the first frame held still, 0.5: half the data's pace, frames interpolated), so\n"
+           "that the pace of a prediction must be read off the given frames (1 = the data's\n"
+           "own pace, the paper). Sequences too short for a window at the default's fastest\n"
+           "speed, but long enough at the data's pace, train at the default's speeds that fit,\n"
+           "with a warning",
        .range = within(0, 8),
        .optional = true},
       {.name = "kl_warmup",

@@ -337,6 +337,51 @@ bool stopping_part_fits(const BdlstmModel& m) {
          !window_starts(m.split, window_span(m.training)).empty();
 }
 
+// Whether training windows fit beside the held parts with `fastest` the fastest speed.
+bool windows_fit_at(const BdlstmModel& m, double fastest) {
+  BdlstmTraining t = m.training;
+  t.speeds = {fastest};
+  return !window_starts(m.split, window_span(t)).empty();
+}
+
+// The default's stopping part on sequences too short for it: none, said (one asked for with
+// --stopping-fraction is an error instead, in training_windows). `split` splits m's sequences.
+void fit_default_stopping(BdlstmModel& m, bool speeds_by_default,
+                          const std::function<void()>& split) {
+  try {
+    split();
+    if (stopping_part_fits(m)) return;
+  } catch (const InvalidInput&) {
+  }
+  const double asked = m.training.stopping_fraction;
+  m.training.stopping_fraction = 0;
+  m.training.stopping_every = 0;
+  split();
+  const double fastest = *std::max_element(m.training.speeds.begin(), m.training.speeds.end());
+  // Said where training goes on (at every speed, or at the default's that fit); else the
+  // window's error says what to change.
+  if (windows_fit_at(m, fastest) || (speeds_by_default && windows_fit_at(m, 1)))
+    log::warn(
+        "the sequences are too short for early stopping's part ({} of each sequence, carved "
+        "out of the training frames): training without it, so the model keeps the last "
+        "iteration's weights (--stopping-fraction 0 says so and silences this)",
+        asked);
+}
+
+// The default's speeds on sequences too short for a window at the fastest: the speeds whose
+// windows fit, said, as long as the data's own pace does (else the window's error names the
+// remedies). Speeds asked for with --speeds are never dropped.
+void fit_default_speeds(BdlstmModel& m) {
+  std::vector<double>& speeds = m.training.speeds;
+  const double fastest = *std::max_element(speeds.begin(), speeds.end());
+  if (windows_fit_at(m, fastest) || !windows_fit_at(m, 1)) return;
+  std::erase_if(speeds, [&](double s) { return !windows_fit_at(m, s); });
+  log::warn(
+      "the sequences are too short for windows of {} frames played at speed {} (the "
+      "default's fastest): training at speeds {} (--speeds says which and silences this)",
+      m.training.window, fastest, fmt::join(speeds, ","));
+}
+
 // The model to train as the options and the data describe it: settings, template,
 // normalization, the split of every sequence (no weights yet).
 BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& common,
@@ -355,29 +400,11 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
     split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed,
                     m.split, m.training.validation_fraction, m.training.stopping_fraction);
   };
-  // The default's stopping part on sequences too short for it: none, said (one asked for with
-  // --stopping-fraction is an error instead, below).
-  if (opt.stopping_by_default && m.training.stopping_fraction > 0) {
-    bool fits = false;
-    try {
-      split();
-      fits = stopping_part_fits(m);
-    } catch (const InvalidInput&) {
-    }
-    if (fits) return m;
-    const double asked = m.training.stopping_fraction;
-    m.training.stopping_fraction = 0;
-    m.training.stopping_every = 0;
+  if (opt.stopping_by_default && m.training.stopping_fraction > 0)
+    fit_default_stopping(m, opt.speeds_by_default, split);
+  else
     split();
-    if (!window_starts(m.split, window_span(m.training)).empty())  // else the window's error
-      log::warn(
-          "the sequences are too short for early stopping's part ({} of each sequence, carved "
-          "out of the training frames): training without it, so the model keeps the last "
-          "iteration's weights (--stopping-fraction 0 says so and silences this)",
-          asked);
-    return m;
-  }
-  split();
+  if (opt.speeds_by_default) fit_default_speeds(m);
   return m;
 }
 

@@ -28,6 +28,9 @@ struct BdlstmTrainOptions {
   /// training.stopping_fraction is the tool's default, not asked for: sequences too short for
   /// the stopping part train without one, with a warning (asked for, it is an error).
   bool stopping_by_default = false;
+  /// training.speeds is the tool's default: where no window fits at the fastest speed but one
+  /// fits at the data's own pace, the speeds that fit are kept, with a warning.
+  bool speeds_by_default = false;
 };
 
 /// Splits each sequence (offsets as in the acap file) into a training part and a held-out
