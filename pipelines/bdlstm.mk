@@ -453,24 +453,27 @@ $(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlaten
 # placements at future frames 5 / 10 / 15 and over 1..15, the pace, and the mean over 1..15 ÷
 # the better baseline's); $(BD)/placements.md adds each candidate's worst ratio over the sets —
 # the rule the defaults are chosen by. One training per candidate, placement and set (on 2 cores
-# at one thread each: finger 17 min, chickenCrossing 40-66, pcow 41-70; docs/bdlstm.md): a run
+# at one thread each: finger 17 min, chickenCrossing 18-40, pcow 21-43; docs/bdlstm.md): a run
 # of every set is a job for several sessions (--resume picks a model up where it stopped) or for
 # Slurm (LAUNCH=slurm).
 BD_PLACEMENT_SETS ?= finger $(if $(HAVE_DATA),pcow chickenCrossing)
 BD_PLACEMENTS ?= end start middle random1 random2 random3
 BD_PLACEMENT_CANDIDATES ?= stopping speeds
 BD_PLACEMENT_FRACTION ?= 0.1
-# The iteration counts of the issue-67 runs (docs/bdlstm.md): pcow's 64-frame windows at 600.
+# The iteration counts of the issue-67 runs (docs/bdlstm.md): pcow's 64-frame windows at 600;
+# another set trains BD_VALIDATION_ITERATIONS.
 finger_PLACEMENT_ITERATIONS ?= 2000
 pcow_PLACEMENT_ITERATIONS ?= 600
 chickenCrossing_PLACEMENT_ITERATIONS ?= 1000
+$(foreach s,$(BD_PLACEMENT_SETS),$(if $($(s)_WINDOW),,\
+  $(error BD_PLACEMENT_SETS: set '$(s)' has no $(s)_WINDOW (and $(s)_OPTIONS) in pipelines/bdlstm.mk)))
 $(foreach c,$(BD_PLACEMENT_CANDIDATES),$(if $($(c)_CANDIDATE),,\
   $(error BD_PLACEMENT_CANDIDATES: no candidate '$(c)' (paper, remedies, no-kl, free-bits, carry, motion, speeds, stopping))))
 $(foreach p,$(BD_PLACEMENTS),$(if $(filter end start middle,$(p))$(patsubst random%,%,$(filter random%,$(p))),,\
   $(error BD_PLACEMENTS: no placement '$(p)' (end, start, middle or randomN: placed by seed N))))
 # --test-part and --seed of a placement; the training options of set $(1), placement $(2), candidate $(3).
 placement_part = --test-part $(if $(filter random%,$(1)),random --seed $(patsubst random%,%,$(1)),$(1) --seed 1)
-placement_args = --iterations $($(1)_PLACEMENT_ITERATIONS) --window $($(1)_WINDOW) \
+placement_args = --iterations $(or $($(1)_PLACEMENT_ITERATIONS),$(BD_VALIDATION_ITERATIONS)) --window $($(1)_WINDOW) \
   $(filter-out --test-part random,$($(1)_OPTIONS)) --validation-fraction $(BD_PLACEMENT_FRACTION) \
   $(call placement_part,$(2)) $($(3)_CANDIDATE)
 define PLACEMENT_RULES
@@ -504,7 +507,7 @@ $(BD)/%/placements.md: $(foreach p,$(BD_PLACEMENTS),$(foreach m,$(placement_meth
 	      printf '\t%s' "$$($(BIN)/collect-metrics --values --columns $(PLACEMENT_COLUMNS) $${f/PLACE/$$p}.veval.json | tr '\t' ' ')"; \
 	    done; echo; \
 	  done; } > $@.rows
-	awk -F'\t' -v set=$* -v places="$(BD_PLACEMENTS)" -v cands="$(BD_PLACEMENT_CANDIDATES)" -v tsv=$(@:.md=.tsv) ' \
+	awk -F'\t' -v set=$* -v places="$(BD_PLACEMENTS)" -v tsv=$(@:.md=.tsv) ' \
 	  { name[NR] = $$1; n = NF - 1; for (i = 2; i <= NF; i++) { split($$i, v, " "); cell[NR, i] = sprintf("%.1f", 1000 * v[1]); \
 	      m[NR] += v[1] / n; s5[NR] += v[2] / n; s10[NR] += v[3] / n; s15[NR] += v[4] / n; pace[NR] += v[5] / n } } \
 	  END { best = m[NR] < m[NR - 1] ? m[NR] : m[NR - 1]; \
