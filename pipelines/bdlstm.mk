@@ -520,7 +520,7 @@ $(BD)/%/placements.md: $$(call placement_files,$$*)
 	  END { best = m[NR] < m[NR - 1] ? m[NR] : m[NR - 1]; \
 	        printf "**%s** — prediction of the validation part (%s of each sequence) from 3 frames, per held-out placement: mean error over future frames 1..15, x 1e-3 of the bounding-box diagonal\n\n", set, "$(BD_PLACEMENT_FRACTION)"; \
 	        printf "| method |"; np = split(places, pl, " "); for (i = 1; i <= np; i++) printf " %s |", pl[i]; \
-	        printf " mean over placements: 5 / 10 / 15 (1..15) | pace | ÷ better baseline |\n|---|"; \
+	        printf " mean over placements: 5 / 10 / 15 (1..15) | mean pace | ÷ better baseline |\n|---|"; \
 	        for (i = 1; i <= np + 3; i++) printf "---:|"; printf "\n"; \
 	        for (r = 1; r <= NR; r++) { printf "| %s |", name[r]; for (i = 2; i <= np + 1; i++) printf " %s |", cell[r, i]; \
 	          printf " %.1f / %.1f / %.1f (%.1f) | %.2f | %.3f |\n", 1000 * s5[r], 1000 * s10[r], 1000 * s15[r], 1000 * m[r], pace[r], m[r] / best; \

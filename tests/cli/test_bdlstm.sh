@@ -110,6 +110,9 @@ train-bdlstm -q "${short[@]}" --window 40 data.h5 -o slow.h5 2>slow.log
 grep -q "warning: the sequences are too short for windows of 40 frames played at speed 1.5 (the default's fastest): training at speeds 0,0.5,1 " slow.log ||
   fail "no warning when the default's fastest speed leaves no window: $(cat slow.log)"
 h5dump -a /config/speeds slow.h5 | grep -qE "\(0\): 0, 0.5, 1$" || fail "the speeds that fit: $(h5dump -a /config/speeds slow.h5)"
+train-bdlstm -q --paper-form "${short[@]}" --window 40 data.h5 -o slow-paper.h5 2>slow-paper.log ||
+  fail "the paper's form did not train 40-frame windows: $(cat slow-paper.log)"
+! grep -q warning slow-paper.log || fail "the paper's form (speed 1 only) warned: $(cat slow-paper.log)"
 run train-bdlstm -q "${short[@]}" --window 40 --speeds 0,0.5,1,1.5 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "fastest of --speeds"
 run train-bdlstm -q "${short[@]}" --window 49 data.h5 -o x.h5

@@ -337,35 +337,26 @@ bool stopping_part_fits(const BdlstmModel& m) {
          !window_starts(m.split, window_span(m.training)).empty();
 }
 
-// Whether training windows fit beside the held parts with `fastest` the fastest speed.
+// Whether training windows fit beside the held parts, played at speeds up to `fastest`.
 bool windows_fit_at(const BdlstmModel& m, double fastest) {
   BdlstmTraining t = m.training;
   t.speeds = {fastest};
   return !window_starts(m.split, window_span(t)).empty();
 }
 
-// The default's stopping part on sequences too short for it: none, said (one asked for with
+// The default's stopping part on sequences too short for it: none (one asked for with
 // --stopping-fraction is an error instead, in training_windows). `split` splits m's sequences.
-void fit_default_stopping(BdlstmModel& m, bool speeds_by_default,
-                          const std::function<void()>& split) {
+// Whether the part was dropped.
+bool fit_default_stopping(BdlstmModel& m, const std::function<void()>& split) {
   try {
     split();
-    if (stopping_part_fits(m)) return;
+    if (stopping_part_fits(m)) return false;
   } catch (const InvalidInput&) {
   }
-  const double asked = m.training.stopping_fraction;
   m.training.stopping_fraction = 0;
   m.training.stopping_every = 0;
   split();
-  const double fastest = *std::max_element(m.training.speeds.begin(), m.training.speeds.end());
-  // Said where training goes on (at every speed, or at the default's that fit); else the
-  // window's error says what to change.
-  if (windows_fit_at(m, fastest) || (speeds_by_default && windows_fit_at(m, 1)))
-    log::warn(
-        "the sequences are too short for early stopping's part ({} of each sequence, carved "
-        "out of the training frames): training without it, so the model keeps the last "
-        "iteration's weights (--stopping-fraction 0 says so and silences this)",
-        asked);
+  return true;
 }
 
 // The default's speeds on sequences too short for a window at the fastest: the speeds whose
@@ -400,11 +391,20 @@ BdlstmModel describe_model(const BdlstmTrainOptions& opt, const CommonOptions& c
     split_sequences(in.offsets(), m.training.test_fraction, m.training.test_part, common.seed,
                     m.split, m.training.validation_fraction, m.training.stopping_fraction);
   };
-  if (opt.stopping_by_default && m.training.stopping_fraction > 0)
-    fit_default_stopping(m, opt.speeds_by_default, split);
+  const double asked = m.training.stopping_fraction;
+  bool dropped = false;
+  if (opt.stopping_by_default && asked > 0)
+    dropped = fit_default_stopping(m, split);
   else
     split();
   if (opt.speeds_by_default) fit_default_speeds(m);
+  // Said where training goes on; else the window's error says what to change.
+  if (dropped && !window_starts(m.split, window_span(m.training)).empty())
+    log::warn(
+        "the sequences are too short for early stopping's part ({} of each sequence, carved "
+        "out of the training frames): training without it, so the model keeps the last "
+        "iteration's weights (--stopping-fraction 0 says so and silences this)",
+        asked);
   return m;
 }
 
