@@ -251,6 +251,10 @@ grep -q "^| MSAE, the tool's defaults (2 levels, attention, joint), encoder's co
   grep -q "^| MSAE, the set's own settings .* | 3 + 3 x 4 |" $m/table2.md || fail "Table 2's MSAE rows: $(cat $m/table2.md)"
 grep -q -- "--iterations 40 --batch 16 --paper-form --centre-features --kz 3,4" $m/msae-tuned.args &&
   ! grep -q -- "--paper-form\|--kz" $m/msae.args || fail "the models' arguments: $(cat $m/msae.args $m/msae-tuned.args)"
+# the yardstick of issue 65, SPLOCS's algorithm on ACAP features, is a row read from its own fit
+acap=$(collect-metrics --values --columns erms "$m/recon-splocs-acap.eval" | awk '{ printf "%.3f", $1 }')
+grep -q "^| SPLOCS's algorithm on ACAP features | 60 | $acap |" $m/table2.md ||
+  fail "Table 2 has no SPLOCS-on-ACAP row of its fit ($acap): $(cat $m/table2.md)"
 mstables ms-noval ""
 ! grep -q "validation shapes choose" ms-noval/msae/bumps/table2.md || fail "a chosen row without validation shapes"
 echo "ok (MSAE's Table 2: the strategy chosen on validation, $training training $attention attention)"
