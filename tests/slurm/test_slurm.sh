@@ -49,9 +49,10 @@ done < <(cd run-local && find . -type f ! -name '*.log' | sort)
 [ "$(cd run && find . -type f ! -name '*.log' | wc -l)" = "$compared" ] ||
   fail "the Slurm run wrote other files than the local run"
 jobs=$(slurm_jobs 'df-bumps-[^ ]*' | grep -c COMPLETED)
-# 7 trainings (5 MSAE models, PCA, SPLOCS), 6 reconstructions (one with codes fitted through the
-# decoders), 16 evaluations (8 reconstructions, each aligned by a translation and rigidly)
-[ "$jobs" = 29 ] || fail "expected the 29 expensive steps as Slurm jobs, saw $jobs: $(slurm_jobs 'df-[^ ]*')"
+# 8 trainings (5 MSAE models, PCA, SPLOCS on positions and on ACAP features), 6 reconstructions
+# (one with codes fitted through the decoders), 18 evaluations (9 reconstructions, each aligned by
+# a translation and rigidly)
+[ "$jobs" = 32 ] || fail "expected the 32 expensive steps as Slurm jobs, saw $jobs: $(slurm_jobs 'df-[^ ]*')"
 grep -q "df-bumps-msae.h5 COMPLETED" <<<"$(slurm_jobs 'df-bumps-msae.h5')" ||
   fail "the training step did not run as a Slurm job"
 echo "ok (pipeline: $compared files byte-identical to the local run; $jobs steps ran as Slurm jobs)"
