@@ -453,7 +453,7 @@ $(BD)/%/validation.md: $(foreach c,$(BD_CANDIDATES),$(BD)/%/validate/$(c).vlaten
 # placements at future frames 5 / 10 / 15 and over 1..15, the pace, and the mean over 1..15 ÷
 # the better baseline's); $(BD)/placements.md adds each candidate's worst ratio over the sets —
 # the rule the defaults are chosen by. One training per candidate, placement and set (on 2 cores
-# at one thread each: finger 17 min, chickenCrossing 18-40, pcow 21-43; docs/bdlstm.md): a run
+# at one thread each: finger 11-20 min, chickenCrossing 18-40, pcow 21-43; docs/bdlstm.md): a run
 # of every set is a job for several sessions (--resume picks a model up where it stopped) or for
 # Slurm (LAUNCH=slurm).
 BD_PLACEMENT_SETS ?= finger $(if $(HAVE_DATA),pcow chickenCrossing)

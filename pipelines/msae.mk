@@ -167,10 +167,15 @@ $(MS)/%/recon-L1.h5: $(MS)/%/msae.h5
 	$(call launch,generate) $(BIN)/recon-msae -q -f --levels 1 $< $(MS)/$*/data.h5 -o $@
 $(MS)/%/recon-level3-L3.h5: $(MS)/%/msae-level3.h5
 	$(call launch,generate) $(BIN)/recon-msae -q -f $< $(MS)/$*/data.h5 -o $@
-$(MS)/%/recon-pca.h5: $(MS)/%/msae.h5
-	$(call launch,train) $(ms_fit_baseline) --method pca $< $(MS)/$*/data.h5 -o $@
-$(MS)/%/recon-splocs.h5: $(MS)/%/msae.h5
-	$(call launch,train) $(ms_fit_baseline) --method splocs $< $(MS)/$*/data.h5 -o $@
+# The baselines, PCA, SPLOCS on positions and SPLOCS's algorithm on ACAP features (issue 65's
+# yardstick): one fit each writes its reconstruction of the test shapes (Table 2) and its
+# components (Fig. 6).
+define MS_BASELINE_RULES
+$(MS)/%/recon-$(1).h5 $(MS)/%/components-$(1).h5: $(MS)/%/msae.h5
+	$$(call launch,train) $$(ms_fit_baseline) --method $(1) $$< $(MS)/$$*/data.h5 -o $(MS)/$$*/recon-$(1).h5 \
+	  --components-out $(MS)/$$*/components-$(1).h5
+endef
+$(foreach m,pca splocs splocs-acap,$(eval $(call MS_BASELINE_RULES,$(m))))
 define MS_RECON_RULES
 $(MS)/%/recon-$(1).h5: $(MS)/%/msae-$(1).h5
 	$$(call launch,generate) $$(BIN)/recon-msae -q -f $$< $(MS)/$$*/data.h5 -o $$@
@@ -252,15 +257,6 @@ msae-fig6: $(foreach s,$(MS_SETS),$(MS)/$(s)/fig6.tsv $(MS)/$(s)/fig6.md $(MS)/$
 	@for s in $(MS_SETS); do echo; cat $(MS)/$$s/fig6.md; done
 $(MS)/%/components-tan.h5: $(MS)/%/msae-tan.h5
 	$(call launch,generate) $(BIN)/extract-components -q -f $< $(MS)/$*/data.h5 -o $@
-$(MS)/%/components-pca.h5: $(MS)/%/msae.h5
-	$(call launch,train) $(ms_fit_baseline) --method pca $< $(MS)/$*/data.h5 -o $(MS)/$*/fig6-pca.h5 --components-out $@
-$(MS)/%/components-splocs.h5: $(MS)/%/msae.h5
-	$(call launch,train) $(ms_fit_baseline) --method splocs $< $(MS)/$*/data.h5 -o $(MS)/$*/fig6-splocs.h5 --components-out $@
-# SPLOCS's algorithm on ACAP features: its components (Fig. 6) and its reconstruction of the test
-# shapes (Table 2, the yardstick of issue 65) from one fit.
-$(MS)/%/components-splocs-acap.h5 $(MS)/%/recon-splocs-acap.h5: $(MS)/%/msae.h5
-	$(call launch,train) $(ms_fit_baseline) --method splocs-acap $< $(MS)/$*/data.h5 -o $(MS)/$*/recon-splocs-acap.h5 \
-	  --components-out $(MS)/$*/components-splocs-acap.h5
 $(MS)/%/fig6.tsv: $(MS)/%/msae.h5 $(MS)/%/components.h5 $(MS)/%/components-tan.h5 $(MS)/%/components-pca.h5 \
                   $(MS)/%/components-splocs.h5 $(MS)/%/components-splocs-acap.h5
 	$(call launch,eval) env DF_BIN=$(BIN) $(DF_ROOT)/scripts/fig6 -c $(MS_FIG6_SHAPES) -o $@ $< $(MS)/$*/data.h5 \
