@@ -23,6 +23,9 @@ int main(int argc, char** argv) {
       "--samples K draws K different results per case from random initial LSTM states.\n"
       "--method linear gives the baseline of the paper's comparisons: linear extrapolation\n"
       "(from the last two given frames) or interpolation in ACAP feature space; --method\n"
+      "damped extrapolates the last step shrinking by --damping a frame (X_u + (d + ... +\n"
+      "d^k)(X_u - X_u-1), between static at 0 and linear at 1; docs/bdlstm.md has it\n"
+      "ahead of both on the validation parts of three sets at the default 0.8); --method\n"
       "static repeats the last given frame (what a network that learned no motion does);\n"
       "--method nearest learns nothing either: of the training part's windows (frames the\n"
       "model trained on) it takes the one whose u frames lie closest to the given frames and\n"
@@ -44,11 +47,15 @@ int main(int argc, char** argv) {
   app.add_option("DATA", opt.data, "acap .h5 holding the given frames")->required();
   app.add_option("-o,--output", opt.output, "Output acap file (.h5)")->required();
   df::add_choice(app, "--mode", opt.mode, "predict or complete");
-  df::add_choice(
-      app, "--method", opt.method,
-      "bdlstm, linear (feature-space baseline), static (predict: the last given\n"
-      "frame repeated, the zero-motion reference) or nearest (predict: motion matching,\n"
-      "the training window whose given frames are closest continues them)");
+  df::add_choice(app, "--method", opt.method,
+                 "bdlstm, linear (feature-space baseline), damped (predict: linear extrapolation\n"
+                 "whose step shrinks by --damping a frame), static (predict: the last given frame\n"
+                 "repeated, the zero-motion reference) or nearest (predict: motion matching, the\n"
+                 "training window whose given frames are closest continues them)");
+  app.add_option("--damping", opt.damping,
+                 "--method damped: the factor the step shrinks by each frame (0: static, 1: "
+                 "linear)")
+      ->default_val(opt.damping);
   app.add_option("--neighbours", opt.neighbours,
                  "--method nearest: average the changes of the K closest training windows")
       ->default_val(opt.neighbours);

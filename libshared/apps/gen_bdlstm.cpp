@@ -13,17 +13,21 @@ using namespace df::models;
 namespace {
 
 void check_options(const BdlstmGenerateOptions& opt) {
-  if ((opt.method == GenerateMethod::still || opt.method == GenerateMethod::nearest) &&
+  if ((opt.method == GenerateMethod::still || opt.method == GenerateMethod::nearest ||
+       opt.method == GenerateMethod::damped) &&
       opt.mode != GenerateMode::predict)
-    throw UsageError(fmt::format("--method {} is a prediction reference",
-                                 opt.method == GenerateMethod::still ? "static" : "nearest"));
+    throw UsageError(fmt::format("--method {} is a prediction reference", name_of(opt.method)));
+  if (!(opt.damping >= 0 && opt.damping <= 1))
+    throw UsageError("--damping must lie in 0..1 (0: static, 1: linear extrapolation)");
   if (opt.neighbours < 1) throw UsageError("--neighbours must be at least 1");
   if (opt.initial < 1) throw UsageError("--initial must be at least 1");
   if (opt.length < 1 || opt.gap < 1 || opt.samples < 1 || opt.retries < 1)
     throw UsageError("--length, --gap, --samples and --retries must be positive");
-  if (opt.method == GenerateMethod::linear && opt.mode == GenerateMode::predict && opt.initial < 2)
+  if ((opt.method == GenerateMethod::linear || opt.method == GenerateMethod::damped) &&
+      opt.mode == GenerateMode::predict && opt.initial < 2)
     throw UsageError(
-        "linear extrapolation needs --initial 2 or more (it continues the last two frames)");
+        fmt::format("{} extrapolation needs --initial 2 or more (it continues the last two frames)",
+                    name_of(opt.method)));
   if (opt.mode == GenerateMode::predict && !opt.keyframes.empty())
     throw UsageError("--keyframes is for --mode complete");
   if (opt.mode == GenerateMode::complete && !opt.from.empty())

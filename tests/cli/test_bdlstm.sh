@@ -249,6 +249,17 @@ gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 2 --length 5 --method linear -o 
 feature() { h5dump -d /features/normalized -s "$2,3,4" -c "1,1,1" -y -w 0 -m %.9g "$1" | sed -n '/DATA {/,/}/p' | sed '1d;$d' | tr -d ' ,'; }
 expect_close "stride-2 linear extrapolation" "$(feature s2l.h5 2)" \
   "$(awk -v a="$(feature data.h5 48)" -v b="$(feature data.h5 50)" 'BEGIN { printf "%.9g", 2 * b - a }')" 1e-6
+# damped extrapolation: the step shrinks by --damping a frame (X50 + 0.5 d, X50 + 0.75 d);
+# at 1 it is linear extrapolation, bit for bit
+gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 2 --length 5 --method damped --damping 0.5 -o s2d.h5
+[ "$(ints /frames/source s2d.h5)" = "48 50 52 54 56 58 -1" ] || fail "damped sources: $(ints /frames/source s2d.h5)"
+for k in 1 2; do
+  expect_close "damped extrapolation, frame $k" "$(feature s2d.h5 $((k + 1)))" \
+    "$(awk -v a="$(feature data.h5 48)" -v b="$(feature data.h5 50)" -v k=$k \
+       'BEGIN { r = k == 1 ? 0.5 : 0.75; printf "%.9g", b + r * (b - a) }')" 1e-6
+done
+gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 2 --length 5 --method damped --damping 1 -o s2d1.h5
+h5diff -q -d 0 s2l.h5 s2d1.h5 /features/normalized || fail "damped extrapolation at 1 is not linear extrapolation"
 gen-bdlstm -q s2.h5 data.h5 --mode complete --keyframes 20,30 -o s2c.h5
 [ "$(ints /frames/source s2c.h5)" = "20 22 24 26 28 30" ] || fail "stride-2 completion sources: $(ints /frames/source s2c.h5)"
 gen-bdlstm -q s2.h5 data.h5 --from 50 --initial 2 --length 2 --method static -o s2s.h5
@@ -390,6 +401,10 @@ run gen-bdlstm m.h5 data.h5 --keyframes 5,9 -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "mode complete"
 run gen-bdlstm m.h5 data.h5 --from 5 --method linear -o x.h5
 expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "initial 2"
+run gen-bdlstm m.h5 data.h5 --from 5 --initial 2 --method damped --damping 1.5 -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "damping must lie in 0..1"
+run gen-bdlstm m.h5 data.h5 --mode complete --keyframes 5,9 --method damped -o x.h5
+expect_rc 2; expect_one_error_line gen-bdlstm; expect_err "damped is a prediction reference"
 run train-bdlstm -q --window 100 data.h5 -o x.h5
 expect_rc 1; expect_one_error_line train-bdlstm; expect_err "smaller --window"
 run train-bdlstm -q finger.h5 -o x.h5

@@ -160,7 +160,7 @@ grep -q "^| method | end | random2 | mean over placements" out/bdlstm/place/plac
 grep -q -- "--window 8 --batch 2 --validation-fraction 0.1 --test-part random --seed 2 " out/bdlstm/place/place/random2/stopping.args &&
   grep -q -- "--test-part end --seed 1 " out/bdlstm/place/place/end/paper.args ||
   fail "a placement trained with other parts: $(cat out/bdlstm/place/place/*/*.args)"
-for m in stopping paper zero-motion linear-extrapolation; do
+for m in stopping paper damped-extrapolation-0.8 zero-motion linear-extrapolation; do
   grep -qE "^\| $m \| [0-9.]+ \| [0-9.]+ \| [0-9.]+ / [0-9.]+ / [0-9.]+ \([0-9.]+\) \| [0-9.]+ \| [0-9.]+ \|$" out/bdlstm/place/placements.md ||
     fail "placements.md lacks the $m row: $(cat out/bdlstm/place/placements.md)"
 done
@@ -171,6 +171,8 @@ grep -qE "^\| zero-motion \| $zero_end \|" out/bdlstm/place/placements.md ||
 grep -E "^\| (zero-motion|linear-extrapolation) \|" out/bdlstm/place/placements.md | grep -q "| 1.000 |$" ||
   fail "neither baseline is the better one (ratio 1): $(cat out/bdlstm/place/placements.md)"
 ratio=$(awk -F'|' '$2 == " stopping " { gsub(/ /, "", $(NF - 1)); print $(NF - 1) }' out/bdlstm/place/placements.md)
+# the reference row is no candidate of the summary
+grep -q "damped" out/bdlstm/placements.md && fail "the damped reference is a candidate of the summary: $(cat out/bdlstm/placements.md)"
 grep -qE "^\| stopping \| $ratio \| $ratio \|$" out/bdlstm/placements.md ||
   fail "the summary's worst is not the set's ratio $ratio: $(cat out/bdlstm/placements.md)"
 msg=$(placements BD_PLACEMENTS="end side" bdlstm-placements 2>&1) && fail "an unknown placement was accepted"

@@ -124,6 +124,14 @@ std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
     for (auto& s : g)
       for (int k = 1; k <= opt_.length; ++k)
         push(s, b + static_cast<float>(k) * (b - a), source_of(last, k), k);
+  } else if (opt_.method == GenerateMethod::damped) {  // the last step, shrinking by d a frame
+    const Matrix a = X.row(c.frames[static_cast<std::size_t>(u - 2)]), b = X.row(last);
+    double reach = 0, step = 1;  // d + d² + … + d^k
+    for (int k = 1; k <= opt_.length; ++k) {
+      step *= opt_.damping;
+      reach += step;
+      for (auto& s : g) push(s, b + static_cast<float>(reach) * (b - a), source_of(last, k), k);
+    }
   } else {
     // Rows = samples. Feed the given frames, then free-run; restart every window.
     std::vector<Matrix> recent;  // the last u frames (each [K, 9V])

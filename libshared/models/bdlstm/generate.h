@@ -33,10 +33,11 @@ inline constexpr Named<GenerateMode> kGenerateModeNames[] = {{"predict", Generat
 constexpr std::span<const Named<GenerateMode>> names_of(GenerateMode) {
   return kGenerateModeNames;
 }
-enum class GenerateMethod { bdlstm, linear, still, nearest };
+enum class GenerateMethod { bdlstm, linear, damped, still, nearest };
 inline constexpr Named<GenerateMethod> kGenerateMethodNames[] = {
     {"bdlstm", GenerateMethod::bdlstm},
     {"linear", GenerateMethod::linear},
+    {"damped", GenerateMethod::damped},
     {"static", GenerateMethod::still},
     {"nearest", GenerateMethod::nearest}};
 constexpr std::span<const Named<GenerateMethod>> names_of(GenerateMethod) {
@@ -64,9 +65,12 @@ constexpr std::span<const Named<MergeScale>> names_of(MergeScale) {
 struct BdlstmGenerateOptions {
   std::string model, data, output;
   GenerateMode mode = GenerateMode::predict;
-  /// bdlstm | linear (the feature-space baseline) | static (predict: no motion) | nearest
-  /// (predict: motion matching in the model's training part, nearest_motion)
+  /// bdlstm | linear (the feature-space baseline) | damped (predict: linear extrapolation whose
+  /// step shrinks by `damping` a frame) | static (predict: no motion) | nearest (predict: motion
+  /// matching in the model's training part, nearest_motion)
   GenerateMethod method = GenerateMethod::bdlstm;
+  /// --method damped: the k-th predicted frame is X_u + (d + d² + … + d^k)(X_u − X_u−1)
+  double damping = 0.8;
   int neighbours = 1;  ///< --method nearest: training windows averaged (K nearest)
   /// A frame is a global index of DATA or SEQUENCE:K (K-th frame of that sequence).
   std::vector<std::string> from;       ///< predict: the last given frame of each case
