@@ -152,11 +152,15 @@ obj2acap -q place-frames.h5 -o out/bdlstm/place/data.h5
 placements() { make -s -C "$DF_SOURCE" -f Makefile.data "$@" BIN="$DF_BIN" OUT="$DF_TMP/out" DATA="$DF_TMP/data" \
                  BD_PLACEMENT_SETS=place place_WINDOW=8 place_OPTIONS="--batch 2 --test-part random" \
                  place_PLACEMENT_ITERATIONS=3 BD_PLACEMENT_CANDIDATES="stopping paper" TRAIN_THREADS=1; }
-placements BD_PLACEMENTS="end start random2" place_PLACEMENTS="end random2" bdlstm-placements >placements.txt 2>&1 ||
+placements BD_PLACEMENTS="end start random2" place_PLACEMENTS="end random2" place_NO_ROOM=random2 bdlstm-placements >placements.txt 2>&1 ||
   fail "bdlstm-placements failed: $(tail -n 5 placements.txt)"
 # a set's own list of placements (pcow leaves random3 out: no room for its window there)
 grep -q "^| method | end | random2 | mean over placements" out/bdlstm/place/placements.md &&
   [ ! -e out/bdlstm/place/place/start ] || fail "the set's own placements were not the ones trained: $(ls out/bdlstm/place/place)"
+# a placement without room for the fastest speed and a stopping part trains as the defaults yield there
+grep -q -- "--speeds 0,0.5,1 --stopping-fraction 0$" out/bdlstm/place/place/random2/stopping.args &&
+  grep -q -- "--speeds 0,0.5,1,1.5 --stopping-fraction 0.1 --stopping-every 25$" out/bdlstm/place/place/end/stopping.args ||
+  fail "a placement without room kept the candidate's speeds or stopping part: $(cat out/bdlstm/place/place/*/stopping.args)"
 grep -q -- "--window 8 --batch 2 --validation-fraction 0.1 --test-part random --seed 2 " out/bdlstm/place/place/random2/stopping.args &&
   grep -q -- "--test-part end --seed 1 " out/bdlstm/place/place/end/paper.args ||
   fail "a placement trained with other parts: $(cat out/bdlstm/place/place/*/*.args)"
