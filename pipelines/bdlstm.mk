@@ -351,10 +351,11 @@ speeds_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-w
 # motion's, was lowest; docs/bdlstm.md): train-bdlstm's defaults since stop 86
 stopping_CANDIDATE := --kl-warmup 500 --kl-free-bits 0.1 --l2-scope weights --l2-weight 0.125 --decoder-init small --carry 0 --motion-input --speeds 0,0.5,1,1.5 --stopping-fraction 0.1 --stopping-every 25
 # the same with each step carrying 0.8 of the step before's motion (X_t+1 = X_t + 0.8 (X_t -
-# X_t-1) + dX, no fade): the untrained model is damped-velocity extrapolation, which on the
-# validation parts of every set's placements is ahead of both baselines (issue 67, stop 89;
-# docs/bdlstm.md)
-damped_CANDIDATE := $(subst --carry 0,--carry 0.8 --carry-fade 1,$(stopping_CANDIDATE))
+# X_t-1) + dX, no fade), dX starting at zero and the untrained network among early stopping's
+# checks: it starts as damped-velocity extrapolation (gen-bdlstm --method damped), which on the
+# validation parts of every set's placements is ahead of both baselines, and keeps it unless
+# training beats it on the stopping part (issue 67, stop 89; docs/bdlstm.md)
+damped_CANDIDATE := $(subst --decoder-init small --carry 0,--decoder-init zero --carry 0.8 --carry-fade 1,$(stopping_CANDIDATE)) --stopping-untrained
 # Free bits large enough that the KL term stops limiting what a frame's latent carries (the
 # paper's form carries about 4 nats per frame on the finger; 0.25 nats in each of 128 dimensions
 # are 32 free nats per frame) while z stays a sample of q(z|x) in training.

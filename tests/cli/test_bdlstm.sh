@@ -174,6 +174,18 @@ run h5diff ev3.h5 ev3-kept.ckpt /params; expect_rc 0
 train-bdlstm "${tiny[@]}" --iterations 40 --lr 0.02 --stopping-fraction 0.1 data.h5 -o es-behind.h5 2>behind.log
 [ "$(grep -c 'warning: early stopping: .*never ahead of zero motion.*method nearest' behind.log)" = 1 ] ||
   fail "no warning for a run never ahead of zero motion: $(cat behind.log)"
+# --stopping-untrained checks the untrained network too: a run that only gets worse keeps it (with
+# --decoder-init zero, zero motion itself: a stopping error of 1), the weights an untrained run has;
+# without the flag the same run keeps a trained iteration.
+kept_of() { h5dump -a /training/best/iteration "$1" | awk '/\(0\):/ { print $2 }'; }
+train-bdlstm -q "${tiny[@]}" --iterations 40 --lr 0.02 --decoder-init zero --stopping-fraction 0.1 --stopping-untrained data.h5 -o es-untrained.h5
+train-bdlstm -q "${tiny[@]}" --iterations 40 --lr 0.02 --decoder-init zero --stopping-fraction 0.1 data.h5 -o es-trained.h5
+[ "$(kept_of es-untrained.h5)" = 0 ] && [ "$(kept_of es-trained.h5)" -gt 0 ] ||
+  fail "--stopping-untrained kept iteration $(kept_of es-untrained.h5), without it $(kept_of es-trained.h5)"
+train-bdlstm -q "${tiny[@]}" --iterations 0 --decoder-init zero --stopping-fraction 0.1 data.h5 -o es-0.h5
+run h5diff es-untrained.h5 es-0.h5 /params; expect_rc 0
+[ "$(cfg es-untrained.h5 stopping_untrained)" = 1 ] && [ "$(cfg es-trained.h5 stopping_untrained)" = 0 ] ||
+  fail "--stopping-untrained not recorded: $(cfg es-untrained.h5 stopping_untrained)"
 train-bdlstm "${tiny[@]}" --iterations 60 --lr 0.001 --stopping-fraction 0.1 -f data.h5 -o es.h5 2>ahead.log
 grep -q "early stopping: the model file keeps the weights of iteration" ahead.log && ! grep -q "warning: early stopping" ahead.log ||
   fail "a run ahead of zero motion warned, or did not say which weights it kept: $(cat ahead.log)"

@@ -50,6 +50,10 @@ struct BdlstmTraining {
   /// With a stopping part: its error is also checked every this many iterations, not only at the
   /// loss lines, and the kept weights are the best of every check (0 = at the loss lines only).
   int stopping_every = 0;
+  /// With a stopping part: the untrained network (before the first iteration) is checked too
+  /// and kept if no later check beats it, so the model is never worse there than what it starts
+  /// from (with --decoder-init zero: dX = 0, the carried motion alone).
+  bool stopping_untrained = false;
   /// Each iteration feeds u ground-truth frames, u uniform in 1..teacher_frames, before the
   /// chains run free (1 = the paper: only the seed frame).
   int teacher_frames = 1;

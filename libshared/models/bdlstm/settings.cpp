@@ -120,6 +120,13 @@ const BdlstmSettings& bdlstm_training_settings() {
                "loss line's 100 iterations; 0 = at the loss lines only)",
        .range = at_least(0),
        .optional = true},
+      {.name = "stopping_untrained",
+       .target = &T::stopping_untrained,
+       .help = "With --stopping-fraction: check the untrained network too, before the first\n"
+               "iteration, and keep it if no later check beats it (with --decoder-init zero it\n"
+               "predicts the carried motion alone: zero motion at --carry 0, damped\n"
+               "extrapolation at --carry D --carry-fade 1, gen-bdlstm --method damped)",
+       .optional = true},
       {
           .name = "test_part",
           .target = choice(&T::test_part),
