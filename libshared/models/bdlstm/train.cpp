@@ -497,8 +497,12 @@ BdlstmTrainer::BdlstmTrainer(const BdlstmTrainOptions& opt, const CommonOptions&
 // One iteration: a batch of windows and the number of teacher frames drawn with the model's RNG,
 // the KL weight of the warm-up, one Adam step.
 LossTerms BdlstmTrainer::step(std::int64_t done) {
-  if (stopping_ && m_.training.stopping_untrained && done == 1)  // a fresh run's first step
-    consider_weights(0, stopping_());
+  if (stopping_ && m_.training.stopping_untrained && done == 1) {  // a fresh run's first step
+    const double untrained = stopping_();
+    log::info("early stopping: the untrained network's stopping error {:.4g} (kept unless beaten)",
+              untrained);
+    consider_weights(0, untrained);
+  }
   for (int b = 0; b < m_.training.batch; ++b) fill_window(m_, data_, starts_, b, window_);
   const int given = m_.training.teacher_frames > 1
                         ? 1 + static_cast<int>(m_.rng.below(
