@@ -533,7 +533,7 @@ $(BD)/%/placements.md: $$(call placement_files,$$*)
 	      printf '\t%s' "$$($(BIN)/collect-metrics --values --columns $(PLACEMENT_COLUMNS) $${f/PLACE/$$p}.veval.json | tr '\t' ' ')"; \
 	    done; echo; \
 	  done; } > $@.rows
-	awk -F'\t' -v set=$* -v places="$(call set_placements,$*)" -v tsv=$(@:.md=.tsv) ' \
+	awk -F'\t' -v set=$* -v places="$(call set_placements,$*)" -v tsv=$(@:.md=.tsv) -v candidates=$(words $(BD_PLACEMENT_CANDIDATES)) ' \
 	  { name[NR] = $$1; n = NF - 1; for (i = 2; i <= NF; i++) { split($$i, v, " "); cell[NR, i] = sprintf("%.1f", 1000 * v[1]); \
 	      m[NR] += v[1] / n; s5[NR] += v[2] / n; s10[NR] += v[3] / n; s15[NR] += v[4] / n; pace[NR] += v[5] / n } } \
 	  END { best = m[NR] < m[NR - 1] ? m[NR] : m[NR - 1]; \
@@ -543,7 +543,7 @@ $(BD)/%/placements.md: $$(call placement_files,$$*)
 	        for (i = 1; i <= np + 3; i++) printf "---:|"; printf "\n"; \
 	        for (r = 1; r <= NR; r++) { printf "| %s |", name[r]; for (i = 2; i <= np + 1; i++) printf " %s |", cell[r, i]; \
 	          printf " %.1f / %.1f / %.1f (%.1f) | %.2f | %.3f |\n", 1000 * s5[r], 1000 * s10[r], 1000 * s15[r], 1000 * m[r], pace[r], m[r] / best; \
-	          if (r <= NR - 3) printf "%s\t%.6f\n", name[r], m[r] / best > tsv } }' $@.rows > $@.tmp && mv $@.tmp $@ && rm $@.rows
+	          if (r <= candidates) printf "%s\t%.6f\n", name[r], m[r] / best > tsv } }' $@.rows > $@.tmp && mv $@.tmp $@ && rm $@.rows
 # The rule of issue 67: each candidate's worst ratio, over the sets, to the better baseline.
 $(BD)/placements.md: $(foreach s,$(BD_PLACEMENT_SETS),$(BD)/$(s)/placements.md)
 	awk -F'\t' -v sets="$(BD_PLACEMENT_SETS)" ' \

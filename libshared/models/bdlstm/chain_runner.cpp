@@ -119,16 +119,13 @@ std::vector<GeneratedSequence> ChainRunner::predict(const GenerationCase& c) {
     for (auto& s : g)
       for (int k = 1; k <= opt_.length; ++k)
         push(s, path[static_cast<std::size_t>(k - 1)], source_of(last, k), k);
-  } else if (opt_.method == GenerateMethod::linear) {
-    const Matrix a = X.row(c.frames[static_cast<std::size_t>(u - 2)]), b = X.row(last);
-    for (auto& s : g)
-      for (int k = 1; k <= opt_.length; ++k)
-        push(s, b + static_cast<float>(k) * (b - a), source_of(last, k), k);
-  } else if (opt_.method == GenerateMethod::damped) {  // the last step, shrinking by d a frame
+  } else if (opt_.method == GenerateMethod::linear || opt_.method == GenerateMethod::damped) {
+    // The last step, shrinking by d a frame (linear: d = 1, the step kept; reach is then k exactly)
+    const double d = opt_.method == GenerateMethod::linear ? 1 : opt_.damping;
     const Matrix a = X.row(c.frames[static_cast<std::size_t>(u - 2)]), b = X.row(last);
     double reach = 0, step = 1;  // d + d² + … + d^k
     for (int k = 1; k <= opt_.length; ++k) {
-      step *= opt_.damping;
+      step *= d;
       reach += step;
       for (auto& s : g) push(s, b + static_cast<float>(reach) * (b - a), source_of(last, k), k);
     }
